@@ -1,0 +1,4 @@
+//! File loaders. Each one validates sizes before allocating and returns a
+//! [`crate::VolumeError`] naming the file and the problem.
+
+pub mod vdb;

@@ -1,0 +1,1 @@
+//! OpenVDB reader (in progress).
