@@ -1,1 +1,13 @@
+//! Math and sampling layer of fogbank: the bottom of the crate stack.
+//!
+//! Everything here is plain data and pure functions so that the WGSL port can
+//! mirror it line by line (PCG32 and PCG3D are bit-identical on CPU and GPU).
 
+pub mod bbox;
+pub mod ray;
+pub mod rng;
+
+pub use bbox::Aabb;
+pub use glam::{DAffine3, DVec3, Vec3};
+pub use ray::Ray;
+pub use rng::{pcg3d, Pcg32, SampleKey};
