@@ -15,7 +15,10 @@ const PCG_MULT: u64 = 6364136223846793005;
 impl Pcg32 {
     /// Seeds like the reference `pcg32_srandom_r(initstate, initseq)`.
     pub fn new(init_state: u64, init_seq: u64) -> Self {
-        let mut rng = Pcg32 { state: 0, inc: (init_seq << 1) | 1 };
+        let mut rng = Pcg32 {
+            state: 0,
+            inc: (init_seq << 1) | 1,
+        };
         rng.next_u32();
         rng.state = rng.state.wrapping_add(init_state);
         rng.next_u32();
@@ -101,7 +104,14 @@ mod rng_test {
         // First outputs of the PCG reference demo `pcg32-demo` with
         // initstate 42, initseq 54.
         let mut r = Pcg32::new(42, 54);
-        let expected = [0xa15c02b7u32, 0x7b47f409, 0xba1d3330, 0x83d2f293, 0xbfa4784b, 0xcbed606e];
+        let expected = [
+            0xa15c02b7u32,
+            0x7b47f409,
+            0xba1d3330,
+            0x83d2f293,
+            0xbfa4784b,
+            0xcbed606e,
+        ];
         for e in expected {
             assert_eq!(r.next_u32(), e);
         }
@@ -109,7 +119,13 @@ mod rng_test {
 
     #[test]
     fn unit_floats_are_in_range_and_uniform() {
-        let mut r = SampleKey { seed: 1, pixel: 2, sample: 3, dimension: 4 }.rng();
+        let mut r = SampleKey {
+            seed: 1,
+            pixel: 2,
+            sample: 3,
+            dimension: 4,
+        }
+        .rng();
         let n = 100_000;
         let mut sum = 0.0f64;
         for _ in 0..n {
@@ -124,9 +140,30 @@ mod rng_test {
 
     #[test]
     fn keys_give_distinct_streams() {
-        let a = SampleKey { seed: 0, pixel: 0, sample: 0, dimension: 0 }.rng().next_u32();
-        let b = SampleKey { seed: 0, pixel: 0, sample: 1, dimension: 0 }.rng().next_u32();
-        let c = SampleKey { seed: 0, pixel: 0, sample: 0, dimension: 1 }.rng().next_u32();
+        let a = SampleKey {
+            seed: 0,
+            pixel: 0,
+            sample: 0,
+            dimension: 0,
+        }
+        .rng()
+        .next_u32();
+        let b = SampleKey {
+            seed: 0,
+            pixel: 0,
+            sample: 1,
+            dimension: 0,
+        }
+        .rng()
+        .next_u32();
+        let c = SampleKey {
+            seed: 0,
+            pixel: 0,
+            sample: 0,
+            dimension: 1,
+        }
+        .rng()
+        .next_u32();
         assert!(a != b && a != c && b != c);
     }
 }

@@ -1,6 +1,20 @@
-//! Volume data layer of fogbank.
+//! Volume data layer of fogbank: storage, filtering, super-voxel statistics,
+//! traversal, analytic and procedural media, and file loaders.
 
+pub mod access;
+pub mod analytic;
+pub mod dda;
 pub mod error;
+pub mod grid;
 pub mod loaders;
+pub mod medium;
+pub mod procedural;
+pub mod supervoxel;
 
+pub use access::{Filter, GridView, VolumeAccess};
+pub use analytic::{AnalyticField, AnalyticKind, AnalyticView};
+pub use dda::{Dda, DdaStep};
 pub use error::{Result, VolumeError};
+pub use grid::{BrickGrid, BrickGridBuilder, Precision, Voxel};
+pub use medium::{DensityData, Medium, MediumView};
+pub use supervoxel::{SuperVoxel, SuperVoxelGrid};

@@ -1,4 +1,6 @@
 //! File loaders. Each one validates sizes before allocating and returns a
 //! [`crate::VolumeError`] naming the file and the problem.
 
+pub mod raw;
 pub mod vdb;
+pub mod vol;

@@ -1,0 +1,183 @@
+//! A medium's extinction: density data, scale, filter, placement in the world
+//! and the super-voxel statistics estimators need. Albedo, phase function and
+//! emission belong to the scene layer above.
+
+use crate::access::{Filter, GridView};
+use crate::analytic::{AnalyticField, AnalyticView};
+use crate::grid::{BrickGrid, Precision};
+use crate::supervoxel::SuperVoxelGrid;
+use fogbank_math::{Aabb, DAffine3, DVec3, Ray, Vec3};
+use half::f16;
+
+/// Density storage; the variant is matched once per ray, never per lookup.
+#[derive(Clone, Debug)]
+pub enum DensityData {
+    F16(BrickGrid<f16>),
+    F32(BrickGrid<f32>),
+    Analytic(AnalyticField),
+}
+
+impl DensityData {
+    pub fn dims(&self) -> [u32; 3] {
+        match self {
+            DensityData::F16(g) => g.dims(),
+            DensityData::F32(g) => g.dims(),
+            DensityData::Analytic(a) => [a.n; 3],
+        }
+    }
+
+    pub fn memory_bytes(&self) -> usize {
+        match self {
+            DensityData::F16(g) => g.memory_bytes(),
+            DensityData::F32(g) => g.memory_bytes(),
+            DensityData::Analytic(_) => 0,
+        }
+    }
+
+    pub fn precision_name(&self) -> &'static str {
+        match self {
+            DensityData::F16(_) => "f16",
+            DensityData::F32(_) => "f32",
+            DensityData::Analytic(_) => "analytic",
+        }
+    }
+
+    /// Builds from an f32 grid in the requested precision.
+    pub fn from_f32(grid: BrickGrid<f32>, precision: Precision) -> Self {
+        match precision {
+            Precision::F32 => DensityData::F32(grid),
+            Precision::F16 => DensityData::F16(convert(&grid)),
+        }
+    }
+}
+
+fn convert(g: &BrickGrid<f32>) -> BrickGrid<f16> {
+    let d = g.dims();
+    BrickGrid::from_fn(d, |i, j, k| g.fetch(i as i32, j as i32, k as i32))
+        .expect("dims already validated")
+}
+
+#[derive(Clone, Debug)]
+pub struct Medium {
+    pub data: DensityData,
+    pub sigma_t_scale: f32,
+    pub filter: Filter,
+    pub index_to_world: DAffine3,
+    pub world_to_index: DAffine3,
+    /// Statistics of σ_t (already multiplied by `sigma_t_scale`).
+    pub supervoxels: SuperVoxelGrid,
+}
+
+/// A view of the medium for the estimators, one per storage type.
+pub enum MediumView<'a> {
+    F16(GridView<'a, f16>),
+    F32(GridView<'a, f32>),
+    Analytic(AnalyticView<'a>),
+}
+
+impl Medium {
+    pub fn new(
+        data: DensityData,
+        sigma_t_scale: f32,
+        filter: Filter,
+        index_to_world: DAffine3,
+        supervoxel: u32,
+    ) -> Self {
+        let supervoxels = match &data {
+            DensityData::F16(g) => {
+                SuperVoxelGrid::build(g.dims(), supervoxel, filter.apron(), |i, j, k| {
+                    g.fetch(i, j, k)
+                })
+            }
+            DensityData::F32(g) => {
+                SuperVoxelGrid::build(g.dims(), supervoxel, filter.apron(), |i, j, k| {
+                    g.fetch(i, j, k)
+                })
+            }
+            DensityData::Analytic(a) => a.supervoxels(supervoxel),
+        }
+        .scaled(sigma_t_scale);
+        Medium {
+            data,
+            sigma_t_scale,
+            filter,
+            index_to_world,
+            world_to_index: index_to_world.inverse(),
+            supervoxels,
+        }
+    }
+
+    pub fn dims(&self) -> [u32; 3] {
+        self.data.dims()
+    }
+
+    pub fn index_bounds(&self) -> Aabb {
+        let d = self.dims();
+        Aabb::new(Vec3::ZERO, Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32))
+    }
+
+    /// World-space bounding box of the index box's eight corners.
+    pub fn world_bounds(&self) -> Aabb {
+        let d = self.dims();
+        let mut lo = DVec3::splat(f64::INFINITY);
+        let mut hi = DVec3::splat(f64::NEG_INFINITY);
+        for c in 0..8 {
+            let p = DVec3::new(
+                if c & 1 != 0 { d[0] as f64 } else { 0.0 },
+                if c & 2 != 0 { d[1] as f64 } else { 0.0 },
+                if c & 4 != 0 { d[2] as f64 } else { 0.0 },
+            );
+            let w = self.index_to_world.transform_point3(p);
+            lo = lo.min(w);
+            hi = hi.max(w);
+        }
+        Aabb::new(lo.as_vec3(), hi.as_vec3())
+    }
+
+    /// The world ray in index space, and its parameter range inside the
+    /// medium's box (`None` if it misses).
+    pub fn to_index(&self, world: &Ray, t_min: f32, t_max: f32) -> Option<(Ray, f32, f32)> {
+        let r = world.transformed(&self.world_to_index);
+        let (t0, t1) = self.index_bounds().intersect(&r, t_min, t_max)?;
+        (t1 > t0).then_some((r, t0, t1))
+    }
+
+    pub fn view(&self) -> MediumView<'_> {
+        let (filter, scale, sv) = (self.filter, self.sigma_t_scale, &self.supervoxels);
+        match &self.data {
+            DensityData::F16(grid) => MediumView::F16(GridView {
+                grid,
+                filter,
+                scale,
+                supervoxels: sv,
+            }),
+            DensityData::F32(grid) => MediumView::F32(GridView {
+                grid,
+                filter,
+                scale,
+                supervoxels: sv,
+            }),
+            DensityData::Analytic(field) => MediumView::Analytic(AnalyticView {
+                field,
+                scale,
+                supervoxels: sv,
+            }),
+        }
+    }
+
+    pub fn memory_bytes(&self) -> usize {
+        self.data.memory_bytes() + self.supervoxels.memory_bytes()
+    }
+}
+
+/// Placement that maps the index box `[0, dims]` into the world box
+/// `[-½, ½]` along the longest axis, centred at the origin, keeping aspect.
+pub fn unit_box_transform(dims: [u32; 3]) -> DAffine3 {
+    let m = dims.iter().copied().max().unwrap_or(1).max(1) as f64;
+    let d = DVec3::new(dims[0] as f64, dims[1] as f64, dims[2] as f64);
+    DAffine3::from_scale_rotation_translation(
+        DVec3::splat(1.0 / m),
+        glam::DQuat::IDENTITY,
+        -0.5 * d / m,
+    )
+}
