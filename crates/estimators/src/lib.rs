@@ -1,1 +1,16 @@
+//! Transmittance and optical-depth estimators of fogbank.
+//!
+//! Every estimator is a plain function generic over
+//! [`fogbank_volume::VolumeAccess`], so the hot loop is monomorphised per
+//! storage type and has no dynamic dispatch; [`transmittance`] matches the
+//! medium's storage once per ray. All estimators count full-resolution
+//! lookups (filtered evaluations of σ_t) in [`Estimate::lookups`].
 
+pub mod analytic_trilinear;
+pub mod estimator;
+pub mod lookup;
+pub mod ratio_tracking;
+pub mod regular_tracking;
+pub mod track_length;
+
+pub use estimator::{transmittance, Estimate, Estimator};

@@ -1,1 +1,0 @@
-//! OpenVDB reader (in progress).
