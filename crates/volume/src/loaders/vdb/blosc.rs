@@ -1,0 +1,423 @@
+//! Decoder for Blosc1 frames as OpenVDB writes them (one frame per node
+//! buffer). Written from the c-blosc frame description rather than bound to
+//! the C library so that a malformed frame can only ever produce an error.
+//!
+//! The frame is: a 16-byte header (format version, codec version, flags,
+//! type size, uncompressed size, block size, compressed size), then, unless
+//! the frame is a plain copy, one `i32` start offset per block; each block
+//! holds one or `typesize` "splits", each prefixed with its compressed size
+//! (equal to the split size when the codec could not shrink it). Blocks are
+//! byte- or bit-shuffled before compression.
+
+use std::fmt;
+
+const HEADER_LEN: usize = 16;
+const FLAG_SHUFFLE: u8 = 0x1;
+const FLAG_MEMCPYED: u8 = 0x2;
+const FLAG_BITSHUFFLE: u8 = 0x4;
+const FLAG_RESERVED: u8 = 0x8;
+const FLAG_DONT_SPLIT: u8 = 0x10;
+/// c-blosc only splits blocks whose type size is at most this...
+const MAX_SPLITS: usize = 16;
+/// ...and that hold at least this many elements; older writers did not
+/// record the split decision, so the reader has to recompute it.
+const MIN_BUFFERSIZE: usize = 128;
+
+/// Why a frame could not be decoded. Kept small and textual; the caller adds
+/// file, grid and offset.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BloscError(pub String);
+
+impl fmt::Display for BloscError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+fn err<T>(msg: impl Into<String>) -> Result<T, BloscError> {
+    Err(BloscError(msg.into()))
+}
+
+fn read_u32(b: &[u8], at: usize) -> Option<u32> {
+    let s = b.get(at..at.checked_add(4)?)?;
+    Some(u32::from_le_bytes([s[0], s[1], s[2], s[3]]))
+}
+
+/// Decompresses one frame whose payload must be exactly `expected` bytes;
+/// the caller knows the size a node needs, so a frame claiming any other
+/// size is rejected before anything is allocated from its header.
+pub fn decompress(src: &[u8], expected: usize) -> Result<Vec<u8>, BloscError> {
+    if src.len() < HEADER_LEN {
+        return err(format!(
+            "Blosc frame of {} bytes is shorter than its 16-byte header",
+            src.len()
+        ));
+    }
+    let version = src[0];
+    let flags = src[2];
+    let typesize = src[3] as usize;
+    let nbytes = read_u32(src, 4).unwrap_or(0) as usize;
+    let blocksize = read_u32(src, 8).unwrap_or(0) as usize;
+    let cbytes = read_u32(src, 12).unwrap_or(0) as usize;
+
+    if nbytes != expected {
+        return err(format!(
+            "Blosc frame holds {nbytes} bytes, expected {expected}"
+        ));
+    }
+    if nbytes == 0 {
+        return Ok(Vec::new());
+    }
+    if version != 2 {
+        return err(format!(
+            "unsupported Blosc format version {version} (expected 2)"
+        ));
+    }
+    if flags & FLAG_RESERVED != 0 {
+        return err(format!("Blosc frame has unknown flags {flags:#04x}"));
+    }
+    if typesize == 0 {
+        return err("Blosc frame has type size 0");
+    }
+    if blocksize == 0 || blocksize > nbytes.max(1) || blocksize > i32::MAX as usize {
+        return err(format!(
+            "Blosc frame has invalid block size {blocksize} for {nbytes} bytes"
+        ));
+    }
+    if cbytes < HEADER_LEN || cbytes > src.len() {
+        return err(format!(
+            "Blosc frame claims {cbytes} compressed bytes but {} are available",
+            src.len()
+        ));
+    }
+    let src = &src[..cbytes];
+    let nblocks = nbytes.div_ceil(blocksize);
+    let leftover = nbytes % blocksize;
+    let mut out = vec![0u8; nbytes];
+
+    if flags & FLAG_MEMCPYED != 0 {
+        if cbytes != nbytes + HEADER_LEN {
+            return err(format!(
+                "uncompressed Blosc frame has {cbytes} bytes, expected {}",
+                nbytes + HEADER_LEN
+            ));
+        }
+        out.copy_from_slice(&src[HEADER_LEN..]);
+        return Ok(out);
+    }
+
+    let codec = Codec::from_flags(flags)?;
+    if nblocks > (cbytes - HEADER_LEN) / 4 {
+        return err(format!(
+            "Blosc frame too short for its {nblocks} block offsets"
+        ));
+    }
+    let mut tmp = vec![0u8; blocksize];
+    for j in 0..nblocks {
+        let is_leftover = j == nblocks - 1 && leftover > 0;
+        let bsize = if is_leftover { leftover } else { blocksize };
+        let start = read_u32(src, HEADER_LEN + 4 * j).unwrap_or(u32::MAX) as usize;
+        let dest = &mut out[j * blocksize..j * blocksize + bsize];
+        decode_block(
+            src,
+            start,
+            flags,
+            typesize,
+            codec,
+            is_leftover,
+            dest,
+            &mut tmp[..bsize],
+        )
+        .map_err(|e| BloscError(format!("Blosc block {j}: {e}")))?;
+    }
+    Ok(out)
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Codec {
+    BloscLz,
+    Lz4,
+    Zlib,
+}
+
+impl Codec {
+    fn from_flags(flags: u8) -> Result<Codec, BloscError> {
+        match flags >> 5 {
+            0 => Ok(Codec::BloscLz),
+            1 => Ok(Codec::Lz4),
+            3 => Ok(Codec::Zlib),
+            2 => err("Blosc codec snappy is not supported"),
+            4 => err("Blosc codec zstd is not supported"),
+            c => err(format!("unknown Blosc codec {c}")),
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn decode_block(
+    src: &[u8],
+    mut offset: usize,
+    flags: u8,
+    typesize: usize,
+    codec: Codec,
+    is_leftover: bool,
+    dest: &mut [u8],
+    tmp: &mut [u8],
+) -> Result<(), BloscError> {
+    let bsize = dest.len();
+    let shuffle = flags & FLAG_SHUFFLE != 0 && typesize > 1;
+    let bitshuffle = !shuffle && flags & FLAG_BITSHUFFLE != 0 && bsize >= typesize;
+    let dont_split = flags & FLAG_DONT_SPLIT != 0;
+    let nsplits = if !dont_split
+        && typesize <= MAX_SPLITS
+        && bsize / typesize >= MIN_BUFFERSIZE
+        && !is_leftover
+    {
+        typesize
+    } else {
+        1
+    };
+    let neblock = bsize / nsplits;
+    if neblock * nsplits != bsize {
+        return err(format!(
+            "block of {bsize} bytes does not split into {nsplits} parts"
+        ));
+    }
+    let target: &mut [u8] = if shuffle || bitshuffle { tmp } else { dest };
+    for s in 0..nsplits {
+        let csize = match read_u32(src, offset) {
+            Some(v) => v as usize,
+            None => return err(format!("split offset {offset} outside the frame")),
+        };
+        offset += 4;
+        if csize > src.len() - offset {
+            return err(format!("split of {csize} bytes runs past the frame"));
+        }
+        let input = &src[offset..offset + csize];
+        let part = &mut target[s * neblock..(s + 1) * neblock];
+        if csize == neblock {
+            part.copy_from_slice(input);
+        } else {
+            let n = match codec {
+                Codec::BloscLz => blosclz_decompress(input, part)?,
+                Codec::Lz4 => lz4_flex::block::decompress_into(input, part)
+                    .map_err(|e| BloscError(format!("LZ4 data is corrupt: {e}")))?,
+                Codec::Zlib => zlib_decompress(input, part)?,
+            };
+            if n != neblock {
+                return err(format!(
+                    "split decompressed to {n} bytes, expected {neblock}"
+                ));
+            }
+        }
+        offset += csize;
+    }
+    if shuffle {
+        unshuffle(typesize, tmp, dest);
+    } else if bitshuffle {
+        bitunshuffle(typesize, tmp, dest);
+    }
+    Ok(())
+}
+
+/// Inverse of Blosc's byte shuffle: byte `j` of element `i` was stored at
+/// `j * n + i`; trailing bytes that do not form a whole element are stored
+/// unshuffled.
+fn unshuffle(typesize: usize, src: &[u8], dest: &mut [u8]) {
+    let n = src.len() / typesize;
+    for i in 0..n {
+        for j in 0..typesize {
+            dest[i * typesize + j] = src[j * n + i];
+        }
+    }
+    let tail = n * typesize;
+    dest[tail..].copy_from_slice(&src[tail..]);
+}
+
+/// Inverse of the bitshuffle transposition: bit `b` (little-endian within
+/// the element) of element `i` was stored at bit index `b * n + i`. Blosc
+/// only bit-shuffles whole groups of 8 elements; anything else is a copy.
+fn bitunshuffle(typesize: usize, src: &[u8], dest: &mut [u8]) {
+    let n = src.len() / typesize;
+    if n % 8 != 0 {
+        dest.copy_from_slice(src);
+        return;
+    }
+    let whole = n * typesize;
+    dest[..whole].fill(0);
+    for b in 0..typesize * 8 {
+        let row = &src[b * n / 8..(b + 1) * n / 8];
+        let (byte, bit) = (b / 8, b % 8);
+        for (i, d) in dest[..whole].chunks_exact_mut(typesize).enumerate() {
+            let v = (row[i / 8] >> (i % 8)) & 1;
+            d[byte] |= v << bit;
+        }
+    }
+    dest[whole..].copy_from_slice(&src[whole..]);
+}
+
+fn zlib_decompress(input: &[u8], out: &mut [u8]) -> Result<usize, BloscError> {
+    let mut z = flate2::Decompress::new(true);
+    match z.decompress(input, out, flate2::FlushDecompress::Finish) {
+        Ok(_) => Ok(z.total_out() as usize),
+        Err(e) => err(format!("zlib data is corrupt: {e}")),
+    }
+}
+
+/// BloscLZ, a FastLZ derivative. Control bytes below 32 announce a literal
+/// run of `ctrl + 1` bytes; others a back-reference whose length is in the
+/// top 3 bits (7 = extended by following bytes) and whose distance is in the
+/// low 5 bits plus a following byte (all ones = a 16-bit far distance).
+/// Returns the number of bytes written; every read and copy is bounds-checked.
+fn blosclz_decompress(input: &[u8], out: &mut [u8]) -> Result<usize, BloscError> {
+    const MAX_DISTANCE: usize = 8191;
+    let corrupt = |what: &str| BloscError(format!("BloscLZ data is corrupt ({what})"));
+    if input.is_empty() {
+        return Ok(0);
+    }
+    let mut ip = 0usize;
+    let mut op = 0usize;
+    let mut ctrl = (input[ip] & 31) as usize;
+    ip += 1;
+    loop {
+        if ctrl >= 32 {
+            let mut len = (ctrl >> 5) - 1;
+            let mut ofs = (ctrl & 31) << 8;
+            if len == 6 {
+                loop {
+                    let code = *input.get(ip).ok_or_else(|| corrupt("truncated length"))?;
+                    ip += 1;
+                    len += code as usize;
+                    if code != 255 {
+                        break;
+                    }
+                }
+            }
+            let code = *input.get(ip).ok_or_else(|| corrupt("truncated distance"))? as usize;
+            ip += 1;
+            len += 3;
+            let mut dist = ofs + code;
+            if code == 255 && ofs == 31 << 8 {
+                let hi = *input
+                    .get(ip)
+                    .ok_or_else(|| corrupt("truncated far distance"))?;
+                let lo = *input
+                    .get(ip + 1)
+                    .ok_or_else(|| corrupt("truncated far distance"))?;
+                ip += 2;
+                ofs = ((hi as usize) << 8) | lo as usize;
+                dist = ofs + MAX_DISTANCE;
+            }
+            // The reference starts `dist + 1` bytes back.
+            let back = dist + 1;
+            if back > op {
+                return Err(corrupt("reference before start of output"));
+            }
+            if len > out.len() - op {
+                return Err(corrupt("match runs past end of output"));
+            }
+            let from = op - back;
+            // Byte by byte so overlapping matches repeat, as LZ77 intends.
+            for k in 0..len {
+                out[op + k] = out[from + k];
+            }
+            op += len;
+        } else {
+            let run = ctrl + 1;
+            if run > out.len() - op {
+                return Err(corrupt("literal run past end of output"));
+            }
+            if run > input.len() - ip {
+                return Err(corrupt("literal run past end of input"));
+            }
+            out[op..op + run].copy_from_slice(&input[ip..ip + run]);
+            op += run;
+            ip += run;
+        }
+        if ip >= input.len() {
+            break;
+        }
+        ctrl = input[ip] as usize;
+        ip += 1;
+    }
+    Ok(op)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(
+        flags: u8,
+        typesize: u8,
+        payload_blocks: &[Vec<u8>],
+        nbytes: usize,
+        blocksize: usize,
+    ) -> Vec<u8> {
+        let mut f = vec![2u8, 1, flags, typesize];
+        f.extend_from_slice(&(nbytes as u32).to_le_bytes());
+        f.extend_from_slice(&(blocksize as u32).to_le_bytes());
+        f.extend_from_slice(&0u32.to_le_bytes());
+        let starts_at = f.len();
+        f.extend(std::iter::repeat_n(0u8, 4 * payload_blocks.len()));
+        for (j, b) in payload_blocks.iter().enumerate() {
+            let start = f.len() as u32;
+            f[starts_at + 4 * j..starts_at + 4 * j + 4].copy_from_slice(&start.to_le_bytes());
+            f.extend_from_slice(b);
+        }
+        let c = f.len() as u32;
+        f[12..16].copy_from_slice(&c.to_le_bytes());
+        f
+    }
+
+    #[test]
+    fn shuffle_roundtrip_with_stored_splits() {
+        // 512 floats, shuffled, each of the 4 splits stored verbatim.
+        let data: Vec<u8> = (0..2048u32).map(|i| (i * 7 % 251) as u8).collect();
+        let n = 512;
+        let mut shuffled = vec![0u8; 2048];
+        for i in 0..n {
+            for j in 0..4 {
+                shuffled[j * n + i] = data[i * 4 + j];
+            }
+        }
+        let mut block = Vec::new();
+        for s in 0..4 {
+            block.extend_from_slice(&(512u32).to_le_bytes());
+            block.extend_from_slice(&shuffled[s * 512..(s + 1) * 512]);
+        }
+        let f = frame(FLAG_SHUFFLE | (1 << 5), 4, &[block], 2048, 2048);
+        assert_eq!(decompress(&f, 2048).unwrap(), data);
+        assert!(decompress(&f, 2044).is_err());
+        assert!(decompress(&f[..f.len() - 1], 2048).is_err());
+    }
+
+    #[test]
+    fn bitshuffle_inverts_transpose() {
+        let data: Vec<u8> = (0..64u32).map(|i| (i * 37 + 11) as u8).collect();
+        let (typesize, n) = (4usize, 16usize);
+        let mut shuffled = vec![0u8; 64];
+        for i in 0..n {
+            for b in 0..typesize * 8 {
+                let v = (data[i * typesize + b / 8] >> (b % 8)) & 1;
+                let k = b * n + i;
+                shuffled[k / 8] |= v << (k % 8);
+            }
+        }
+        let mut out = vec![0u8; 64];
+        bitunshuffle(typesize, &shuffled, &mut out);
+        assert_eq!(out, data);
+    }
+
+    #[test]
+    fn blosclz_literals_and_runs() {
+        // literal "ab" then a match of length 6 at distance 2 ("ababab").
+        let input = [1u8, b'a', b'b', 4 << 5, 1];
+        let mut out = [0u8; 8];
+        let n = blosclz_decompress(&input, &mut out).unwrap();
+        assert_eq!(&out[..n], b"abababab" as &[u8]);
+        // A reference before the start is rejected, not read.
+        let bad = [0u8, b'a', (1 << 5), 9];
+        assert!(blosclz_decompress(&bad, &mut out).is_err());
+    }
+}
