@@ -3,4 +3,5 @@
 
 pub mod raw;
 pub mod vdb;
+pub mod vdb_grid;
 pub mod vol;

@@ -1,0 +1,81 @@
+//! OpenVDB grid → fogbank brick grid.
+//!
+//! OpenVDB puts a voxel's value at its integer index coordinate; fogbank puts
+//! it at the cell centre. The brick grid therefore starts at the active box's
+//! minimum less a one-voxel apron of background (so clamped lookups reproduce
+//! the background outside), rounded down to a multiple of 8 so that every
+//! OpenVDB leaf becomes exactly one brick, and the index→world map gains a
+//! translation by `origin − ½`.
+
+use super::vdb::{GridClass, VdbGrid};
+use crate::grid::{BrickGrid, BrickGridBuilder, BRICK};
+use crate::{Result, VolumeError};
+use fogbank_math::{DAffine3, DVec3};
+use glam::DMat3;
+
+/// Converts `g`; returns the grid and its index→world transform.
+pub fn to_brick_grid(g: &VdbGrid) -> Result<(BrickGrid<f32>, DAffine3)> {
+    let mut lo = [i64::MAX; 3];
+    let mut hi = [i64::MIN; 3];
+    let mut grow = |a: [i32; 3], size: i64| {
+        for k in 0..3 {
+            lo[k] = lo[k].min(a[k] as i64);
+            hi[k] = hi[k].max(a[k] as i64 + size - 1);
+        }
+    };
+    for leaf in &g.leaves {
+        grow(leaf.origin, BRICK as i64);
+    }
+    for t in &g.tiles {
+        if t.active || t.value != g.background {
+            grow(t.origin, t.size as i64);
+        }
+    }
+    if lo[0] > hi[0] {
+        return Err(VolumeError::Invalid(format!("grid `{}` holds no voxels", g.name)));
+    }
+    let origin = lo.map(|v| (v - 1).div_euclid(BRICK as i64) * BRICK as i64);
+    let dims: [u64; 3] = std::array::from_fn(|k| (hi[k] + 1 - origin[k] + 1) as u64);
+    let mut b = BrickGridBuilder::new(dims, g.background)
+        .map_err(|e| VolumeError::Invalid(format!("grid `{}`: {e}", g.name)))?;
+    // Tiles first (coarse to fine order does not matter: tiles and leaves
+    // never overlap in a valid tree), then leaves.
+    for t in &g.tiles {
+        if t.value != g.background {
+            let a = std::array::from_fn(|k| t.origin[k] as i64 - origin[k]);
+            let z = std::array::from_fn(|k| a[k] + t.size as i64 - 1);
+            b.fill(a, z, t.value);
+        }
+    }
+    for leaf in &g.leaves {
+        let o: [i64; 3] = std::array::from_fn(|k| leaf.origin[k] as i64 - origin[k]);
+        for x in 0..8i64 {
+            for y in 0..8i64 {
+                for z in 0..8i64 {
+                    let v = leaf.values[(x * 64 + y * 8 + z) as usize];
+                    b.set(o[0] + x, o[1] + y, o[2] + z, if v.is_finite() { v } else { 0.0 });
+                }
+            }
+        }
+    }
+    let m = &g.index_to_world;
+    let linear = DMat3::from_cols(
+        DVec3::new(m[0][0], m[1][0], m[2][0]),
+        DVec3::new(m[0][1], m[1][1], m[2][1]),
+        DVec3::new(m[0][2], m[1][2], m[2][2]),
+    );
+    let vdb = DAffine3::from_mat3_translation(linear, DVec3::new(m[0][3], m[1][3], m[2][3]));
+    let shift = DAffine3::from_translation(DVec3::new(origin[0] as f64, origin[1] as f64, origin[2] as f64) - 0.5);
+    Ok((b.finish(), vdb * shift))
+}
+
+/// Level set → fog volume as OpenVDB's `sdfToFogVolume`: 0 outside, rising
+/// linearly through the interior half of the narrow band to 1 inside.
+pub fn level_set_to_fog(grid: &BrickGrid<f32>, background: f32) -> BrickGrid<f32> {
+    let w = background.abs().max(f32::MIN_POSITIVE);
+    grid.map_values(|phi| (-phi / w).clamp(0.0, 1.0))
+}
+
+pub fn is_level_set(g: &VdbGrid) -> bool {
+    g.grid_class == GridClass::LevelSet
+}
