@@ -1,1 +1,72 @@
-fn main() {}
+//! `fogbank`: the one binary. Subcommands live one per file.
+
+mod bench_cmd;
+mod info_cmd;
+mod output;
+mod render_cmd;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "fogbank", version, about = "Monte Carlo rendering of heterogeneous participating media")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene (the built-in default scene when none is given).
+    Render(render_cmd::RenderArgs),
+    /// Describe a volume file (.vdb, .vol, .raw).
+    Info(info_cmd::InfoArgs),
+    /// List the transmittance estimators.
+    Estimators,
+    /// Primary-ray transmittance throughput per estimator.
+    Bench(bench_cmd::BenchArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(a) => render_cmd::run(a),
+        Command::Info(a) => info_cmd::run(a),
+        Command::Estimators => {
+            for e in fogbank_estimators::Estimator::ALL {
+                println!("{:<22} {:<8} {}", e.name(), if e.biased() { "biased" } else { "unbiased" }, e.description());
+            }
+            Ok(())
+        }
+        Command::Bench(a) => bench_cmd::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+pub type CliResult = Result<(), Box<dyn std::error::Error>>;
+
+/// Peak resident set size of this process (Linux `VmHWM`), 0 elsewhere.
+pub fn peak_memory_bytes() -> u64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| {
+                l.split_whitespace().nth(1).and_then(|kb| kb.parse::<u64>().ok()).map(|kb| kb * 1024)
+            })
+        })
+        .unwrap_or(0)
+}
+
+pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, Box<dyn std::error::Error>> {
+    let n = threads.unwrap_or_else(|| std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1));
+    if n == 0 {
+        return Err("--threads must be at least 1".into());
+    }
+    Ok(rayon::ThreadPoolBuilder::new().num_threads(n).build()?)
+}

@@ -1,1 +1,13 @@
+//! Scenes, cameras, lights, integrators and the progressive render loop.
 
+pub mod camera;
+pub mod desc;
+pub mod film;
+pub mod integrators;
+pub mod render;
+pub mod scene;
+
+pub use desc::{SceneDesc, SceneError, DEFAULT_SCENE};
+pub use film::Film;
+pub use render::{render, Progress, RenderOptions, RenderResult};
+pub use scene::{load_scene, parse_scene, Scene};

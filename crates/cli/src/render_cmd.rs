@@ -1,0 +1,195 @@
+//! `fogbank render`: progressive rendering with a progress bar, Ctrl-C that
+//! keeps what was accumulated, EXR/PNG output and a JSON statistics file.
+
+use crate::output::{write_exr, write_png};
+use crate::{peak_memory_bytes, thread_pool, CliResult};
+use clap::Args;
+use fogbank_render::{load_scene, render, Progress, RenderOptions};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
+use std::sync::Arc;
+use std::time::Duration;
+
+#[derive(Args)]
+pub struct RenderArgs {
+    /// Scene file (TOML). Without it, the built-in default scene.
+    pub scene: Option<PathBuf>,
+    /// Output image: `.exr` (linear float) or `.png` (sRGB). Default: fogbank.exr and fogbank.png.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Samples per pixel (overrides `render.spp`).
+    #[arg(long)]
+    pub spp: Option<u32>,
+    /// Stop after this many seconds (with --spp: whichever comes first).
+    #[arg(long)]
+    pub time_budget: Option<f64>,
+    /// Scene seed (overrides `render.seed`).
+    #[arg(long)]
+    pub seed: Option<u32>,
+    /// Worker threads (default: all cores). The image does not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Write render statistics as JSON.
+    #[arg(long)]
+    pub stats: Option<PathBuf>,
+    /// Override a scene key: `--set integrator.estimator=track_length`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// PNG exposure in stops.
+    #[arg(long, default_value_t = 0.0)]
+    pub exposure: f32,
+    /// No progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+pub fn run(a: RenderArgs) -> CliResult {
+    let mut overrides = a.set.clone();
+    if let Some(s) = a.spp {
+        overrides.push(format!("render.spp={s}"));
+    }
+    if let Some(s) = a.seed {
+        overrides.push(format!("render.seed={s}"));
+    }
+    let outputs: Vec<PathBuf> = match &a.output {
+        Some(p) => {
+            match p.extension().and_then(|e| e.to_str()) {
+                Some("exr") | Some("png") => {}
+                _ => return Err(format!("{}: output must end in .exr or .png", p.display()).into()),
+            }
+            vec![p.clone()]
+        }
+        None => vec![PathBuf::from("fogbank.exr"), PathBuf::from("fogbank.png")],
+    };
+    if let Some(b) = a.time_budget {
+        if !(b > 0.0 && b.is_finite()) {
+            return Err("--time-budget must be a positive number of seconds".into());
+        }
+    }
+    let scene = load_scene(a.scene.as_deref(), &overrides)?;
+    let spp = match (a.spp, a.time_budget) {
+        (None, Some(_)) => u32::MAX,
+        _ => scene.desc.render.spp,
+    };
+    if spp == 0 {
+        return Err("render.spp must be at least 1".into());
+    }
+    let opts = RenderOptions { spp, seed: scene.desc.render.seed, time_budget: a.time_budget.map(Duration::from_secs_f64) };
+    let pool = thread_pool(a.threads)?;
+    let threads = pool.current_num_threads();
+
+    let progress = Arc::new(Progress::default());
+    {
+        let p = progress.clone();
+        // A second Ctrl-C while writing falls through to the default handler.
+        let _ = ctrlc::set_handler(move || {
+            if p.cancel.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+        });
+    }
+    let pixels = scene.camera.width as u64 * scene.camera.height as u64;
+    let bar = if a.quiet {
+        ProgressBar::hidden()
+    } else if spp == u32::MAX {
+        let b = ProgressBar::new((a.time_budget.unwrap_or(0.0) * 1000.0) as u64);
+        b.set_style(ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {msg}").unwrap());
+        b
+    } else {
+        let b = ProgressBar::new(pixels * spp as u64);
+        b.set_style(
+            ProgressStyle::with_template("[{elapsed_precise}] {wide_bar} {percent:>3}% ETA {eta} {msg}")
+                .unwrap()
+                .progress_chars("█▉▊▋▌▍▎▏ "),
+        );
+        b
+    };
+    let done = std::sync::atomic::AtomicBool::new(false);
+    let result = std::thread::scope(|s| {
+        s.spawn(|| {
+            let start = std::time::Instant::now();
+            while !done.load(Ordering::Relaxed) {
+                let samples = progress.samples_done.load(Ordering::Relaxed);
+                if spp == u32::MAX {
+                    bar.set_position(start.elapsed().as_millis() as u64);
+                } else {
+                    bar.set_position(samples);
+                }
+                bar.set_message(format!("{} spp", progress.passes_done.load(Ordering::Relaxed)));
+                std::thread::sleep(Duration::from_millis(100));
+            }
+        });
+        let r = pool.install(|| render(&scene, &opts, &progress));
+        done.store(true, Ordering::Relaxed);
+        r
+    });
+    bar.finish_and_clear();
+
+    let film = &result.film;
+    let mean = film.mean();
+    let variance = film.variance_of_mean();
+    // The film drops non-finite samples; this guards the division results.
+    let bad_pixels = mean.iter().filter(|p| p.iter().any(|c| !c.is_finite())).count();
+    let mean: Vec<[f32; 3]> = mean.into_iter().map(|p| p.map(|c| if c.is_finite() { c } else { 0.0 })).collect();
+    let min_spp = film.min_spp();
+    for out in &outputs {
+        match out.extension().and_then(|e| e.to_str()) {
+            Some("exr") => write_exr(out, film.width, film.height, &mean, (min_spp > 1).then_some(&variance[..]))?,
+            _ => write_png(out, film.width, film.height, &mean, a.exposure)?,
+        }
+    }
+    let samples = film.total_samples();
+    let lookups_per_pixel = if samples > 0 { film.lookups as f64 / samples as f64 } else { 0.0 };
+    if !a.quiet {
+        eprintln!(
+            "{}{} spp ({}), {:.2} s, {} threads, {:.1} lookups/pixel/sample{}; wrote {}",
+            if result.interrupted { "interrupted after " } else { "" },
+            min_spp,
+            scene.integrator.estimator_name(),
+            result.seconds,
+            threads,
+            lookups_per_pixel,
+            if film.nan_samples + film.inf_samples > 0 {
+                format!(", dropped {} NaN and {} Inf samples", film.nan_samples, film.inf_samples)
+            } else {
+                String::new()
+            },
+            outputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
+        );
+    }
+    if let Some(path) = &a.stats {
+        let m = film.image_mean();
+        let json = serde_json::json!({
+            "integrator": scene.integrator.name(),
+            "estimator": scene.integrator.estimator_name(),
+            "width": film.width,
+            "height": film.height,
+            "spp": min_spp,
+            "spp_requested": if spp == u32::MAX { serde_json::Value::Null } else { spp.into() },
+            "seed": opts.seed,
+            "threads": threads,
+            "render_seconds": result.seconds,
+            "interrupted": result.interrupted,
+            "mean": m,
+            "lookups_per_pixel": lookups_per_pixel,
+            "nan_pixels": film.nan_samples,
+            "inf_pixels": film.inf_samples,
+            "nonfinite_output_pixels": bad_pixels,
+            "peak_memory_bytes": peak_memory_bytes(),
+            "media": scene.media.iter().map(|m| serde_json::json!({
+                "source": m.source,
+                "dims": m.medium.dims(),
+                "precision": m.medium.data.precision_name(),
+                "memory_bytes": m.medium.memory_bytes(),
+            })).collect::<Vec<_>>(),
+        });
+        write_json(path, &json)?;
+    }
+    Ok(())
+}
+
+fn write_json(path: &Path, v: &serde_json::Value) -> CliResult {
+    std::fs::write(path, serde_json::to_string_pretty(v)? + "\n").map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(())
+}

@@ -1,0 +1,24 @@
+//! The transmittance view of seed 000 §6.1: per pixel, the transmittance of
+//! the primary ray through all media in front of a uniform background, so
+//! the image is T itself. Overlapping media add extinctions, hence multiply
+//! transmittances; independent unbiased estimates multiply to an unbiased
+//! estimate.
+
+use super::{dim, PixelSample};
+use crate::scene::Scene;
+use fogbank_estimators::{transmittance, Estimator};
+use fogbank_math::{SampleKey, Vec3};
+
+pub fn sample(scene: &Scene, estimator: Estimator, background: Vec3, x: u32, y: u32, key: SampleKey) -> PixelSample {
+    let mut cam = SampleKey { dimension: dim::CAMERA, ..key }.rng();
+    let ray = scene.camera.ray(x as f32 + cam.next_f32(), y as f32 + cam.next_f32());
+    let mut rng = SampleKey { dimension: dim::ESTIMATOR, ..key }.rng();
+    let mut t = 1.0f32;
+    let mut lookups = 0;
+    for m in &scene.media {
+        let e = transmittance(estimator, &m.medium, &ray, f32::INFINITY, &mut rng);
+        t *= e.transmittance;
+        lookups += e.lookups;
+    }
+    PixelSample { radiance: background * t, lookups }
+}

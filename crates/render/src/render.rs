@@ -1,0 +1,113 @@
+//! The progressive render loop: one pass adds sample index `s` to every
+//! pixel, rows in parallel. Each pixel's random streams depend only on
+//! (seed, pixel, sample index), and each pixel accumulates its samples in
+//! index order, so the image is bit-identical for any thread count or
+//! scheduling.
+
+use crate::film::Film;
+use crate::integrators::sample_pixel;
+use crate::scene::Scene;
+use fogbank_math::SampleKey;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+#[derive(Clone, Debug)]
+pub struct RenderOptions {
+    /// Passes to render (the last may stop early on cancel).
+    pub spp: u32,
+    pub seed: u32,
+    /// Stop starting new passes after this long.
+    pub time_budget: Option<Duration>,
+}
+
+/// Shared between the render loop and whoever watches it (progress bar,
+/// Ctrl-C handler).
+#[derive(Default)]
+pub struct Progress {
+    /// Pixel samples finished so far.
+    pub samples_done: AtomicU64,
+    /// Passes fully finished.
+    pub passes_done: AtomicU64,
+    /// Set to stop: rows not yet started are skipped, the film keeps what
+    /// was accumulated.
+    pub cancel: AtomicBool,
+}
+
+#[derive(Clone, Debug)]
+pub struct RenderResult {
+    pub film: Film,
+    pub seconds: f64,
+    pub interrupted: bool,
+}
+
+struct RowTotals {
+    lookups: u64,
+    nan: u64,
+    inf: u64,
+}
+
+/// Renders in the current rayon pool (callers size it with `--threads`).
+pub fn render(scene: &Scene, opts: &RenderOptions, progress: &Progress) -> RenderResult {
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let mut film = Film::new(w, h);
+    let start = Instant::now();
+    let mut interrupted = false;
+    for pass in 0..opts.spp {
+        if progress.cancel.load(Ordering::Relaxed) {
+            interrupted = true;
+            break;
+        }
+        if let Some(b) = opts.time_budget {
+            if start.elapsed() >= b {
+                break;
+            }
+        }
+        let totals = film
+            .sum
+            .par_chunks_mut(w as usize)
+            .zip(film.sum_sq.par_chunks_mut(w as usize))
+            .zip(film.count.par_chunks_mut(w as usize))
+            .enumerate()
+            .map(|(y, ((sum, sum_sq), count))| {
+                let mut t = RowTotals { lookups: 0, nan: 0, inf: 0 };
+                if progress.cancel.load(Ordering::Relaxed) {
+                    return t;
+                }
+                for x in 0..w as usize {
+                    let key = SampleKey { seed: opts.seed, pixel: (y * w as usize + x) as u32, sample: pass, dimension: 0 };
+                    let s = sample_pixel(scene, x as u32, y as u32, key);
+                    t.lookups += s.lookups as u64;
+                    let v = s.radiance.to_array();
+                    if v.iter().any(|c| c.is_nan()) {
+                        t.nan += 1;
+                        continue;
+                    }
+                    if v.iter().any(|c| c.is_infinite()) {
+                        t.inf += 1;
+                        continue;
+                    }
+                    for c in 0..3 {
+                        sum[x][c] += v[c] as f64;
+                        sum_sq[x][c] += (v[c] as f64) * (v[c] as f64);
+                    }
+                    count[x] += 1;
+                }
+                progress.samples_done.fetch_add(w as u64, Ordering::Relaxed);
+                t
+            })
+            .reduce(
+                || RowTotals { lookups: 0, nan: 0, inf: 0 },
+                |a, b| RowTotals { lookups: a.lookups + b.lookups, nan: a.nan + b.nan, inf: a.inf + b.inf },
+            );
+        film.lookups += totals.lookups;
+        film.nan_samples += totals.nan;
+        film.inf_samples += totals.inf;
+        if progress.cancel.load(Ordering::Relaxed) {
+            interrupted = true;
+            break;
+        }
+        progress.passes_done.fetch_add(1, Ordering::Relaxed);
+    }
+    RenderResult { film, seconds: start.elapsed().as_secs_f64(), interrupted }
+}

@@ -1,0 +1,282 @@
+//! Scene construction: from a [`SceneDesc`] to media, lights and camera ready
+//! to render. Relative paths resolve against the scene file's folder.
+
+use crate::camera::Camera;
+use crate::desc::{parse_value, apply_override, DensityDesc, MediumDesc, SceneDesc, SceneError, ScaleDesc, TransformDesc, DEFAULT_SCENE};
+use crate::desc::LightDesc;
+use fogbank_estimators::Estimator;
+use fogbank_math::{DAffine3, DVec3, Vec3};
+use fogbank_volume::loaders::{raw, vdb, vdb_grid, vol};
+use fogbank_volume::{medium::unit_box_transform, procedural, AnalyticField, AnalyticKind, BrickGrid, DensityData, Filter, Medium, Precision};
+use glam::DQuat;
+use std::path::{Path, PathBuf};
+
+/// A medium of the scene: its extinction plus the scattering properties the
+/// later integrators use.
+#[derive(Clone, Debug)]
+pub struct SceneMedium {
+    pub medium: Medium,
+    pub albedo: [f32; 3],
+    pub phase_g: f32,
+    /// What the density came from, for `--stats` and messages.
+    pub source: String,
+}
+
+#[derive(Clone, Debug)]
+pub enum Light {
+    Constant { radiance: Vec3 },
+    Envmap { file: PathBuf, scale: f32 },
+    Point { position: Vec3, intensity: Vec3 },
+    Directional { direction: Vec3, irradiance: Vec3 },
+}
+
+#[derive(Clone, Debug)]
+pub enum IntegratorKind {
+    Transmittance { estimator: Estimator, background: Vec3 },
+}
+
+impl IntegratorKind {
+    pub fn name(&self) -> &'static str {
+        match self {
+            IntegratorKind::Transmittance { .. } => "transmittance",
+        }
+    }
+    pub fn estimator_name(&self) -> &'static str {
+        match self {
+            IntegratorKind::Transmittance { estimator, .. } => estimator.name(),
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub desc: SceneDesc,
+    pub camera: Camera,
+    pub media: Vec<SceneMedium>,
+    pub lights: Vec<Light>,
+    pub integrator: IntegratorKind,
+}
+
+/// Parses scene TOML, applies `KEY=VALUE` overrides, and deserialises.
+pub fn parse_scene(text: &str, origin: &str, overrides: &[String]) -> Result<SceneDesc, SceneError> {
+    let mut doc: toml::Table = toml::from_str(text).map_err(|e| SceneError(format!("{origin}: {e}")))?;
+    for o in overrides {
+        let (key, value) =
+            o.split_once('=').ok_or_else(|| SceneError(format!("--set {o}: expected KEY=VALUE")))?;
+        apply_override(&mut doc, key.trim(), parse_value(value.trim()))?;
+    }
+    SceneDesc::deserialize_table(doc).map_err(|e| SceneError(format!("{origin}: {e}")))
+}
+
+impl SceneDesc {
+    fn deserialize_table(doc: toml::Table) -> Result<SceneDesc, toml::de::Error> {
+        // Round-trip through text so error messages carry toml's key paths.
+        toml::from_str(&toml::to_string(&doc).unwrap_or_default())
+    }
+
+    pub fn default_scene() -> SceneDesc {
+        toml::from_str(DEFAULT_SCENE).expect("the built-in scene parses")
+    }
+}
+
+/// Loads a scene file (or the built-in scene when `path` is `None`).
+pub fn load_scene(path: Option<&Path>, overrides: &[String]) -> Result<Scene, SceneError> {
+    let (text, origin, base) = match path {
+        Some(p) => (
+            std::fs::read_to_string(p).map_err(|e| SceneError(format!("{}: {e}", p.display())))?,
+            p.display().to_string(),
+            p.parent().map(Path::to_path_buf).unwrap_or_default(),
+        ),
+        None => (DEFAULT_SCENE.to_string(), "built-in scene".to_string(), PathBuf::from(".")),
+    };
+    let desc = parse_scene(&text, &origin, overrides)?;
+    Scene::build(desc, &base)
+}
+
+fn transform(t: &TransformDesc) -> DAffine3 {
+    let s = match &t.scale {
+        None => DVec3::ONE,
+        Some(ScaleDesc::Uniform(s)) => DVec3::splat(*s as f64),
+        Some(ScaleDesc::PerAxis(s)) => DVec3::from(s.map(f64::from)),
+    };
+    let r = match t.rotate {
+        Some([x, y, z, deg]) => {
+            let axis = DVec3::new(x as f64, y as f64, z as f64);
+            if axis.length() > 0.0 {
+                DQuat::from_axis_angle(axis.normalize(), (deg as f64).to_radians())
+            } else {
+                DQuat::IDENTITY
+            }
+        }
+        None => DQuat::IDENTITY,
+    };
+    let tr = DVec3::from(t.translate.unwrap_or([0.0; 3]).map(f64::from));
+    DAffine3::from_scale_rotation_translation(s, r, tr)
+}
+
+fn analytic_kind(name: &str, d: &DensityDesc, key: &str) -> Result<AnalyticKind, SceneError> {
+    Ok(match name {
+        "empty" => AnalyticKind::Empty,
+        "constant" => AnalyticKind::Constant { value: d.value.unwrap_or(1.0) },
+        "ramp" => AnalyticKind::Ramp { base: d.value.unwrap_or(0.1), gradient: d.gradient.unwrap_or([1.0, 0.0, 0.0]) },
+        "sinusoid" => AnalyticKind::Sinusoid {
+            mean: d.value.unwrap_or(1.0),
+            amplitude: d.amplitude.unwrap_or(0.9),
+            frequency: d.frequency.unwrap_or([2.0, 1.0, 3.0]),
+            phase: d.phase.unwrap_or(0.0),
+        },
+        "slabs" => AnalyticKind::Slabs {
+            value: d.value.unwrap_or(1.0),
+            count: d.count.unwrap_or(4),
+            width: d.width.unwrap_or(0.02),
+            axis: d.axis.unwrap_or(0),
+        },
+        other => {
+            return Err(SceneError(format!(
+                "{key}.procedural: unknown procedural medium `{other}` (cloud, constant, ramp, sinusoid, slabs, empty)"
+            )))
+        }
+    })
+}
+
+fn density(d: &DensityDesc, key: &str, base: &Path, precision: Precision) -> Result<(DensityData, DAffine3, String), SceneError> {
+    let sources = [d.vdb.is_some(), d.vol.is_some(), d.raw.is_some(), d.procedural.is_some()];
+    if sources.iter().filter(|&&s| s).count() != 1 {
+        return Err(SceneError(format!("{key}: give exactly one of `vdb`, `vol`, `raw`, `procedural`")));
+    }
+    let err = |e: fogbank_volume::VolumeError| SceneError(format!("{key}: {e}"));
+    if let Some(f) = &d.vdb {
+        let path = base.join(f);
+        let g = vdb::read_grid(&path, d.grid.as_deref()).map_err(err)?;
+        let (mut grid, xf) = vdb_grid::to_brick_grid(&g).map_err(err)?;
+        let mode = d.level_set.as_deref().unwrap_or("fog");
+        if vdb_grid::is_level_set(&g) {
+            match mode {
+                "fog" => grid = vdb_grid::level_set_to_fog(&grid, g.background),
+                "raw" => grid = grid.map_values(|v| v.max(0.0)),
+                other => return Err(SceneError(format!("{key}.level_set: `{other}` is not `fog` or `raw`"))),
+            }
+        } else {
+            grid = grid.map_values(|v| v.max(0.0));
+        }
+        return Ok((DensityData::from_f32(grid, precision), xf, format!("{} ({})", path.display(), g.name)));
+    }
+    if let Some(f) = &d.vol {
+        let path = base.join(f);
+        let v = vol::read_vol(&path).map_err(err)?;
+        let grid = v.channel_grid(d.channel.unwrap_or(0)).map_err(err)?.map_values(|x| x.max(0.0));
+        return Ok((DensityData::from_f32(grid, precision), v.index_to_world(), path.display().to_string()));
+    }
+    if let Some(f) = &d.raw {
+        let path = base.join(f);
+        let ty = match &d.ty {
+            Some(t) => Some(raw::RawType::parse(t).ok_or_else(|| SceneError(format!("{key}.type: unknown raw type `{t}` (u8, u16, i16, f32, f64)")))?),
+            None => None,
+        };
+        let grid = raw::read_raw(&path, d.dims, ty).map_err(err)?;
+        let xf = unit_box_transform(grid.dims());
+        return Ok((DensityData::from_f32(grid, precision), xf, path.display().to_string()));
+    }
+    let name = d.procedural.as_deref().unwrap_or_default();
+    let res = d.resolution.unwrap_or(128);
+    if name == "cloud" {
+        let grid: BrickGrid<f32> = procedural::cloud_grid(res, d.seed.unwrap_or(7)).map_err(err)?;
+        return Ok((DensityData::from_f32(grid, precision), unit_box_transform([res; 3]), format!("procedural cloud {res}³")));
+    }
+    let field = AnalyticField::new(analytic_kind(name, d, key)?, res).map_err(err)?;
+    Ok((DensityData::Analytic(field), unit_box_transform([res; 3]), format!("analytic {name}")))
+}
+
+fn build_medium(m: &MediumDesc, i: usize, base: &Path) -> Result<SceneMedium, SceneError> {
+    let key = format!("media.{i}");
+    let filter = Filter::parse(&m.filter)
+        .ok_or_else(|| SceneError(format!("{key}.filter: `{}` is not nearest, trilinear or stochastic_trilinear", m.filter)))?;
+    let precision = match m.precision.as_str() {
+        "f16" => Precision::F16,
+        "f32" => Precision::F32,
+        other => return Err(SceneError(format!("{key}.precision: `{other}` is not f16 or f32"))),
+    };
+    if m.supervoxel == 0 || m.supervoxel > 256 {
+        return Err(SceneError(format!("{key}.supervoxel: {} is outside 1..=256", m.supervoxel)));
+    }
+    if !(m.sigma_t_scale >= 0.0 && m.sigma_t_scale.is_finite()) {
+        return Err(SceneError(format!("{key}.sigma_t_scale: must be a finite value ≥ 0")));
+    }
+    if m.phase.ty != "hg" && m.phase.ty != "isotropic" {
+        return Err(SceneError(format!("{key}.phase.type: `{}` is not hg or isotropic", m.phase.ty)));
+    }
+    if !(m.phase.g > -1.0 && m.phase.g < 1.0) {
+        return Err(SceneError(format!("{key}.phase.g: {} is outside (−1, 1)", m.phase.g)));
+    }
+    let (data, file_xf, source) = density(&m.density, &format!("{key}.density"), base, precision)?;
+    let xf = transform(&m.to_world) * file_xf;
+    if xf.matrix3.determinant().abs() < 1e-30 {
+        return Err(SceneError(format!("{key}.to_world: transform is singular")));
+    }
+    Ok(SceneMedium {
+        medium: Medium::new(data, m.sigma_t_scale, filter, xf, m.supervoxel),
+        albedo: m.albedo,
+        phase_g: if m.phase.ty == "isotropic" { 0.0 } else { m.phase.g },
+        source,
+    })
+}
+
+impl Scene {
+    pub fn build(desc: SceneDesc, base: &Path) -> Result<Scene, SceneError> {
+        let c = &desc.camera;
+        if c.width == 0 || c.height == 0 || c.width > 16384 || c.height > 16384 {
+            return Err(SceneError(format!("camera: image size {}×{} outside 1..=16384", c.width, c.height)));
+        }
+        if !(c.fov > 0.0 && c.fov < 180.0) {
+            return Err(SceneError(format!("camera.fov: {} is outside (0, 180)", c.fov)));
+        }
+        let fov_x = match c.fov_axis.as_str() {
+            "x" => true,
+            "y" => false,
+            other => return Err(SceneError(format!("camera.fov_axis: `{other}` is not x or y"))),
+        };
+        let camera = Camera::new(Vec3::from(c.from), Vec3::from(c.to), Vec3::from(c.up), c.fov, fov_x, c.width, c.height)
+            .ok_or_else(|| SceneError("camera: `from`, `to` and `up` must span a frame (from ≠ to, up not parallel)".into()))?;
+        let media = desc.media.iter().enumerate().map(|(i, m)| build_medium(m, i, base)).collect::<Result<Vec<_>, _>>()?;
+        let lights = desc
+            .lights
+            .iter()
+            .enumerate()
+            .map(|(i, l)| {
+                Ok(match l {
+                    LightDesc::Constant { radiance } => Light::Constant { radiance: Vec3::from(*radiance) },
+                    LightDesc::Envmap { file, scale } => {
+                        let path = base.join(file);
+                        if !path.exists() {
+                            return Err(SceneError(format!("lights.{i}.file: {} does not exist", path.display())));
+                        }
+                        Light::Envmap { file: path, scale: *scale }
+                    }
+                    LightDesc::Point { position, intensity } => {
+                        Light::Point { position: Vec3::from(*position), intensity: Vec3::from(*intensity) }
+                    }
+                    LightDesc::Directional { direction, irradiance } => Light::Directional {
+                        direction: Vec3::from(*direction)
+                            .try_normalize()
+                            .ok_or_else(|| SceneError(format!("lights.{i}.direction: zero vector")))?,
+                        irradiance: Vec3::from(*irradiance),
+                    },
+                })
+            })
+            .collect::<Result<Vec<_>, SceneError>>()?;
+        let integrator = match desc.integrator.ty.as_str() {
+            "transmittance" => {
+                let estimator = Estimator::parse(&desc.integrator.estimator).ok_or_else(|| {
+                    SceneError(format!(
+                        "integrator.estimator: unknown estimator `{}` (available: {})",
+                        desc.integrator.estimator,
+                        Estimator::names().join(", ")
+                    ))
+                })?;
+                IntegratorKind::Transmittance { estimator, background: Vec3::from(desc.integrator.background) }
+            }
+            other => return Err(SceneError(format!("integrator.type: unknown integrator `{other}` (available: transmittance)"))),
+        };
+        Ok(Scene { desc, camera, media, lights, integrator })
+    }
+}
