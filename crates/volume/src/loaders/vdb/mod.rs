@@ -22,7 +22,7 @@
 //! | files without grid offsets (streams) | yes, as long as every grid before the wanted one is a float grid |
 //! | delayed-load metadata, multi-pass (point) grids | ignored / not supported |
 
-mod blosc;
+pub mod blosc;
 
 use std::path::Path;
 
@@ -547,8 +547,9 @@ fn parse_header(path: &Path, data: &[u8]) -> Result<FileHeader> {
         if has_offsets {
             let len = data.len() as i64;
             let here = r.pos as i64;
-            let ok =
-                here <= grid_pos && grid_pos <= block_pos && block_pos <= end_pos && end_pos <= len;
+            // The block offset is not needed (buffers follow the topology)
+            // and instances leave it 0, so only the others are checked.
+            let ok = here <= grid_pos && grid_pos <= end_pos && end_pos <= len;
             if !ok {
                 return Err(r.fail(format!(
                     "invalid grid offsets {grid_pos}/{block_pos}/{end_pos} (file has {len} bytes)"
