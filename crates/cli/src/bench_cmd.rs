@@ -71,18 +71,33 @@ spp = {f}
     for &threads in &a.threads {
         let pool = thread_pool(Some(threads))?;
         for &e in &estimators {
-            scene.integrator = fogbank_render::scene::IntegratorKind::Transmittance { estimator: e, background: glam::Vec3::ONE };
-            let opts = RenderOptions { spp: a.frames, seed: 1, time_budget: None };
+            scene.integrator = fogbank_render::scene::IntegratorKind::Transmittance {
+                estimator: e,
+                background: glam::Vec3::ONE,
+            };
+            let opts = RenderOptions {
+                spp: a.frames,
+                seed: 1,
+                time_budget: None,
+            };
             let r = pool.install(|| render(&scene, &opts, &Progress::default()));
             let ms = r.seconds * 1000.0 / a.frames as f64;
             let mrays = rays / r.seconds / 1e6;
             let lpr = r.film.lookups as f64 / rays;
-            println!("| {} | {} | {:.1} | {:.2} | {:.1} |", e.name(), threads, ms, mrays, lpr);
+            println!(
+                "| {} | {} | {:.1} | {:.2} | {:.1} |",
+                e.name(),
+                threads,
+                ms,
+                mrays,
+                lpr
+            );
             rows.push(serde_json::json!({"estimator": e.name(), "threads": threads, "ms_per_frame": ms, "mrays_per_s": mrays, "lookups_per_ray": lpr}));
         }
     }
     if let Some(p) = &a.json {
-        std::fs::write(p, serde_json::to_string_pretty(&rows)?).map_err(|e| format!("{}: {e}", p.display()))?;
+        std::fs::write(p, serde_json::to_string_pretty(&rows)?)
+            .map_err(|e| format!("{}: {e}", p.display()))?;
     }
     Ok(())
 }

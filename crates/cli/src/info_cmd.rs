@@ -25,7 +25,10 @@ fn print_transform(m: &DAffine3) {
     let t = m.translation;
     println!("  transform (index → world):");
     for r in 0..3 {
-        println!("    [{:>12.6} {:>12.6} {:>12.6} | {:>12.6}]", c.x_axis[r], c.y_axis[r], c.z_axis[r], t[r]);
+        println!(
+            "    [{:>12.6} {:>12.6} {:>12.6} | {:>12.6}]",
+            c.x_axis[r], c.y_axis[r], c.z_axis[r], t[r]
+        );
     }
 }
 
@@ -49,11 +52,18 @@ fn print_memory(grid: BrickGrid<f32>) {
 }
 
 fn range_and_sum(values: impl Iterator<Item = f32>) -> (f32, f32, f64) {
-    values.fold((f32::INFINITY, f32::NEG_INFINITY, 0.0), |(lo, hi, s), v| (lo.min(v), hi.max(v), s + v as f64))
+    values.fold((f32::INFINITY, f32::NEG_INFINITY, 0.0), |(lo, hi, s), v| {
+        (lo.min(v), hi.max(v), s + v as f64)
+    })
 }
 
 pub fn run(a: InfoArgs) -> CliResult {
-    let ext = a.file.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    let ext = a
+        .file
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
     match ext.as_str() {
         "vdb" => {
             let grids = vdb::list_grids(&a.file)?;
@@ -64,22 +74,42 @@ pub fn run(a: InfoArgs) -> CliResult {
                     d.name,
                     d.value_type,
                     d.grid_class,
-                    if d.supported { "" } else { " — not a float scalar grid, skipped" }
+                    if d.supported {
+                        ""
+                    } else {
+                        " — not a float scalar grid, skipped"
+                    }
                 );
                 if !d.supported {
                     continue;
                 }
                 let g = vdb::read_grid(&a.file, Some(&d.name))?;
-                println!("  file version {}, stored as {}, compression {}", g.file_version, if g.stored_as_half { "half" } else { "float" }, g.compression);
+                println!(
+                    "  file version {}, stored as {}, compression {}",
+                    g.file_version,
+                    if g.stored_as_half { "half" } else { "float" },
+                    g.compression
+                );
                 match g.active_bbox() {
-                    Some((lo, hi)) => println!("  index bbox [{}, {}, {}] – [{}, {}, {}]", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]),
+                    Some((lo, hi)) => println!(
+                        "  index bbox [{}, {}, {}] – [{}, {}, {}]",
+                        lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]
+                    ),
                     None => println!("  index bbox: empty"),
                 }
                 println!("  active voxels {}", g.active_voxel_count());
                 if let Some((lo, hi)) = g.active_value_range() {
-                    println!("  active value range [{lo}, {hi}], sum {:.6}", g.active_value_sum());
+                    println!(
+                        "  active value range [{lo}, {hi}], sum {:.6}",
+                        g.active_value_sum()
+                    );
                 }
-                println!("  background {}, {} leaves, {} tiles", g.background, g.leaves.len(), g.tiles.len());
+                println!(
+                    "  background {}, {} leaves, {} tiles",
+                    g.background,
+                    g.leaves.len(),
+                    g.tiles.len()
+                );
                 let (grid, xf) = vdb_grid::to_brick_grid(&g)?;
                 print_transform(&xf);
                 print_memory(grid);
@@ -98,7 +128,13 @@ pub fn run(a: InfoArgs) -> CliResult {
                 v.bbox_max
             );
             for c in 0..v.channels {
-                let (lo, hi, s) = range_and_sum(v.data.iter().skip(c as usize).step_by(v.channels as usize).copied());
+                let (lo, hi, s) = range_and_sum(
+                    v.data
+                        .iter()
+                        .skip(c as usize)
+                        .step_by(v.channels as usize)
+                        .copied(),
+                );
                 println!("  channel {c}: range [{lo}, {hi}], sum {s:.6}");
             }
             print_transform(&v.index_to_world());
@@ -107,19 +143,36 @@ pub fn run(a: InfoArgs) -> CliResult {
         "raw" => {
             let dims = a.dims.map(|d| [d[0], d[1], d[2]]);
             let ty = match &a.ty {
-                Some(t) => Some(raw::RawType::parse(t).ok_or_else(|| format!("--type: unknown raw type `{t}`"))?),
+                Some(t) => Some(
+                    raw::RawType::parse(t)
+                        .ok_or_else(|| format!("--type: unknown raw type `{t}`"))?,
+                ),
                 None => None,
             };
             let g = raw::read_raw(&a.file, dims, ty)?;
             let d = g.dims();
-            let values = (0..d[2]).flat_map(|k| (0..d[1]).flat_map(move |j| (0..d[0]).map(move |i| (i, j, k))));
-            let (lo, hi, s) = range_and_sum(values.map(|(i, j, k)| g.fetch(i as i32, j as i32, k as i32)));
-            println!("{}: raw {}×{}×{} (values normalised to [0, 1] for integer types)", a.file.display(), d[0], d[1], d[2]);
+            let values = (0..d[2])
+                .flat_map(|k| (0..d[1]).flat_map(move |j| (0..d[0]).map(move |i| (i, j, k))));
+            let (lo, hi, s) =
+                range_and_sum(values.map(|(i, j, k)| g.fetch(i as i32, j as i32, k as i32)));
+            println!(
+                "{}: raw {}×{}×{} (values normalised to [0, 1] for integer types)",
+                a.file.display(),
+                d[0],
+                d[1],
+                d[2]
+            );
             println!("  value range [{lo}, {hi}], sum {s:.6}");
             print_transform(&fogbank_volume::medium::unit_box_transform(d));
             print_memory(g);
         }
-        _ => return Err(format!("{}: unknown volume format (expected .vdb, .vol or .raw)", a.file.display()).into()),
+        _ => {
+            return Err(format!(
+                "{}: unknown volume format (expected .vdb, .vol or .raw)",
+                a.file.display()
+            )
+            .into())
+        }
     }
     Ok(())
 }

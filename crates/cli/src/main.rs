@@ -9,7 +9,11 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "fogbank", version, about = "Monte Carlo rendering of heterogeneous participating media")]
+#[command(
+    name = "fogbank",
+    version,
+    about = "Monte Carlo rendering of heterogeneous participating media"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -34,7 +38,12 @@ fn main() -> ExitCode {
         Command::Info(a) => info_cmd::run(a),
         Command::Estimators => {
             for e in fogbank_estimators::Estimator::ALL {
-                println!("{:<22} {:<8} {}", e.name(), if e.biased() { "biased" } else { "unbiased" }, e.description());
+                println!(
+                    "{:<22} {:<8} {}",
+                    e.name(),
+                    if e.biased() { "biased" } else { "unbiased" },
+                    e.description()
+                );
             }
             Ok(())
         }
@@ -57,14 +66,23 @@ pub fn peak_memory_bytes() -> u64 {
         .ok()
         .and_then(|s| {
             s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| {
-                l.split_whitespace().nth(1).and_then(|kb| kb.parse::<u64>().ok()).map(|kb| kb * 1024)
+                l.split_whitespace()
+                    .nth(1)
+                    .and_then(|kb| kb.parse::<u64>().ok())
+                    .map(|kb| kb * 1024)
             })
         })
         .unwrap_or(0)
 }
 
-pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, Box<dyn std::error::Error>> {
-    let n = threads.unwrap_or_else(|| std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1));
+pub fn thread_pool(
+    threads: Option<usize>,
+) -> Result<rayon::ThreadPool, Box<dyn std::error::Error>> {
+    let n = threads.unwrap_or_else(|| {
+        std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1)
+    });
     if n == 0 {
         return Err("--threads must be at least 1".into());
     }

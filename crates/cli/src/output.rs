@@ -6,11 +6,22 @@ use std::path::Path;
 
 /// Writes R, G, B and, if given, `variance.R/G/B` as 32-bit float channels
 /// of one part; OpenEXR tools and tev read the `variance.` prefix as a layer.
-pub fn write_exr(path: &Path, width: u32, height: u32, rgb: &[[f32; 3]], variance: Option<&[[f32; 3]]>) -> std::result::Result<(), String> {
+pub fn write_exr(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgb: &[[f32; 3]],
+    variance: Option<&[[f32; 3]]>,
+) -> std::result::Result<(), String> {
     let plane = |data: &[[f32; 3]], c: usize| FlatSamples::F32(data.iter().map(|p| p[c]).collect());
-    let mut channels: Vec<AnyChannel<FlatSamples>> = (0..3).map(|c| AnyChannel::new(["R", "G", "B"][c], plane(rgb, c))).collect();
+    let mut channels: Vec<AnyChannel<FlatSamples>> = (0..3)
+        .map(|c| AnyChannel::new(["R", "G", "B"][c], plane(rgb, c)))
+        .collect();
     if let Some(v) = variance {
-        for (c, name) in ["variance.R", "variance.G", "variance.B"].iter().enumerate() {
+        for (c, name) in ["variance.R", "variance.G", "variance.B"]
+            .iter()
+            .enumerate()
+        {
             channels.push(AnyChannel::new(*name, plane(v, c)));
         }
     }
@@ -20,18 +31,36 @@ pub fn write_exr(path: &Path, width: u32, height: u32, rgb: &[[f32; 3]], varianc
         Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(channels.into()),
     );
-    Image::from_layer(layer).write().to_file(path).map_err(|e| format!("{}: {e}", path.display()))
+    Image::from_layer(layer)
+        .write()
+        .to_file(path)
+        .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// sRGB transfer function of a linear value clamped to [0, 1].
 fn srgb8(v: f32) -> u8 {
-    let v = if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 };
-    let s = if v <= 0.003_130_8 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 };
+    let v = if v.is_finite() {
+        v.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let s = if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    };
     (s * 255.0 + 0.5) as u8
 }
 
-pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[[f32; 3]], exposure: f32) -> std::result::Result<(), String> {
+pub fn write_png(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgb: &[[f32; 3]],
+    exposure: f32,
+) -> std::result::Result<(), String> {
     let k = 2f32.powf(exposure);
     let bytes: Vec<u8> = rgb.iter().flat_map(|p| p.map(|c| srgb8(c * k))).collect();
-    image::save_buffer(path, &bytes, width, height, image::ColorType::Rgb8).map_err(|e| format!("{}: {e}", path.display()))
+    image::save_buffer(path, &bytes, width, height, image::ColorType::Rgb8)
+        .map_err(|e| format!("{}: {e}", path.display()))
 }

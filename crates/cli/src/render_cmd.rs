@@ -75,7 +75,11 @@ pub fn run(a: RenderArgs) -> CliResult {
     if spp == 0 {
         return Err("render.spp must be at least 1".into());
     }
-    let opts = RenderOptions { spp, seed: scene.desc.render.seed, time_budget: a.time_budget.map(Duration::from_secs_f64) };
+    let opts = RenderOptions {
+        spp,
+        seed: scene.desc.render.seed,
+        time_budget: a.time_budget.map(Duration::from_secs_f64),
+    };
     let pool = thread_pool(a.threads)?;
     let threads = pool.current_num_threads();
 
@@ -94,14 +98,18 @@ pub fn run(a: RenderArgs) -> CliResult {
         ProgressBar::hidden()
     } else if spp == u32::MAX {
         let b = ProgressBar::new((a.time_budget.unwrap_or(0.0) * 1000.0) as u64);
-        b.set_style(ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {msg}").unwrap());
+        b.set_style(
+            ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {msg}").unwrap(),
+        );
         b
     } else {
         let b = ProgressBar::new(pixels * spp as u64);
         b.set_style(
-            ProgressStyle::with_template("[{elapsed_precise}] {wide_bar} {percent:>3}% ETA {eta} {msg}")
-                .unwrap()
-                .progress_chars("█▉▊▋▌▍▎▏ "),
+            ProgressStyle::with_template(
+                "[{elapsed_precise}] {wide_bar} {percent:>3}% ETA {eta} {msg}",
+            )
+            .unwrap()
+            .progress_chars("█▉▊▋▌▍▎▏ "),
         );
         b
     };
@@ -116,7 +124,10 @@ pub fn run(a: RenderArgs) -> CliResult {
                 } else {
                     bar.set_position(samples);
                 }
-                bar.set_message(format!("{} spp", progress.passes_done.load(Ordering::Relaxed)));
+                bar.set_message(format!(
+                    "{} spp",
+                    progress.passes_done.load(Ordering::Relaxed)
+                ));
                 std::thread::sleep(Duration::from_millis(100));
             }
         });
@@ -130,32 +141,59 @@ pub fn run(a: RenderArgs) -> CliResult {
     let mean = film.mean();
     let variance = film.variance_of_mean();
     // The film drops non-finite samples; this guards the division results.
-    let bad_pixels = mean.iter().filter(|p| p.iter().any(|c| !c.is_finite())).count();
-    let mean: Vec<[f32; 3]> = mean.into_iter().map(|p| p.map(|c| if c.is_finite() { c } else { 0.0 })).collect();
+    let bad_pixels = mean
+        .iter()
+        .filter(|p| p.iter().any(|c| !c.is_finite()))
+        .count();
+    let mean: Vec<[f32; 3]> = mean
+        .into_iter()
+        .map(|p| p.map(|c| if c.is_finite() { c } else { 0.0 }))
+        .collect();
     let min_spp = film.min_spp();
     for out in &outputs {
         match out.extension().and_then(|e| e.to_str()) {
-            Some("exr") => write_exr(out, film.width, film.height, &mean, (min_spp > 1).then_some(&variance[..]))?,
+            Some("exr") => write_exr(
+                out,
+                film.width,
+                film.height,
+                &mean,
+                (min_spp > 1).then_some(&variance[..]),
+            )?,
             _ => write_png(out, film.width, film.height, &mean, a.exposure)?,
         }
     }
     let samples = film.total_samples();
-    let lookups_per_pixel = if samples > 0 { film.lookups as f64 / samples as f64 } else { 0.0 };
+    let lookups_per_pixel = if samples > 0 {
+        film.lookups as f64 / samples as f64
+    } else {
+        0.0
+    };
     if !a.quiet {
         eprintln!(
             "{}{} spp ({}), {:.2} s, {} threads, {:.1} lookups/pixel/sample{}; wrote {}",
-            if result.interrupted { "interrupted after " } else { "" },
+            if result.interrupted {
+                "interrupted after "
+            } else {
+                ""
+            },
             min_spp,
             scene.integrator.estimator_name(),
             result.seconds,
             threads,
             lookups_per_pixel,
             if film.nan_samples + film.inf_samples > 0 {
-                format!(", dropped {} NaN and {} Inf samples", film.nan_samples, film.inf_samples)
+                format!(
+                    ", dropped {} NaN and {} Inf samples",
+                    film.nan_samples, film.inf_samples
+                )
             } else {
                 String::new()
             },
-            outputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
+            outputs
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
         );
     }
     if let Some(path) = &a.stats {
@@ -190,6 +228,7 @@ pub fn run(a: RenderArgs) -> CliResult {
 }
 
 fn write_json(path: &Path, v: &serde_json::Value) -> CliResult {
-    std::fs::write(path, serde_json::to_string_pretty(v)? + "\n").map_err(|e| format!("{}: {e}", path.display()))?;
+    std::fs::write(path, serde_json::to_string_pretty(v)? + "\n")
+        .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(())
 }

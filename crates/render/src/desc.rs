@@ -144,7 +144,10 @@ pub struct PhaseDesc {
 
 impl Default for PhaseDesc {
     fn default() -> Self {
-        PhaseDesc { ty: "hg".into(), g: 0.0 }
+        PhaseDesc {
+            ty: "hg".into(),
+            g: 0.0,
+        }
     }
 }
 
@@ -175,10 +178,22 @@ pub enum ScaleDesc {
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum LightDesc {
-    Constant { radiance: [f32; 3] },
-    Envmap { file: String, #[serde(default = "one")] scale: f32 },
-    Point { position: [f32; 3], intensity: [f32; 3] },
-    Directional { direction: [f32; 3], irradiance: [f32; 3] },
+    Constant {
+        radiance: [f32; 3],
+    },
+    Envmap {
+        file: String,
+        #[serde(default = "one")]
+        scale: f32,
+    },
+    Point {
+        position: [f32; 3],
+        intensity: [f32; 3],
+    },
+    Directional {
+        direction: [f32; 3],
+        irradiance: [f32; 3],
+    },
 }
 
 /// | key | default | meaning |
@@ -197,7 +212,11 @@ pub struct IntegratorDesc {
 
 impl Default for IntegratorDesc {
     fn default() -> Self {
-        IntegratorDesc { ty: "transmittance".into(), estimator: "ratio_tracking".into(), background: [1.0; 3] }
+        IntegratorDesc {
+            ty: "transmittance".into(),
+            estimator: "ratio_tracking".into(),
+            background: [1.0; 3],
+        }
     }
 }
 
@@ -270,7 +289,9 @@ impl std::error::Error for SceneError {}
 /// needs no quotes.
 pub fn parse_value(text: &str) -> toml::Value {
     match toml::from_str::<toml::Table>(&format!("v = {text}")) {
-        Ok(mut t) => t.remove("v").unwrap_or_else(|| toml::Value::String(text.into())),
+        Ok(mut t) => t
+            .remove("v")
+            .unwrap_or_else(|| toml::Value::String(text.into())),
         Err(_) => toml::Value::String(text.into()),
     }
 }
@@ -278,7 +299,11 @@ pub fn parse_value(text: &str) -> toml::Value {
 /// Sets `path` (dotted; numbers index arrays) in `doc` to `value`. Missing
 /// tables are created; an index past an array's end is an error. Unknown keys
 /// are caught afterwards, when the document is deserialised.
-pub fn apply_override(doc: &mut toml::Table, path: &str, value: toml::Value) -> Result<(), SceneError> {
+pub fn apply_override(
+    doc: &mut toml::Table,
+    path: &str,
+    value: toml::Value,
+) -> Result<(), SceneError> {
     let mut root = toml::Value::Table(std::mem::take(doc));
     let result = set_path(&mut root, path, value);
     if let toml::Value::Table(t) = root {
@@ -297,19 +322,28 @@ fn set_path(root: &mut toml::Value, path: &str, value: toml::Value) -> Result<()
     for (i, part) in parents.iter().enumerate() {
         let so_far = parts[..=i].join(".");
         node = match node {
-            toml::Value::Table(t) => {
-                t.entry(part.to_string()).or_insert_with(|| toml::Value::Table(toml::Table::new()))
-            }
+            toml::Value::Table(t) => t
+                .entry(part.to_string())
+                .or_insert_with(|| toml::Value::Table(toml::Table::new())),
             toml::Value::Array(a) => {
                 let len = a.len();
-                let idx: usize = part
-                    .parse()
-                    .map_err(|_| SceneError(format!("--set {path}: `{so_far}` indexes a list, expected a number")))?;
+                let idx: usize = part.parse().map_err(|_| {
+                    SceneError(format!(
+                        "--set {path}: `{so_far}` indexes a list, expected a number"
+                    ))
+                })?;
                 a.get_mut(idx).ok_or_else(|| {
-                    SceneError(format!("--set {path}: `{so_far}` is out of range (the list has {len} entries)"))
+                    SceneError(format!(
+                        "--set {path}: `{so_far}` is out of range (the list has {len} entries)"
+                    ))
                 })?
             }
-            _ => return Err(SceneError(format!("--set {path}: `{}` is not a table", parts[..i].join(".")))),
+            _ => {
+                return Err(SceneError(format!(
+                    "--set {path}: `{}` is not a table",
+                    parts[..i].join(".")
+                )))
+            }
         };
     }
     match node {
@@ -319,14 +353,22 @@ fn set_path(root: &mut toml::Value, path: &str, value: toml::Value) -> Result<()
         }
         toml::Value::Array(a) => {
             let len = a.len();
-            let idx: usize =
-                last.parse().map_err(|_| SceneError(format!("--set {path}: `{last}` indexes a list, expected a number")))?;
-            let slot = a
-                .get_mut(idx)
-                .ok_or_else(|| SceneError(format!("--set {path}: index {idx} is out of range (the list has {len} entries)")))?;
+            let idx: usize = last.parse().map_err(|_| {
+                SceneError(format!(
+                    "--set {path}: `{last}` indexes a list, expected a number"
+                ))
+            })?;
+            let slot = a.get_mut(idx).ok_or_else(|| {
+                SceneError(format!(
+                    "--set {path}: index {idx} is out of range (the list has {len} entries)"
+                ))
+            })?;
             *slot = value;
             Ok(())
         }
-        _ => Err(SceneError(format!("--set {path}: `{}` is not a table", parents.join(".")))),
+        _ => Err(SceneError(format!(
+            "--set {path}: `{}` is not a table",
+            parents.join(".")
+        ))),
     }
 }

@@ -34,7 +34,13 @@ impl Film {
         self.sum
             .iter()
             .zip(&self.count)
-            .map(|(s, &n)| if n == 0 { [0.0; 3] } else { s.map(|v| (v / n as f64) as f32) })
+            .map(|(s, &n)| {
+                if n == 0 {
+                    [0.0; 3]
+                } else {
+                    s.map(|v| (v / n as f64) as f32)
+                }
+            })
             .collect()
     }
 

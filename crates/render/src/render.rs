@@ -70,12 +70,21 @@ pub fn render(scene: &Scene, opts: &RenderOptions, progress: &Progress) -> Rende
             .zip(film.count.par_chunks_mut(w as usize))
             .enumerate()
             .map(|(y, ((sum, sum_sq), count))| {
-                let mut t = RowTotals { lookups: 0, nan: 0, inf: 0 };
+                let mut t = RowTotals {
+                    lookups: 0,
+                    nan: 0,
+                    inf: 0,
+                };
                 if progress.cancel.load(Ordering::Relaxed) {
                     return t;
                 }
                 for x in 0..w as usize {
-                    let key = SampleKey { seed: opts.seed, pixel: (y * w as usize + x) as u32, sample: pass, dimension: 0 };
+                    let key = SampleKey {
+                        seed: opts.seed,
+                        pixel: (y * w as usize + x) as u32,
+                        sample: pass,
+                        dimension: 0,
+                    };
                     let s = sample_pixel(scene, x as u32, y as u32, key);
                     t.lookups += s.lookups as u64;
                     let v = s.radiance.to_array();
@@ -97,8 +106,16 @@ pub fn render(scene: &Scene, opts: &RenderOptions, progress: &Progress) -> Rende
                 t
             })
             .reduce(
-                || RowTotals { lookups: 0, nan: 0, inf: 0 },
-                |a, b| RowTotals { lookups: a.lookups + b.lookups, nan: a.nan + b.nan, inf: a.inf + b.inf },
+                || RowTotals {
+                    lookups: 0,
+                    nan: 0,
+                    inf: 0,
+                },
+                |a, b| RowTotals {
+                    lookups: a.lookups + b.lookups,
+                    nan: a.nan + b.nan,
+                    inf: a.inf + b.inf,
+                },
             );
         film.lookups += totals.lookups;
         film.nan_samples += totals.nan;
@@ -109,5 +126,9 @@ pub fn render(scene: &Scene, opts: &RenderOptions, progress: &Progress) -> Rende
         }
         progress.passes_done.fetch_add(1, Ordering::Relaxed);
     }
-    RenderResult { film, seconds: start.elapsed().as_secs_f64(), interrupted }
+    RenderResult {
+        film,
+        seconds: start.elapsed().as_secs_f64(),
+        interrupted,
+    }
 }

@@ -2,12 +2,18 @@
 //! to render. Relative paths resolve against the scene file's folder.
 
 use crate::camera::Camera;
-use crate::desc::{parse_value, apply_override, DensityDesc, MediumDesc, SceneDesc, SceneError, ScaleDesc, TransformDesc, DEFAULT_SCENE};
 use crate::desc::LightDesc;
+use crate::desc::{
+    apply_override, parse_value, DensityDesc, MediumDesc, ScaleDesc, SceneDesc, SceneError,
+    TransformDesc, DEFAULT_SCENE,
+};
 use fogbank_estimators::Estimator;
 use fogbank_math::{DAffine3, DVec3, Vec3};
 use fogbank_volume::loaders::{raw, vdb, vdb_grid, vol};
-use fogbank_volume::{medium::unit_box_transform, procedural, AnalyticField, AnalyticKind, BrickGrid, DensityData, Filter, Medium, Precision};
+use fogbank_volume::{
+    medium::unit_box_transform, procedural, AnalyticField, AnalyticKind, BrickGrid, DensityData,
+    Filter, Medium, Precision,
+};
 use glam::DQuat;
 use std::path::{Path, PathBuf};
 
@@ -32,7 +38,10 @@ pub enum Light {
 
 #[derive(Clone, Debug)]
 pub enum IntegratorKind {
-    Transmittance { estimator: Estimator, background: Vec3 },
+    Transmittance {
+        estimator: Estimator,
+        background: Vec3,
+    },
 }
 
 impl IntegratorKind {
@@ -58,11 +67,17 @@ pub struct Scene {
 }
 
 /// Parses scene TOML, applies `KEY=VALUE` overrides, and deserialises.
-pub fn parse_scene(text: &str, origin: &str, overrides: &[String]) -> Result<SceneDesc, SceneError> {
-    let mut doc: toml::Table = toml::from_str(text).map_err(|e| SceneError(format!("{origin}: {e}")))?;
+pub fn parse_scene(
+    text: &str,
+    origin: &str,
+    overrides: &[String],
+) -> Result<SceneDesc, SceneError> {
+    let mut doc: toml::Table =
+        toml::from_str(text).map_err(|e| SceneError(format!("{origin}: {e}")))?;
     for o in overrides {
-        let (key, value) =
-            o.split_once('=').ok_or_else(|| SceneError(format!("--set {o}: expected KEY=VALUE")))?;
+        let (key, value) = o
+            .split_once('=')
+            .ok_or_else(|| SceneError(format!("--set {o}: expected KEY=VALUE")))?;
         apply_override(&mut doc, key.trim(), parse_value(value.trim()))?;
     }
     SceneDesc::deserialize_table(doc).map_err(|e| SceneError(format!("{origin}: {e}")))
@@ -87,7 +102,11 @@ pub fn load_scene(path: Option<&Path>, overrides: &[String]) -> Result<Scene, Sc
             p.display().to_string(),
             p.parent().map(Path::to_path_buf).unwrap_or_default(),
         ),
-        None => (DEFAULT_SCENE.to_string(), "built-in scene".to_string(), PathBuf::from(".")),
+        None => (
+            DEFAULT_SCENE.to_string(),
+            "built-in scene".to_string(),
+            PathBuf::from("."),
+        ),
     };
     let desc = parse_scene(&text, &origin, overrides)?;
     Scene::build(desc, &base)
@@ -139,10 +158,22 @@ fn analytic_kind(name: &str, d: &DensityDesc, key: &str) -> Result<AnalyticKind,
     })
 }
 
-fn density(d: &DensityDesc, key: &str, base: &Path, precision: Precision) -> Result<(DensityData, DAffine3, String), SceneError> {
-    let sources = [d.vdb.is_some(), d.vol.is_some(), d.raw.is_some(), d.procedural.is_some()];
+fn density(
+    d: &DensityDesc,
+    key: &str,
+    base: &Path,
+    precision: Precision,
+) -> Result<(DensityData, DAffine3, String), SceneError> {
+    let sources = [
+        d.vdb.is_some(),
+        d.vol.is_some(),
+        d.raw.is_some(),
+        d.procedural.is_some(),
+    ];
     if sources.iter().filter(|&&s| s).count() != 1 {
-        return Err(SceneError(format!("{key}: give exactly one of `vdb`, `vol`, `raw`, `procedural`")));
+        return Err(SceneError(format!(
+            "{key}: give exactly one of `vdb`, `vol`, `raw`, `procedural`"
+        )));
     }
     let err = |e: fogbank_volume::VolumeError| SceneError(format!("{key}: {e}"));
     if let Some(f) = &d.vdb {
@@ -154,59 +185,109 @@ fn density(d: &DensityDesc, key: &str, base: &Path, precision: Precision) -> Res
             match mode {
                 "fog" => grid = vdb_grid::level_set_to_fog(&grid, g.background),
                 "raw" => grid = grid.map_values(|v| v.max(0.0)),
-                other => return Err(SceneError(format!("{key}.level_set: `{other}` is not `fog` or `raw`"))),
+                other => {
+                    return Err(SceneError(format!(
+                        "{key}.level_set: `{other}` is not `fog` or `raw`"
+                    )))
+                }
             }
         } else {
             grid = grid.map_values(|v| v.max(0.0));
         }
-        return Ok((DensityData::from_f32(grid, precision), xf, format!("{} ({})", path.display(), g.name)));
+        return Ok((
+            DensityData::from_f32(grid, precision),
+            xf,
+            format!("{} ({})", path.display(), g.name),
+        ));
     }
     if let Some(f) = &d.vol {
         let path = base.join(f);
         let v = vol::read_vol(&path).map_err(err)?;
-        let grid = v.channel_grid(d.channel.unwrap_or(0)).map_err(err)?.map_values(|x| x.max(0.0));
-        return Ok((DensityData::from_f32(grid, precision), v.index_to_world(), path.display().to_string()));
+        let grid = v
+            .channel_grid(d.channel.unwrap_or(0))
+            .map_err(err)?
+            .map_values(|x| x.max(0.0));
+        return Ok((
+            DensityData::from_f32(grid, precision),
+            v.index_to_world(),
+            path.display().to_string(),
+        ));
     }
     if let Some(f) = &d.raw {
         let path = base.join(f);
         let ty = match &d.ty {
-            Some(t) => Some(raw::RawType::parse(t).ok_or_else(|| SceneError(format!("{key}.type: unknown raw type `{t}` (u8, u16, i16, f32, f64)")))?),
+            Some(t) => Some(raw::RawType::parse(t).ok_or_else(|| {
+                SceneError(format!(
+                    "{key}.type: unknown raw type `{t}` (u8, u16, i16, f32, f64)"
+                ))
+            })?),
             None => None,
         };
         let grid = raw::read_raw(&path, d.dims, ty).map_err(err)?;
         let xf = unit_box_transform(grid.dims());
-        return Ok((DensityData::from_f32(grid, precision), xf, path.display().to_string()));
+        return Ok((
+            DensityData::from_f32(grid, precision),
+            xf,
+            path.display().to_string(),
+        ));
     }
     let name = d.procedural.as_deref().unwrap_or_default();
     let res = d.resolution.unwrap_or(128);
     if name == "cloud" {
         let grid: BrickGrid<f32> = procedural::cloud_grid(res, d.seed.unwrap_or(7)).map_err(err)?;
-        return Ok((DensityData::from_f32(grid, precision), unit_box_transform([res; 3]), format!("procedural cloud {res}³")));
+        return Ok((
+            DensityData::from_f32(grid, precision),
+            unit_box_transform([res; 3]),
+            format!("procedural cloud {res}³"),
+        ));
     }
     let field = AnalyticField::new(analytic_kind(name, d, key)?, res).map_err(err)?;
-    Ok((DensityData::Analytic(field), unit_box_transform([res; 3]), format!("analytic {name}")))
+    Ok((
+        DensityData::Analytic(field),
+        unit_box_transform([res; 3]),
+        format!("analytic {name}"),
+    ))
 }
 
 fn build_medium(m: &MediumDesc, i: usize, base: &Path) -> Result<SceneMedium, SceneError> {
     let key = format!("media.{i}");
-    let filter = Filter::parse(&m.filter)
-        .ok_or_else(|| SceneError(format!("{key}.filter: `{}` is not nearest, trilinear or stochastic_trilinear", m.filter)))?;
+    let filter = Filter::parse(&m.filter).ok_or_else(|| {
+        SceneError(format!(
+            "{key}.filter: `{}` is not nearest, trilinear or stochastic_trilinear",
+            m.filter
+        ))
+    })?;
     let precision = match m.precision.as_str() {
         "f16" => Precision::F16,
         "f32" => Precision::F32,
-        other => return Err(SceneError(format!("{key}.precision: `{other}` is not f16 or f32"))),
+        other => {
+            return Err(SceneError(format!(
+                "{key}.precision: `{other}` is not f16 or f32"
+            )))
+        }
     };
     if m.supervoxel == 0 || m.supervoxel > 256 {
-        return Err(SceneError(format!("{key}.supervoxel: {} is outside 1..=256", m.supervoxel)));
+        return Err(SceneError(format!(
+            "{key}.supervoxel: {} is outside 1..=256",
+            m.supervoxel
+        )));
     }
     if !(m.sigma_t_scale >= 0.0 && m.sigma_t_scale.is_finite()) {
-        return Err(SceneError(format!("{key}.sigma_t_scale: must be a finite value ≥ 0")));
+        return Err(SceneError(format!(
+            "{key}.sigma_t_scale: must be a finite value ≥ 0"
+        )));
     }
     if m.phase.ty != "hg" && m.phase.ty != "isotropic" {
-        return Err(SceneError(format!("{key}.phase.type: `{}` is not hg or isotropic", m.phase.ty)));
+        return Err(SceneError(format!(
+            "{key}.phase.type: `{}` is not hg or isotropic",
+            m.phase.ty
+        )));
     }
     if !(m.phase.g > -1.0 && m.phase.g < 1.0) {
-        return Err(SceneError(format!("{key}.phase.g: {} is outside (−1, 1)", m.phase.g)));
+        return Err(SceneError(format!(
+            "{key}.phase.g: {} is outside (−1, 1)",
+            m.phase.g
+        )));
     }
     let (data, file_xf, source) = density(&m.density, &format!("{key}.density"), base, precision)?;
     let xf = transform(&m.to_world) * file_xf;
@@ -216,7 +297,11 @@ fn build_medium(m: &MediumDesc, i: usize, base: &Path) -> Result<SceneMedium, Sc
     Ok(SceneMedium {
         medium: Medium::new(data, m.sigma_t_scale, filter, xf, m.supervoxel),
         albedo: m.albedo,
-        phase_g: if m.phase.ty == "isotropic" { 0.0 } else { m.phase.g },
+        phase_g: if m.phase.ty == "isotropic" {
+            0.0
+        } else {
+            m.phase.g
+        },
         source,
     })
 }
@@ -225,40 +310,83 @@ impl Scene {
     pub fn build(desc: SceneDesc, base: &Path) -> Result<Scene, SceneError> {
         let c = &desc.camera;
         if c.width == 0 || c.height == 0 || c.width > 16384 || c.height > 16384 {
-            return Err(SceneError(format!("camera: image size {}×{} outside 1..=16384", c.width, c.height)));
+            return Err(SceneError(format!(
+                "camera: image size {}×{} outside 1..=16384",
+                c.width, c.height
+            )));
         }
         if !(c.fov > 0.0 && c.fov < 180.0) {
-            return Err(SceneError(format!("camera.fov: {} is outside (0, 180)", c.fov)));
+            return Err(SceneError(format!(
+                "camera.fov: {} is outside (0, 180)",
+                c.fov
+            )));
         }
         let fov_x = match c.fov_axis.as_str() {
             "x" => true,
             "y" => false,
-            other => return Err(SceneError(format!("camera.fov_axis: `{other}` is not x or y"))),
+            other => {
+                return Err(SceneError(format!(
+                    "camera.fov_axis: `{other}` is not x or y"
+                )))
+            }
         };
-        let camera = Camera::new(Vec3::from(c.from), Vec3::from(c.to), Vec3::from(c.up), c.fov, fov_x, c.width, c.height)
-            .ok_or_else(|| SceneError("camera: `from`, `to` and `up` must span a frame (from ≠ to, up not parallel)".into()))?;
-        let media = desc.media.iter().enumerate().map(|(i, m)| build_medium(m, i, base)).collect::<Result<Vec<_>, _>>()?;
+        let camera = Camera::new(
+            Vec3::from(c.from),
+            Vec3::from(c.to),
+            Vec3::from(c.up),
+            c.fov,
+            fov_x,
+            c.width,
+            c.height,
+        )
+        .ok_or_else(|| {
+            SceneError(
+                "camera: `from`, `to` and `up` must span a frame (from ≠ to, up not parallel)"
+                    .into(),
+            )
+        })?;
+        let media = desc
+            .media
+            .iter()
+            .enumerate()
+            .map(|(i, m)| build_medium(m, i, base))
+            .collect::<Result<Vec<_>, _>>()?;
         let lights = desc
             .lights
             .iter()
             .enumerate()
             .map(|(i, l)| {
                 Ok(match l {
-                    LightDesc::Constant { radiance } => Light::Constant { radiance: Vec3::from(*radiance) },
+                    LightDesc::Constant { radiance } => Light::Constant {
+                        radiance: Vec3::from(*radiance),
+                    },
                     LightDesc::Envmap { file, scale } => {
                         let path = base.join(file);
                         if !path.exists() {
-                            return Err(SceneError(format!("lights.{i}.file: {} does not exist", path.display())));
+                            return Err(SceneError(format!(
+                                "lights.{i}.file: {} does not exist",
+                                path.display()
+                            )));
                         }
-                        Light::Envmap { file: path, scale: *scale }
+                        Light::Envmap {
+                            file: path,
+                            scale: *scale,
+                        }
                     }
-                    LightDesc::Point { position, intensity } => {
-                        Light::Point { position: Vec3::from(*position), intensity: Vec3::from(*intensity) }
-                    }
-                    LightDesc::Directional { direction, irradiance } => Light::Directional {
-                        direction: Vec3::from(*direction)
-                            .try_normalize()
-                            .ok_or_else(|| SceneError(format!("lights.{i}.direction: zero vector")))?,
+                    LightDesc::Point {
+                        position,
+                        intensity,
+                    } => Light::Point {
+                        position: Vec3::from(*position),
+                        intensity: Vec3::from(*intensity),
+                    },
+                    LightDesc::Directional {
+                        direction,
+                        irradiance,
+                    } => Light::Directional {
+                        direction: Vec3::from(*direction).try_normalize().ok_or_else(|| {
+                            SceneError(format!("lights.{i}.direction: zero vector"))
+                        })?,
                         irradiance: Vec3::from(*irradiance),
                     },
                 })
@@ -273,10 +401,23 @@ impl Scene {
                         Estimator::names().join(", ")
                     ))
                 })?;
-                IntegratorKind::Transmittance { estimator, background: Vec3::from(desc.integrator.background) }
+                IntegratorKind::Transmittance {
+                    estimator,
+                    background: Vec3::from(desc.integrator.background),
+                }
             }
-            other => return Err(SceneError(format!("integrator.type: unknown integrator `{other}` (available: transmittance)"))),
+            other => {
+                return Err(SceneError(format!(
+                    "integrator.type: unknown integrator `{other}` (available: transmittance)"
+                )))
+            }
         };
-        Ok(Scene { desc, camera, media, lights, integrator })
+        Ok(Scene {
+            desc,
+            camera,
+            media,
+            lights,
+            integrator,
+        })
     }
 }

@@ -21,8 +21,9 @@ pub struct PixelSample {
 /// One sample of pixel `(x, y)` with sample index `key.sample`.
 pub fn sample_pixel(scene: &Scene, x: u32, y: u32, key: SampleKey) -> PixelSample {
     match &scene.integrator {
-        IntegratorKind::Transmittance { estimator, background } => {
-            transmittance::sample(scene, *estimator, *background, x, y, key)
-        }
+        IntegratorKind::Transmittance {
+            estimator,
+            background,
+        } => transmittance::sample(scene, *estimator, *background, x, y, key),
     }
 }

@@ -9,10 +9,27 @@ use crate::scene::Scene;
 use fogbank_estimators::{transmittance, Estimator};
 use fogbank_math::{SampleKey, Vec3};
 
-pub fn sample(scene: &Scene, estimator: Estimator, background: Vec3, x: u32, y: u32, key: SampleKey) -> PixelSample {
-    let mut cam = SampleKey { dimension: dim::CAMERA, ..key }.rng();
-    let ray = scene.camera.ray(x as f32 + cam.next_f32(), y as f32 + cam.next_f32());
-    let mut rng = SampleKey { dimension: dim::ESTIMATOR, ..key }.rng();
+pub fn sample(
+    scene: &Scene,
+    estimator: Estimator,
+    background: Vec3,
+    x: u32,
+    y: u32,
+    key: SampleKey,
+) -> PixelSample {
+    let mut cam = SampleKey {
+        dimension: dim::CAMERA,
+        ..key
+    }
+    .rng();
+    let ray = scene
+        .camera
+        .ray(x as f32 + cam.next_f32(), y as f32 + cam.next_f32());
+    let mut rng = SampleKey {
+        dimension: dim::ESTIMATOR,
+        ..key
+    }
+    .rng();
     let mut t = 1.0f32;
     let mut lookups = 0;
     for m in &scene.media {
@@ -20,5 +37,8 @@ pub fn sample(scene: &Scene, estimator: Estimator, background: Vec3, x: u32, y: 
         t *= e.transmittance;
         lookups += e.lookups;
     }
-    PixelSample { radiance: background * t, lookups }
+    PixelSample {
+        radiance: background * t,
+        lookups,
+    }
 }
