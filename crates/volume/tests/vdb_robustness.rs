@@ -1,0 +1,175 @@
+//! Malformed OpenVDB input must produce errors: never a panic, and never an
+//! allocation out of proportion to the input. Truncates and corrupts the
+//! fixtures deterministically; a counting allocator records the largest
+//! single allocation the reader makes.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use fogbank_volume::loaders::vdb;
+
+struct Counting;
+
+static LARGEST: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        LARGEST.fetch_max(layout.size(), Ordering::Relaxed);
+        System.alloc(layout)
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        System.dealloc(ptr, layout)
+    }
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        LARGEST.fetch_max(layout.size(), Ordering::Relaxed);
+        System.alloc_zeroed(layout)
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        LARGEST.fetch_max(new_size, Ordering::Relaxed);
+        System.realloc(ptr, layout, new_size)
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// No single allocation may exceed this (the largest legitimate one is a
+/// 32³ node's 128 KiB value buffer or the leaf list of a fixture).
+const ALLOC_LIMIT: usize = 8 << 20;
+
+fn fixture(name: &str) -> (PathBuf, Vec<u8>) {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/vdb")
+        .join(name);
+    let bytes = std::fs::read(&p).unwrap();
+    (p, bytes)
+}
+
+/// Parses `bytes` both ways; returns a description of a panic, if any.
+fn try_parse(path: &Path, bytes: &[u8]) -> Option<String> {
+    let r = catch_unwind(AssertUnwindSafe(|| {
+        let _ = vdb::list_grids_from_bytes(path, bytes);
+        if let Ok(g) = vdb::parse_grid(path, bytes, None) {
+            let _ = (
+                g.active_voxel_count(),
+                g.active_bbox(),
+                g.active_value_sum(),
+            );
+        }
+    }));
+    r.err().map(|e| {
+        e.downcast_ref::<String>()
+            .cloned()
+            .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
+            .unwrap_or_default()
+    })
+}
+
+/// Deterministic xorshift so that failures reproduce.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+}
+
+const FILES: [&str; 7] = [
+    "tiles_f32_zip.vdb",
+    "multi.vdb",
+    "fog_half_blosc.vdb",
+    "fog_f32_zip.vdb",
+    "fog_half_zip.vdb",
+    "fog_f32_active.vdb",
+    "affine_half_blosc.vdb",
+];
+
+#[test]
+fn truncated_files_give_errors() {
+    let mut failures = Vec::new();
+    for name in FILES {
+        let (path, bytes) = fixture(name);
+        // Every cut in the header and descriptor area, then ~400 spread cuts.
+        let step = (bytes.len() / 400).max(1);
+        let cuts = (0..bytes.len().min(600)).chain((600..bytes.len()).step_by(step));
+        for cut in cuts {
+            let data = &bytes[..cut];
+            if let Some(msg) = try_parse(&path, data) {
+                failures.push(format!("{name} cut at {cut}: panic {msg}"));
+                continue;
+            }
+            // The whole grid is needed: any truncation is an error.
+            assert!(
+                vdb::parse_grid(&path, data, None).is_err(),
+                "{name} cut at {cut} parsed"
+            );
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    let largest = LARGEST.load(Ordering::Relaxed);
+    assert!(largest <= ALLOC_LIMIT, "largest allocation {largest} bytes");
+}
+
+#[test]
+fn corrupted_bytes_never_panic() {
+    let mut failures = Vec::new();
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    for name in FILES {
+        let (path, bytes) = fixture(name);
+        for round in 0..500 {
+            let mut data = bytes.clone();
+            // Header bytes are where sizes and counts live: bias towards them.
+            let span = if round % 2 == 0 {
+                data.len().min(2048)
+            } else {
+                data.len()
+            };
+            let flips = 1 + (rng.next() % 4) as usize;
+            for _ in 0..flips {
+                let at = (rng.next() as usize) % span;
+                data[at] ^= match rng.next() % 4 {
+                    0 => 0xFF,
+                    1 => 0x80,
+                    2 => 1 << (rng.next() % 8),
+                    _ => rng.next() as u8 | 1,
+                };
+            }
+            if let Some(msg) = try_parse(&path, &data) {
+                failures.push(format!("{name} round {round}: panic {msg}"));
+            }
+        }
+        // Every byte of the first KiB set to 0xFF, one at a time.
+        for at in 0..bytes.len().min(1024) {
+            let mut data = bytes.clone();
+            data[at] = 0xFF;
+            if let Some(msg) = try_parse(&path, &data) {
+                failures.push(format!("{name} byte {at} = 0xFF: panic {msg}"));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    let largest = LARGEST.load(Ordering::Relaxed);
+    assert!(largest <= ALLOC_LIMIT, "largest allocation {largest} bytes");
+}
+
+#[test]
+fn corrupted_compressed_chunks_are_errors() {
+    // Flip bytes inside the leaf buffer area of compressed files: data
+    // corruption in Blosc/Zip streams must be detected or give a grid, and
+    // the reader must never read beyond the chunk it was given.
+    let mut rng = Rng(12345);
+    for name in ["fog_half_blosc.vdb", "fog_f32_zip.vdb"] {
+        let (path, bytes) = fixture(name);
+        let start = bytes.len() / 2;
+        for _ in 0..300 {
+            let mut data = bytes.clone();
+            let at = start + (rng.next() as usize) % (bytes.len() - start);
+            data[at] = data[at].wrapping_add(1 + (rng.next() % 255) as u8);
+            assert!(try_parse(&path, &data).is_none(), "{name} byte {at}");
+        }
+    }
+}
