@@ -404,6 +404,13 @@ def main():
     fixtures.append(describe_file(os.path.join(OUT, "tiles_f32_zip.vdb"), "tiles_f32_zip.vdb",
                                   [(None, "density")], "active-mask"))
 
+    # A stream (no grid offsets): vdb_tool writes one when the output is stdout.
+    dst = os.path.join(OUT, "stream_tiles.vdb")
+    with open(dst, "wb") as f:
+        subprocess.run(["vdb_tool", "-read", src, "-write", "codec=blosc", "stdout.vdb"], check=True, stdout=f)
+    fixtures.append(describe_file(dst, "stream_tiles.vdb", [(None, "density")], "blosc + active-mask",
+                                  extra={"has_grid_offsets": False}))
+
     # Written by pyopenvdb directly so that the instance survives.
     dst = os.path.join(OUT, "multi.vdb")
     vdb.write(dst, grids=multi_grids())
