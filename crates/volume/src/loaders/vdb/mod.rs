@@ -238,8 +238,7 @@ fn bit_on(mask: &[u64], idx: usize) -> bool {
 
 /// Lists the grids of a file with their types, without reading any tree.
 pub fn list_grids(path: &Path) -> Result<Vec<VdbGridDescriptor>> {
-    let bytes = std::fs::read(path).map_err(|e| VolumeError::io(path, e))?;
-    list_grids_from_bytes(path, &bytes)
+    list_grids_limit(path, WHOLE_FILE_LIMIT)
 }
 
 /// [`list_grids`] on bytes already in memory; `path` only names the source
@@ -251,14 +250,7 @@ pub fn list_grids_from_bytes(path: &Path, bytes: &[u8]) -> Result<Vec<VdbGridDes
         .map(|d| {
             let mut r = Reader::new(path, bytes, grid_context(&d.display_name));
             r.seek(d.grid_pos, "grid")?;
-            let head = read_grid_head(&mut r)?;
-            Ok(VdbGridDescriptor {
-                name: d.display_name.clone(),
-                value_type: d.value_type.clone(),
-                grid_class: head.class,
-                stored_as_half: d.half,
-                supported: d.supported,
-            })
+            describe(d, &mut r)
         })
         .collect()
 }
@@ -266,8 +258,7 @@ pub fn list_grids_from_bytes(path: &Path, bytes: &[u8]) -> Result<Vec<VdbGridDes
 /// Reads one float grid. `name = None` picks `density`, else the first float
 /// scalar grid.
 pub fn read_grid(path: &Path, name: Option<&str>) -> Result<VdbGrid> {
-    let bytes = std::fs::read(path).map_err(|e| VolumeError::io(path, e))?;
-    parse_grid(path, &bytes, name)
+    read_grid_limit(path, name, WHOLE_FILE_LIMIT)
 }
 
 /// Same as [`read_grid`] from bytes already in memory (used by the fuzz
@@ -278,6 +269,148 @@ pub fn parse_grid(path: &Path, bytes: &[u8], name: Option<&str>) -> Result<VdbGr
     let mut r = Reader::new(path, bytes, grid_context(&desc.display_name));
     let (grid, _end) = read_float_grid(&mut r, &file, desc)?;
     Ok(grid)
+}
+
+fn describe(d: &GridDesc, r: &mut Reader) -> Result<VdbGridDescriptor> {
+    let head = read_grid_head(r)?;
+    Ok(VdbGridDescriptor {
+        name: d.display_name.clone(),
+        value_type: d.value_type.clone(),
+        grid_class: head.class,
+        stored_as_half: d.half,
+        supported: d.supported,
+    })
+}
+
+/// Files up to this size are read whole. Larger ones are read piecewise
+/// (header, descriptors, then only the chosen grid's bytes), so picking one
+/// grid out of a big multi-grid file costs that grid, not the file.
+const WHOLE_FILE_LIMIT: u64 = 64 << 20;
+/// Descriptors and grid metadata are read in windows of this size; a
+/// larger one (absurdly long names or metadata) falls back to a whole read.
+const WINDOW: usize = 1 << 20;
+
+fn read_at(path: &Path, file: &mut std::fs::File, pos: usize, len: usize) -> Result<Vec<u8>> {
+    use std::io::{Read, Seek, SeekFrom};
+    file.seek(SeekFrom::Start(pos as u64))
+        .map_err(|e| VolumeError::io(path, e))?;
+    // `len` never exceeds what the file holds past `pos`.
+    let mut buf = vec![0u8; len];
+    file.read_exact(&mut buf)
+        .map_err(|e| VolumeError::io(path, e))?;
+    Ok(buf)
+}
+
+/// Opens `path`; returns the file and its header when the file is larger
+/// than `limit` and has grid offsets, else the whole file's bytes.
+enum Opened {
+    Piecewise(std::fs::File, FileHeader),
+    Whole(Vec<u8>),
+}
+
+fn open(path: &Path, limit: u64) -> Result<Opened> {
+    let mut file = std::fs::File::open(path).map_err(|e| VolumeError::io(path, e))?;
+    let len = file.metadata().map_err(|e| VolumeError::io(path, e))?.len();
+    if len > limit {
+        if let Ok(len) = usize::try_from(len) {
+            if let Some(header) = header_from_file(path, &mut file, len)? {
+                return Ok(Opened::Piecewise(file, header));
+            }
+        }
+    }
+    let bytes = std::fs::read(path).map_err(|e| VolumeError::io(path, e))?;
+    Ok(Opened::Whole(bytes))
+}
+
+/// Parses header and descriptors from windows of the file; `None` when the
+/// file has to be read whole (no grid offsets, or oversized header parts).
+fn header_from_file(
+    path: &Path,
+    file: &mut std::fs::File,
+    len: usize,
+) -> Result<Option<FileHeader>> {
+    let head = read_at(path, file, 0, len.min(WINDOW))?;
+    let mut r = Reader::new(path, &head, "in file header".to_string());
+    let pre = match parse_preamble(&mut r, len) {
+        Ok(p) => p,
+        Err(_) if head.len() < len => return Ok(None),
+        Err(e) => return Err(e),
+    };
+    if !pre.has_offsets {
+        return Ok(None);
+    }
+    let mut pos = pre.pos;
+    let mut descs = Vec::new();
+    for i in 0..pre.count {
+        let win = read_at(path, file, pos, (len - pos).min(WINDOW))?;
+        let mut r = Reader::window(path, &win, pos, String::new());
+        let (desc, end) = match parse_descriptor(&mut r, i) {
+            Ok(v) => v,
+            Err(_) if win.len() < len - pos => return Ok(None),
+            Err(e) => return Err(e),
+        };
+        check_offsets(&r, &desc, end, len)?;
+        pos = desc.end_pos;
+        descs.push(desc);
+    }
+    Ok(Some(FileHeader {
+        version: pre.version,
+        descs,
+    }))
+}
+
+fn check_offsets(r: &Reader, desc: &GridDesc, end: i64, len: usize) -> Result<()> {
+    if end < 0 || desc.end_pos > len {
+        return Err(r.fail(format!(
+            "invalid grid offsets (grid {}, end {end}; file has {len} bytes)",
+            desc.grid_pos
+        )));
+    }
+    Ok(())
+}
+
+fn list_grids_limit(path: &Path, limit: u64) -> Result<Vec<VdbGridDescriptor>> {
+    let (mut file, header) = match open(path, limit)? {
+        Opened::Whole(bytes) => return list_grids_from_bytes(path, &bytes),
+        Opened::Piecewise(file, header) => (file, header),
+    };
+    let mut out = Vec::new();
+    for d in &header.descs {
+        let span = d.end_pos - d.grid_pos;
+        let mut win = read_at(path, &mut file, d.grid_pos, span.min(WINDOW))?;
+        let mut r = Reader::window(path, &win, d.grid_pos, grid_context(&d.display_name));
+        let described = match describe(d, &mut r) {
+            Err(_) if span > WINDOW => {
+                win = read_at(path, &mut file, d.grid_pos, span)?;
+                let mut r = Reader::window(path, &win, d.grid_pos, grid_context(&d.display_name));
+                describe(d, &mut r)?
+            }
+            other => other?,
+        };
+        out.push(described);
+    }
+    Ok(out)
+}
+
+fn read_grid_limit(path: &Path, name: Option<&str>, limit: u64) -> Result<VdbGrid> {
+    let (mut file, header) = match open(path, limit)? {
+        Opened::Whole(bytes) => return parse_grid(path, &bytes, name),
+        Opened::Piecewise(file, header) => (file, header),
+    };
+    let desc = select_grid(path, &header, name)?;
+    if !desc.instance_parent.is_empty() {
+        // The tree lives with the parent grid, elsewhere in the file.
+        let bytes = std::fs::read(path).map_err(|e| VolumeError::io(path, e))?;
+        return parse_grid(path, &bytes, name);
+    }
+    let bytes = read_at(path, &mut file, desc.grid_pos, desc.end_pos - desc.grid_pos)?;
+    let mut r = Reader::window(
+        path,
+        &bytes,
+        desc.grid_pos,
+        grid_context(&desc.display_name),
+    );
+    Ok(read_float_grid(&mut r, &header, desc)?.0)
 }
 
 fn select_grid<'f>(path: &Path, file: &'f FileHeader, name: Option<&str>) -> Result<&'f GridDesc> {
@@ -339,7 +472,9 @@ fn select_grid<'f>(path: &Path, file: &'f FileHeader, name: Option<&str>) -> Res
 /// (which grid or header part) and offset.
 struct Reader<'a> {
     path: &'a Path,
+    /// The file, or a window of it starting at file offset `base`.
     data: &'a [u8],
+    base: usize,
     pos: usize,
     context: String,
 }
@@ -353,9 +488,25 @@ impl<'a> Reader<'a> {
         Reader {
             path,
             data,
+            base: 0,
             pos: 0,
             context,
         }
+    }
+
+    fn window(path: &'a Path, data: &'a [u8], base: usize, context: String) -> Self {
+        Reader {
+            path,
+            data,
+            base,
+            pos: 0,
+            context,
+        }
+    }
+
+    /// Position in the file, for messages and seeks.
+    fn offset(&self) -> usize {
+        self.base + self.pos
     }
 
     fn fail_at(&self, pos: usize, msg: impl std::fmt::Display) -> VolumeError {
@@ -363,7 +514,7 @@ impl<'a> Reader<'a> {
     }
 
     fn fail(&self, msg: impl std::fmt::Display) -> VolumeError {
-        self.fail_at(self.pos, msg)
+        self.fail_at(self.offset(), msg)
     }
 
     fn remaining(&self) -> usize {
@@ -417,7 +568,7 @@ impl<'a> Reader<'a> {
     /// A `u32`-length-prefixed string. Names are ASCII in practice; anything
     /// else is kept lossily so that it can still be shown in messages.
     fn string(&mut self, what: &str) -> Result<String> {
-        let start = self.pos;
+        let start = self.offset();
         let len = self.u32(what)? as usize;
         if len > self.remaining() {
             return Err(self.fail_at(
@@ -440,14 +591,17 @@ impl<'a> Reader<'a> {
     }
 
     fn seek(&mut self, pos: usize, what: &str) -> Result<()> {
-        if pos > self.data.len() {
-            return Err(self.fail(format!(
-                "{what} offset {pos} lies beyond the end of the file ({} bytes)",
-                self.data.len()
-            )));
+        match pos.checked_sub(self.base) {
+            Some(rel) if rel <= self.data.len() => {
+                self.pos = rel;
+                Ok(())
+            }
+            _ => Err(self.fail(format!(
+                "{what} offset {pos} lies outside the bytes read ({}..{})",
+                self.base,
+                self.base + self.data.len()
+            ))),
         }
-        self.pos = pos;
-        Ok(())
     }
 }
 
@@ -473,10 +627,22 @@ struct GridDesc {
     supported: bool,
     instance_parent: String,
     grid_pos: usize,
+    end_pos: usize,
 }
 
-fn parse_header(path: &Path, data: &[u8]) -> Result<FileHeader> {
-    let mut r = Reader::new(path, data, "in file header".to_string());
+/// What precedes the grid descriptors.
+struct Preamble {
+    version: u32,
+    has_offsets: bool,
+    count: usize,
+    /// Offset of the first descriptor.
+    pos: usize,
+}
+
+/// Parses magic, version, flags, UUID, file metadata and the grid count.
+/// `file_len` bounds the grid count when `r` holds only a window of the file.
+fn parse_preamble(r: &mut Reader, file_len: usize) -> Result<Preamble> {
+    let path = r.path;
     let magic = r.array::<8>("magic number").map_err(|_| {
         VolumeError::format(path, "not an OpenVDB file (shorter than its magic number)")
     })?;
@@ -502,71 +668,100 @@ fn parse_header(path: &Path, data: &[u8]) -> Result<FileHeader> {
     let has_offsets = r.u8("grid offsets flag")? != 0;
     r.take(36, "file UUID")?;
     r.context = "in file metadata".to_string();
-    read_metamap(&mut r)?;
+    read_metamap(r)?;
     r.context = "in grid table".to_string();
     let count = r.i32("grid count")?;
     // A descriptor holds three strings and three offsets: at least 36 bytes.
-    if count < 0 || count as usize > r.remaining() / 36 {
+    let left = file_len.saturating_sub(r.offset());
+    if count < 0 || count as usize > left / 36 {
         return Err(r.fail(format!("implausible grid count {count} for the file size")));
     }
+    Ok(Preamble {
+        version,
+        has_offsets,
+        count: count as usize,
+        pos: r.offset(),
+    })
+}
+
+/// Parses descriptor `i` at the reader's position; returns it with the
+/// stored end-of-grid offset (meaningful only in files with grid offsets).
+fn parse_descriptor(r: &mut Reader, i: usize) -> Result<(GridDesc, i64)> {
+    r.context = format!("in descriptor of grid #{i}");
+    let unique_name = r.string("grid name")?;
+    let raw_type = r.string("grid type")?;
+    let instance_parent = r.string("instance parent name")?;
+    let grid_pos = r.i64("grid offset")?;
+    // Not needed (buffers follow the topology) and left 0 for instances.
+    let _block_pos = r.i64("grid block offset")?;
+    let end_pos = r.i64("grid end offset")?;
+    let (type_name, half) = match raw_type.strip_suffix(HALF_SUFFIX) {
+        Some(t) => (t.to_string(), true),
+        None => (raw_type.clone(), false),
+    };
+    let (name, display_name) = match unique_name.find(NAME_SEP) {
+        Some(p) => (
+            unique_name[..p].to_string(),
+            format!("{}[{}]", &unique_name[..p], &unique_name[p + 1..]),
+        ),
+        None => (unique_name.clone(), unique_name.clone()),
+    };
+    let value_type = value_type_of(&type_name);
+    let supported = type_name == FLOAT_TREE;
+    r.context = grid_context(&display_name);
+    let desc = GridDesc {
+        unique_name,
+        name,
+        display_name,
+        type_name,
+        value_type,
+        half,
+        supported,
+        instance_parent,
+        grid_pos: 0,
+        end_pos: 0,
+    };
+    let here = r.offset() as i64;
+    if grid_pos < here || end_pos < grid_pos {
+        // Streams store zeros here; the caller decides whether that matters.
+        return Ok((
+            GridDesc {
+                grid_pos: r.offset(),
+                ..desc
+            },
+            -1,
+        ));
+    }
+    Ok((
+        GridDesc {
+            grid_pos: grid_pos as usize,
+            end_pos: end_pos as usize,
+            ..desc
+        },
+        end_pos,
+    ))
+}
+
+fn parse_header(path: &Path, data: &[u8]) -> Result<FileHeader> {
+    let mut r = Reader::new(path, data, "in file header".to_string());
+    let pre = parse_preamble(&mut r, data.len())?;
     let mut descs: Vec<GridDesc> = Vec::new();
-    for i in 0..count as usize {
-        r.context = format!("in descriptor of grid #{i}");
-        let unique_name = r.string("grid name")?;
-        let raw_type = r.string("grid type")?;
-        let instance_parent = r.string("instance parent name")?;
-        let grid_pos = r.i64("grid offset")?;
-        let block_pos = r.i64("grid block offset")?;
-        let end_pos = r.i64("grid end offset")?;
-        let (type_name, half) = match raw_type.strip_suffix(HALF_SUFFIX) {
-            Some(t) => (t.to_string(), true),
-            None => (raw_type.clone(), false),
-        };
-        let name = match unique_name.find(NAME_SEP) {
-            Some(p) => unique_name[..p].to_string(),
-            None => unique_name.clone(),
-        };
-        let display_name = match unique_name.find(NAME_SEP) {
-            Some(p) => format!("{}[{}]", &unique_name[..p], &unique_name[p + 1..]),
-            None => unique_name.clone(),
-        };
-        let value_type = value_type_of(&type_name);
-        let supported = type_name == FLOAT_TREE;
-        let mut desc = GridDesc {
-            unique_name,
-            name,
-            display_name,
-            type_name,
-            value_type,
-            half,
-            supported,
-            instance_parent,
-            grid_pos: r.pos,
-        };
-        r.context = grid_context(&desc.display_name);
-        if has_offsets {
-            let len = data.len() as i64;
-            let here = r.pos as i64;
-            // The block offset is not needed (buffers follow the topology)
-            // and instances leave it 0, so only the others are checked.
-            let ok = here <= grid_pos && grid_pos <= end_pos && end_pos <= len;
-            if !ok {
-                return Err(r.fail(format!(
-                    "invalid grid offsets {grid_pos}/{block_pos}/{end_pos} (file has {len} bytes)"
-                )));
-            }
-            desc.grid_pos = grid_pos as usize;
-            r.seek(end_pos as usize, "grid end")?;
+    for i in 0..pre.count {
+        let (mut desc, end) = parse_descriptor(&mut r, i)?;
+        if pre.has_offsets {
+            check_offsets(&r, &desc, end, data.len())?;
+            r.seek(desc.end_pos, "grid end")?;
         } else {
             // Without offsets the only way past a grid is to parse it.
+            desc.grid_pos = r.offset();
             let file = FileHeader {
-                version,
+                version: pre.version,
                 descs: Vec::new(),
             };
             let end = if !desc.instance_parent.is_empty() {
                 read_grid_head(&mut r)?;
                 read_transform(&mut r)?;
-                r.pos
+                r.offset()
             } else if desc.supported {
                 read_float_grid(&mut r, &file, &desc)?.1
             } else {
@@ -576,10 +771,14 @@ fn parse_header(path: &Path, data: &[u8]) -> Result<FileHeader> {
                 )));
             };
             r.seek(end, "grid end")?;
+            desc.end_pos = end;
         }
         descs.push(desc);
     }
-    Ok(FileHeader { version, descs })
+    Ok(FileHeader {
+        version: pre.version,
+        descs,
+    })
 }
 
 /// `Tree_float_5_4_3` → `float`, `Tree_vec3s_5_4_3` → `vec3s`.
@@ -657,7 +856,7 @@ fn compression_name(c: u32) -> String {
 /// Reads a map and returns it as a row-major matrix for column vectors.
 /// OpenVDB multiplies row vectors (`p' = p · M`), hence the transposes.
 fn read_transform(r: &mut Reader) -> Result<[[f64; 4]; 4]> {
-    let at = r.pos;
+    let at = r.offset();
     let ty = r.string("transform map type")?;
     let mut m = [[0.0f64; 4]; 4];
     m[3][3] = 1.0;
@@ -748,10 +947,10 @@ fn read_float_grid(r: &mut Reader, file: &FileHeader, desc: &GridDesc) -> Result
     let end;
     let tree = if desc.instance_parent.is_empty() {
         let t = read_tree(r, head.compression, desc.half)?;
-        end = r.pos;
+        end = r.offset();
         t
     } else {
-        end = r.pos;
+        end = r.offset();
         let parent = file
             .descs
             .iter()
@@ -768,7 +967,7 @@ fn read_float_grid(r: &mut Reader, file: &FileHeader, desc: &GridDesc) -> Result
                 parent.display_name
             )));
         }
-        let mut pr = Reader::new(r.path, r.data, grid_context(&parent.display_name));
+        let mut pr = Reader::window(r.path, r.data, r.base, grid_context(&parent.display_name));
         pr.seek(parent.grid_pos, "grid")?;
         let phead = read_grid_head(&mut pr)?;
         read_transform(&mut pr)?;
@@ -826,7 +1025,7 @@ fn read_tree(r: &mut Reader, compression: u32, half: bool) -> Result<Tree> {
     let mut leaf_topos = Vec::new();
     let mut origins = Vec::with_capacity(num_children);
     for _ in 0..num_children {
-        let at = r.pos;
+        let at = r.offset();
         let origin = r.coord("root child origin")?.map(|v| v & !4095);
         if origins.contains(&origin) {
             return Err(r.fail_at(at, format!("duplicate root child at {origin:?}")));
@@ -939,7 +1138,7 @@ fn read_compressed_values(
     what: &str,
 ) -> Result<()> {
     let n = out.len();
-    let at = r.pos;
+    let at = r.offset();
     let meta = r.u8("node compression metadata")?;
     if meta > NO_MASK_AND_ALL_VALS {
         return Err(r.fail_at(
@@ -1034,7 +1233,7 @@ fn read_chunk<'a>(
     if !blosc && !zip {
         return Ok(Cow::Borrowed(r.take(nbytes, what)?));
     }
-    let at = r.pos;
+    let at = r.offset();
     let size = r.i64("compressed chunk size")?;
     if size <= 0 {
         if size.unsigned_abs() != nbytes as u64 {
@@ -1088,6 +1287,37 @@ mod tests {
         assert_eq!(value_type_of("Tree_vec3s_5_4_3"), "vec3s");
         assert_eq!(value_type_of("Tree_ptdataidx32_5_4_3"), "ptdataidx32");
         assert_eq!(value_type_of("weird"), "weird");
+    }
+
+    #[test]
+    fn piecewise_reading_matches_whole_file() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/vdb");
+        for file in [
+            "multi.vdb",
+            "tiles_f32_zip.vdb",
+            "stream_tiles.vdb",
+            "fog_half_blosc.vdb",
+        ] {
+            let path = dir.join(file);
+            let bytes = std::fs::read(&path).unwrap();
+            assert_eq!(
+                list_grids_limit(&path, 0).unwrap(),
+                list_grids_from_bytes(&path, &bytes).unwrap()
+            );
+            for d in list_grids_from_bytes(&path, &bytes)
+                .unwrap()
+                .iter()
+                .filter(|d| d.supported)
+            {
+                let whole = parse_grid(&path, &bytes, Some(&d.name)).unwrap();
+                let piecewise = read_grid_limit(&path, Some(&d.name), 0).unwrap();
+                assert_eq!(whole, piecewise, "{file} / {}", d.name);
+            }
+            assert!(
+                matches!(open(&path, 0).unwrap(), Opened::Piecewise(..))
+                    != file.starts_with("stream")
+            );
+        }
     }
 
     #[test]
