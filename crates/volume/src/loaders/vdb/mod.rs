@@ -1023,14 +1023,13 @@ fn read_tree(r: &mut Reader, compression: u32, half: bool) -> Result<Tree> {
         }
     }
     let mut leaf_topos = Vec::new();
-    let mut origins = Vec::with_capacity(num_children);
+    let mut origins = std::collections::HashSet::new();
     for _ in 0..num_children {
         let at = r.offset();
         let origin = r.coord("root child origin")?.map(|v| v & !4095);
-        if origins.contains(&origin) {
+        if !origins.insert(origin) {
             return Err(r.fail_at(at, format!("duplicate root child at {origin:?}")));
         }
-        origins.push(origin);
         read_internal(r, &codec, origin, 5, &mut tiles, &mut leaf_topos)?;
     }
     // Buffers follow in the same depth-first order as the topology.
