@@ -239,7 +239,7 @@ fn unshuffle(typesize: usize, src: &[u8], dest: &mut [u8]) {
 /// only bit-shuffles whole groups of 8 elements; anything else is a copy.
 fn bitunshuffle(typesize: usize, src: &[u8], dest: &mut [u8]) {
     let n = src.len() / typesize;
-    if n % 8 != 0 {
+    if n & 7 != 0 {
         dest.copy_from_slice(src);
         return;
     }
@@ -359,7 +359,7 @@ mod tests {
         f.extend_from_slice(&(blocksize as u32).to_le_bytes());
         f.extend_from_slice(&0u32.to_le_bytes());
         let starts_at = f.len();
-        f.extend(std::iter::repeat_n(0u8, 4 * payload_blocks.len()));
+        f.resize(f.len() + 4 * payload_blocks.len(), 0);
         for (j, b) in payload_blocks.iter().enumerate() {
             let start = f.len() as u32;
             f[starts_at + 4 * j..starts_at + 4 * j + 4].copy_from_slice(&start.to_le_bytes());
