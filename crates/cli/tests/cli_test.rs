@@ -192,3 +192,36 @@ fn renders_a_vdb_scene_file_with_relative_paths() {
     let mean = stats["mean"][0].as_f64().unwrap();
     assert!(mean < 1.0, "the dragon must be visible (mean T {mean})");
 }
+
+#[test]
+fn ctrl_c_stops_and_still_writes_the_image() {
+    let dir = tmp("interrupt");
+    std::fs::create_dir_all(&dir).unwrap();
+    let _ = std::fs::remove_file(dir.join("i.exr"));
+    let mut child = fogbank()
+        .current_dir(&dir)
+        .args([
+            "render", "--quiet", "--spp", "1000000", "-o", "i.exr", "--stats", "i.json",
+        ])
+        .args(SMALL)
+        .spawn()
+        .unwrap();
+    // Wait until the scene is built and rendering has begun (the stats file
+    // does not exist before), then interrupt.
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let status = child.wait().unwrap();
+    assert!(
+        status.success(),
+        "interrupted render must exit cleanly, got {status}"
+    );
+    assert!(dir.join("i.exr").exists(), "no image written after Ctrl-C");
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("i.json")).unwrap()).unwrap();
+    assert_eq!(stats["interrupted"], true);
+    assert!(stats["spp"].as_u64().unwrap() < 1_000_000);
+}

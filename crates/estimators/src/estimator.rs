@@ -2,7 +2,7 @@
 //! a medium's storage type.
 
 use fogbank_math::{Pcg32, Ray};
-use fogbank_volume::{Medium, MediumView, VolumeAccess};
+use fogbank_volume::{Medium, MediumView};
 
 /// One transmittance estimate and what it cost.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,25 +72,16 @@ impl Estimator {
     }
 }
 
-fn stochastic<V: VolumeAccess>(
-    e: Estimator,
-    v: &V,
-    r: &Ray,
-    t0: f32,
-    t1: f32,
-    rng: &mut Pcg32,
-) -> Estimate {
-    match e {
-        Estimator::TrackLength => crate::track_length::transmittance(v, r, t0, t1, rng),
-        Estimator::RatioTracking => crate::ratio_tracking::transmittance(v, r, t0, t1, rng),
-        Estimator::RegularTracking | Estimator::AnalyticTrilinear => unreachable_exact(),
-    }
-}
-
-#[cold]
-fn unreachable_exact() -> Estimate {
-    // Exact estimators are dispatched before this point.
-    Estimate::ONE
+/// Expands `body` once per storage type with `v` bound to the typed view, so
+/// each estimator is monomorphised and the match happens once per ray.
+macro_rules! with_view {
+    ($view:expr, $v:ident => $body:expr) => {
+        match $view {
+            MediumView::F16($v) => $body,
+            MediumView::F32($v) => $body,
+            MediumView::Analytic($v) => $body,
+        }
+    };
 }
 
 fn exact(tau: f64, lookups: u32) -> Estimate {
@@ -111,28 +102,35 @@ pub fn transmittance(
     let Some((r, t0, t1)) = medium.to_index(world, 0.0, t_max) else {
         return Estimate::ONE;
     };
-    match (medium.view(), e) {
-        (MediumView::F16(v), Estimator::RegularTracking) => {
-            let (tau, n) = crate::regular_tracking::optical_depth(&v, &r, t0, t1);
-            exact(tau, n)
+    let view = medium.view();
+    match e {
+        Estimator::RegularTracking => match view {
+            MediumView::F16(v) => {
+                exact_pair(crate::regular_tracking::optical_depth(&v, &r, t0, t1))
+            }
+            MediumView::F32(v) => {
+                exact_pair(crate::regular_tracking::optical_depth(&v, &r, t0, t1))
+            }
+            MediumView::Analytic(a) => exact(a.field.optical_depth(&r, t0, t1) * a.scale as f64, 0),
+        },
+        Estimator::AnalyticTrilinear => match view {
+            MediumView::F16(v) => {
+                exact_pair(crate::analytic_trilinear::optical_depth(&v, &r, t0, t1))
+            }
+            MediumView::F32(v) => {
+                exact_pair(crate::analytic_trilinear::optical_depth(&v, &r, t0, t1))
+            }
+            MediumView::Analytic(a) => exact(a.field.optical_depth(&r, t0, t1) * a.scale as f64, 0),
+        },
+        Estimator::TrackLength => {
+            with_view!(view, v => crate::track_length::transmittance(&v, &r, t0, t1, rng))
         }
-        (MediumView::F32(v), Estimator::RegularTracking) => {
-            let (tau, n) = crate::regular_tracking::optical_depth(&v, &r, t0, t1);
-            exact(tau, n)
+        Estimator::RatioTracking => {
+            with_view!(view, v => crate::ratio_tracking::transmittance(&v, &r, t0, t1, rng))
         }
-        (MediumView::F16(v), Estimator::AnalyticTrilinear) => {
-            let (tau, n) = crate::analytic_trilinear::optical_depth(&v, &r, t0, t1);
-            exact(tau, n)
-        }
-        (MediumView::F32(v), Estimator::AnalyticTrilinear) => {
-            let (tau, n) = crate::analytic_trilinear::optical_depth(&v, &r, t0, t1);
-            exact(tau, n)
-        }
-        (MediumView::Analytic(a), Estimator::RegularTracking | Estimator::AnalyticTrilinear) => {
-            exact(a.field.optical_depth(&r, t0, t1) * a.scale as f64, 0)
-        }
-        (MediumView::F16(v), e) => stochastic(e, &v, &r, t0, t1, rng),
-        (MediumView::F32(v), e) => stochastic(e, &v, &r, t0, t1, rng),
-        (MediumView::Analytic(a), e) => stochastic(e, &a, &r, t0, t1, rng),
     }
+}
+
+fn exact_pair((tau, lookups): (f64, u32)) -> Estimate {
+    exact(tau, lookups)
 }

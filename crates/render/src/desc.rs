@@ -249,7 +249,7 @@ height = 480
 
 [[media]]
 density = { procedural = "cloud", resolution = 160, seed = 7 }
-sigma_t_scale = 60.0
+sigma_t_scale = 8.0
 albedo = [0.95, 0.95, 0.95]
 phase = { type = "hg", g = 0.6 }
 filter = "stochastic_trilinear"

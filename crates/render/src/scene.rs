@@ -72,6 +72,10 @@ pub fn parse_scene(
     origin: &str,
     overrides: &[String],
 ) -> Result<SceneDesc, SceneError> {
+    if overrides.is_empty() {
+        // Straight from the text, so error line numbers point into the file.
+        return toml::from_str(text).map_err(|e| SceneError(format!("{origin}: {e}")));
+    }
     let mut doc: toml::Table =
         toml::from_str(text).map_err(|e| SceneError(format!("{origin}: {e}")))?;
     for o in overrides {
@@ -80,15 +84,12 @@ pub fn parse_scene(
             .ok_or_else(|| SceneError(format!("--set {o}: expected KEY=VALUE")))?;
         apply_override(&mut doc, key.trim(), parse_value(value.trim()))?;
     }
-    SceneDesc::deserialize_table(doc).map_err(|e| SceneError(format!("{origin}: {e}")))
+    // Round-trip through text so error messages carry toml's key paths.
+    let text = toml::to_string(&doc).map_err(|e| SceneError(format!("{origin}: {e}")))?;
+    toml::from_str(&text).map_err(|e| SceneError(format!("{origin} (after --set overrides): {e}")))
 }
 
 impl SceneDesc {
-    fn deserialize_table(doc: toml::Table) -> Result<SceneDesc, toml::de::Error> {
-        // Round-trip through text so error messages carry toml's key paths.
-        toml::from_str(&toml::to_string(&doc).unwrap_or_default())
-    }
-
     pub fn default_scene() -> SceneDesc {
         toml::from_str(DEFAULT_SCENE).expect("the built-in scene parses")
     }

@@ -119,7 +119,11 @@ pub fn cloud_density(noise: &GradientNoise, x: Vec3) -> f32 {
     let edge = x.min(Vec3::ONE - x).min_element();
     let border = ((edge - 0.03) / 0.08).clamp(0.0, 1.0);
     let d = (shape * 3.0).clamp(0.0, 1.0) * base_cut * border;
-    d * d * (3.0 - 2.0 * d)
+    let coverage = d * d * (3.0 - 2.0 * d);
+    // Internal structure: wispy, high-frequency variation inside the body so
+    // that rays see heterogeneous extinction, not a uniform block.
+    let detail = (0.55 + 0.9 * noise.fbm(x * 11.0 + warp, 4)).clamp(0.05, 1.0);
+    coverage * (0.25 + 0.75 * detail)
 }
 
 /// Rasterises the cloud into a `res³` grid (voxel centres at `(i + ½)/res`).
