@@ -339,9 +339,9 @@ def blosc_frames():
     rng = random.Random(7)
     floats = [math.sin(i * 0.05) * 0.5 + 0.5 + rng.random() * 1e-3 for i in range(1200)]
     data = struct.pack("<%df" % len(floats), *floats)
-    # Whole multi-block frames, a leftover block whose size is not a multiple
-    # of the type size, and byte data (type size 1: no split, no shuffle).
-    payloads = [(4, data, 2048), (4, data[:900 * 4 + 3], 2048), (1, bytes(range(256)) * 5, 0)]
+    # Float data, float data with a size that is not a multiple of the type
+    # size, and byte data (type size 1: no split, no byte shuffle).
+    payloads = [(4, data, 0), (4, data[:900 * 4 + 3], 0), (1, bytes(range(256)) * 5, 0)]
     frames = []
     for cname in ("blosclz", "lz4", "lz4hc", "zlib"):
         for shuffle, sname in ((blosc.NOSHUFFLE, "none"), (blosc.SHUFFLE, "byte"), (blosc.BITSHUFFLE, "bit")):
@@ -355,6 +355,15 @@ def blosc_frames():
                     "payload": index,
                     "frame": base64.b64encode(frame).decode(),
                 })
+    # A 40 003-byte payload: blosc picks a 40 000-byte block, so the frame has
+    # two blocks, the second a 3-byte leftover that is neither split nor shuffled.
+    big = [math.sin(i * 0.01) + rng.random() * 1e-2 for i in range(10001)]
+    payloads.append((4, struct.pack("<%df" % len(big), *big)[:40003], 0))
+    for cname, shuffle, sname in (("blosclz", blosc.SHUFFLE, "byte"), ("lz4", blosc.BITSHUFFLE, "bit"),
+                                  ("zlib", blosc.SHUFFLE, "byte")):
+        frame = blosc.compress(payloads[-1][1], typesize=4, clevel=5, shuffle=shuffle, cname=cname)
+        frames.append({"codec": cname, "shuffle": sname, "typesize": 4, "payload": len(payloads) - 1,
+                       "frame": base64.b64encode(frame).decode()})
     blosc.set_blocksize(0)
     return {"payloads": [base64.b64encode(p[1]).decode() for p in payloads], "frames": frames}
 
