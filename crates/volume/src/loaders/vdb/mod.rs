@@ -10,7 +10,7 @@
 //!
 //! | feature | supported |
 //! |---|---|
-//! | file format versions | 222 – 225 (OpenVDB 3 – 12, Houdini 17+); older versions are rejected |
+//! | file format versions | 222 – 225 (224 is what Houdini 17+ and OpenVDB 6 – 11 write); older and newer versions are rejected with a clear error |
 //! | grid value types | `float` with the standard 5-4-3 tree; other types are listed (`supported = false`) and skipped |
 //! | storage | float32, half float (`_HalfFloat` grids) |
 //! | compression | none, Zip (zlib), Blosc (blosclz, lz4, lz4hc, zlib codecs; byte and bit shuffle), active-mask (all 7 per-node modes) |
@@ -20,6 +20,7 @@
 //! | several grids per file | yes; selected by name (`name`, or `name[N]` for duplicated names) using the stored grid offsets |
 //! | instanced grids | yes (the tree is read from the instance parent) |
 //! | files without grid offsets (streams) | yes, as long as every grid before the wanted one is a float grid |
+//! | large files | read whole up to 64 MiB; beyond that only the header, the descriptors and the chosen grid's bytes are read |
 //! | delayed-load metadata, multi-pass (point) grids | ignored / not supported |
 
 pub mod blosc;
