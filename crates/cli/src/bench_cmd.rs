@@ -34,7 +34,7 @@ pub struct BenchArgs {
 
 pub fn run(a: BenchArgs) -> CliResult {
     let estimators: Vec<Estimator> = if a.estimators.is_empty() {
-        Estimator::ALL.to_vec()
+        Estimator::all()
     } else {
         a.estimators
             .iter()
@@ -70,7 +70,7 @@ spp = {f}
     let mut rows = Vec::new();
     for &threads in &a.threads {
         let pool = thread_pool(Some(threads))?;
-        for &e in &estimators {
+        for e in estimators.iter().copied() {
             scene.integrator = fogbank_render::scene::IntegratorKind::Transmittance {
                 estimator: e,
                 background: glam::Vec3::ONE,

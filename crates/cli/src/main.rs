@@ -37,13 +37,12 @@ fn main() -> ExitCode {
         Command::Render(a) => render_cmd::run(a),
         Command::Info(a) => info_cmd::run(a),
         Command::Estimators => {
-            for e in fogbank_estimators::Estimator::ALL {
-                println!(
-                    "{:<22} {:<8} {}",
-                    e.name(),
-                    if e.biased() { "biased" } else { "unbiased" },
-                    e.description()
-                );
+            for e in fogbank_estimators::Estimator::all() {
+                let kind = if e.biased() { "biased" } else { "unbiased" };
+                println!("{:<26} {:<8} {}", e.name(), kind, e.description());
+                if !e.options_help().is_empty() {
+                    println!("{:<35} options: {}", "", e.options_help());
+                }
             }
             Ok(())
         }

@@ -1,6 +1,8 @@
-//! The estimator registry: names, descriptions, and the per-ray dispatch over
-//! a medium's storage type.
+//! The estimator registry: names, options, descriptions, and the per-ray
+//! dispatch over a medium's storage type.
 
+use crate::jackknife::StepMode;
+use crate::optical_depth::{Importance, Jitter};
 use fogbank_math::{Pcg32, Ray};
 use fogbank_volume::{Medium, MediumView};
 
@@ -19,56 +21,276 @@ impl Estimate {
     };
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// A transmittance estimator with its options.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Estimator {
     RegularTracking,
     AnalyticTrilinear,
     TrackLength,
     RatioTracking,
+    ResidualRatioTracking,
+    RayMarching {
+        samples: u32,
+        clip: bool,
+    },
+    BiasedRayMarching {
+        doubled: bool,
+    },
+    UnbiasedRayMarching {
+        mult: u32,
+    },
+    Jackknife {
+        samples: u32,
+        mode: StepMode,
+        jitter: Jitter,
+    },
+    JackknifeNaive {
+        samples: u32,
+        jitter: Jitter,
+    },
+    JackknifeMeanImportance {
+        samples: u32,
+        jitter: Jitter,
+    },
+}
+
+/// Options as they come from a scene file or the command line; each
+/// estimator accepts only its own.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct EstimatorOptions {
+    pub samples: Option<u32>,
+    pub mode: Option<String>,
+    pub step: Option<f32>,
+    pub jitter: Option<String>,
+    pub mult: Option<u32>,
+    pub doubled: Option<bool>,
+    pub clip: Option<bool>,
+}
+
+struct Info {
+    name: &'static str,
+    biased: bool,
+    options: &'static str,
+    description: &'static str,
+}
+
+const INFO: [Info; 11] = [
+    Info {
+        name: "regular_tracking",
+        biased: false,
+        options: "",
+        description: "exact optical depth of the nearest-filtered grid by voxel DDA",
+    },
+    Info {
+        name: "analytic_trilinear",
+        biased: false,
+        options: "",
+        description: "exact optical depth of the trilinear interpolant (cubic per voxel)",
+    },
+    Info {
+        name: "track_length",
+        biased: false,
+        options: "",
+        description: "delta tracking with super-voxel majorants, returns 0 or 1",
+    },
+    Info {
+        name: "ratio_tracking",
+        biased: false,
+        options: "",
+        description: "ratio tracking with super-voxel majorants (Novák et al. 2014)",
+    },
+    Info {
+        name: "residual_ratio_tracking",
+        biased: false,
+        options: "",
+        description:
+            "ratio tracking of the residual over a per-super-voxel control (Novák et al. 2014)",
+    },
+    Info {
+        name: "ray_marching",
+        biased: true,
+        options: "samples=10, clip=false",
+        description: "exp(−X), N equidistant samples sharing one jitter",
+    },
+    Info {
+        name: "biased_ray_marching",
+        biased: true,
+        options: "doubled=false",
+        description: "Kettunen et al. 2021: exp(−X), mean importance, N_CMF samples",
+    },
+    Info {
+        name: "unbiased_ray_marching",
+        biased: false,
+        options: "mult=1",
+        description: "Kettunen et al. 2021: power series, Russian roulette, U-statistics",
+    },
+    Info {
+        name: "jackknife",
+        biased: true,
+        options: "samples=10, mode=fixed_count|fixed_step, step=1.0, jitter=stratified|uniform",
+        description:
+            "seed 000: cos(S)·exp(−X̄) from two interleaved estimates (Alg. 1, 2; Eq. 4, 5)",
+    },
+    Info {
+        name: "jackknife_naive",
+        biased: true,
+        options: "samples=10, jitter=stratified|uniform",
+        description: "exp(−X) from one estimate of 2N samples, same machinery (Fig. 8c)",
+    },
+    Info {
+        name: "jackknife_mean_importance",
+        biased: true,
+        options: "samples=10, jitter=stratified|uniform",
+        description: "jackknife with mean importance and no control variate (Fig. 9 ablation)",
+    },
+];
+
+fn parse_jitter(j: &Option<String>) -> Result<Jitter, String> {
+    match j.as_deref() {
+        None | Some("stratified") => Ok(Jitter::Stratified),
+        Some("uniform") => Ok(Jitter::Uniform),
+        Some(o) => Err(format!("jitter: `{o}` is not stratified or uniform")),
+    }
 }
 
 impl Estimator {
-    pub const ALL: [Estimator; 4] = [
-        Estimator::RegularTracking,
-        Estimator::AnalyticTrilinear,
-        Estimator::TrackLength,
-        Estimator::RatioTracking,
-    ];
+    pub fn names() -> Vec<&'static str> {
+        INFO.iter().map(|i| i.name).collect()
+    }
 
-    pub fn name(self) -> &'static str {
+    /// Every estimator with default options.
+    pub fn all() -> Vec<Estimator> {
+        INFO.iter()
+            .map(|i| Estimator::parse(i.name).expect("registered names parse"))
+            .collect()
+    }
+
+    fn info(&self) -> &'static Info {
+        let n = self.name();
+        INFO.iter()
+            .find(|i| i.name == n)
+            .expect("every variant is registered")
+    }
+
+    pub fn name(&self) -> &'static str {
         match self {
             Estimator::RegularTracking => "regular_tracking",
             Estimator::AnalyticTrilinear => "analytic_trilinear",
             Estimator::TrackLength => "track_length",
             Estimator::RatioTracking => "ratio_tracking",
+            Estimator::ResidualRatioTracking => "residual_ratio_tracking",
+            Estimator::RayMarching { .. } => "ray_marching",
+            Estimator::BiasedRayMarching { .. } => "biased_ray_marching",
+            Estimator::UnbiasedRayMarching { .. } => "unbiased_ray_marching",
+            Estimator::Jackknife { .. } => "jackknife",
+            Estimator::JackknifeNaive { .. } => "jackknife_naive",
+            Estimator::JackknifeMeanImportance { .. } => "jackknife_mean_importance",
         }
     }
 
-    pub fn description(self) -> &'static str {
-        match self {
-            Estimator::RegularTracking => {
-                "exact optical depth of the nearest-filtered grid by voxel DDA"
-            }
-            Estimator::AnalyticTrilinear => {
-                "exact optical depth of the trilinear interpolant (cubic per voxel)"
-            }
-            Estimator::TrackLength => "delta tracking with super-voxel majorants, returns 0 or 1",
-            Estimator::RatioTracking => {
-                "ratio tracking with super-voxel majorants (Novák et al. 2014)"
-            }
-        }
+    pub fn description(&self) -> &'static str {
+        self.info().description
     }
 
-    pub fn biased(self) -> bool {
-        false
+    pub fn biased(&self) -> bool {
+        self.info().biased
     }
 
+    /// Options and defaults, for `fogbank estimators`.
+    pub fn options_help(&self) -> &'static str {
+        self.info().options
+    }
+
+    /// The estimator `name` with default options.
     pub fn parse(name: &str) -> Option<Estimator> {
-        Estimator::ALL.into_iter().find(|e| e.name() == name)
+        Estimator::with_options(name, &EstimatorOptions::default()).ok()
     }
 
-    pub fn names() -> Vec<&'static str> {
-        Estimator::ALL.iter().map(|e| e.name()).collect()
+    /// The estimator `name` with `o` applied; an option the estimator does
+    /// not take, or a bad value, is an error naming it.
+    pub fn with_options(name: &str, o: &EstimatorOptions) -> Result<Estimator, String> {
+        let allowed: &[&str] = match name {
+            "ray_marching" => &["samples", "clip"],
+            "biased_ray_marching" => &["doubled"],
+            "unbiased_ray_marching" => &["mult"],
+            "jackknife" => &["samples", "mode", "step", "jitter"],
+            "jackknife_naive" | "jackknife_mean_importance" => &["samples", "jitter"],
+            _ => &[],
+        };
+        let given = [
+            ("samples", o.samples.is_some()),
+            ("mode", o.mode.is_some()),
+            ("step", o.step.is_some()),
+            ("jitter", o.jitter.is_some()),
+            ("mult", o.mult.is_some()),
+            ("doubled", o.doubled.is_some()),
+            ("clip", o.clip.is_some()),
+        ];
+        if let Some((bad, _)) = given.iter().find(|(k, set)| *set && !allowed.contains(k)) {
+            return Err(format!("estimator `{name}` has no option `{bad}`"));
+        }
+        let samples = o.samples.unwrap_or(10);
+        if samples == 0 || samples > 1 << 20 {
+            return Err(format!("samples: {samples} is outside 1..=1048576"));
+        }
+        Ok(match name {
+            "regular_tracking" => Estimator::RegularTracking,
+            "analytic_trilinear" => Estimator::AnalyticTrilinear,
+            "track_length" => Estimator::TrackLength,
+            "ratio_tracking" => Estimator::RatioTracking,
+            "residual_ratio_tracking" => Estimator::ResidualRatioTracking,
+            "ray_marching" => Estimator::RayMarching {
+                samples,
+                clip: o.clip.unwrap_or(false),
+            },
+            "biased_ray_marching" => Estimator::BiasedRayMarching {
+                doubled: o.doubled.unwrap_or(false),
+            },
+            "unbiased_ray_marching" => {
+                let mult = o.mult.unwrap_or(1);
+                if !(1..=16).contains(&mult) {
+                    return Err(format!("mult: {mult} is outside 1..=16"));
+                }
+                Estimator::UnbiasedRayMarching { mult }
+            }
+            "jackknife" => {
+                let mode = match o.mode.as_deref() {
+                    None | Some("fixed_count") => {
+                        if o.step.is_some() {
+                            return Err("step: only used with mode = \"fixed_step\"".into());
+                        }
+                        StepMode::FixedCount
+                    }
+                    Some("fixed_step") => {
+                        let s = o.step.unwrap_or(1.0);
+                        if !(s > 0.0 && s.is_finite()) {
+                            return Err(format!("step: {s} must be a positive optical depth"));
+                        }
+                        StepMode::FixedStep(s)
+                    }
+                    Some(m) => return Err(format!("mode: `{m}` is not fixed_count or fixed_step")),
+                };
+                Estimator::Jackknife {
+                    samples,
+                    mode,
+                    jitter: parse_jitter(&o.jitter)?,
+                }
+            }
+            "jackknife_naive" => Estimator::JackknifeNaive {
+                samples,
+                jitter: parse_jitter(&o.jitter)?,
+            },
+            "jackknife_mean_importance" => Estimator::JackknifeMeanImportance {
+                samples,
+                jitter: parse_jitter(&o.jitter)?,
+            },
+            other => {
+                return Err(format!(
+                    "unknown estimator `{other}` (available: {})",
+                    Estimator::names().join(", ")
+                ))
+            }
+        })
     }
 }
 
@@ -84,7 +306,7 @@ macro_rules! with_view {
     };
 }
 
-fn exact(tau: f64, lookups: u32) -> Estimate {
+fn exact((tau, lookups): (f64, u32)) -> Estimate {
     Estimate {
         transmittance: (-tau).exp() as f32,
         lookups,
@@ -99,38 +321,58 @@ pub fn transmittance(
     t_max: f32,
     rng: &mut Pcg32,
 ) -> Estimate {
+    use crate::*;
     let Some((r, t0, t1)) = medium.to_index(world, 0.0, t_max) else {
         return Estimate::ONE;
     };
     let view = medium.view();
     match e {
         Estimator::RegularTracking => match view {
-            MediumView::F16(v) => {
-                exact_pair(crate::regular_tracking::optical_depth(&v, &r, t0, t1))
+            MediumView::F16(v) => exact(regular_tracking::optical_depth(&v, &r, t0, t1)),
+            MediumView::F32(v) => exact(regular_tracking::optical_depth(&v, &r, t0, t1)),
+            MediumView::Analytic(a) => {
+                exact((a.field.optical_depth(&r, t0, t1) * a.scale as f64, 0))
             }
-            MediumView::F32(v) => {
-                exact_pair(crate::regular_tracking::optical_depth(&v, &r, t0, t1))
-            }
-            MediumView::Analytic(a) => exact(a.field.optical_depth(&r, t0, t1) * a.scale as f64, 0),
         },
         Estimator::AnalyticTrilinear => match view {
-            MediumView::F16(v) => {
-                exact_pair(crate::analytic_trilinear::optical_depth(&v, &r, t0, t1))
+            MediumView::F16(v) => exact(analytic_trilinear::optical_depth(&v, &r, t0, t1)),
+            MediumView::F32(v) => exact(analytic_trilinear::optical_depth(&v, &r, t0, t1)),
+            MediumView::Analytic(a) => {
+                exact((a.field.optical_depth(&r, t0, t1) * a.scale as f64, 0))
             }
-            MediumView::F32(v) => {
-                exact_pair(crate::analytic_trilinear::optical_depth(&v, &r, t0, t1))
-            }
-            MediumView::Analytic(a) => exact(a.field.optical_depth(&r, t0, t1) * a.scale as f64, 0),
         },
         Estimator::TrackLength => {
-            with_view!(view, v => crate::track_length::transmittance(&v, &r, t0, t1, rng))
+            with_view!(view, v => track_length::transmittance(&v, &r, t0, t1, rng))
         }
         Estimator::RatioTracking => {
-            with_view!(view, v => crate::ratio_tracking::transmittance(&v, &r, t0, t1, rng))
+            with_view!(view, v => ratio_tracking::transmittance(&v, &r, t0, t1, rng))
+        }
+        Estimator::ResidualRatioTracking => {
+            with_view!(view, v => residual_ratio_tracking::transmittance(&v, &r, t0, t1, rng))
+        }
+        Estimator::RayMarching { samples, clip } => {
+            with_view!(view, v => ray_marching::transmittance(&v, &r, t0, t1, samples, clip, rng))
+        }
+        Estimator::BiasedRayMarching { doubled } => {
+            with_view!(view, v => kettunen::biased_transmittance(&v, &r, t0, t1, doubled, rng))
+        }
+        Estimator::UnbiasedRayMarching { mult } => {
+            with_view!(view, v => kettunen::unbiased_transmittance(&v, &r, t0, t1, mult, rng))
+        }
+        Estimator::Jackknife {
+            samples,
+            mode,
+            jitter,
+        } => with_view!(view, v => jackknife::transmittance(
+            &v, &r, t0, t1, samples, mode, Importance::VarianceAware, jitter, rng
+        )),
+        Estimator::JackknifeNaive { samples, jitter } => {
+            with_view!(view, v => jackknife::naive_transmittance(&v, &r, t0, t1, samples, jitter, rng))
+        }
+        Estimator::JackknifeMeanImportance { samples, jitter } => {
+            with_view!(view, v => jackknife::transmittance(
+                &v, &r, t0, t1, samples, StepMode::FixedCount, Importance::Mean, jitter, rng
+            ))
         }
     }
-}
-
-fn exact_pair((tau, lookups): (f64, u32)) -> Estimate {
-    exact(tau, lookups)
 }

@@ -8,9 +8,15 @@
 
 pub mod analytic_trilinear;
 pub mod estimator;
+pub mod jackknife;
+pub mod jackknife_function;
+pub mod kettunen;
 pub mod lookup;
+pub mod optical_depth;
 pub mod ratio_tracking;
+pub mod ray_marching;
 pub mod regular_tracking;
+pub mod residual_ratio_tracking;
 pub mod track_length;
 
-pub use estimator::{transmittance, Estimate, Estimator};
+pub use estimator::{transmittance, Estimate, Estimator, EstimatorOptions};

@@ -42,9 +42,10 @@ fn run(e: Estimator, m: &Medium, ray: &Ray, n: u32, seed: u32) -> Stats {
 fn check(e: Estimator, m: &Medium, ray: &Ray, exact: f64, label: &str) {
     // Deep rays (T < 1e-3) are dominated by rare events (track-length hits,
     // large ratio-tracking weights under stochastic filtering): 10× samples.
-    let n = if exact < 1e-3 { 400_000 } else { 40_000 };
+    let n = if exact < 1e-3 { 400_000 } else { 20_000 };
     let st = run(e, m, ray, n, 17);
-    let tol = 4.0 * st.se;
+    // f32 arithmetic bounds how exact a zero-variance estimate can be.
+    let tol = 4.0 * st.se + 1e-5 * exact;
     assert!(
         (st.mean - exact).abs() <= tol,
         "{} on {label}: mean {:.6e} exact {:.6e} (|diff| {:.3e} > 4 SE {:.3e})",
@@ -80,8 +81,7 @@ fn rays_for(n: u32) -> Vec<(Ray, &'static str)> {
     ]
 }
 
-#[test]
-fn tracking_estimators_are_unbiased_on_analytic_media() {
+fn unbiased_on_analytic_media(e: Estimator) {
     let n = 32;
     for field in analytic_media(n) {
         for (ray, rname) in rays_for(n) {
@@ -92,7 +92,7 @@ fn tracking_estimators_are_unbiased_on_analytic_media() {
                 DAffine3::IDENTITY,
                 8,
             );
-            let tau1 = transmittance(
+            let t1 = transmittance(
                 Estimator::AnalyticTrilinear,
                 &unit,
                 &ray,
@@ -100,7 +100,7 @@ fn tracking_estimators_are_unbiased_on_analytic_media() {
                 &mut Pcg32::new(0, 0),
             )
             .transmittance as f64;
-            let tau1 = -tau1.ln();
+            let tau1 = -t1.ln();
             let targets: Vec<f64> = if tau1 <= 0.0 {
                 vec![0.0]
             } else {
@@ -119,24 +119,20 @@ fn tracking_estimators_are_unbiased_on_analytic_media() {
                     DAffine3::IDENTITY,
                     8,
                 );
-                let exact =
-                    (-field.optical_depth(&ray.clone(), 0.0, f32::INFINITY) * scale as f64).exp();
-                for e in [Estimator::TrackLength, Estimator::RatioTracking] {
-                    check(
-                        e,
-                        &m,
-                        &ray,
-                        exact,
-                        &format!("{} {rname} τ={target}", field.name()),
-                    );
-                }
+                let exact = (-field.optical_depth(&ray, 0.0, f32::INFINITY) * scale as f64).exp();
+                check(
+                    e,
+                    &m,
+                    &ray,
+                    exact,
+                    &format!("{} {rname} τ={target}", field.name()),
+                );
             }
         }
     }
 }
 
-#[test]
-fn tracking_estimators_are_unbiased_on_a_procedural_cloud() {
+fn unbiased_on_a_procedural_cloud(e: Estimator) {
     let n = 48;
     let grid = cloud(n, 3);
     for filter in [
@@ -160,16 +156,41 @@ fn tracking_estimators_are_unbiased_on_a_procedural_cloud() {
                 let m = grid_medium(grid.clone(), filter, scale, 16);
                 let exact = transmittance(reference, &m, &ray, f32::INFINITY, &mut Pcg32::new(0, 0))
                     .transmittance as f64;
-                for e in [Estimator::TrackLength, Estimator::RatioTracking] {
-                    check(
-                        e,
-                        &m,
-                        &ray,
-                        exact,
-                        &format!("cloud {} {rname} τ={target}", filter.name()),
-                    );
-                }
+                check(
+                    e,
+                    &m,
+                    &ray,
+                    exact,
+                    &format!("cloud {} {rname} τ={target}", filter.name()),
+                );
             }
         }
+    }
+}
+
+#[test]
+fn track_length_is_unbiased() {
+    unbiased_on_analytic_media(Estimator::TrackLength);
+    unbiased_on_a_procedural_cloud(Estimator::TrackLength);
+}
+
+#[test]
+fn ratio_tracking_is_unbiased() {
+    unbiased_on_analytic_media(Estimator::RatioTracking);
+    unbiased_on_a_procedural_cloud(Estimator::RatioTracking);
+}
+
+#[test]
+fn residual_ratio_tracking_is_unbiased() {
+    unbiased_on_analytic_media(Estimator::ResidualRatioTracking);
+    unbiased_on_a_procedural_cloud(Estimator::ResidualRatioTracking);
+}
+
+#[test]
+fn unbiased_ray_marching_is_unbiased() {
+    for mult in [1, 2] {
+        let e = Estimator::UnbiasedRayMarching { mult };
+        unbiased_on_analytic_media(e);
+        unbiased_on_a_procedural_cloud(e);
     }
 }

@@ -201,6 +201,7 @@ pub enum LightDesc {
 /// | `type` | `"transmittance"` | the integrator |
 /// | `estimator` | `"ratio_tracking"` | transmittance estimator by name (`fogbank estimators`) |
 /// | `background` | (1, 1, 1) | radiance behind the media; the image is T · background |
+/// | `samples`, `mode`, `step`, `jitter`, `mult`, `doubled`, `clip` | per estimator | estimator options (`fogbank estimators`) |
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
 pub struct IntegratorDesc {
@@ -208,6 +209,20 @@ pub struct IntegratorDesc {
     pub ty: String,
     pub estimator: String,
     pub background: [f32; 3],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub samples: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mode: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub step: Option<f32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jitter: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mult: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub doubled: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub clip: Option<bool>,
 }
 
 impl Default for IntegratorDesc {
@@ -216,6 +231,27 @@ impl Default for IntegratorDesc {
             ty: "transmittance".into(),
             estimator: "ratio_tracking".into(),
             background: [1.0; 3],
+            samples: None,
+            mode: None,
+            step: None,
+            jitter: None,
+            mult: None,
+            doubled: None,
+            clip: None,
+        }
+    }
+}
+
+impl IntegratorDesc {
+    pub fn estimator_options(&self) -> fogbank_estimators::EstimatorOptions {
+        fogbank_estimators::EstimatorOptions {
+            samples: self.samples,
+            mode: self.mode.clone(),
+            step: self.step,
+            jitter: self.jitter.clone(),
+            mult: self.mult,
+            doubled: self.doubled,
+            clip: self.clip,
         }
     }
 }

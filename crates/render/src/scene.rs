@@ -395,13 +395,11 @@ impl Scene {
             .collect::<Result<Vec<_>, SceneError>>()?;
         let integrator = match desc.integrator.ty.as_str() {
             "transmittance" => {
-                let estimator = Estimator::parse(&desc.integrator.estimator).ok_or_else(|| {
-                    SceneError(format!(
-                        "integrator.estimator: unknown estimator `{}` (available: {})",
-                        desc.integrator.estimator,
-                        Estimator::names().join(", ")
-                    ))
-                })?;
+                let estimator = Estimator::with_options(
+                    &desc.integrator.estimator,
+                    &desc.integrator.estimator_options(),
+                )
+                .map_err(|e| SceneError(format!("integrator.estimator: {e}")))?;
                 IntegratorKind::Transmittance {
                     estimator,
                     background: Vec3::from(desc.integrator.background),

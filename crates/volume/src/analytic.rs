@@ -280,8 +280,11 @@ impl AnalyticField {
                     cells.push(SuperVoxel {
                         min: mn,
                         max: mx,
-                        mean: stats.mean,
-                        importance: sq.sqrt() as f32,
+                        mean: stats.mean.clamp(mn + 0.05 * (mx - mn), mx),
+                        // Never zero where the field may exceed its minimum: the sample
+                        // lattice can miss a thin slab, and zero importance there
+                        // would leave part of the integrand unsampled.
+                        importance: (sq.sqrt() as f32).max(0.01 * mn).max(0.05 * (mx - mn)),
                     });
                 }
             }

@@ -36,11 +36,15 @@ impl SuperVoxel {
             return SuperVoxel::default();
         }
         let sq: f64 = values.map(|v| ((v - min) as f64).powi(2)).sum();
+        // A homogeneous but non-empty super-voxel keeps a small importance, so
+        // the importance is zero exactly where the extinction is (notes:
+        // clamped to ≥ 0.01 μ_min, as in the author's code).
+        let importance = ((sq / n as f64).sqrt() as f32).max(0.01 * min);
         SuperVoxel {
             min,
             max,
             mean: (sum / n as f64) as f32,
-            importance: (sq / n as f64).sqrt() as f32,
+            importance,
         }
     }
 

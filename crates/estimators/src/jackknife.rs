@@ -1,0 +1,134 @@
+//! Seed 000's jackknife transmittance estimator and its ablations.
+//!
+//! `jackknife`: Alg. 2 then Alg. 1 with variance-aware importance (Eq. 5)
+//! and the super-voxel minimum as control variate, two interleaved estimates
+//! X0, X1 of exactly N lookups each, combined by Eq. 4. The result may be
+//! negative; it is never clamped (clamping adds bias).
+
+use crate::optical_depth::{estimates, prepare, Importance, Jitter};
+use crate::Estimate;
+use fogbank_math::{Pcg32, Ray};
+use fogbank_volume::VolumeAccess;
+
+/// How the CDF step F_Δ is chosen (seed 000 §4.3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StepMode {
+    /// F_Δ = F / N: exactly N samples per estimate on every non-empty ray.
+    FixedCount,
+    /// F_Δ given in optical-depth units (seed 000 Fig. 8d).
+    FixedStep(f32),
+}
+
+/// Seed 000, Eq. 4: K = cos(S) exp(−X̄), X̄ = (X0 + X1)/2, S = |X0 − X1|/2.
+#[inline]
+pub fn jackknife_transmittance(x0: f64, x1: f64) -> f64 {
+    (0.5 * (x0 - x1).abs()).cos() * (-0.5 * (x0 + x1)).exp()
+}
+
+fn f_delta(total: f64, samples: u32, mode: StepMode) -> f64 {
+    match mode {
+        StepMode::FixedCount => total / samples.max(1) as f64,
+        StepMode::FixedStep(step) => step.max(1e-6) as f64,
+    }
+}
+
+/// Two optical-depth estimates of the segment (0, 0 when F = 0).
+#[allow(clippy::too_many_arguments)]
+pub fn optical_depth_pair<V: VolumeAccess>(
+    v: &V,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    samples: u32,
+    mode: StepMode,
+    importance: Importance,
+    jitter: Jitter,
+    rng: &mut Pcg32,
+    lookups: &mut u32,
+) -> (f64, f64) {
+    let prep = prepare(v, ray, t0, t1, importance);
+    if prep.total <= 0.0 {
+        return (0.0, 0.0);
+    }
+    let mut x = [0.0; 2];
+    estimates(
+        v,
+        ray,
+        &prep,
+        f_delta(prep.total, samples, mode),
+        importance,
+        jitter,
+        rng,
+        lookups,
+        &mut x,
+    );
+    (x[0], x[1])
+}
+
+/// `jackknife` (and, with `Importance::Mean`, `jackknife_mean_importance`,
+/// the ablation of seed 000 Fig. 9).
+#[allow(clippy::too_many_arguments)]
+pub fn transmittance<V: VolumeAccess>(
+    v: &V,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    samples: u32,
+    mode: StepMode,
+    importance: Importance,
+    jitter: Jitter,
+    rng: &mut Pcg32,
+) -> Estimate {
+    let mut lookups = 0;
+    let (x0, x1) = optical_depth_pair(
+        v,
+        ray,
+        t0,
+        t1,
+        samples,
+        mode,
+        importance,
+        jitter,
+        rng,
+        &mut lookups,
+    );
+    Estimate {
+        transmittance: jackknife_transmittance(x0, x1) as f32,
+        lookups,
+    }
+}
+
+/// `jackknife_naive`: exp(−X) from one estimate of 2N samples with the same
+/// machinery (seed 000 Fig. 8c), i.e. m = 1 at equal cost.
+pub fn naive_transmittance<V: VolumeAccess>(
+    v: &V,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    samples: u32,
+    jitter: Jitter,
+    rng: &mut Pcg32,
+) -> Estimate {
+    let mut lookups = 0;
+    let prep = prepare(v, ray, t0, t1, Importance::VarianceAware);
+    if prep.total <= 0.0 {
+        return Estimate::ONE;
+    }
+    let mut x = [0.0; 1];
+    let n = 2 * samples.max(1);
+    estimates(
+        v,
+        ray,
+        &prep,
+        prep.total / n as f64,
+        Importance::VarianceAware,
+        jitter,
+        rng,
+        &mut lookups,
+        &mut x,
+    );
+    Estimate {
+        transmittance: (-x[0]).exp() as f32,
+        lookups,
+    }
+}

@@ -1,0 +1,42 @@
+//! Naive ray marching: N equidistant samples sharing one jitter over the
+//! segment, T = exp(−X). Biased (Jensen: it overestimates T). With `clip`,
+//! the segment is first shrunk to the non-empty super-voxels.
+
+use crate::lookup::sigma_t;
+use crate::optical_depth::{prepare, Importance};
+use crate::Estimate;
+use fogbank_math::{Pcg32, Ray};
+use fogbank_volume::VolumeAccess;
+
+pub fn transmittance<V: VolumeAccess>(
+    v: &V,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    samples: u32,
+    clip: bool,
+    rng: &mut Pcg32,
+) -> Estimate {
+    let (a, b) = if clip {
+        let p = prepare(v, ray, t0, t1, Importance::Mean);
+        if p.total <= 0.0 {
+            return Estimate::ONE;
+        }
+        (p.t_min, p.t_max)
+    } else {
+        (t0, t1)
+    };
+    let n = samples.max(1);
+    let dt = (b - a) as f64 / n as f64;
+    let u = rng.next_f32() as f64;
+    let mut lookups = 0;
+    let mut sum = 0.0f64;
+    for i in 0..n {
+        let t = a as f64 + (i as f64 + u) * dt;
+        sum += sigma_t(v, ray.at(t as f32), rng, &mut lookups) as f64;
+    }
+    Estimate {
+        transmittance: (-(sum * dt)).exp() as f32,
+        lookups,
+    }
+}
