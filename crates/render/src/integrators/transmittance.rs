@@ -6,8 +6,19 @@
 
 use super::{dim, PixelSample};
 use crate::scene::Scene;
-use fogbank_estimators::{transmittance, Estimator};
-use fogbank_math::{SampleKey, Vec3};
+use fogbank_estimators::{transmittance, Estimate, Estimator};
+use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
+
+/// Transmittance of all media along `ray` (to infinity).
+pub fn along_ray(scene: &Scene, estimator: Estimator, ray: &Ray, rng: &mut Pcg32) -> Estimate {
+    let mut total = Estimate::ONE;
+    for m in &scene.media {
+        let e = transmittance(estimator, &m.medium, ray, f32::INFINITY, rng);
+        total.transmittance *= e.transmittance;
+        total.lookups += e.lookups;
+    }
+    total
+}
 
 pub fn sample(
     scene: &Scene,
@@ -30,15 +41,9 @@ pub fn sample(
         ..key
     }
     .rng();
-    let mut t = 1.0f32;
-    let mut lookups = 0;
-    for m in &scene.media {
-        let e = transmittance(estimator, &m.medium, &ray, f32::INFINITY, &mut rng);
-        t *= e.transmittance;
-        lookups += e.lookups;
-    }
+    let e = along_ray(scene, estimator, &ray, &mut rng);
     PixelSample {
-        radiance: background * t,
-        lookups,
+        radiance: background * e.transmittance,
+        lookups: e.lookups,
     }
 }

@@ -1,0 +1,5 @@
+//! Evaluation tools: the measurements every comparison in fogbank uses.
+
+pub mod frame_stats;
+
+pub use frame_stats::{transmittance_stats, FrameStats, Summary};
