@@ -8,6 +8,11 @@ for f in ../crates/volume/tests/fixtures/vdb/*.vdb ../../shared/data/dragon.vdb;
     [ -f "$f" ] && [ "$(wc -c < "$f")" -le 131072 ] && cp "$f" corpus/vdb/
 done
 echo "seeded $(ls corpus/vdb | wc -l) vdb inputs"
+mkdir -p corpus/vol
+for f in ../../shared/data/*.vol; do
+    [ -f "$f" ] && cp "$f" corpus/vol/
+done
+echo "seeded $(ls corpus/vol | wc -l) vol inputs"
 # Blosc frames: two little-endian bytes of expected size, then the frame.
 python3 - <<'PY'
 import base64, json, os

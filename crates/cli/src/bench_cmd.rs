@@ -1,9 +1,15 @@
-//! `fogbank bench`: primary-ray transmittance throughput per estimator on a
-//! procedural cloud, measured side by side in one run for each thread count.
+//! `fogbank bench`: per-estimator cost and accuracy of the transmittance view
+//! of a procedural cloud, measured side by side in one run.
+//!
+//! Timing: `--frames` 1-spp frames at `--size`² for each thread count.
+//! Accuracy: mean |bias| and mean single-frame std against
+//! `analytic_trilinear` over `--stats-frames` frames at `--stats-size`²
+//! through pixel centres (bias needs many frames, so this runs smaller).
 
 use crate::{thread_pool, CliResult};
 use clap::Args;
 use fogbank_estimators::Estimator;
+use fogbank_eval::transmittance_stats;
 use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::Path;
 
@@ -12,13 +18,13 @@ pub struct BenchArgs {
     /// Cloud resolution (voxels per side).
     #[arg(long, default_value_t = 256)]
     pub resolution: u32,
-    /// Image width and height.
+    /// Image width and height for timing.
     #[arg(long, default_value_t = 512)]
     pub size: u32,
-    /// Frames (1 spp each) per measurement.
+    /// Frames (1 spp each) per timing.
     #[arg(long, default_value_t = 4)]
     pub frames: u32,
-    /// Thread counts to measure, comma separated.
+    /// Thread counts to time, comma separated.
     #[arg(long, default_value = "1,2", value_delimiter = ',')]
     pub threads: Vec<usize>,
     /// Estimators (comma separated); default all.
@@ -27,9 +33,43 @@ pub struct BenchArgs {
     /// Extinction scale of the cloud.
     #[arg(long, default_value_t = 60.0)]
     pub sigma_t_scale: f32,
+    /// Image size for the bias/std measurement (0 skips it).
+    #[arg(long, default_value_t = 64)]
+    pub stats_size: u32,
+    /// Frames for the bias/std measurement.
+    #[arg(long, default_value_t = 2048)]
+    pub stats_frames: u32,
     /// Also write the table as JSON.
     #[arg(long)]
     pub json: Option<std::path::PathBuf>,
+}
+
+fn cloud_scene(
+    size: u32,
+    resolution: u32,
+    scale: f32,
+    frames: u32,
+) -> Result<Scene, Box<dyn std::error::Error>> {
+    let text = format!(
+        r#"
+[camera]
+from = [0.0, 0.05, 2.2]
+to = [0.0, -0.05, 0.0]
+fov = 32.0
+width = {size}
+height = {size}
+[[media]]
+density = {{ procedural = "cloud", resolution = {resolution}, seed = 7 }}
+sigma_t_scale = {scale}
+filter = "stochastic_trilinear"
+[render]
+spp = {frames}
+"#
+    );
+    Ok(Scene::build(
+        parse_scene(&text, "bench scene", &[])?,
+        Path::new("."),
+    )?)
 }
 
 pub fn run(a: BenchArgs) -> CliResult {
@@ -41,36 +81,47 @@ pub fn run(a: BenchArgs) -> CliResult {
             .map(|n| Estimator::parse(n).ok_or_else(|| format!("unknown estimator `{n}`")))
             .collect::<Result<_, _>>()?
     };
-    let text = format!(
-        r#"
-[camera]
-from = [0.0, 0.05, 2.2]
-to = [0.0, -0.05, 0.0]
-fov = 32.0
-width = {s}
-height = {s}
-[[media]]
-density = {{ procedural = "cloud", resolution = {r}, seed = 7 }}
-sigma_t_scale = {k}
-filter = "stochastic_trilinear"
-[render]
-spp = {f}
-"#,
-        s = a.size,
-        r = a.resolution,
-        k = a.sigma_t_scale,
-        f = a.frames
-    );
     eprintln!("building a {}³ cloud ...", a.resolution);
-    let desc = parse_scene(&text, "bench scene", &[])?;
-    let mut scene = Scene::build(desc, Path::new("."))?;
+    let mut scene = cloud_scene(a.size, a.resolution, a.sigma_t_scale, a.frames)?;
+    let accuracy: Vec<Option<(f64, f64)>> = if a.stats_size > 0 {
+        let mut small = cloud_scene(a.stats_size, a.resolution, a.sigma_t_scale, 1)?;
+        small.media = scene.media.clone();
+        let pool = thread_pool(a.threads.iter().copied().max())?;
+        estimators
+            .iter()
+            .map(|&e| {
+                eprintln!(
+                    "accuracy of {} over {} frames at {}² ...",
+                    e.name(),
+                    a.stats_frames,
+                    a.stats_size
+                );
+                let s = pool
+                    .install(|| {
+                        transmittance_stats(
+                            &small,
+                            e,
+                            Some(Estimator::AnalyticTrilinear),
+                            a.stats_frames,
+                            3,
+                        )
+                    })
+                    .summary();
+                Some((s.mean_abs_bias, s.mean_std))
+            })
+            .collect()
+    } else {
+        vec![None; estimators.len()]
+    };
     let rays = (a.size as u64 * a.size as u64 * a.frames as u64) as f64;
-    println!("| estimator | threads | ms/frame | Mrays/s | lookups/ray |");
-    println!("|---|---:|---:|---:|---:|");
+    println!(
+        "| estimator | threads | ms/frame | Mrays/s | lookups/ray | mean abs bias | mean std |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|---:|");
     let mut rows = Vec::new();
     for &threads in &a.threads {
         let pool = thread_pool(Some(threads))?;
-        for e in estimators.iter().copied() {
+        for (i, e) in estimators.iter().copied().enumerate() {
             scene.integrator = fogbank_render::scene::IntegratorKind::Transmittance {
                 estimator: e,
                 background: glam::Vec3::ONE,
@@ -84,15 +135,25 @@ spp = {f}
             let ms = r.seconds * 1000.0 / a.frames as f64;
             let mrays = rays / r.seconds / 1e6;
             let lpr = r.film.lookups as f64 / rays;
+            let (bias, std) = accuracy[i]
+                .map_or(("–".to_string(), "–".to_string()), |(b, s)| {
+                    (format!("{b:.5}"), format!("{s:.4}"))
+                });
             println!(
-                "| {} | {} | {:.1} | {:.2} | {:.1} |",
+                "| {} | {} | {:.1} | {:.2} | {:.1} | {} | {} |",
                 e.name(),
                 threads,
                 ms,
                 mrays,
-                lpr
+                lpr,
+                bias,
+                std
             );
-            rows.push(serde_json::json!({"estimator": e.name(), "threads": threads, "ms_per_frame": ms, "mrays_per_s": mrays, "lookups_per_ray": lpr}));
+            rows.push(serde_json::json!({
+                "estimator": e.name(), "threads": threads, "ms_per_frame": ms, "mrays_per_s": mrays,
+                "lookups_per_ray": lpr,
+                "mean_abs_bias": accuracy[i].map(|v| v.0), "mean_std": accuracy[i].map(|v| v.1),
+            }));
         }
     }
     if let Some(p) = &a.json {
