@@ -12,6 +12,7 @@ pub mod jackknife;
 pub mod jackknife_function;
 pub mod kettunen;
 pub mod lookup;
+pub mod null_collisions;
 pub mod optical_depth;
 pub mod ratio_tracking;
 pub mod ray_marching;

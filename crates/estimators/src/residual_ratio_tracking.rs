@@ -7,10 +7,10 @@
 //! μ_c = min(μ_avg, max(μ_min, μ_min + Δ(2^{1/(DΔ)} − 1))), Δ = μ_max − μ_min,
 //! D the super-voxel diagonal in world units.
 
-use crate::lookup::{sample_exponential, sigma_t};
+use crate::null_collisions::walk;
 use crate::Estimate;
 use fogbank_math::{Pcg32, Ray};
-use fogbank_volume::{Dda, SuperVoxel, VolumeAccess};
+use fogbank_volume::{SuperVoxel, VolumeAccess};
 
 /// The control extinction of a super-voxel with world-space diagonal `d`.
 pub fn control_extinction(s: &SuperVoxel, d: f32) -> f32 {
@@ -29,34 +29,34 @@ pub fn transmittance<V: VolumeAccess>(
     t1: f32,
     rng: &mut Pcg32,
 ) -> Estimate {
-    let sv = v.supervoxels();
     // Index units per world unit along this ray turn the super-voxel's
     // index-space diagonal into world units.
-    let diagonal = sv.size as f32 * 3f32.sqrt() / ray.d.length().max(f32::MIN_POSITIVE);
+    let diagonal =
+        v.supervoxels().size as f32 * 3f32.sqrt() / ray.d.length().max(f32::MIN_POSITIVE);
     let mut lookups = 0;
     let mut tau_c = 0.0f64;
     let mut ratio = 1.0f32;
-    for s in Dda::new(ray, sv.size as f32, sv.dims, t0, t1) {
-        let cell = sv.get(s.cell);
-        if cell.max <= 0.0 {
-            continue;
+    let rate = |s: &SuperVoxel, len: f32| {
+        if s.max <= 0.0 {
+            return (0.0, 0.0);
         }
-        let mu_c = control_extinction(cell, diagonal);
-        tau_c += (s.t1 - s.t0) as f64 * mu_c as f64;
-        let sigma_r = (cell.max - mu_c).max(mu_c - cell.min);
-        if sigma_r <= 0.0 || ratio == 0.0 {
-            continue;
-        }
-        let mut t = s.t0;
-        loop {
-            t += sample_exponential(rng, sigma_r);
-            if t >= s.t1 {
-                break;
-            }
-            let mu = sigma_t(v, ray.at(t), rng, &mut lookups);
+        let mu_c = control_extinction(s, diagonal);
+        tau_c += len as f64 * mu_c as f64;
+        ((s.max - mu_c).max(mu_c - s.min), mu_c)
+    };
+    walk(
+        v,
+        ray,
+        t0,
+        t1,
+        rng,
+        &mut lookups,
+        rate,
+        |mu, sigma_r, mu_c, _| {
             ratio *= 1.0 - (mu - mu_c) / sigma_r;
-        }
-    }
+            true
+        },
+    );
     Estimate {
         transmittance: ((-tau_c).exp() as f32) * ratio,
         lookups,
