@@ -135,7 +135,11 @@ pub fn run(a: InfoArgs) -> CliResult {
                         .step_by(v.channels as usize)
                         .copied(),
                 );
-                println!("  channel {c}: range [{lo}, {hi}], sum {s:.6}");
+                let channel = v.data.iter().skip(c as usize).step_by(v.channels as usize);
+                let non_zero = channel.filter(|x| **x != 0.0).count();
+                println!(
+                    "  channel {c}: range [{lo}, {hi}], sum {s:.6}, {non_zero} non-zero voxels"
+                );
             }
             print_transform(&v.index_to_world());
             print_memory(v.channel_grid(0)?);
@@ -162,7 +166,11 @@ pub fn run(a: InfoArgs) -> CliResult {
                 d[1],
                 d[2]
             );
-            println!("  value range [{lo}, {hi}], sum {s:.6}");
+            let non_zero = (0..d[2])
+                .flat_map(|k| (0..d[1]).flat_map(move |j| (0..d[0]).map(move |i| (i, j, k))))
+                .filter(|&(i, j, k)| g.fetch(i as i32, j as i32, k as i32) != 0.0)
+                .count();
+            println!("  value range [{lo}, {hi}], sum {s:.6}, {non_zero} non-zero voxels");
             print_transform(&fogbank_volume::medium::unit_box_transform(d));
             print_memory(g);
         }
