@@ -4,6 +4,7 @@ mod bench_cmd;
 mod info_cmd;
 mod output;
 mod render_cmd;
+mod stats_cmd;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -29,6 +30,8 @@ enum Command {
     Estimators,
     /// Primary-ray transmittance throughput per estimator.
     Bench(bench_cmd::BenchArgs),
+    /// Per-pixel mean, std and bias of an estimator over independent frames.
+    Stats(stats_cmd::StatsArgs),
 }
 
 fn main() -> ExitCode {
@@ -47,6 +50,7 @@ fn main() -> ExitCode {
             Ok(())
         }
         Command::Bench(a) => bench_cmd::run(a),
+        Command::Stats(a) => stats_cmd::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -64,3 +64,37 @@ pub fn write_png(
     image::save_buffer(path, &bytes, width, height, image::ColorType::Rgb8)
         .map_err(|e| format!("{}: {e}", path.display()))
 }
+
+/// Writes named RGB layers (`NAME.R/G/B`) and an optional scalar channel
+/// (`NAME.Y`) into one EXR part.
+pub fn write_exr_channels(
+    path: &Path,
+    width: u32,
+    height: u32,
+    layers: &[(&str, Vec<[f32; 3]>)],
+    scalar: Option<(&str, &[f32])>,
+) -> std::result::Result<(), String> {
+    let mut channels: Vec<AnyChannel<FlatSamples>> = Vec::new();
+    for (name, data) in layers {
+        for (c, suffix) in ["R", "G", "B"].iter().enumerate() {
+            let plane = FlatSamples::F32(data.iter().map(|p| p[c]).collect());
+            channels.push(AnyChannel::new(format!("{name}.{suffix}").as_str(), plane));
+        }
+    }
+    if let Some((name, data)) = scalar {
+        channels.push(AnyChannel::new(
+            format!("{name}.Y").as_str(),
+            FlatSamples::F32(data.to_vec()),
+        ));
+    }
+    let layer = Layer::new(
+        (width as usize, height as usize),
+        LayerAttributes::default(),
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(channels.into()),
+    );
+    Image::from_layer(layer)
+        .write()
+        .to_file(path)
+        .map_err(|e| format!("{}: {e}", path.display()))
+}

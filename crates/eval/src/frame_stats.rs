@@ -1,15 +1,16 @@
-//! Per-pixel statistics of an estimator over K independent 1-spp frames of
-//! the transmittance view (seed 000 §6.1, Figs. 8–10): mean, single-frame
-//! standard deviation, and bias against an exact reference.
+//! Per-pixel statistics of a scene's integrator over K independent 1-spp
+//! frames (seed 000 §6.1, Figs. 8–10): mean, single-frame standard
+//! deviation, and bias against an exact reference.
 //!
-//! Rays go through pixel centres so that the reference is one exact value
-//! per pixel; frame k uses sample index k of the pixel's estimator stream.
-//! Each pixel runs its K frames in a row with Welford's update, so memory is
-//! independent of K and the result is independent of the thread count.
+//! Primary rays go through pixel centres, so an exact estimator gives one
+//! reference value per pixel; frame k is sample index k of each pixel's
+//! random streams. Each pixel runs its K frames in a row with Welford's
+//! update, so memory is independent of K and the result of the thread count.
 
 use fogbank_estimators::Estimator;
 use fogbank_math::SampleKey;
-use fogbank_render::integrators::{dim, transmittance::along_ray};
+use fogbank_render::integrators::sample_pixel;
+use fogbank_render::scene::IntegratorKind;
 use fogbank_render::Scene;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -19,23 +20,30 @@ pub struct FrameStats {
     pub width: u32,
     pub height: u32,
     pub runs: u32,
-    /// Per-pixel mean transmittance over the runs.
-    pub mean: Vec<f64>,
+    /// Per-pixel mean over the runs.
+    pub mean: Vec<[f64; 3]>,
     /// Per-pixel variance of a single frame (unbiased, n − 1).
-    pub variance: Vec<f64>,
-    /// Per-pixel exact transmittance, when a reference estimator was given.
-    pub reference: Option<Vec<f64>>,
+    pub variance: Vec<[f64; 3]>,
+    /// Per-pixel finite samples (non-finite ones are dropped and counted).
+    pub count: Vec<u32>,
+    /// Per-pixel exact values, when a reference was given.
+    pub reference: Option<Vec<[f64; 3]>>,
+    /// Pixels whose primary ray meets a medium's box; summaries average
+    /// over these so empty background does not dilute them.
+    pub covered: Vec<bool>,
     pub lookups: u64,
+    pub nonfinite: u64,
     pub seconds: f64,
 }
 
-/// Image-level figures. With a reference, averages run over the pixels
-/// whose exact transmittance is below 1 (those the media cover), so empty
-/// background does not dilute them.
+/// Image-level figures, averaged over covered pixels and the three channels.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Summary {
     pub mean_abs_bias: f64,
     pub mean_bias: f64,
+    /// Standard error of `mean_bias` (pixels are independent): an unbiased
+    /// estimator has |mean_bias| within a few of these.
+    pub mean_bias_se: f64,
     pub mean_std: f64,
     pub rmse: f64,
     pub ms_per_frame: f64,
@@ -44,8 +52,104 @@ pub struct Summary {
     pub pixels: usize,
 }
 
-/// Runs `runs` frames of `estimator` (and one frame of `reference`, which
-/// must be deterministic, e.g. `analytic_trilinear`).
+fn centred(scene: &Scene) -> Scene {
+    let mut s = scene.clone();
+    s.desc.render.pixel_jitter = false;
+    s
+}
+
+/// Runs `runs` frames of the scene's integrator through pixel centres.
+pub fn frame_stats(scene: &Scene, runs: u32, seed: u32) -> FrameStats {
+    let scene = centred(scene);
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let start = Instant::now();
+    let per_pixel: Vec<([f64; 3], [f64; 3], u32, u64, u64)> = (0..(w * h) as usize)
+        .into_par_iter()
+        .map(|p| {
+            let (x, y) = ((p % w as usize) as u32, (p / w as usize) as u32);
+            let (mut mean, mut m2, mut n, mut lookups, mut bad) =
+                ([0.0f64; 3], [0.0f64; 3], 0u32, 0u64, 0u64);
+            for k in 0..runs {
+                let s = sample_pixel(
+                    &scene,
+                    x,
+                    y,
+                    SampleKey {
+                        seed,
+                        pixel: p as u32,
+                        sample: k,
+                        dimension: 0,
+                    },
+                );
+                lookups += s.lookups as u64;
+                let v = s.radiance.to_array();
+                if v.iter().any(|c| !c.is_finite()) {
+                    bad += 1;
+                    continue;
+                }
+                n += 1;
+                for c in 0..3 {
+                    let d = v[c] as f64 - mean[c];
+                    mean[c] += d / n as f64;
+                    m2[c] += d * (v[c] as f64 - mean[c]);
+                }
+            }
+            let var = if n > 1 {
+                m2.map(|v| v / (n - 1) as f64)
+            } else {
+                [0.0; 3]
+            };
+            (mean, var, n, lookups, bad)
+        })
+        .collect();
+    let seconds = start.elapsed().as_secs_f64();
+    let covered = (0..(w * h) as usize)
+        .map(|p| {
+            let ray = scene
+                .camera
+                .ray((p % w as usize) as f32 + 0.5, (p / w as usize) as f32 + 0.5);
+            scene
+                .media
+                .iter()
+                .any(|m| m.medium.to_index(&ray, 0.0, f32::INFINITY).is_some())
+        })
+        .collect();
+    FrameStats {
+        width: w,
+        height: h,
+        runs,
+        mean: per_pixel.iter().map(|v| v.0).collect(),
+        variance: per_pixel.iter().map(|v| v.1).collect(),
+        count: per_pixel.iter().map(|v| v.2).collect(),
+        reference: None,
+        covered,
+        lookups: per_pixel.iter().map(|v| v.3).sum(),
+        nonfinite: per_pixel.iter().map(|v| v.4).sum(),
+        seconds,
+    }
+}
+
+/// One frame of the scene with its estimator replaced by `exact` (a
+/// deterministic estimator such as `analytic_trilinear`), through pixel
+/// centres.
+pub fn exact_reference(scene: &Scene, exact: Estimator) -> Vec<[f64; 3]> {
+    let mut s = centred(scene);
+    s.integrator = with_estimator(&s.integrator, exact);
+    frame_stats(&s, 1, 0).mean
+}
+
+/// The integrator with its transmittance estimator swapped.
+pub fn with_estimator(i: &IntegratorKind, e: Estimator) -> IntegratorKind {
+    match i {
+        IntegratorKind::Transmittance { background, .. } => IntegratorKind::Transmittance {
+            estimator: e,
+            background: *background,
+        },
+    }
+}
+
+/// Frame statistics of the transmittance view with `estimator`, against an
+/// exact `reference` estimator when given.
 pub fn transmittance_stats(
     scene: &Scene,
     estimator: Estimator,
@@ -53,99 +157,47 @@ pub fn transmittance_stats(
     runs: u32,
     seed: u32,
 ) -> FrameStats {
-    let (w, h) = (scene.camera.width, scene.camera.height);
-    let ray_of = |p: usize| {
-        scene
-            .camera
-            .ray((p % w as usize) as f32 + 0.5, (p / w as usize) as f32 + 0.5)
-    };
-    let start = Instant::now();
-    let per_pixel: Vec<(f64, f64, u64)> = (0..(w * h) as usize)
-        .into_par_iter()
-        .map(|p| {
-            let ray = ray_of(p);
-            let (mut mean, mut m2, mut lookups) = (0.0f64, 0.0f64, 0u64);
-            for k in 0..runs {
-                let mut rng = SampleKey {
-                    seed,
-                    pixel: p as u32,
-                    sample: k,
-                    dimension: dim::ESTIMATOR,
-                }
-                .rng();
-                let e = along_ray(scene, estimator, &ray, &mut rng);
-                lookups += e.lookups as u64;
-                let x = e.transmittance as f64;
-                let d = x - mean;
-                mean += d / (k + 1) as f64;
-                m2 += d * (x - mean);
-            }
-            (
-                mean,
-                if runs > 1 {
-                    m2 / (runs - 1) as f64
-                } else {
-                    0.0
-                },
-                lookups,
-            )
-        })
-        .collect();
-    let seconds = start.elapsed().as_secs_f64();
-    let reference = reference.map(|r| {
-        (0..(w * h) as usize)
-            .into_par_iter()
-            .map(|p| {
-                let mut rng = SampleKey {
-                    seed,
-                    pixel: p as u32,
-                    sample: 0,
-                    dimension: dim::ESTIMATOR,
-                }
-                .rng();
-                along_ray(scene, r, &ray_of(p), &mut rng).transmittance as f64
-            })
-            .collect()
-    });
-    FrameStats {
-        width: w,
-        height: h,
-        runs,
-        mean: per_pixel.iter().map(|v| v.0).collect(),
-        variance: per_pixel.iter().map(|v| v.1).collect(),
-        reference,
-        lookups: per_pixel.iter().map(|v| v.2).sum(),
-        seconds,
-    }
+    let mut s = scene.clone();
+    s.integrator = with_estimator(&s.integrator, estimator);
+    let mut st = frame_stats(&s, runs, seed);
+    st.reference = reference.map(|r| exact_reference(&s, r));
+    st
 }
 
 impl FrameStats {
+    pub fn bias(&self) -> Option<Vec<[f64; 3]>> {
+        self.reference.as_ref().map(|r| {
+            self.mean
+                .iter()
+                .zip(r)
+                .map(|(m, r)| std::array::from_fn(|c| m[c] - r[c]))
+                .collect()
+        })
+    }
+
     pub fn summary(&self) -> Summary {
-        let n = self.mean.len();
-        let covered: Vec<usize> = match &self.reference {
-            Some(r) => (0..n).filter(|&p| r[p] < 1.0 - 1e-6).collect(),
-            None => (0..n).collect(),
+        let idx: Vec<usize> = (0..self.mean.len()).filter(|&p| self.covered[p]).collect();
+        let k = (idx.len() * 3).max(1) as f64;
+        let bias = self.bias();
+        let b = |p: usize, c: usize| bias.as_ref().map_or(0.0, |b| b[p][c]);
+        let sum = |f: &dyn Fn(usize, usize) -> f64| {
+            idx.iter()
+                .flat_map(|&p| (0..3).map(move |c| (p, c)))
+                .map(|(p, c)| f(p, c))
+                .sum::<f64>()
         };
-        let k = covered.len().max(1) as f64;
-        let bias = |p: usize| self.reference.as_ref().map_or(0.0, |r| self.mean[p] - r[p]);
         Summary {
-            mean_abs_bias: covered.iter().map(|&p| bias(p).abs()).sum::<f64>() / k,
-            mean_bias: covered.iter().map(|&p| bias(p)).sum::<f64>() / k,
-            mean_std: covered
-                .iter()
-                .map(|&p| self.variance[p].sqrt())
-                .sum::<f64>()
+            mean_abs_bias: sum(&|p, c| b(p, c).abs()) / k,
+            mean_bias: sum(&|p, c| b(p, c)) / k,
+            mean_bias_se: (sum(&|p, c| self.variance[p][c] / self.count[p].max(1) as f64)).sqrt()
                 / k,
-            rmse: (covered
-                .iter()
-                .map(|&p| bias(p).powi(2) + self.variance[p])
-                .sum::<f64>()
-                / k)
-                .sqrt(),
+            mean_std: sum(&|p, c| self.variance[p][c].sqrt()) / k,
+            rmse: (sum(&|p, c| b(p, c).powi(2) + self.variance[p][c]) / k).sqrt(),
             ms_per_frame: self.seconds * 1000.0 / self.runs.max(1) as f64,
-            lookups_per_pixel: self.lookups as f64 / (n as f64 * self.runs.max(1) as f64),
+            lookups_per_pixel: self.lookups as f64
+                / (self.mean.len().max(1) as f64 * self.runs.max(1) as f64),
             runs: self.runs,
-            pixels: covered.len(),
+            pixels: idx.len(),
         }
     }
 }

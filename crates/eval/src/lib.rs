@@ -2,4 +2,4 @@
 
 pub mod frame_stats;
 
-pub use frame_stats::{transmittance_stats, FrameStats, Summary};
+pub use frame_stats::{exact_reference, frame_stats, transmittance_stats, FrameStats, Summary};

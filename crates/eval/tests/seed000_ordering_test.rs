@@ -20,7 +20,7 @@ fn scene(text: &str) -> Scene {
 /// pixel-centre rays is `tau_max`.
 fn normalise(mut s: Scene, tau_max: f64) -> Scene {
     let exact = transmittance_stats(&s, Estimator::AnalyticTrilinear, None, 1, 0);
-    let deepest = exact.mean.iter().map(|t| -t.ln()).fold(0.0, f64::max);
+    let deepest = exact.mean.iter().map(|t| -t[0].ln()).fold(0.0, f64::max);
     for m in &mut s.media {
         let k = (tau_max / deepest) as f32;
         let mut medium = m.medium.clone();

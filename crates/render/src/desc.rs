@@ -260,16 +260,25 @@ impl IntegratorDesc {
 /// |---|---|---|
 /// | `spp` | 16 | samples per pixel |
 /// | `seed` | 0 | scene seed; the image is a function of scene, seed and spp |
+/// | `pixel_jitter` | true | jitter primary rays within pixels (false: pixel centres) |
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
 pub struct RenderDesc {
     pub spp: u32,
     pub seed: u32,
+    /// Jitter primary rays within the pixel (antialiasing); `false` sends
+    /// them through pixel centres, so per-pixel statistics compare against
+    /// a single exact value (`fogbank stats` does this).
+    pub pixel_jitter: bool,
 }
 
 impl Default for RenderDesc {
     fn default() -> Self {
-        RenderDesc { spp: 16, seed: 0 }
+        RenderDesc {
+            spp: 16,
+            seed: 0,
+            pixel_jitter: true,
+        }
     }
 }
 

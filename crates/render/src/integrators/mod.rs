@@ -18,6 +18,22 @@ pub struct PixelSample {
     pub lookups: u32,
 }
 
+/// The primary ray of a pixel sample: jittered within the pixel, or through
+/// its centre when `render.pixel_jitter` is off.
+pub fn primary_ray(scene: &Scene, x: u32, y: u32, key: SampleKey) -> fogbank_math::Ray {
+    let (jx, jy) = if scene.desc.render.pixel_jitter {
+        let mut cam = SampleKey {
+            dimension: dim::CAMERA,
+            ..key
+        }
+        .rng();
+        (cam.next_f32(), cam.next_f32())
+    } else {
+        (0.5, 0.5)
+    };
+    scene.camera.ray(x as f32 + jx, y as f32 + jy)
+}
+
 /// One sample of pixel `(x, y)` with sample index `key.sample`.
 pub fn sample_pixel(scene: &Scene, x: u32, y: u32, key: SampleKey) -> PixelSample {
     match &scene.integrator {

@@ -28,14 +28,7 @@ pub fn sample(
     y: u32,
     key: SampleKey,
 ) -> PixelSample {
-    let mut cam = SampleKey {
-        dimension: dim::CAMERA,
-        ..key
-    }
-    .rng();
-    let ray = scene
-        .camera
-        .ray(x as f32 + cam.next_f32(), y as f32 + cam.next_f32());
+    let ray = super::primary_ray(scene, x, y, key);
     let mut rng = SampleKey {
         dimension: dim::ESTIMATOR,
         ..key

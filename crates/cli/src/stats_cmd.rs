@@ -1,0 +1,117 @@
+//! `fogbank stats`: per-pixel mean, single-frame std and bias of an
+//! estimator over K independent 1-spp frames (streamed: memory does not
+//! grow with K), as EXR, false-colour maps and `summary.json`.
+
+use crate::output::write_exr_channels;
+use crate::{peak_memory_bytes, thread_pool, CliResult};
+use clap::Args;
+use fogbank_estimators::Estimator;
+use fogbank_eval::{exact_reference, frame_stats};
+use fogbank_render::load_scene;
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct StatsArgs {
+    /// Scene file (TOML); the built-in scene when omitted.
+    pub scene: Option<PathBuf>,
+    /// Estimator to measure (sets `integrator.estimator`; options via --set).
+    #[arg(long)]
+    pub estimator: Option<String>,
+    /// Independent 1-spp frames.
+    #[arg(long, default_value_t = 1024)]
+    pub runs: u32,
+    /// Exact estimator for the reference (e.g. analytic_trilinear).
+    #[arg(long)]
+    pub reference_estimator: Option<String>,
+    /// Output folder.
+    #[arg(long, default_value = "stats")]
+    pub out: PathBuf,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u32,
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Override a scene key, as in `render`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
+
+pub fn run(a: StatsArgs) -> CliResult {
+    if a.runs == 0 {
+        return Err("--runs must be at least 1".into());
+    }
+    let mut overrides = a.set.clone();
+    if let Some(e) = &a.estimator {
+        overrides.push(format!("integrator.estimator={e}"));
+    }
+    let scene = load_scene(a.scene.as_deref(), &overrides)?;
+    let reference = match &a.reference_estimator {
+        Some(n) => {
+            let e = Estimator::parse(n)
+                .ok_or_else(|| format!("--reference-estimator: unknown estimator `{n}`"))?;
+            if e.biased() || !matches!(e, Estimator::AnalyticTrilinear | Estimator::RegularTracking)
+            {
+                return Err(format!("--reference-estimator must be exact (analytic_trilinear or regular_tracking), not `{n}`").into());
+            }
+            Some(e)
+        }
+        None => None,
+    };
+    let pool = thread_pool(a.threads)?;
+    std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
+    eprintln!(
+        "{} frames of {} at {}×{} ...",
+        a.runs,
+        scene.integrator.estimator_name(),
+        scene.camera.width,
+        scene.camera.height
+    );
+    let mut st = pool.install(|| frame_stats(&scene, a.runs, a.seed));
+    if let Some(r) = reference {
+        st.reference = Some(pool.install(|| exact_reference(&scene, r)));
+    }
+    let s = st.summary();
+    let to32 = |v: &[[f64; 3]], f: &dyn Fn(f64) -> f64| -> Vec<[f32; 3]> {
+        v.iter().map(|p| p.map(|c| f(c) as f32)).collect()
+    };
+    let mut layers: Vec<(&str, Vec<[f32; 3]>)> = vec![
+        ("mean", to32(&st.mean, &|c| c)),
+        ("std", to32(&st.variance, &|c| c.sqrt())),
+    ];
+    if let Some(b) = st.bias() {
+        layers.push(("bias", to32(&b, &|c| c)));
+    }
+    let counts: Vec<f32> = st.count.iter().map(|&c| c as f32).collect();
+    write_exr_channels(
+        &a.out.join("stats.exr"),
+        st.width,
+        st.height,
+        &layers,
+        Some(("count", &counts)),
+    )?;
+    let json = serde_json::json!({
+        "integrator": scene.integrator.name(),
+        "estimator": scene.integrator.estimator_name(),
+        "reference": a.reference_estimator,
+        "width": st.width,
+        "height": st.height,
+        "runs": s.runs,
+        "seed": a.seed,
+        "threads": pool.current_num_threads(),
+        "covered_pixels": s.pixels,
+        "mean_abs_bias": if st.reference.is_some() { serde_json::json!(s.mean_abs_bias) } else { serde_json::Value::Null },
+        "mean_bias": if st.reference.is_some() { serde_json::json!(s.mean_bias) } else { serde_json::Value::Null },
+        "mean_std": s.mean_std,
+        "rmse": if st.reference.is_some() { serde_json::json!(s.rmse) } else { serde_json::Value::Null },
+        "ms_per_frame": s.ms_per_frame,
+        "lookups_per_pixel": s.lookups_per_pixel,
+        "nonfinite_samples": st.nonfinite,
+        "stats_seconds": st.seconds,
+        "peak_memory_bytes": peak_memory_bytes(),
+    });
+    std::fs::write(
+        a.out.join("summary.json"),
+        serde_json::to_string_pretty(&json)? + "\n",
+    )?;
+    println!("{}", serde_json::to_string_pretty(&json)?);
+    Ok(())
+}
