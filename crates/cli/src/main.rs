@@ -1,6 +1,7 @@
 //! `fogbank`: the one binary. Subcommands live one per file.
 
 mod bench_cmd;
+mod converge_cmd;
 mod info_cmd;
 mod output;
 mod render_cmd;
@@ -32,6 +33,8 @@ enum Command {
     Bench(bench_cmd::BenchArgs),
     /// Per-pixel mean, std and bias of an estimator over independent frames.
     Stats(stats_cmd::StatsArgs),
+    /// Equal-time MSE-versus-time curves of several estimators.
+    Converge(converge_cmd::ConvergeArgs),
 }
 
 fn main() -> ExitCode {
@@ -51,6 +54,7 @@ fn main() -> ExitCode {
         }
         Command::Bench(a) => bench_cmd::run(a),
         Command::Stats(a) => stats_cmd::run(a),
+        Command::Converge(a) => converge_cmd::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

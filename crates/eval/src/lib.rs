@@ -1,5 +1,6 @@
 //! Evaluation tools: the measurements every comparison in fogbank uses.
 
+pub mod converge;
 pub mod frame_stats;
 
 pub use frame_stats::{exact_reference, frame_stats, transmittance_stats, FrameStats, Summary};

@@ -9,5 +9,5 @@ pub mod scene;
 
 pub use desc::{SceneDesc, SceneError, DEFAULT_SCENE};
 pub use film::Film;
-pub use render::{render, Progress, RenderOptions, RenderResult};
+pub use render::{render, render_observed, Progress, RenderOptions, RenderResult};
 pub use scene::{load_scene, parse_scene, Scene};

@@ -49,9 +49,21 @@ struct RowTotals {
 
 /// Renders in the current rayon pool (callers size it with `--threads`).
 pub fn render(scene: &Scene, opts: &RenderOptions, progress: &Progress) -> RenderResult {
+    render_observed(scene, opts, progress, &mut |_, _| {})
+}
+
+/// [`render`], calling `after_pass(film, seconds)` after every complete pass
+/// with the render time so far. Time spent in the callback is not counted,
+/// so equal-time measurements can inspect the film without skewing them.
+pub fn render_observed(
+    scene: &Scene,
+    opts: &RenderOptions,
+    progress: &Progress,
+    after_pass: &mut dyn FnMut(&Film, f64),
+) -> RenderResult {
     let (w, h) = (scene.camera.width, scene.camera.height);
     let mut film = Film::new(w, h);
-    let start = Instant::now();
+    let mut start = Instant::now();
     let mut interrupted = false;
     for pass in 0..opts.spp {
         if progress.cancel.load(Ordering::Relaxed) {
@@ -125,6 +137,9 @@ pub fn render(scene: &Scene, opts: &RenderOptions, progress: &Progress) -> Rende
             break;
         }
         progress.passes_done.fetch_add(1, Ordering::Relaxed);
+        let observing = Instant::now();
+        after_pass(&film, (observing - start).as_secs_f64());
+        start += observing.elapsed();
     }
     RenderResult {
         film,
