@@ -5,6 +5,7 @@ mod converge_cmd;
 mod info_cmd;
 mod output;
 mod render_cmd;
+mod report_cmd;
 mod stats_cmd;
 
 use clap::{Parser, Subcommand};
@@ -35,6 +36,8 @@ enum Command {
     Stats(stats_cmd::StatsArgs),
     /// Equal-time MSE-versus-time curves of several estimators.
     Converge(converge_cmd::ConvergeArgs),
+    /// Gather a folder of outputs into one offline HTML page.
+    Report(report_cmd::ReportArgs),
 }
 
 fn main() -> ExitCode {
@@ -55,6 +58,7 @@ fn main() -> ExitCode {
         Command::Bench(a) => bench_cmd::run(a),
         Command::Stats(a) => stats_cmd::run(a),
         Command::Converge(a) => converge_cmd::run(a),
+        Command::Report(a) => report_cmd::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
