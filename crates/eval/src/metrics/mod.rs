@@ -1,0 +1,62 @@
+//! Image comparison metrics: a test image against a reference.
+//!
+//! The first argument is always the reference. Every metric returns an
+//! error instead of panicking when the images cannot be compared (different
+//! sizes, a missing variance layer), because the callers are batch tools
+//! (convergence plots, estimator comparisons) that report and continue.
+//!
+//! | metric | what it answers |
+//! |---|---|
+//! | [`rmse`] | absolute error, dominated by bright pixels |
+//! | [`relmse`] | error relative to the reference's brightness |
+//! | [`smape`] | seed 000's error measure (Fig. 12), bounded in [0, 2] |
+//! | [`flip()`] | perceived difference (NVIDIA's FLIP, LDR and HDR) |
+//! | [`ztest()`] | whether the difference is explained by Monte Carlo noise |
+
+pub mod flip;
+pub mod normal;
+pub mod relmse;
+pub mod rmse;
+pub mod smape;
+pub mod ztest;
+
+pub use crate::image_io::{read_image, Image};
+pub use flip::{flip, flip_with, FlipMode, FlipOptions, FlipResult, Tonemapper};
+pub use relmse::{relmse, RELMSE_EPSILON};
+pub use rmse::rmse;
+pub use smape::{smape, SMAPE_EPSILON};
+pub use ztest::{ztest, ztest_with, ZTest, ZTEST_ALPHA};
+
+/// Errors unless both images have the same resolution and hold a pixel
+/// array of that size; every metric starts with it.
+pub fn check_same_size(reference: &Image, test: &Image) -> Result<(), String> {
+    for (what, img) in [("reference", reference), ("test", test)] {
+        if img.rgb.len() != img.width * img.height {
+            return Err(format!(
+                "{what} image holds {} pixels but claims {}×{}",
+                img.rgb.len(),
+                img.width,
+                img.height
+            ));
+        }
+        if let Some(v) = &img.variance {
+            if v.len() != img.rgb.len() {
+                return Err(format!(
+                    "{what} image has {} variance pixels for {} colour pixels",
+                    v.len(),
+                    img.rgb.len()
+                ));
+            }
+        }
+    }
+    if reference.width != test.width || reference.height != test.height {
+        return Err(format!(
+            "size mismatch: reference is {}×{}, test is {}×{}",
+            reference.width, reference.height, test.width, test.height
+        ));
+    }
+    if reference.is_empty() {
+        return Err("the images have no pixels".to_string());
+    }
+    Ok(())
+}

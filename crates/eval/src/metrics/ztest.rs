@@ -1,0 +1,198 @@
+//! Per-pixel z-test: is the difference between a test render and a
+//! reference explained by their Monte Carlo noise?
+
+use super::normal::normal_quantile;
+use super::{check_same_size, Image};
+use serde::Serialize;
+
+/// Default family-wise significance level of [`ztest`].
+pub const ZTEST_ALPHA: f64 = 0.01;
+
+/// Outcome of [`ztest`].
+#[derive(Clone, Debug, Serialize)]
+pub struct ZTest {
+    /// Family-wise significance level α.
+    pub alpha: f64,
+    /// Number of pixel-channel tests: channels whose combined variance
+    /// var_ref + var_test is positive.
+    pub tests: usize,
+    /// Šidák per-test level α_each = 1 − (1 − α)^(1/tests).
+    pub alpha_each: f64,
+    /// Two-sided |z| threshold Φ⁻¹(1 − α_each/2); ∞ when there is no test.
+    pub threshold: f64,
+    /// Largest |z| over all tests (0 when there is none).
+    pub max_abs_z: f64,
+    /// Pixel (x, y) where `max_abs_z` occurs.
+    pub max_abs_z_pixel: Option<(usize, usize)>,
+    /// Pixels with at least one failing channel (statistical or exact).
+    pub failing_pixels: usize,
+    /// `failing_pixels` / number of pixels.
+    pub failing_fraction: f64,
+    /// Pixels with a channel whose combined variance is 0 (both images
+    /// exact there); such a channel passes only if the values are equal.
+    pub zero_variance_pixels: usize,
+    /// Pixels failing because a zero-variance channel differs (included in
+    /// `failing_pixels`).
+    pub zero_variance_mismatches: usize,
+    /// Expected number of failing tests if the test image is unbiased and
+    /// the errors normal: tests · α_each, which is ≤ α < 1.
+    pub expected_failures_h0: f64,
+    /// Mean z per channel over that channel's tests. Under H0 it is about
+    /// N(0, 1/tests_c); a small uniform bias that no single pixel reveals
+    /// shows up here (diagnostic only, not part of the verdict).
+    pub mean_z: [f64; 3],
+    /// The verdict: true iff no pixel fails.
+    pub pass: bool,
+    /// Per-pixel max |z| over the channels (∞ for an exact mismatch, 0 for
+    /// exact equality), for visualising where the images disagree.
+    #[serde(skip)]
+    pub map: Vec<f32>,
+}
+
+/// [`ztest_with`] at the family-wise level α = [`ZTEST_ALPHA`] = 0.01.
+pub fn ztest(reference: &Image, test: &Image) -> Result<ZTest, String> {
+    ztest_with(reference, test, ZTEST_ALPHA)
+}
+
+/// Per-pixel, per-channel z-test of `test` against `reference`:
+///
+/// ```text
+/// z = (test − ref) / sqrt(var_ref + var_test)
+/// ```
+///
+/// with the variances of the mean from the images' `variance` layers (the
+/// test's counts only if present; at least one image must have one). A
+/// pixel fails if any channel has |z| > z*, the two-sided threshold for the
+/// Šidák-corrected level α_each = 1 − (1 − α)^(1/n) over all n pixel-channel
+/// tests, so that an unbiased test image with normal errors fails anywhere
+/// with probability ≤ α. Channels where both variances are 0 are exact:
+/// they pass when the values are equal and fail otherwise (counted apart in
+/// `zero_variance_mismatches`); non-finite z (NaN input) fails.
+///
+/// Verdict: pass iff no pixel fails. Under H0 the expected number of
+/// failing tests is n·α_each ≤ α < 1, so "no more failures than expected
+/// under H0" and "no failure" are the same rule.
+///
+/// Caveat: the variances are themselves estimates. At low spp a skewed
+/// estimator (e.g. a 0/1 transmittance) can produce a pixel whose samples
+/// all agree, hence variance 0, although its true variance is not; with a
+/// low-variance reference such a pixel may fail although the estimator is
+/// unbiased. Compare renders with enough samples for the CLT to apply.
+pub fn ztest_with(reference: &Image, test: &Image, alpha: f64) -> Result<ZTest, String> {
+    check_same_size(reference, test)?;
+    if !(alpha > 0.0 && alpha < 1.0) {
+        return Err(format!("alpha must be in (0, 1), got {alpha}"));
+    }
+    if reference.variance.is_none() && test.variance.is_none() {
+        return Err(
+            "the z-test needs a variance layer (variance.R/G/B) in the reference or \
+             the test; fogbank writes one when spp > 1"
+                .to_string(),
+        );
+    }
+    let zero = [0f32; 3];
+    let var_at = |img: &Image, i: usize| img.variance.as_ref().map_or(zero, |v| v[i]);
+
+    // First pass: z per channel, and the number of tests.
+    let n_pix = reference.len();
+    let mut z = vec![[0f64; 3]; n_pix];
+    // Per channel: 0 = exact and equal, 1 = statistical test, 2 = exact mismatch.
+    let mut kind = vec![[0u8; 3]; n_pix];
+    let mut tests = 0usize;
+    for i in 0..n_pix {
+        let (r, t) = (reference.rgb[i], test.rgb[i]);
+        let (vr, vt) = (var_at(reference, i), var_at(test, i));
+        for c in 0..3 {
+            let var = vr[c] as f64 + vt[c] as f64;
+            let d = t[c] as f64 - r[c] as f64;
+            if var > 0.0 {
+                z[i][c] = d / var.sqrt();
+                kind[i][c] = 1;
+                tests += 1;
+            } else if var == 0.0 && d == 0.0 {
+                kind[i][c] = 0;
+            } else {
+                // Unequal exact values, negative or NaN variance, NaN values.
+                z[i][c] = f64::INFINITY;
+                kind[i][c] = 2;
+            }
+        }
+    }
+
+    let (alpha_each, threshold) = if tests == 0 {
+        (0.0, f64::INFINITY)
+    } else {
+        // 1 − (1 − α)^(1/n) without cancellation for large n.
+        let a = -((-alpha).ln_1p() / tests as f64).exp_m1();
+        (a, -normal_quantile(0.5 * a))
+    };
+
+    let mut failing_pixels = 0;
+    let mut zero_variance_pixels = 0;
+    let mut zero_variance_mismatches = 0;
+    let mut max_abs_z = 0.0f64;
+    let mut max_abs_z_pixel = None;
+    let mut z_sum = [0f64; 3];
+    let mut z_count = [0usize; 3];
+    let mut map = vec![0f32; n_pix];
+    for i in 0..n_pix {
+        let mut fail = false;
+        let mut exact_mismatch = false;
+        let mut pixel_max = 0.0f64;
+        if kind[i].iter().any(|&k| k != 1) {
+            zero_variance_pixels += 1;
+        }
+        for c in 0..3 {
+            match kind[i][c] {
+                1 => {
+                    let a = z[i][c].abs();
+                    // `!(a <= threshold)` also fails NaN.
+                    fail |= !(a <= threshold);
+                    pixel_max = pixel_max.max(a);
+                    if a > max_abs_z {
+                        max_abs_z = a;
+                        max_abs_z_pixel = Some((i % reference.width, i / reference.width));
+                    }
+                    z_sum[c] += z[i][c];
+                    z_count[c] += 1;
+                }
+                2 => {
+                    fail = true;
+                    exact_mismatch = true;
+                    pixel_max = f64::INFINITY;
+                }
+                _ => {}
+            }
+        }
+        if fail {
+            failing_pixels += 1;
+        }
+        if exact_mismatch {
+            zero_variance_mismatches += 1;
+        }
+        map[i] = pixel_max as f32;
+    }
+    let mean_z = [0, 1, 2].map(|c| {
+        if z_count[c] > 0 {
+            z_sum[c] / z_count[c] as f64
+        } else {
+            0.0
+        }
+    });
+    Ok(ZTest {
+        alpha,
+        tests,
+        alpha_each,
+        threshold,
+        max_abs_z,
+        max_abs_z_pixel,
+        failing_pixels,
+        failing_fraction: failing_pixels as f64 / n_pix as f64,
+        zero_variance_pixels,
+        zero_variance_mismatches,
+        expected_failures_h0: tests as f64 * alpha_each,
+        mean_z,
+        pass: failing_pixels == 0,
+        map,
+    })
+}
