@@ -228,3 +228,29 @@ fn read_exr(path: &Path) -> Result<Image, String> {
         seen.join(", ")
     ))
 }
+
+/// Reads a reference and a test image and checks that they can be compared
+/// (same resolution); errors name the offending file.
+pub fn read_pair(
+    reference: impl AsRef<Path>,
+    test: impl AsRef<Path>,
+) -> Result<(Image, Image), String> {
+    let (rp, tp) = (reference.as_ref(), test.as_ref());
+    let r = read_image(rp)?;
+    let t = read_image(tp)?;
+    if (r.width, r.height) != (t.width, t.height) {
+        return Err(format!(
+            "size mismatch: {} is {}×{} but {} is {}×{}",
+            rp.display(),
+            r.width,
+            r.height,
+            tp.display(),
+            t.width,
+            t.height
+        ));
+    }
+    if r.is_empty() {
+        return Err(format!("{}: the image has no pixels", rp.display()));
+    }
+    Ok((r, t))
+}

@@ -5,7 +5,7 @@
 //!
 //! Written from the papers, with the constants and numerical choices of the
 //! authors' reference implementation (the `flip-evaluator` package), which
-//! it matches to ≈1e-5 in mean FLIP (`tools/check_flip.py` prints the
+//! it matches to ≈1e-6 in mean FLIP (`tools/check_flip.py` prints the
 //! comparison). Arithmetic is f32 like the reference's, so that the two
 //! agree on the thresholded parts of the pipeline (clamps, the colour
 //! difference's two-segment remap).
