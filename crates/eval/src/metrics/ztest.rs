@@ -35,7 +35,8 @@ pub struct ZTest {
     /// `failing_pixels`).
     pub zero_variance_mismatches: usize,
     /// Expected number of failing tests if the test image is unbiased and
-    /// the errors normal: tests · α_each, which is ≤ α < 1.
+    /// the errors normal: tests · α_each ≈ −ln(1 − α) (0.01005 for α = 0.01),
+    /// far below one.
     pub expected_failures_h0: f64,
     /// Mean z per channel over that channel's tests. Under H0 it is about
     /// N(0, 1/tests_c); a small uniform bias that no single pixel reveals
@@ -70,8 +71,9 @@ pub fn ztest(reference: &Image, test: &Image) -> Result<ZTest, String> {
 /// `zero_variance_mismatches`); non-finite z (NaN input) fails.
 ///
 /// Verdict: pass iff no pixel fails. Under H0 the expected number of
-/// failing tests is n·α_each ≤ α < 1, so "no more failures than expected
-/// under H0" and "no failure" are the same rule.
+/// failing tests is n·α_each ≈ −ln(1 − α) ≈ 0.01, far below one, so "no
+/// more failures than expected under H0" and "no failure" are the same
+/// rule.
 ///
 /// Caveat: the variances are themselves estimates. At low spp a skewed
 /// estimator (e.g. a 0/1 transmittance) can produce a pixel whose samples
