@@ -1,0 +1,30 @@
+//! `fogbank experiment NAME`: runs one of seed 000's one-dimensional
+//! experiments and writes its CSV, plots and summary.
+
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct ExperimentArgs {
+    /// Experiment: fig2, fig3, fig4, fig5, fig6, fig7, table1 or fig14.
+    pub name: String,
+    /// Output directory (default: experiments/NAME).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Trials (Monte Carlo realisations) overriding the experiment's default.
+    #[arg(long)]
+    pub trials: Option<u64>,
+}
+
+pub fn run(a: ExperimentArgs) -> crate::CliResult {
+    let out = a
+        .out
+        .unwrap_or_else(|| PathBuf::from("experiments").join(&a.name));
+    let report = fogbank_eval::experiments::run(&a.name, &out, a.trials)?;
+    println!("{}", report.summary);
+    println!();
+    for f in &report.files {
+        println!("wrote {}", f.display());
+    }
+    println!("{} took {:.1} s", report.name, report.seconds);
+    Ok(())
+}

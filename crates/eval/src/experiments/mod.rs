@@ -1,0 +1,130 @@
+//! Seed 000's one-dimensional experiments: each reproduces one figure or
+//! table of the paper on synthetic data with the project's own estimators,
+//! writes CSV, plots (SVG + PNG) and a `summary.md` stating the finding with
+//! numbers. Every run is deterministic (fixed seeds, chunked parallel
+//! streams) and its trial count can be overridden.
+
+pub mod distributions;
+pub mod fig14;
+pub mod fig2;
+pub mod fig3;
+pub mod fig4;
+pub mod fig5;
+pub mod fig7;
+pub mod profile;
+pub mod table1;
+pub mod trials;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What a run produced.
+#[derive(Clone, Debug)]
+pub struct ExperimentReport {
+    pub name: String,
+    /// Every file written, in order.
+    pub files: Vec<PathBuf>,
+    /// The finding, as written to `summary.md`.
+    pub summary: String,
+    pub seconds: f64,
+}
+
+/// The experiment names `run` accepts.
+pub fn names() -> &'static [&'static str] {
+    &[
+        "fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "table1", "fig14",
+    ]
+}
+
+/// Runs experiment `name` into directory `out` (created if missing) with
+/// `trials` overriding its default trial count.
+pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentReport, String> {
+    if trials == Some(0) {
+        return Err("--trials must be at least 1".into());
+    }
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let start = Instant::now();
+    let mut w = Writer {
+        out: out.to_path_buf(),
+        files: Vec::new(),
+    };
+    let summary = match name {
+        "fig2" => fig2::run(&mut w, trials),
+        "fig3" => fig3::run(&mut w, trials),
+        "fig4" => fig4::run(&mut w, trials, fig4::Variant::Smooth),
+        "fig6" => fig4::run(&mut w, trials, fig4::Variant::Sparse),
+        "fig5" => fig5::run(&mut w, trials),
+        "fig7" => fig7::run(&mut w, trials),
+        "table1" => table1::run(&mut w, trials),
+        "fig14" => fig14::run(&mut w, trials),
+        _ => {
+            return Err(format!(
+                "unknown experiment '{name}' (known: {})",
+                names().join(", ")
+            ))
+        }
+    }?;
+    let seconds = start.elapsed().as_secs_f64();
+    let command = match trials {
+        Some(t) => format!("fogbank experiment {name} --trials {t}"),
+        None => format!("fogbank experiment {name}"),
+    };
+    let md = format!("# {name}\n\n{summary}\n\nMade by `{command}` in {seconds:.1} s.\n");
+    w.text("summary.md", &md)?;
+    Ok(ExperimentReport {
+        name: name.to_string(),
+        files: w.files,
+        summary,
+        seconds,
+    })
+}
+
+/// Writes an experiment's files into its output directory and records them.
+pub struct Writer {
+    out: PathBuf,
+    files: Vec<PathBuf>,
+}
+
+impl Writer {
+    pub fn text(&mut self, file: &str, text: &str) -> Result<(), String> {
+        let p = self.out.join(file);
+        std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;
+        self.files.push(p);
+        Ok(())
+    }
+
+    /// A CSV file from a header and rows of already formatted fields.
+    pub fn csv(&mut self, file: &str, header: &[&str], rows: &[Vec<String>]) -> Result<(), String> {
+        let mut s = header.join(",");
+        s.push('\n');
+        for r in rows {
+            s.push_str(&r.join(","));
+            s.push('\n');
+        }
+        self.text(file, &s)
+    }
+
+    pub fn figure(&mut self, stem: &str, fig: &crate::plot::Figure) -> Result<(), String> {
+        let files = fig.save(&self.out.join(stem))?;
+        self.files.extend(files);
+        Ok(())
+    }
+}
+
+/// Least-squares slope and intercept of log10 y against log10 x.
+pub fn log_log_fit(points: &[(f64, f64)]) -> (f64, f64) {
+    let pts: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|(x, y)| *x > 0.0 && *y > 0.0)
+        .map(|(x, y)| (x.log10(), y.log10()))
+        .collect();
+    let n = pts.len() as f64;
+    let (mx, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let slope = sxy / sxx;
+    (slope, my - slope * mx)
+}
