@@ -1,7 +1,9 @@
 //! `fogbank`: the one binary. Subcommands live one per file.
 
 mod bench_cmd;
+mod compare_cmd;
 mod converge_cmd;
+mod experiment_cmd;
 mod info_cmd;
 mod output;
 mod render_cmd;
@@ -32,6 +34,10 @@ enum Command {
     Estimators,
     /// Primary-ray transmittance throughput per estimator.
     Bench(bench_cmd::BenchArgs),
+    /// Run one of seed 000's 1D experiments (fig2 ... fig14, table1).
+    Experiment(experiment_cmd::ExperimentArgs),
+    /// Compare two images (rmse, relmse, smape, flip, ztest).
+    Compare(compare_cmd::CompareArgs),
     /// Per-pixel mean, std and bias of an estimator over independent frames.
     Stats(stats_cmd::StatsArgs),
     /// Equal-time MSE-versus-time curves of several estimators.
@@ -56,6 +62,8 @@ fn main() -> ExitCode {
             Ok(())
         }
         Command::Bench(a) => bench_cmd::run(a),
+        Command::Experiment(a) => experiment_cmd::run(a),
+        Command::Compare(a) => compare_cmd::run(a),
         Command::Stats(a) => stats_cmd::run(a),
         Command::Converge(a) => converge_cmd::run(a),
         Command::Report(a) => report_cmd::run(a),
