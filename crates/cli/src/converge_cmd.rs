@@ -65,6 +65,7 @@ pub fn run(a: ConvergeArgs) -> CliResult {
         });
     }
     write_csv(&a.out.join("converge.csv"), &curves)?;
+    fogbank_eval::converge::plot(&curves, "equal-time convergence", &a.out.join("converge"))?;
     // Equal-error comparison: the time each needs to reach the worst final MSE.
     let target = curves
         .iter()

@@ -108,6 +108,7 @@ pub fn run(a: StatsArgs) -> CliResult {
         "stats_seconds": st.seconds,
         "peak_memory_bytes": peak_memory_bytes(),
     });
+    fogbank_eval::maps::write_maps(&st, scene.integrator.estimator_name(), &a.out.join("maps"))?;
     std::fs::write(
         a.out.join("summary.json"),
         serde_json::to_string_pretty(&json)? + "\n",

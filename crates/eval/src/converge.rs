@@ -107,3 +107,22 @@ mod converge_test {
         assert_eq!(time_to_reach(&c, 2.0), Some(1.0));
     }
 }
+
+/// Log-log plot of MSE against seconds, one line per curve (`<stem>.svg`,
+/// `<stem>.png`).
+pub fn plot(curves: &[Curve], title: &str, stem: &Path) -> Result<Vec<std::path::PathBuf>, String> {
+    use crate::plot::{palette, Figure, LinePlot, Series};
+    let mut p = LinePlot::new(title, "render time (s)", "MSE")
+        .log_x()
+        .log_y();
+    for (i, c) in curves.iter().enumerate() {
+        let pts: Vec<(f64, f64)> = c
+            .points
+            .iter()
+            .filter(|q| q.seconds > 0.0 && q.mse > 0.0)
+            .map(|q| (q.seconds, q.mse))
+            .collect();
+        p = p.with(Series::line(c.label.clone(), pts, palette(i)));
+    }
+    Figure::new(1).with(p).save(stem)
+}

@@ -4,6 +4,7 @@ pub mod converge;
 pub mod experiments;
 pub mod frame_stats;
 pub mod image_io;
+pub mod maps;
 pub mod metrics;
 pub mod plot;
 pub mod report;
