@@ -21,8 +21,12 @@ pub struct StatsArgs {
     #[arg(long, default_value_t = 1024)]
     pub runs: u32,
     /// Exact estimator for the reference (e.g. analytic_trilinear).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "reference")]
     pub reference_estimator: Option<String>,
+    /// Reference image (EXR or PNG) of the same size, rendered through pixel
+    /// centres (`--set render.pixel_jitter=false`).
+    #[arg(long)]
+    pub reference: Option<PathBuf>,
     /// Output folder.
     #[arg(long, default_value = "stats")]
     pub out: PathBuf,
@@ -69,6 +73,21 @@ pub fn run(a: StatsArgs) -> CliResult {
     if let Some(r) = reference {
         st.reference = Some(pool.install(|| exact_reference(&scene, r)));
     }
+    if let Some(path) = &a.reference {
+        let img = fogbank_eval::image_io::read_image(path)?;
+        if (img.width, img.height) != (st.width as usize, st.height as usize) {
+            return Err(format!(
+                "{}: reference is {}×{}, the scene renders {}×{}",
+                path.display(),
+                img.width,
+                img.height,
+                st.width,
+                st.height
+            )
+            .into());
+        }
+        st.reference = Some(img.rgb.iter().map(|p| p.map(f64::from)).collect());
+    }
     let s = st.summary();
     let to32 = |v: &[[f64; 3]], f: &dyn Fn(f64) -> f64| -> Vec<[f32; 3]> {
         v.iter().map(|p| p.map(|c| f(c) as f32)).collect()
@@ -91,7 +110,7 @@ pub fn run(a: StatsArgs) -> CliResult {
     let json = serde_json::json!({
         "integrator": scene.integrator.name(),
         "estimator": scene.integrator.estimator_name(),
-        "reference": a.reference_estimator,
+        "reference": a.reference_estimator.clone().or(a.reference.as_ref().map(|p| p.display().to_string())),
         "width": st.width,
         "height": st.height,
         "runs": s.runs,
