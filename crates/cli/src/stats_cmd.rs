@@ -119,6 +119,7 @@ pub fn run(a: StatsArgs) -> CliResult {
         "covered_pixels": s.pixels,
         "mean_abs_bias": if st.reference.is_some() { serde_json::json!(s.mean_abs_bias) } else { serde_json::Value::Null },
         "mean_bias": if st.reference.is_some() { serde_json::json!(s.mean_bias) } else { serde_json::Value::Null },
+        "mean_bias_se": s.mean_bias_se,
         "mean_std": s.mean_std,
         "rmse": if st.reference.is_some() { serde_json::json!(s.rmse) } else { serde_json::Value::Null },
         "ms_per_frame": s.ms_per_frame,
