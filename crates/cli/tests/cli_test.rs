@@ -225,3 +225,61 @@ fn ctrl_c_stops_and_still_writes_the_image() {
     assert_eq!(stats["interrupted"], true);
     assert!(stats["spp"].as_u64().unwrap() < 1_000_000);
 }
+
+#[test]
+fn stats_reports_no_bias_for_an_unbiased_estimator_and_report_gathers_it() {
+    let dir = tmp("stats");
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = fogbank()
+        .args([
+            "stats",
+            "--estimator",
+            "ratio_tracking",
+            "--runs",
+            "512",
+            "--reference-estimator",
+            "analytic_trilinear",
+        ])
+        .args(["--out", dir.join("rt").to_str().unwrap()])
+        .args(SMALL)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("rt/summary.json")).unwrap())
+            .unwrap();
+    for key in [
+        "mean_abs_bias",
+        "mean_bias",
+        "mean_std",
+        "rmse",
+        "ms_per_frame",
+        "lookups_per_pixel",
+        "runs",
+    ] {
+        assert!(
+            s.get(key).is_some_and(|v| !v.is_null()),
+            "summary.json lacks `{key}`"
+        );
+    }
+    let (bias, se) = (
+        s["mean_bias"].as_f64().unwrap(),
+        s["mean_bias_se"].as_f64().unwrap(),
+    );
+    assert!(
+        se > 0.0 && bias.abs() < 4.0 * se,
+        "mean bias {bias} (se {se})"
+    );
+    assert!(dir.join("rt/maps.png").exists() && dir.join("rt/stats.exr").exists());
+    let out = fogbank()
+        .args(["report", dir.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let page = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    assert!(page.contains("rt/maps.png") && page.contains("mean_abs_bias"));
+}
