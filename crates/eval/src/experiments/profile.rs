@@ -62,7 +62,7 @@ impl Profile1D {
                 let x = (i as f64 + 0.5) / n as f64;
                 // Two overlapping puffs, the second denser, fading to the ends.
                 let env = 0.55 * bump(x, 0.3, 0.2) + 1.0 * bump(x, 0.68, 0.17) + 0.12;
-                (env * (1.0 + 0.9 * fbm[i])).max(0.0)
+                env * (3.5 * fbm[i]).exp()
             })
             .collect();
         Self::from_values(values).scaled_to_optical_depth(-PAPER_TABLE1_T.ln())
