@@ -179,3 +179,19 @@ fn nan_fails_and_missing_variance_is_an_error() {
     let wrong = Image::filled(1, 2, [0.5; 3]);
     assert!(ztest(&r, &wrong).is_err());
 }
+
+#[test]
+fn one_ulp_differences_of_converged_pixels_pass() {
+    // Seen on real renders: T = 1 with round-off variance ~1e-17 against
+    // 0.99999994 (one ULP below 1).
+    let mut r = Image::filled(2, 1, [1.0; 3]);
+    r.variance = Some(vec![[3.8e-17; 3], [0.0; 3]]);
+    let mut t = Image::filled(2, 1, [0.99999994; 3]);
+    t.variance = Some(vec![[1.3e-17; 3], [0.0; 3]]);
+    let z = ztest(&r, &t).unwrap();
+    assert!(z.pass, "max |z| {}", z.max_abs_z);
+    assert_eq!(z.zero_variance_mismatches, 0);
+    // Five ULPs below 1 in an exact pixel is a mismatch.
+    t.rgb[1] = [0.9999997; 3];
+    assert_eq!(ztest(&r, &t).unwrap().zero_variance_mismatches, 1);
+}
