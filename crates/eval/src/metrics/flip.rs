@@ -323,9 +323,9 @@ fn rgb_to_xyz(c: C3) -> C3 {
 /// The inverse of [`rgb_to_xyz`].
 fn xyz_to_rgb(c: C3) -> C3 {
     const M: [[f32; 3]; 3] = [
-        [3.241003233, -1.537398969, -0.498615882],
-        [-0.969224252, 1.875929984, 0.041554226],
-        [0.055639420, -0.204011206, 1.057148977],
+        [3.241_003_3, -1.537_398_9, -0.498_615_9],
+        [-0.969_224_3, 1.875_93, 0.041_554_227],
+        [0.055_639_42, -0.204_011_2, 1.057_148_9],
     ];
     mat(&M, c)
 }
@@ -335,7 +335,7 @@ fn mat(m: &[[f32; 3]; 3], c: C3) -> C3 {
 }
 
 /// D65 white in XYZ (the row sums of the RGB→XYZ matrix).
-const WHITE: C3 = [0.950428545, 1.0, 1.088900371];
+const WHITE: C3 = [0.950_428_55, 1.0, 1.088_900_3];
 
 /// XYZ to YCxCz, the linearised CIELab of Zhang & Wandell's S-CIELAB in
 /// which FLIP applies its spatial filters (Andersson et al. 2020, Sec. 3.1).

@@ -156,8 +156,7 @@ pub fn ztest_with(reference: &Image, test: &Image, alpha: f64) -> Result<ZTest, 
             match kind[i][c] {
                 1 => {
                     let a = z[i][c].abs();
-                    // `!(a <= threshold)` also fails NaN.
-                    fail |= !(a <= threshold);
+                    fail |= a.is_nan() || a > threshold;
                     pixel_max = pixel_max.max(a);
                     if a > max_abs_z {
                         max_abs_z = a;
