@@ -950,7 +950,7 @@ fn draw_heat_map<DB: DrawingBackend>(
         ink.root
             .draw(&PathElement::new(vec![(x1, y), (x1 + 4, y)], BLACK))
             .map_err(err)?;
-        ink.text(l, (x1 + 6, y), 1, HPos::Left, VPos::Center, false)?;
+        ink.text(l, (x1 + 9, y), 1, HPos::Left, VPos::Center, false)?;
     }
     ink.text(
         &h.bar_label,
