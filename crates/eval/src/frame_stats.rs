@@ -63,7 +63,9 @@ pub fn frame_stats(scene: &Scene, runs: u32, seed: u32) -> FrameStats {
     let scene = centred(scene);
     let (w, h) = (scene.camera.width, scene.camera.height);
     let start = Instant::now();
-    let per_pixel: Vec<([f64; 3], [f64; 3], u32, u64, u64)> = (0..(w * h) as usize)
+    // Per pixel: mean, variance, finite samples, lookups, non-finite samples.
+    type PixelTotals = ([f64; 3], [f64; 3], u32, u64, u64);
+    let per_pixel: Vec<PixelTotals> = (0..(w * h) as usize)
         .into_par_iter()
         .map(|p| {
             let (x, y) = ((p % w as usize) as u32, (p / w as usize) as u32);

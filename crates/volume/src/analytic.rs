@@ -71,15 +71,13 @@ impl AnalyticField {
                 count,
                 width,
                 axis,
-            } => {
-                if *value < 0.0
-                    || *count == 0
-                    || *width <= 0.0
-                    || *width > 1.0 / *count as f32
-                    || *axis > 2
-                {
-                    return bad("slabs need value ≥ 0, count ≥ 1, 0 < width ≤ 1/count, axis 0..=2");
-                }
+            } if *value < 0.0
+                || *count == 0
+                || *width <= 0.0
+                || *width > 1.0 / *count as f32
+                || *axis > 2 =>
+            {
+                return bad("slabs need value ≥ 0, count ≥ 1, 0 < width ≤ 1/count, axis 0..=2");
             }
             _ => {}
         }
