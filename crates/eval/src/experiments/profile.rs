@@ -55,7 +55,7 @@ impl Profile1D {
     /// that T = [`PAPER_TABLE1_T`].
     pub fn smooth() -> Self {
         let n = 2048usize;
-        let mut rng = Pcg32::new(0x5eed_000, 4);
+        let mut rng = Pcg32::new(0x05ee_d000, 4);
         let fbm = fbm(n, 1024, 2, &mut rng);
         let values: Vec<f64> = (0..n)
             .map(|i| {
