@@ -283,3 +283,66 @@ fn stats_reports_no_bias_for_an_unbiased_estimator_and_report_gathers_it() {
     let page = std::fs::read_to_string(dir.join("index.html")).unwrap();
     assert!(page.contains("rt/maps.png") && page.contains("mean_abs_bias"));
 }
+
+#[test]
+fn compare_flags_a_biased_render_and_reports_every_metric() {
+    let dir = tmp("compare");
+    std::fs::create_dir_all(&dir).unwrap();
+    let render = |name: &str, estimator: &str, extra: &[&str]| {
+        let out = fogbank()
+            .args([
+                "render",
+                "--quiet",
+                "--spp",
+                "512",
+                "-o",
+                dir.join(name).to_str().unwrap(),
+            ])
+            .args(["--set", &format!("integrator.estimator={estimator}")])
+            .args(extra)
+            .args(SMALL)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    render("ref.exr", "ratio_tracking", &[]);
+    render(
+        "biased.exr",
+        "ray_marching",
+        &["--set", "integrator.samples=2"],
+    );
+    let compare = |a: &str, b: &str| {
+        let out = fogbank()
+            .args([
+                "compare",
+                dir.join(a).to_str().unwrap(),
+                dir.join(b).to_str().unwrap(),
+                "--json",
+            ])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let same = compare("ref.exr", "ref.exr");
+    assert_eq!(same["rmse"].as_f64(), Some(0.0), "{same}");
+    assert_eq!(same["ztest"]["pass"], true, "{same}");
+    let biased = compare("ref.exr", "biased.exr");
+    for key in ["rmse", "relmse", "smape", "flip", "ztest"] {
+        assert!(biased.get(key).is_some(), "no `{key}` in {biased}");
+    }
+    assert!(biased["rmse"].as_f64().unwrap() > 0.0);
+    assert_eq!(
+        biased["ztest"]["pass"], false,
+        "two-sample ray marching must be flagged: {}",
+        biased["ztest"]
+    );
+}
