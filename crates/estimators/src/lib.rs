@@ -7,6 +7,7 @@
 //! lookups (filtered evaluations of σ_t) in [`Estimate::lookups`].
 
 pub mod analytic_trilinear;
+pub mod distance;
 pub mod estimator;
 pub mod jackknife;
 pub mod jackknife_function;

@@ -8,9 +8,9 @@ use fogbank_math::{Pcg32, Ray};
 use fogbank_volume::{Dda, SuperVoxel, VolumeAccess};
 
 /// Walks `[t0, t1]`. `rate(cell, length)` gives a super-voxel's rate and a
-/// value handed to its collisions (e.g. a control extinction); `collide(μ,
-/// rate, value, rng)` handles one tentative collision and returns `false` to
-/// stop the walk. Returns whether the walk reached `t1`.
+/// value handed to its collisions (e.g. a control extinction); `collide(t, μ,
+/// rate, value, rng)` handles one tentative collision at `t` and returns
+/// `false` to stop the walk. Returns whether the walk reached `t1`.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn walk<V: VolumeAccess>(
@@ -21,7 +21,7 @@ pub fn walk<V: VolumeAccess>(
     rng: &mut Pcg32,
     lookups: &mut u32,
     mut rate: impl FnMut(&SuperVoxel, f32) -> (f32, f32),
-    mut collide: impl FnMut(f32, f32, f32, &mut Pcg32) -> bool,
+    mut collide: impl FnMut(f32, f32, f32, f32, &mut Pcg32) -> bool,
 ) -> bool {
     let sv = v.supervoxels();
     for s in Dda::new(ray, sv.size as f32, sv.dims, t0, t1) {
@@ -36,7 +36,7 @@ pub fn walk<V: VolumeAccess>(
                 break;
             }
             let mu = sigma_t(v, ray.at(t), rng, lookups);
-            if !collide(mu, sigma_bar, value, rng) {
+            if !collide(t, mu, sigma_bar, value, rng) {
                 return false;
             }
         }

@@ -24,7 +24,7 @@ pub fn transmittance<V: VolumeAccess>(
         rng,
         &mut lookups,
         |s, _| (s.max, 0.0),
-        |mu, sigma_maj, _, _| {
+        |_, mu, sigma_maj, _, _| {
             tr *= 1.0 - mu / sigma_maj;
             tr != 0.0
         },

@@ -52,7 +52,7 @@ pub fn transmittance<V: VolumeAccess>(
         rng,
         &mut lookups,
         rate,
-        |mu, sigma_r, mu_c, _| {
+        |_, mu, sigma_r, mu_c, _| {
             ratio *= 1.0 - (mu - mu_c) / sigma_r;
             true
         },

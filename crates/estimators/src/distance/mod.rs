@@ -1,0 +1,20 @@
+//! Distance samplers: where along a ray the next real collision happens.
+//!
+//! Free-flight samplers (delta, decomposition and regular tracking) draw t
+//! with density T(t)·σ_t(t) on `[t0, t1]` and report `None` (escape) with
+//! probability T(t1); their density cancels in the path throughput. The
+//! equiangular sampler draws t with a known closed-form density that does not
+//! depend on the medium.
+
+pub mod decomposition_tracking;
+pub mod delta_tracking;
+pub mod equiangular;
+pub mod regular_tracking;
+
+/// A free-flight distance sample and what it cost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FreeFlight {
+    /// Parameter of the real collision, `None` when the ray escapes `[t0, t1]`.
+    pub t: Option<f32>,
+    pub lookups: u32,
+}

@@ -1,0 +1,35 @@
+//! Regular tracking (Szirmay-Kalos et al. 2010; seed 000 §2.1): exact
+//! free-flight sampling for the nearest-filtered grid by walking voxels until
+//! the optical depth reaches −ln(1 − u), then inverting linearly inside the
+//! voxel. Exact for `Filter::Nearest`; for trilinear media it samples the
+//! nearest-filtered field.
+
+use super::FreeFlight;
+use fogbank_math::{Pcg32, Ray};
+use fogbank_volume::{Dda, GridView, Voxel};
+
+pub fn sample<T: Voxel>(
+    v: &GridView<'_, T>,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    rng: &mut Pcg32,
+) -> FreeFlight {
+    let target = -(1.0 - rng.next_f32() as f64).ln();
+    let mut tau = 0.0f64;
+    let mut lookups = 0;
+    for s in Dda::new(ray, 1.0, v.grid.dims(), t0, t1) {
+        lookups += 1;
+        let mu = v.scale as f64 * v.grid.fetch(s.cell[0], s.cell[1], s.cell[2]) as f64;
+        let d = mu * (s.t1 - s.t0) as f64;
+        if tau + d >= target && mu > 0.0 {
+            let t = s.t0 as f64 + (target - tau) / mu;
+            return FreeFlight {
+                t: Some((t as f32).clamp(s.t0, s.t1)),
+                lookups,
+            };
+        }
+        tau += d;
+    }
+    FreeFlight { t: None, lookups }
+}
