@@ -32,7 +32,10 @@ pub fn to_brick_grid(g: &VdbGrid) -> Result<(BrickGrid<f32>, DAffine3)> {
         }
     }
     if lo[0] > hi[0] {
-        return Err(VolumeError::Invalid(format!("grid `{}` holds no voxels", g.name)));
+        return Err(VolumeError::Invalid(format!(
+            "grid `{}` holds no voxels",
+            g.name
+        )));
     }
     let origin = lo.map(|v| (v - 1).div_euclid(BRICK as i64) * BRICK as i64);
     let dims: [u64; 3] = std::array::from_fn(|k| (hi[k] + 1 - origin[k] + 1) as u64);
@@ -53,7 +56,12 @@ pub fn to_brick_grid(g: &VdbGrid) -> Result<(BrickGrid<f32>, DAffine3)> {
             for y in 0..8i64 {
                 for z in 0..8i64 {
                     let v = leaf.values[(x * 64 + y * 8 + z) as usize];
-                    b.set(o[0] + x, o[1] + y, o[2] + z, if v.is_finite() { v } else { 0.0 });
+                    b.set(
+                        o[0] + x,
+                        o[1] + y,
+                        o[2] + z,
+                        if v.is_finite() { v } else { 0.0 },
+                    );
                 }
             }
         }
@@ -65,7 +73,9 @@ pub fn to_brick_grid(g: &VdbGrid) -> Result<(BrickGrid<f32>, DAffine3)> {
         DVec3::new(m[0][2], m[1][2], m[2][2]),
     );
     let vdb = DAffine3::from_mat3_translation(linear, DVec3::new(m[0][3], m[1][3], m[2][3]));
-    let shift = DAffine3::from_translation(DVec3::new(origin[0] as f64, origin[1] as f64, origin[2] as f64) - 0.5);
+    let shift = DAffine3::from_translation(
+        DVec3::new(origin[0] as f64, origin[1] as f64, origin[2] as f64) - 0.5,
+    );
     Ok((b.finish(), vdb * shift))
 }
 
