@@ -4,6 +4,7 @@
 //! mirror it line by line (PCG32 and PCG3D are bit-identical on CPU and GPU).
 
 pub mod bbox;
+pub mod chi2;
 pub mod ray;
 pub mod rng;
 
