@@ -135,3 +135,80 @@ fn equiangular_pdf_normalises_and_matches_its_samples() {
         assert!((f - p).abs() < 4.0 * se + 1e-3, "P(t < {x}) = {f} vs {p}");
     }
 }
+
+/// Chi-square of sampled collision distances against the exact density
+/// σ_t(t)·T(t) on a piecewise-constant (nearest) medium, escape as its own bin.
+#[test]
+fn free_flight_samplers_pass_chi_square() {
+    use fogbank_math::chi2::{sidak, IntervalTest};
+    let grid = cloud(32, 11);
+    let m = grid_medium(grid, Filter::Nearest, 0.15, 8);
+    let ray = Ray::new(Vec3::new(-4.0, 14.5, 15.5), Vec3::X);
+    let (r, t0, t1) = m.to_index(&ray, 0.0, f32::INFINITY).unwrap();
+    let MediumView::F32(v) = m.view() else {
+        unreachable!()
+    };
+    let density = |t: f64| -> f64 {
+        let t = t as f32;
+        if t < t0 || t > t1 {
+            return 0.0;
+        }
+        let p = r.at(t);
+        let mu = v.scale as f64 * v.grid.nearest(p) as f64;
+        let tr = transmittance(
+            Estimator::RegularTracking,
+            &m,
+            &ray,
+            t,
+            &mut Pcg32::new(0, 0),
+        )
+        .transmittance as f64;
+        mu * tr
+    };
+    let escape = transmittance(
+        Estimator::RegularTracking,
+        &m,
+        &ray,
+        f32::INFINITY,
+        &mut Pcg32::new(0, 0),
+    )
+    .transmittance as f64;
+    let samplers = [Sampler::Delta, Sampler::Decomposition, Sampler::Regular];
+    let alpha = sidak(0.01, samplers.len() as u32);
+    for s in samplers {
+        let test = IntervalTest {
+            a: t0 as f64,
+            b: t1 as f64,
+            bins: 48,
+            samples: 200_000,
+            seed: 9,
+        };
+        let result = test.run(
+            |rng| draw(s, &m, &ray, rng).t.map(|t| t as f64),
+            density,
+            escape,
+        );
+        assert!(result.passes(alpha), "{s:?}: {result}");
+    }
+}
+
+#[test]
+fn equiangular_passes_chi_square() {
+    use fogbank_math::chi2::IntervalTest;
+    let ray = Ray::new(Vec3::ZERO, Vec3::X);
+    let light = Vec3::new(3.0, 0.5, 0.2);
+    let (a, b) = (0.5f32, 7.0f32);
+    let test = IntervalTest {
+        a: a as f64,
+        b: b as f64,
+        bins: 64,
+        samples: 200_000,
+        seed: 3,
+    };
+    let result = test.run(
+        |rng| Some(equiangular::sample(&ray, light, a, b, rng.next_f32()).0 as f64),
+        |t| equiangular::pdf(&ray, light, a, b, t as f32) as f64,
+        0.0,
+    );
+    assert!(result.passes(0.01), "{result}");
+}
