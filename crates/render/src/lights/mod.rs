@@ -1,0 +1,4 @@
+//! Light sources.
+
+pub mod envmap;
+pub mod sample;
