@@ -1,4 +1,3 @@
 //! Light sources.
 
 pub mod envmap;
-pub mod sample;
