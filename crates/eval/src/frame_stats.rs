@@ -142,12 +142,7 @@ pub fn exact_reference(scene: &Scene, exact: Estimator) -> Vec<[f64; 3]> {
 
 /// The integrator with its transmittance estimator swapped.
 pub fn with_estimator(i: &IntegratorKind, e: Estimator) -> IntegratorKind {
-    match i {
-        IntegratorKind::Transmittance { background, .. } => IntegratorKind::Transmittance {
-            estimator: e,
-            background: *background,
-        },
-    }
+    i.with_estimator(e)
 }
 
 /// Frame statistics of the transmittance view with `estimator`, against an

@@ -185,6 +185,9 @@ pub enum LightDesc {
         file: String,
         #[serde(default = "one")]
         scale: f32,
+        /// Rotation as `[x, y, z, degrees]` (axis and angle).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        rotate: Option<[f32; 4]>,
     },
     Point {
         position: [f32; 3],
@@ -198,8 +201,9 @@ pub enum LightDesc {
 
 /// | key | default | meaning |
 /// |---|---|---|
-/// | `type` | `"transmittance"` | the integrator |
-/// | `estimator` | `"ratio_tracking"` | transmittance estimator by name (`fogbank estimators`) |
+/// | `type` | `"transmittance"` | the integrator: `transmittance` or `volpath` |
+/// | `estimator` | `"ratio_tracking"` | transmittance estimator by name (`fogbank estimators`); for `volpath` the NEE estimator |
+/// | `distance_sampler`, `max_depth`, `rr_depth`, `preset` | delta_tracking, 64, 3, – | `volpath` only |
 /// | `background` | (1, 1, 1) | radiance behind the media; the image is T · background |
 /// | `samples`, `mode`, `step`, `jitter`, `mult`, `doubled`, `clip` | per estimator | estimator options (`fogbank estimators`) |
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
@@ -223,6 +227,18 @@ pub struct IntegratorDesc {
     pub doubled: Option<bool>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub clip: Option<bool>,
+    /// `volpath`: free-flight sampler (`delta_tracking`, `decomposition_tracking`, `regular_tracking`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub distance_sampler: Option<String>,
+    /// `volpath`: longest path (default 64).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_depth: Option<u32>,
+    /// `volpath`: first bounce with Russian roulette (default 3).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rr_depth: Option<u32>,
+    /// `volpath`: `baseline` = decomposition tracking + residual ratio tracking (seed 002's baseline).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub preset: Option<String>,
 }
 
 impl Default for IntegratorDesc {
@@ -238,6 +254,10 @@ impl Default for IntegratorDesc {
             mult: None,
             doubled: None,
             clip: None,
+            distance_sampler: None,
+            max_depth: None,
+            rr_depth: None,
+            preset: None,
         }
     }
 }

@@ -4,6 +4,8 @@ pub mod camera;
 pub mod desc;
 pub mod film;
 pub mod integrators;
+pub mod lights;
+pub mod phase;
 pub mod render;
 pub mod scene;
 

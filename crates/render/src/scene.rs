@@ -31,7 +31,7 @@ pub struct SceneMedium {
 #[derive(Clone, Debug)]
 pub enum Light {
     Constant { radiance: Vec3 },
-    Envmap { file: PathBuf, scale: f32 },
+    Envmap(std::sync::Arc<crate::lights::envmap::Envmap>),
     Point { position: Vec3, intensity: Vec3 },
     Directional { direction: Vec3, irradiance: Vec3 },
 }
@@ -42,17 +42,39 @@ pub enum IntegratorKind {
         estimator: Estimator,
         background: Vec3,
     },
+    VolPath(crate::integrators::volpath::VolPath),
 }
 
 impl IntegratorKind {
     pub fn name(&self) -> &'static str {
         match self {
             IntegratorKind::Transmittance { .. } => "transmittance",
+            IntegratorKind::VolPath(_) => "volpath",
+        }
+    }
+    /// The transmittance estimator (for `volpath`: the NEE estimator).
+    pub fn estimator(&self) -> Estimator {
+        match self {
+            IntegratorKind::Transmittance { estimator, .. } => *estimator,
+            IntegratorKind::VolPath(v) => v.nee,
         }
     }
     pub fn estimator_name(&self) -> &'static str {
+        self.estimator().name()
+    }
+    /// The same integrator with its transmittance estimator replaced.
+    pub fn with_estimator(&self, e: Estimator) -> IntegratorKind {
         match self {
-            IntegratorKind::Transmittance { estimator, .. } => estimator.name(),
+            IntegratorKind::Transmittance { background, .. } => IntegratorKind::Transmittance {
+                estimator: e,
+                background: *background,
+            },
+            IntegratorKind::VolPath(v) => {
+                IntegratorKind::VolPath(crate::integrators::volpath::VolPath {
+                    nee: e,
+                    ..v.clone()
+                })
+            }
         }
     }
 }
@@ -93,6 +115,63 @@ impl SceneDesc {
     pub fn default_scene() -> SceneDesc {
         toml::from_str(DEFAULT_SCENE).expect("the built-in scene parses")
     }
+}
+
+fn volpath_settings(
+    desc: &SceneDesc,
+    media: &[SceneMedium],
+    lights: &[Light],
+) -> Result<crate::integrators::volpath::VolPath, SceneError> {
+    use crate::integrators::volpath::{DistanceSampler, VolPath};
+    let d = &desc.integrator;
+    let (mut sampler, mut nee) = (d.distance_sampler.clone(), d.estimator.clone());
+    match d.preset.as_deref() {
+        None => {}
+        // Seed 002's baseline: decomposition tracking + residual ratio tracking.
+        Some("baseline") => {
+            sampler.get_or_insert_with(|| "decomposition_tracking".into());
+            nee = "residual_ratio_tracking".into();
+        }
+        Some(other) => {
+            return Err(SceneError(format!(
+                "integrator.preset: unknown preset `{other}` (available: baseline)"
+            )))
+        }
+    }
+    let sampler = sampler.unwrap_or_else(|| "delta_tracking".into());
+    let distance = DistanceSampler::parse(&sampler).ok_or_else(|| {
+        SceneError(format!(
+            "integrator.distance_sampler: `{sampler}` is not delta_tracking, decomposition_tracking or regular_tracking"
+        ))
+    })?;
+    let nee = Estimator::with_options(&nee, &d.estimator_options())
+        .map_err(|e| SceneError(format!("integrator.estimator: {e}")))?;
+    let max_depth = d.max_depth.unwrap_or(64);
+    if max_depth == 0 || max_depth > 100_000 {
+        return Err(SceneError(format!(
+            "integrator.max_depth: {max_depth} is outside 1..=100000"
+        )));
+    }
+    // Scene radius for the light-power proxy: the media's world bounds.
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    for m in media {
+        let b = m.medium.world_bounds();
+        lo = lo.min(b.min);
+        hi = hi.max(b.max);
+    }
+    let radius = if lo.x <= hi.x {
+        0.5 * (hi - lo).length()
+    } else {
+        1.0
+    };
+    Ok(VolPath {
+        distance,
+        nee,
+        max_depth,
+        rr_depth: d.rr_depth.unwrap_or(3),
+        lights: crate::lights::sample::LightSampler::new(lights, radius),
+    })
 }
 
 /// Loads a scene file (or the built-in scene when `path` is `None`).
@@ -361,18 +440,24 @@ impl Scene {
                     LightDesc::Constant { radiance } => Light::Constant {
                         radiance: Vec3::from(*radiance),
                     },
-                    LightDesc::Envmap { file, scale } => {
+                    LightDesc::Envmap {
+                        file,
+                        scale,
+                        rotate,
+                    } => {
                         let path = base.join(file);
-                        if !path.exists() {
-                            return Err(SceneError(format!(
-                                "lights.{i}.file: {} does not exist",
-                                path.display()
-                            )));
-                        }
-                        Light::Envmap {
-                            file: path,
-                            scale: *scale,
-                        }
+                        let rotation = match rotate {
+                            Some([x, y, z, deg]) => glam::Mat3::from_axis_angle(
+                                Vec3::new(*x, *y, *z).try_normalize().ok_or_else(|| {
+                                    SceneError(format!("lights.{i}.rotate: zero axis"))
+                                })?,
+                                deg.to_radians(),
+                            ),
+                            None => glam::Mat3::IDENTITY,
+                        };
+                        let env = crate::lights::envmap::Envmap::load(&path, *scale, rotation)
+                            .map_err(|e| SceneError(format!("lights.{i}: {e}")))?;
+                        Light::Envmap(std::sync::Arc::new(env))
                     }
                     LightDesc::Point {
                         position,
@@ -405,11 +490,10 @@ impl Scene {
                     background: Vec3::from(desc.integrator.background),
                 }
             }
-            other => {
-                return Err(SceneError(format!(
-                    "integrator.type: unknown integrator `{other}` (available: transmittance)"
-                )))
-            }
+            "volpath" => IntegratorKind::VolPath(volpath_settings(&desc, &media, &lights)?),
+            other => return Err(SceneError(format!(
+                "integrator.type: unknown integrator `{other}` (available: transmittance, volpath)"
+            ))),
         };
         Ok(Scene {
             desc,

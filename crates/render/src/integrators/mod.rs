@@ -2,6 +2,7 @@
 //! its random streams) to radiance and the lookups it cost.
 
 pub mod transmittance;
+pub mod volpath;
 
 use crate::scene::{IntegratorKind, Scene};
 use fogbank_math::{SampleKey, Vec3};
@@ -41,5 +42,6 @@ pub fn sample_pixel(scene: &Scene, x: u32, y: u32, key: SampleKey) -> PixelSampl
             estimator,
             background,
         } => transmittance::sample(scene, *estimator, *background, x, y, key),
+        IntegratorKind::VolPath(v) => v.sample(scene, x, y, key),
     }
 }

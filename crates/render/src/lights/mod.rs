@@ -1,3 +1,4 @@
 //! Light sources.
 
 pub mod envmap;
+pub mod sample;

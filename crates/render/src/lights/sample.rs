@@ -1,0 +1,158 @@
+//! Sampling the scene's lights from a point in the medium (next-event
+//! estimation): one light picked in proportion to its power, then a
+//! direction towards it with its solid-angle pdf (delta lights report
+//! `is_delta` and pdf 1).
+
+use crate::scene::Light;
+use fogbank_math::Vec3;
+use std::f32::consts::PI;
+
+#[derive(Clone, Copy, Debug)]
+pub struct LightSample {
+    pub wi: Vec3,
+    /// Incident radiance (delta lights: irradiance-like term, already
+    /// divided by the squared distance for point lights).
+    pub radiance: Vec3,
+    pub pdf: f32,
+    /// Distance to the light (∞ for environment and directional lights).
+    pub distance: f32,
+    pub is_delta: bool,
+}
+
+fn luminance(c: Vec3) -> f32 {
+    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
+}
+
+/// Uniform direction on the sphere.
+pub fn uniform_sphere(u: [f32; 2]) -> Vec3 {
+    let z = 1.0 - 2.0 * u[0];
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u[1];
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+impl Light {
+    /// A power proxy for light selection; `radius` is the scene's bounding
+    /// radius (distant lights deliver power over its cross-section).
+    pub fn power(&self, radius: f32) -> f32 {
+        let area = PI * radius * radius;
+        match self {
+            Light::Constant { radiance } => 4.0 * PI * area * luminance(*radiance),
+            Light::Envmap(e) => area * e.power_proxy(),
+            Light::Point { intensity, .. } => 4.0 * PI * luminance(*intensity),
+            Light::Directional { irradiance, .. } => area * luminance(*irradiance),
+        }
+    }
+
+    /// Radiance arriving along `-dir` from infinity (environment lights only).
+    pub fn le(&self, dir: Vec3) -> Vec3 {
+        match self {
+            Light::Constant { radiance } => *radiance,
+            Light::Envmap(e) => e.eval(dir),
+            _ => Vec3::ZERO,
+        }
+    }
+
+    pub fn is_environment(&self) -> bool {
+        matches!(self, Light::Constant { .. } | Light::Envmap(_))
+    }
+
+    /// Solid-angle pdf of sampling `wi` with [`Light::sample_li`] (0 for delta lights).
+    pub fn pdf_li(&self, wi: Vec3) -> f32 {
+        match self {
+            Light::Constant { .. } => 1.0 / (4.0 * PI),
+            Light::Envmap(e) => e.pdf(wi),
+            _ => 0.0,
+        }
+    }
+
+    pub fn sample_li(&self, p: Vec3, u: [f32; 2]) -> Option<LightSample> {
+        match self {
+            Light::Constant { radiance } => Some(LightSample {
+                wi: uniform_sphere(u),
+                radiance: *radiance,
+                pdf: 1.0 / (4.0 * PI),
+                distance: f32::INFINITY,
+                is_delta: false,
+            }),
+            Light::Envmap(e) => {
+                let (wi, radiance, pdf) = e.sample(u);
+                (pdf > 0.0).then_some(LightSample {
+                    wi,
+                    radiance,
+                    pdf,
+                    distance: f32::INFINITY,
+                    is_delta: false,
+                })
+            }
+            Light::Point {
+                position,
+                intensity,
+            } => {
+                let d = *position - p;
+                let dist2 = d.length_squared();
+                (dist2 > 0.0).then(|| {
+                    let dist = dist2.sqrt();
+                    LightSample {
+                        wi: d / dist,
+                        radiance: *intensity / dist2,
+                        pdf: 1.0,
+                        distance: dist,
+                        is_delta: true,
+                    }
+                })
+            }
+            Light::Directional {
+                direction,
+                irradiance,
+            } => Some(LightSample {
+                wi: -*direction,
+                radiance: *irradiance,
+                pdf: 1.0,
+                distance: f32::INFINITY,
+                is_delta: true,
+            }),
+        }
+    }
+}
+
+/// Picks lights in proportion to their power (a 1D CDF).
+#[derive(Clone, Debug, Default)]
+pub struct LightSampler {
+    cdf: Vec<f32>,
+}
+
+impl LightSampler {
+    pub fn new(lights: &[Light], radius: f32) -> Self {
+        let mut acc = 0.0;
+        let mut cdf: Vec<f32> = lights
+            .iter()
+            .map(|l| {
+                acc += l.power(radius).max(0.0);
+                acc
+            })
+            .collect();
+        if acc > 0.0 {
+            cdf.iter_mut().for_each(|c| *c /= acc);
+        } else {
+            cdf.clear();
+        }
+        LightSampler { cdf }
+    }
+
+    /// (light index, selection probability).
+    pub fn pick(&self, u: f32) -> Option<(usize, f32)> {
+        let i = self
+            .cdf
+            .partition_point(|&c| c <= u)
+            .min(self.cdf.len().checked_sub(1)?);
+        Some((i, self.pmf(i)))
+    }
+
+    pub fn pmf(&self, i: usize) -> f32 {
+        match i {
+            0 => self.cdf.first().copied().unwrap_or(0.0),
+            _ => self.cdf.get(i).map_or(0.0, |c| c - self.cdf[i - 1]),
+        }
+    }
+}

@@ -1,0 +1,61 @@
+//! `volpath` against analytic answers.
+
+use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
+use std::path::Path;
+
+fn scene(extra: &[String]) -> Scene {
+    let text = "[camera]\nwidth = 12\nheight = 10\nfov = 50.0\n\
+                [[media]]\ndensity = { procedural = \"cloud\", resolution = 24, seed = 2 }\nsigma_t_scale = 12.0\n\
+                albedo = [1.0, 1.0, 1.0]\nphase = { type = \"hg\", g = 0.6 }\n\
+                [[lights]]\ntype = \"constant\"\nradiance = [1.0, 1.0, 1.0]\n\
+                [integrator]\ntype = \"volpath\"\nmax_depth = 10000\n";
+    Scene::build(parse_scene(text, "test", extra).unwrap(), Path::new(".")).unwrap()
+}
+
+/// White furnace: albedo 1 under a uniform unit environment, every pixel
+/// sees radiance 1 whatever the density, for every unbiased configuration.
+#[test]
+fn white_furnace_for_every_unbiased_configuration() {
+    for sampler in [
+        "delta_tracking",
+        "decomposition_tracking",
+        "regular_tracking",
+    ] {
+        for nee in [
+            "ratio_tracking",
+            "track_length",
+            "residual_ratio_tracking",
+            "unbiased_ray_marching",
+        ] {
+            let s = scene(&[
+                format!("integrator.distance_sampler={sampler}"),
+                format!("integrator.estimator={nee}"),
+                "media.0.filter=nearest".into(),
+            ]);
+            let r = render(
+                &s,
+                &RenderOptions {
+                    spp: 64,
+                    seed: 1,
+                    time_budget: None,
+                },
+                &Progress::default(),
+            );
+            let f = &r.film;
+            let n = f.total_samples() as f64;
+            // Pool all samples of the image: mean and its standard error.
+            let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+            for i in 0..f.sum.len() {
+                sum += f.sum[i][0];
+                sum2 += f.sum_sq[i][0];
+            }
+            let mean = sum / n;
+            let se = ((sum2 / n - mean * mean) / n).sqrt();
+            assert!(
+                (mean - 1.0).abs() < 4.0 * se + 1e-4,
+                "{sampler} + {nee}: furnace mean {mean} (se {se})"
+            );
+            assert_eq!(f.nan_samples + f.inf_samples, 0);
+        }
+    }
+}
