@@ -491,9 +491,11 @@ impl Scene {
                 }
             }
             "volpath" => IntegratorKind::VolPath(volpath_settings(&desc, &media, &lights)?),
-            other => return Err(SceneError(format!(
+            other => {
+                return Err(SceneError(format!(
                 "integrator.type: unknown integrator `{other}` (available: transmittance, volpath)"
-            ))),
+            )))
+            }
         };
         Ok(Scene {
             desc,
