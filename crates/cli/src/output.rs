@@ -13,28 +13,11 @@ pub fn write_exr(
     rgb: &[[f32; 3]],
     variance: Option<&[[f32; 3]]>,
 ) -> std::result::Result<(), String> {
-    let plane = |data: &[[f32; 3]], c: usize| FlatSamples::F32(data.iter().map(|p| p[c]).collect());
-    let mut channels: Vec<AnyChannel<FlatSamples>> = (0..3)
-        .map(|c| AnyChannel::new(["R", "G", "B"][c], plane(rgb, c)))
-        .collect();
+    let mut layers = vec![("", rgb.to_vec())];
     if let Some(v) = variance {
-        for (c, name) in ["variance.R", "variance.G", "variance.B"]
-            .iter()
-            .enumerate()
-        {
-            channels.push(AnyChannel::new(*name, plane(v, c)));
-        }
+        layers.push(("variance", v.to_vec()));
     }
-    let layer = Layer::new(
-        (width as usize, height as usize),
-        LayerAttributes::default(),
-        Encoding::SMALL_LOSSLESS,
-        AnyChannels::sort(channels.into()),
-    );
-    Image::from_layer(layer)
-        .write()
-        .to_file(path)
-        .map_err(|e| format!("{}: {e}", path.display()))
+    write_exr_channels(path, width, height, &layers, None)
 }
 
 /// sRGB transfer function of a linear value clamped to [0, 1].
@@ -65,8 +48,8 @@ pub fn write_png(
         .map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// Writes named RGB layers (`NAME.R/G/B`) and an optional scalar channel
-/// (`NAME.Y`) into one EXR part.
+/// Writes named RGB layers (`NAME.R/G/B`; plain `R/G/B` for an empty name)
+/// and an optional scalar channel (`NAME.Y`) into one EXR part.
 pub fn write_exr_channels(
     path: &Path,
     width: u32,
@@ -78,7 +61,12 @@ pub fn write_exr_channels(
     for (name, data) in layers {
         for (c, suffix) in ["R", "G", "B"].iter().enumerate() {
             let plane = FlatSamples::F32(data.iter().map(|p| p[c]).collect());
-            channels.push(AnyChannel::new(format!("{name}.{suffix}").as_str(), plane));
+            let full = if name.is_empty() {
+                suffix.to_string()
+            } else {
+                format!("{name}.{suffix}")
+            };
+            channels.push(AnyChannel::new(full.as_str(), plane));
         }
     }
     if let Some((name, data)) = scalar {
