@@ -175,6 +175,7 @@ pub enum ScaleDesc {
 /// | `envmap` | `file`, `scale` (1) |
 /// | `point` | `position`, `intensity` (RGB) |
 /// | `directional` | `direction` (towards which light travels), `irradiance` (RGB) |
+/// | `spot` | `position`, `direction`, `intensity` (RGB), `cone_angle` (30°), `falloff_start` (25°) |
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum LightDesc {
@@ -197,6 +198,25 @@ pub enum LightDesc {
         direction: [f32; 3],
         irradiance: [f32; 3],
     },
+    /// A point light emitting into a cone around `direction`: full intensity
+    /// within `falloff_start` degrees of the axis, smoothly down to zero at
+    /// `cone_angle` degrees (pbrt-v4's spotlight).
+    Spot {
+        position: [f32; 3],
+        direction: [f32; 3],
+        intensity: [f32; 3],
+        #[serde(default = "default_cone")]
+        cone_angle: f32,
+        #[serde(default = "default_falloff")]
+        falloff_start: f32,
+    },
+}
+
+fn default_cone() -> f32 {
+    30.0
+}
+fn default_falloff() -> f32 {
+    25.0
 }
 
 /// | key | default | meaning |

@@ -30,10 +30,26 @@ pub struct SceneMedium {
 
 #[derive(Clone, Debug)]
 pub enum Light {
-    Constant { radiance: Vec3 },
+    Constant {
+        radiance: Vec3,
+    },
     Envmap(std::sync::Arc<crate::lights::envmap::Envmap>),
-    Point { position: Vec3, intensity: Vec3 },
-    Directional { direction: Vec3, irradiance: Vec3 },
+    Point {
+        position: Vec3,
+        intensity: Vec3,
+    },
+    Directional {
+        direction: Vec3,
+        irradiance: Vec3,
+    },
+    /// Cosines of the falloff start and of the cone edge.
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        intensity: Vec3,
+        cos_falloff_start: f32,
+        cos_total: f32,
+    },
 }
 
 #[derive(Clone, Debug)]
@@ -475,6 +491,22 @@ impl Scene {
                         })?,
                         irradiance: Vec3::from(*irradiance),
                     },
+                    LightDesc::Spot { position, direction, intensity, cone_angle, falloff_start } => {
+                        if !(*cone_angle > 0.0 && *cone_angle <= 180.0 && *falloff_start >= 0.0 && falloff_start <= cone_angle) {
+                            return Err(SceneError(format!(
+                                "lights.{i}: need 0 ≤ falloff_start ≤ cone_angle ≤ 180 degrees, cone_angle > 0"
+                            )));
+                        }
+                        Light::Spot {
+                            position: Vec3::from(*position),
+                            direction: Vec3::from(*direction)
+                                .try_normalize()
+                                .ok_or_else(|| SceneError(format!("lights.{i}.direction: zero vector")))?,
+                            intensity: Vec3::from(*intensity),
+                            cos_falloff_start: falloff_start.to_radians().cos(),
+                            cos_total: cone_angle.to_radians().cos(),
+                        }
+                    }
                 })
             })
             .collect::<Result<Vec<_>, SceneError>>()?;

@@ -41,6 +41,12 @@ impl Light {
             Light::Envmap(e) => area * e.power_proxy(),
             Light::Point { intensity, .. } => 4.0 * PI * luminance(*intensity),
             Light::Directional { irradiance, .. } => area * luminance(*irradiance),
+            Light::Spot {
+                intensity,
+                cos_falloff_start,
+                cos_total,
+                ..
+            } => 2.0 * PI * (1.0 - 0.5 * (cos_falloff_start + cos_total)) * luminance(*intensity),
         }
     }
 
@@ -102,6 +108,29 @@ impl Light {
                     }
                 })
             }
+            Light::Spot {
+                position,
+                direction,
+                intensity,
+                cos_falloff_start,
+                cos_total,
+            } => {
+                let d = *position - p;
+                let dist2 = d.length_squared();
+                if dist2 <= 0.0 {
+                    return None;
+                }
+                let dist = dist2.sqrt();
+                let wi = d / dist;
+                let k = spot_falloff(direction.dot(-wi), *cos_falloff_start, *cos_total);
+                (k > 0.0).then(|| LightSample {
+                    wi,
+                    radiance: *intensity * (k / dist2),
+                    pdf: 1.0,
+                    distance: dist,
+                    is_delta: true,
+                })
+            }
             Light::Directional {
                 direction,
                 irradiance,
@@ -114,6 +143,19 @@ impl Light {
             }),
         }
     }
+}
+
+/// Smooth falloff of a spotlight (pbrt-v4): 1 inside the falloff cone, 0
+/// outside the total cone, smoothstep in between.
+pub fn spot_falloff(cos_theta: f32, cos_falloff_start: f32, cos_total: f32) -> f32 {
+    if cos_theta >= cos_falloff_start {
+        return 1.0;
+    }
+    if cos_theta <= cos_total || cos_falloff_start <= cos_total {
+        return 0.0;
+    }
+    let x = (cos_theta - cos_total) / (cos_falloff_start - cos_total);
+    x * x * (3.0 - 2.0 * x)
 }
 
 /// Picks lights in proportion to their power (a 1D CDF).

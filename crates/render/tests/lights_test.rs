@@ -1,0 +1,63 @@
+//! Light sampling for next-event estimation: delta lights and selection by power.
+
+use fogbank_math::Vec3;
+use fogbank_render::lights::sample::{spot_falloff, LightSampler};
+use fogbank_render::scene::Light;
+
+#[test]
+fn spot_light_is_full_inside_zero_outside_and_smooth_between() {
+    let (start, total) = (25f32.to_radians().cos(), 30f32.to_radians().cos());
+    assert_eq!(spot_falloff(1.0, start, total), 1.0);
+    assert_eq!(spot_falloff(31f32.to_radians().cos(), start, total), 0.0);
+    let mut last = 0.0;
+    for deg in (0..=10).map(|i| 30.0 - i as f32 * 0.5) {
+        let k = spot_falloff(deg.to_radians().cos(), start, total);
+        assert!(k >= last && (0.0..=1.0).contains(&k), "{deg}°: {k}");
+        last = k;
+    }
+    let spot = Light::Spot {
+        position: Vec3::new(0.0, 2.0, 0.0),
+        direction: Vec3::new(0.0, -1.0, 0.0),
+        intensity: Vec3::splat(8.0),
+        cos_falloff_start: start,
+        cos_total: total,
+    };
+    let below = spot.sample_li(Vec3::ZERO, [0.5, 0.5]).unwrap();
+    assert!(
+        below.is_delta && (below.radiance - Vec3::splat(2.0)).length() < 1e-6,
+        "{below:?}"
+    );
+    assert!((below.wi - Vec3::Y).length() < 1e-6 && (below.distance - 2.0).abs() < 1e-6);
+    assert!(spot
+        .sample_li(Vec3::new(5.0, 0.0, 0.0), [0.5, 0.5])
+        .is_none());
+}
+
+#[test]
+fn light_selection_follows_power_and_sums_to_one() {
+    let lights = vec![
+        Light::Point {
+            position: Vec3::ZERO,
+            intensity: Vec3::splat(1.0),
+        },
+        Light::Point {
+            position: Vec3::X,
+            intensity: Vec3::splat(3.0),
+        },
+        Light::Constant {
+            radiance: Vec3::ZERO,
+        },
+    ];
+    let s = LightSampler::new(&lights, 1.0);
+    assert!((s.pmf(0) - 0.25).abs() < 1e-6 && (s.pmf(1) - 0.75).abs() < 1e-6 && s.pmf(2) == 0.0);
+    let mut counts = [0usize; 3];
+    let n = 100_000;
+    for i in 0..n {
+        let (k, p) = s.pick((i as f32 + 0.5) / n as f32).unwrap();
+        assert_eq!(p, s.pmf(k));
+        counts[k] += 1;
+    }
+    assert_eq!(counts[2], 0);
+    assert!((counts[1] as f64 / n as f64 - 0.75).abs() < 1e-3);
+    assert!(LightSampler::new(&[], 1.0).pick(0.5).is_none());
+}
