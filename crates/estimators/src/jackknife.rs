@@ -32,9 +32,10 @@ fn f_delta(total: f64, samples: u32, mode: StepMode) -> f64 {
     }
 }
 
-/// Two optical-depth estimates of the segment (0, 0 when F = 0).
+/// `out.len()` interleaved optical-depth estimates of the segment, each of
+/// `samples` lookups (all 0 when F = 0, the segment meets no medium).
 #[allow(clippy::too_many_arguments)]
-pub fn optical_depth_pair<V: VolumeAccess>(
+pub fn optical_depths<V: VolumeAccess>(
     v: &V,
     ray: &Ray,
     t0: f32,
@@ -45,24 +46,16 @@ pub fn optical_depth_pair<V: VolumeAccess>(
     jitter: Jitter,
     rng: &mut Pcg32,
     lookups: &mut u32,
-) -> (f64, f64) {
+    out: &mut [f64],
+) {
+    out.iter_mut().for_each(|x| *x = 0.0);
     let prep = prepare(v, ray, t0, t1, importance);
-    if prep.total <= 0.0 {
-        return (0.0, 0.0);
+    if prep.total > 0.0 {
+        let f_delta = f_delta(prep.total, samples, mode);
+        estimates(
+            v, ray, &prep, f_delta, importance, jitter, rng, lookups, out,
+        );
     }
-    let mut x = [0.0; 2];
-    estimates(
-        v,
-        ray,
-        &prep,
-        f_delta(prep.total, samples, mode),
-        importance,
-        jitter,
-        rng,
-        lookups,
-        &mut x,
-    );
-    (x[0], x[1])
 }
 
 /// `jackknife` (and, with `Importance::Mean`, `jackknife_mean_importance`,
@@ -79,8 +72,8 @@ pub fn transmittance<V: VolumeAccess>(
     jitter: Jitter,
     rng: &mut Pcg32,
 ) -> Estimate {
-    let mut lookups = 0;
-    let (x0, x1) = optical_depth_pair(
+    let (mut lookups, mut x) = (0, [0.0; 2]);
+    optical_depths(
         v,
         ray,
         t0,
@@ -91,9 +84,10 @@ pub fn transmittance<V: VolumeAccess>(
         jitter,
         rng,
         &mut lookups,
+        &mut x,
     );
     Estimate {
-        transmittance: jackknife_transmittance(x0, x1) as f32,
+        transmittance: jackknife_transmittance(x[0], x[1]) as f32,
         lookups,
     }
 }
@@ -109,19 +103,17 @@ pub fn naive_transmittance<V: VolumeAccess>(
     jitter: Jitter,
     rng: &mut Pcg32,
 ) -> Estimate {
-    let mut lookups = 0;
-    let prep = prepare(v, ray, t0, t1, Importance::VarianceAware);
-    if prep.total <= 0.0 {
-        return Estimate::ONE;
-    }
-    let mut x = [0.0; 1];
+    let (mut lookups, mut x) = (0, [0.0; 1]);
     let n = 2 * samples.max(1);
-    estimates(
+    let importance = Importance::VarianceAware;
+    optical_depths(
         v,
         ray,
-        &prep,
-        prep.total / n as f64,
-        Importance::VarianceAware,
+        t0,
+        t1,
+        n,
+        StepMode::FixedCount,
+        importance,
         jitter,
         rng,
         &mut lookups,
