@@ -57,7 +57,9 @@ impl Default for CameraDesc {
 /// |---|---|---|
 /// | `density` | — | data source, see [`DensityDesc`] |
 /// | `sigma_t_scale` | 1 | σ_t = scale · density (per world unit) |
-/// | `albedo` | (0.8, 0.8, 0.8) | single-scattering albedo |
+/// | `albedo` | (0.8, 0.8, 0.8) | single-scattering albedo σ_s/σ_t, each channel in [0, 1] |
+/// | `albedo_grid` | none | a grid (same keys as `density`, placed like it) multiplying `albedo`; a 3-channel `.vol` without `channel` gives RGB; values clamp to [0, 1] |
+/// | `emission` | none | volumetric emission, see [`EmissionDesc`] |
 /// | `phase` | `{ type = "hg", g = 0 }` | phase function |
 /// | `to_world` | identity | placement after the file's own transform |
 /// | `filter` | `"stochastic_trilinear"` | `nearest`, `trilinear`, `stochastic_trilinear` |
@@ -71,6 +73,10 @@ pub struct MediumDesc {
     pub sigma_t_scale: f32,
     #[serde(default = "default_albedo")]
     pub albedo: [f32; 3],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub albedo_grid: Option<DensityDesc>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub emission: Option<EmissionDesc>,
     #[serde(default)]
     pub phase: PhaseDesc,
     #[serde(default)]
@@ -107,7 +113,7 @@ fn default_precision() -> String {
 /// | `vol = "f.vol"` | `channel` (default 0) |
 /// | `raw = "f.raw"` | `dims = [x, y, z]`, `type = "u8"/"u16"/"f32"` (or from a `name_XxYxZ_uint8.raw` file name) |
 /// | `procedural = "cloud"` | `resolution` (128), `seed` (7) |
-/// | `procedural = "constant"/"ramp"/"sinusoid"/"slabs"/"empty"` | `resolution`, `value`, `gradient`, `amplitude`, `frequency`, `phase`, `count`, `width`, `axis` |
+/// | `procedural = "constant"/"ramp"/"sinusoid"/"slabs"/"sphere"/"empty"` | `resolution`, `value`, `gradient`, `amplitude`, `frequency`, `phase`, `count`, `width`, `axis`, `radius` |
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct DensityDesc {
@@ -131,6 +137,41 @@ pub struct DensityDesc {
     pub count: Option<u32>,
     pub width: Option<f32>,
     pub axis: Option<usize>,
+    /// `procedural = "sphere"`: ball radius in units of the cube (≤ ½).
+    pub radius: Option<f32>,
+}
+
+/// Emitted radiance L_e of a medium. Following pbrt-v4, a medium emits
+/// where it absorbs: the radiance gained along a ray is ∫ T σ_a L_e dt with
+/// σ_a = σ_t (1 − albedo), so emission needs albedo < 1 and vanishes where
+/// the density does.
+///
+/// | key | default | meaning |
+/// |---|---|---|
+/// | `color` | (1, 1, 1) | RGB radiance (or tint of the blackbody) |
+/// | `scale` | 1 | multiplies the radiance |
+/// | `grid` | none | a grid (same keys as `density`) multiplying `color` |
+/// | `temperature` | none | a temperature grid in kelvin: L_e = scale · color · blackbody(T), the Planck spectrum normalised to peak 1 (as pbrt-v4) in linear sRGB |
+/// | `temperature_scale`, `temperature_offset` | 1, 0 | T = (grid − offset) · scale; T ≤ 100 K emits nothing |
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct EmissionDesc {
+    #[serde(default = "white")]
+    pub color: [f32; 3],
+    #[serde(default = "one")]
+    pub scale: f32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grid: Option<DensityDesc>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub temperature: Option<DensityDesc>,
+    #[serde(default = "one")]
+    pub temperature_scale: f32,
+    #[serde(default)]
+    pub temperature_offset: f32,
+}
+
+fn white() -> [f32; 3] {
+    [1.0; 3]
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]

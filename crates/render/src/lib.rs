@@ -1,7 +1,10 @@
 //! Scenes, cameras, lights, integrators and the progressive render loop.
 
+pub mod blackbody;
 pub mod camera;
 pub mod desc;
+pub mod emission;
+pub mod field;
 pub mod film;
 pub mod integrators;
 pub mod lights;

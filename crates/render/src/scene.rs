@@ -7,6 +7,10 @@ use crate::desc::{
     apply_override, parse_value, DensityDesc, MediumDesc, ScaleDesc, SceneDesc, SceneError,
     TransformDesc, DEFAULT_SCENE,
 };
+use crate::integrators::direct::Direct;
+use crate::integrators::media::DistanceSampler;
+use crate::integrators::volpath::VolPath;
+use crate::lights::sample::LightSampler;
 use fogbank_estimators::Estimator;
 use fogbank_math::{DAffine3, DVec3, Vec3};
 use fogbank_volume::loaders::{raw, vdb, vdb_grid, vol};
@@ -22,10 +26,36 @@ use std::path::{Path, PathBuf};
 #[derive(Clone, Debug)]
 pub struct SceneMedium {
     pub medium: Medium,
+    /// Constant albedo, or the tint of `albedo_grid`.
     pub albedo: [f32; 3],
+    pub albedo_grid: Option<crate::field::Field>,
+    pub emission: Option<crate::emission::Emission>,
     pub phase_g: f32,
     /// What the density came from, for `--stats` and messages.
     pub source: String,
+}
+
+impl SceneMedium {
+    /// Single-scattering albedo σ_s/σ_t at world point `p`, in [0, 1].
+    #[inline]
+    pub fn albedo_at(&self, p: Vec3) -> Vec3 {
+        let a = Vec3::from(self.albedo);
+        match &self.albedo_grid {
+            Some(g) => (a * g.eval(p)).clamp(Vec3::ZERO, Vec3::ONE),
+            None => a,
+        }
+    }
+
+    /// Radiance emitted at a real collision at `p` with albedo `albedo`:
+    /// (σ_a/σ_t) L_e, so that free-flight sampling (density σ_t T) gives
+    /// ∫ T σ_a L_e dt in expectation.
+    #[inline]
+    pub fn emitted(&self, p: Vec3, albedo: Vec3) -> Vec3 {
+        match &self.emission {
+            Some(e) => (Vec3::ONE - albedo) * e.radiance(p),
+            None => Vec3::ZERO,
+        }
+    }
 }
 
 #[derive(Clone, Debug)]
@@ -58,13 +88,15 @@ pub enum IntegratorKind {
         estimator: Estimator,
         background: Vec3,
     },
-    VolPath(crate::integrators::volpath::VolPath),
+    Direct(Direct),
+    VolPath(VolPath),
 }
 
 impl IntegratorKind {
     pub fn name(&self) -> &'static str {
         match self {
             IntegratorKind::Transmittance { .. } => "transmittance",
+            IntegratorKind::Direct(_) => "direct",
             IntegratorKind::VolPath(_) => "volpath",
         }
     }
@@ -72,6 +104,7 @@ impl IntegratorKind {
     pub fn estimator(&self) -> Estimator {
         match self {
             IntegratorKind::Transmittance { estimator, .. } => *estimator,
+            IntegratorKind::Direct(d) => d.nee,
             IntegratorKind::VolPath(v) => v.nee,
         }
     }
@@ -85,12 +118,14 @@ impl IntegratorKind {
                 estimator: e,
                 background: *background,
             },
-            IntegratorKind::VolPath(v) => {
-                IntegratorKind::VolPath(crate::integrators::volpath::VolPath {
-                    nee: e,
-                    ..v.clone()
-                })
-            }
+            IntegratorKind::Direct(d) => IntegratorKind::Direct(Direct {
+                nee: e,
+                ..d.clone()
+            }),
+            IntegratorKind::VolPath(v) => IntegratorKind::VolPath(VolPath {
+                nee: e,
+                ..v.clone()
+            }),
         }
     }
 }
@@ -133,12 +168,13 @@ impl SceneDesc {
     }
 }
 
-fn volpath_settings(
+/// The settings `direct` and `volpath` share: distance sampler, NEE
+/// estimator (after the `preset`) and light selection.
+fn scattering_settings(
     desc: &SceneDesc,
     media: &[SceneMedium],
     lights: &[Light],
-) -> Result<crate::integrators::volpath::VolPath, SceneError> {
-    use crate::integrators::volpath::{DistanceSampler, VolPath};
+) -> Result<(DistanceSampler, Estimator, LightSampler), SceneError> {
     let d = &desc.integrator;
     let (mut sampler, mut nee) = (d.distance_sampler.clone(), d.estimator.clone());
     match d.preset.as_deref() {
@@ -157,17 +193,12 @@ fn volpath_settings(
     let sampler = sampler.unwrap_or_else(|| "delta_tracking".into());
     let distance = DistanceSampler::parse(&sampler).ok_or_else(|| {
         SceneError(format!(
-            "integrator.distance_sampler: `{sampler}` is not delta_tracking, decomposition_tracking or regular_tracking"
+            "integrator.distance_sampler: `{sampler}` is not {}",
+            DistanceSampler::NAMES
         ))
     })?;
     let nee = Estimator::with_options(&nee, &d.estimator_options())
         .map_err(|e| SceneError(format!("integrator.estimator: {e}")))?;
-    let max_depth = d.max_depth.unwrap_or(64);
-    if max_depth == 0 || max_depth > 100_000 {
-        return Err(SceneError(format!(
-            "integrator.max_depth: {max_depth} is outside 1..=100000"
-        )));
-    }
     // Scene radius for the light-power proxy: the media's world bounds.
     let mut lo = Vec3::splat(f32::INFINITY);
     let mut hi = Vec3::splat(f32::NEG_INFINITY);
@@ -181,12 +212,28 @@ fn volpath_settings(
     } else {
         1.0
     };
+    Ok((distance, nee, LightSampler::new(lights, radius)))
+}
+
+fn volpath_settings(
+    desc: &SceneDesc,
+    media: &[SceneMedium],
+    lights: &[Light],
+) -> Result<VolPath, SceneError> {
+    let (distance, nee, lights) = scattering_settings(desc, media, lights)?;
+    let d = &desc.integrator;
+    let max_depth = d.max_depth.unwrap_or(64);
+    if max_depth == 0 || max_depth > 100_000 {
+        return Err(SceneError(format!(
+            "integrator.max_depth: {max_depth} is outside 1..=100000"
+        )));
+    }
     Ok(VolPath {
         distance,
         nee,
         max_depth,
         rr_depth: d.rr_depth.unwrap_or(3),
-        lights: crate::lights::sample::LightSampler::new(lights, radius),
+        lights,
     })
 }
 
@@ -246,15 +293,19 @@ fn analytic_kind(name: &str, d: &DensityDesc, key: &str) -> Result<AnalyticKind,
             width: d.width.unwrap_or(0.02),
             axis: d.axis.unwrap_or(0),
         },
+        "sphere" => AnalyticKind::Sphere {
+            value: d.value.unwrap_or(1.0),
+            radius: d.radius.unwrap_or(0.5),
+        },
         other => {
             return Err(SceneError(format!(
-                "{key}.procedural: unknown procedural medium `{other}` (cloud, constant, ramp, sinusoid, slabs, empty)"
+                "{key}.procedural: unknown procedural medium `{other}` (cloud, constant, ramp, sinusoid, slabs, sphere, empty)"
             )))
         }
     })
 }
 
-fn density(
+pub(crate) fn density(
     d: &DensityDesc,
     key: &str,
     base: &Path,
@@ -386,13 +437,32 @@ fn build_medium(m: &MediumDesc, i: usize, base: &Path) -> Result<SceneMedium, Sc
         )));
     }
     let (data, file_xf, source) = density(&m.density, &format!("{key}.density"), base, precision)?;
-    let xf = transform(&m.to_world) * file_xf;
+    let placement = transform(&m.to_world);
+    let xf = placement * file_xf;
     if xf.matrix3.determinant().abs() < 1e-30 {
         return Err(SceneError(format!("{key}.to_world: transform is singular")));
     }
+    if !m.albedo.iter().all(|a| (0.0..=1.0).contains(a)) {
+        return Err(SceneError(format!(
+            "{key}.albedo: each channel must be in [0, 1], got {:?}",
+            m.albedo
+        )));
+    }
+    let albedo_grid = m
+        .albedo_grid
+        .as_ref()
+        .map(|g| crate::field::Field::load(g, &format!("{key}.albedo_grid"), base, placement))
+        .transpose()?;
+    let emission = m
+        .emission
+        .as_ref()
+        .map(|e| crate::emission::Emission::build(e, &format!("{key}.emission"), base, placement))
+        .transpose()?;
     Ok(SceneMedium {
         medium: Medium::new(data, m.sigma_t_scale, filter, xf, m.supervoxel),
         albedo: m.albedo,
+        albedo_grid,
+        emission,
         phase_g: if m.phase.ty == "isotropic" {
             0.0
         } else {
@@ -522,10 +592,23 @@ impl Scene {
                     background: Vec3::from(desc.integrator.background),
                 }
             }
+            "direct" => {
+                if desc.integrator.max_depth.is_some() || desc.integrator.rr_depth.is_some() {
+                    return Err(SceneError(
+                        "integrator: `max_depth` and `rr_depth` apply to volpath, not direct".into(),
+                    ));
+                }
+                let (distance, nee, lights) = scattering_settings(&desc, &media, &lights)?;
+                IntegratorKind::Direct(Direct {
+                    distance,
+                    nee,
+                    lights,
+                })
+            }
             "volpath" => IntegratorKind::VolPath(volpath_settings(&desc, &media, &lights)?),
             other => {
                 return Err(SceneError(format!(
-                "integrator.type: unknown integrator `{other}` (available: transmittance, volpath)"
+                "integrator.type: unknown integrator `{other}` (available: transmittance, direct, volpath)"
             )))
             }
         };

@@ -34,6 +34,10 @@ pub enum AnalyticKind {
         width: f32,
         axis: usize,
     },
+    /// μ(x) = value inside the ball of `radius` (in units of the cube)
+    /// centred at the cube's centre, zero outside: a homogeneous sphere, the
+    /// medium of the analytic single-scattering tests.
+    Sphere { value: f32, radius: f32 },
 }
 
 #[derive(Clone, Debug)]
@@ -79,6 +83,11 @@ impl AnalyticField {
             {
                 return bad("slabs need value ≥ 0, count ≥ 1, 0 < width ≤ 1/count, axis 0..=2");
             }
+            AnalyticKind::Sphere { value, radius }
+                if *value < 0.0 || !(*radius > 0.0 && *radius <= 0.5) =>
+            {
+                return bad("sphere needs value ≥ 0 and 0 < radius ≤ 0.5")
+            }
             _ => {}
         }
         Ok(AnalyticField { kind, n })
@@ -91,6 +100,7 @@ impl AnalyticField {
             AnalyticKind::Ramp { .. } => "ramp",
             AnalyticKind::Sinusoid { .. } => "sinusoid",
             AnalyticKind::Slabs { .. } => "slabs",
+            AnalyticKind::Sphere { .. } => "sphere",
         }
     }
 
@@ -120,6 +130,13 @@ impl AnalyticField {
                 if (s - centre).abs() <= 0.5 * width * *count as f32
                     && (0.0..=1.0).contains(&x[*axis])
                 {
+                    *value
+                } else {
+                    0.0
+                }
+            }
+            AnalyticKind::Sphere { value, radius } => {
+                if (x - Vec3::splat(0.5)).length_squared() <= radius * radius {
                     *value
                 } else {
                     0.0
@@ -180,6 +197,26 @@ impl AnalyticField {
                 (
                     if covers { *value } else { 0.0 },
                     if touches { *value } else { 0.0 },
+                )
+            }
+            AnalyticKind::Sphere { value, radius } => {
+                let c = Vec3::splat(0.5);
+                let nearest = c.clamp(lo, hi);
+                let farthest = Vec3::select((c - lo).cmpgt(hi - c), lo, hi);
+                let r2 = radius * radius;
+                // Slack so f32 rounding of positions on the surface never
+                // escapes the bounds.
+                (
+                    if (farthest - c).length_squared() < r2 * 0.9999 {
+                        *value
+                    } else {
+                        0.0
+                    },
+                    if (nearest - c).length_squared() <= r2 * 1.0001 {
+                        *value
+                    } else {
+                        0.0
+                    },
                 )
             }
         }
@@ -247,6 +284,19 @@ impl AnalyticField {
                     inside += (sb - sa).max(0.0);
                 }
                 *value as f64 * inside
+            }
+            AnalyticKind::Sphere { value, radius } => {
+                // Chord of the ray (in normalised units, parameter t) through
+                // the ball, clipped to [a, b].
+                let oc = o - glam::DVec3::splat(0.5);
+                let (dd, od) = (d.dot(d), oc.dot(d));
+                let disc = od * od - dd * (oc.dot(oc) - (*radius as f64).powi(2));
+                if disc <= 0.0 {
+                    return 0.0;
+                }
+                let s = disc.sqrt();
+                let (u, v) = ((-od - s) / dd, (-od + s) / dd);
+                *value as f64 * (v.min(b) - u.max(a)).max(0.0)
             }
         }
     }
@@ -360,6 +410,10 @@ mod analytic_test {
                 width: 0.05,
                 axis: 1,
             },
+            AnalyticKind::Sphere {
+                value: 2.0,
+                radius: 0.4,
+            },
         ];
         let mut rng = Pcg32::new(1, 2);
         for kind in kinds {
@@ -401,6 +455,39 @@ mod analytic_test {
             let v = f.density(p / 16.0);
             assert!(v >= s.min - 1e-5 && v <= s.max + 1e-5);
         }
+    }
+
+    #[test]
+    fn sphere_bounds_are_conservative() {
+        let f = AnalyticField::new(
+            AnalyticKind::Sphere {
+                value: 3.0,
+                radius: 0.37,
+            },
+            16,
+        )
+        .unwrap();
+        let sv = f.supervoxels(4);
+        let mut rng = Pcg32::new(5, 6);
+        let (mut inside, mut outside) = (0, 0);
+        for _ in 0..20_000 {
+            let p = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 16.0;
+            let c = (p / 4.0).floor().as_ivec3().min(glam::IVec3::splat(3));
+            let s = sv.get([c.x, c.y, c.z]);
+            let v = f.density(p / 16.0);
+            assert!(
+                v >= s.min && v <= s.max,
+                "{v} outside [{}, {}]",
+                s.min,
+                s.max
+            );
+            if v > 0.0 {
+                inside += 1
+            } else {
+                outside += 1
+            }
+        }
+        assert!(inside > 1000 && outside > 1000);
     }
 
     #[test]

@@ -1,6 +1,9 @@
 //! Integrators: one file each. An integrator maps a pixel sample (a key for
 //! its random streams) to radiance and the lookups it cost.
 
+pub mod direct;
+pub mod media;
+pub mod next_event;
 pub mod transmittance;
 pub mod volpath;
 
@@ -42,6 +45,7 @@ pub fn sample_pixel(scene: &Scene, x: u32, y: u32, key: SampleKey) -> PixelSampl
             estimator,
             background,
         } => transmittance::sample(scene, *estimator, *background, x, y, key),
+        IntegratorKind::Direct(d) => d.sample(scene, x, y, key),
         IntegratorKind::VolPath(v) => v.sample(scene, x, y, key),
     }
 }

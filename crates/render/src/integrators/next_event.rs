@@ -1,0 +1,83 @@
+//! Direct lighting at a scattering vertex, shared by `direct` and `volpath`:
+//! next-event estimation toward one light chosen by power, combined with
+//! phase sampling by the balance heuristic for lights a direction can hit
+//! (environments). HG sampling is exact, so the phase pdf equals f.
+
+use super::media::{balance, shadow_transmittance};
+use crate::lights::sample::LightSampler;
+use crate::phase::HenyeyGreenstein;
+use crate::scene::Scene;
+use fogbank_estimators::Estimator;
+use fogbank_math::{Pcg32, Ray, Vec3};
+
+/// Light-sampling strategy at `p` for a path arriving along direction `d`:
+/// L_i f T̂ / pdf, MIS-weighted against phase sampling for non-delta lights.
+/// The caller multiplies by the path throughput.
+#[allow(clippy::too_many_arguments)]
+pub fn light_sample(
+    scene: &Scene,
+    lights: &LightSampler,
+    nee: Estimator,
+    p: Vec3,
+    d: Vec3,
+    hg: &HenyeyGreenstein,
+    rng: &mut Pcg32,
+    lookups: &mut u32,
+) -> Vec3 {
+    let Some((li, pmf)) = lights.pick(rng.next_f32()) else {
+        return Vec3::ZERO;
+    };
+    let Some(ls) = scene.lights[li].sample_li(p, [rng.next_f32(), rng.next_f32()]) else {
+        return Vec3::ZERO;
+    };
+    let f = hg.eval(d.dot(ls.wi));
+    if f <= 0.0 || ls.radiance == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    let tr = shadow_transmittance(nee, scene, &Ray::new(p, ls.wi), ls.distance, rng, lookups);
+    if ls.is_delta {
+        ls.radiance * (f * tr / pmf)
+    } else {
+        let light_pdf = pmf * ls.pdf;
+        ls.radiance * (f * tr * balance(light_pdf, f) / light_pdf)
+    }
+}
+
+/// Radiance of the environment lights seen along `d` by a path that left
+/// its last vertex by phase sampling with pdf `phase_pdf` (`None`: a camera
+/// ray, which no light strategy could have produced).
+pub fn escaped(scene: &Scene, lights: &LightSampler, d: Vec3, phase_pdf: Option<f32>) -> Vec3 {
+    let mut l = Vec3::ZERO;
+    for (li, light) in scene.lights.iter().enumerate() {
+        if light.is_environment() {
+            let w = phase_pdf.map_or(1.0, |p| balance(p, lights.pmf(li) * light.pdf_li(d)));
+            l += light.le(d) * w;
+        }
+    }
+    l
+}
+
+/// Phase-sampling strategy at a path's last vertex: the direction `wi`
+/// (sampled with pdf `phase_pdf`) is not traced by free-flight sampling but
+/// its transmittance to infinity is estimated with the NEE estimator, so the
+/// MIS partner of [`light_sample`] is never missing.
+#[allow(clippy::too_many_arguments)]
+pub fn phase_sample_to_environment(
+    scene: &Scene,
+    lights: &LightSampler,
+    nee: Estimator,
+    p: Vec3,
+    wi: Vec3,
+    phase_pdf: f32,
+    rng: &mut Pcg32,
+    lookups: &mut u32,
+) -> Vec3 {
+    if !scene.lights.iter().any(|l| l.is_environment()) {
+        return Vec3::ZERO;
+    }
+    let le = escaped(scene, lights, wi, Some(phase_pdf));
+    if le == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    le * shadow_transmittance(nee, scene, &Ray::new(p, wi), f32::INFINITY, rng, lookups)
+}
