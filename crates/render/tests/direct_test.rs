@@ -145,7 +145,12 @@ fn emission_matches_the_closed_form() {
     let no_light = "lights=[]";
     for (integrator, albedo, emission, le) in [
         ("direct", 0.0, "{ color = [2.0, 2.0, 2.0] }", 2.0),
-        ("volpath", 0.0, "{ color = [1.0, 1.0, 1.0], scale = 2.0 }", 2.0),
+        (
+            "volpath",
+            0.0,
+            "{ color = [1.0, 1.0, 1.0], scale = 2.0 }",
+            2.0,
+        ),
         ("direct", 0.6, "{ color = [2.0, 2.0, 2.0] }", 2.0),
         (
             "direct",
@@ -227,11 +232,17 @@ fn bad_medium_properties_are_named() {
     };
     assert!(err(&["media.0.albedo=[1.5, 0.5, 0.5]"]).contains("media.0.albedo"));
     let e = err(&["media.0.emission={ grid = { procedural = \"constant\" }, temperature = { procedural = \"constant\" } }"]);
-    assert!(e.contains("media.0.emission") && e.contains("not both"), "{e}");
+    assert!(
+        e.contains("media.0.emission") && e.contains("not both"),
+        "{e}"
+    );
     assert!(err(&["media.0.emission={ colour = [1, 1, 1] }"]).contains("colour"));
     assert!(err(&["media.0.albedo_grid={ vol = \"missing.vol\" }"]).contains("media.0.albedo_grid"));
     let e = err(&["integrator.type=direct", "integrator.max_depth=3"]);
     assert!(e.contains("max_depth"), "{e}");
-    let e = err(&["media.0.density.procedural=sphere", "media.0.density.radius=0.9"]);
+    let e = err(&[
+        "media.0.density.procedural=sphere",
+        "media.0.density.radius=0.9",
+    ]);
     assert!(e.contains("sphere"), "{e}");
 }
