@@ -593,11 +593,8 @@ impl Scene {
                 }
             }
             "direct" => {
-                if desc.integrator.max_depth.is_some() || desc.integrator.rr_depth.is_some() {
-                    return Err(SceneError(
-                        "integrator: `max_depth` and `rr_depth` apply to volpath, not direct".into(),
-                    ));
-                }
+                // `max_depth` and `rr_depth` are volpath's; direct ignores them so
+                // `--set integrator.type=direct` works on any volpath scene.
                 let (distance, nee, lights) = scattering_settings(&desc, &media, &lights)?;
                 IntegratorKind::Direct(Direct {
                     distance,

@@ -238,8 +238,6 @@ fn bad_medium_properties_are_named() {
     );
     assert!(err(&["media.0.emission={ colour = [1, 1, 1] }"]).contains("colour"));
     assert!(err(&["media.0.albedo_grid={ vol = \"missing.vol\" }"]).contains("media.0.albedo_grid"));
-    let e = err(&["integrator.type=direct", "integrator.max_depth=3"]);
-    assert!(e.contains("max_depth"), "{e}");
     let e = err(&[
         "media.0.density.procedural=sphere",
         "media.0.density.radius=0.9",
