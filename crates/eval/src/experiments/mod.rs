@@ -5,6 +5,7 @@
 //! streams) and its trial count can be overridden.
 
 pub mod distributions;
+pub mod fig1;
 pub mod fig14;
 pub mod fig2;
 pub mod fig3;
@@ -32,7 +33,7 @@ pub struct ExperimentReport {
 /// The experiment names `run` accepts.
 pub fn names() -> &'static [&'static str] {
     &[
-        "fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "table1", "fig14",
+        "fig1", "fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "table1", "fig14",
     ]
 }
 
@@ -49,6 +50,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         files: Vec::new(),
     };
     let summary = match name {
+        "fig1" => fig1::run(&mut w, trials),
         "fig2" => fig2::run(&mut w, trials),
         "fig3" => fig3::run(&mut w, trials),
         "fig4" => fig4::run(&mut w, trials, fig4::Variant::Smooth),
@@ -102,6 +104,15 @@ impl Writer {
             s.push('\n');
         }
         self.text(file, &s)
+    }
+
+    /// Where `file` goes, for writers outside this type; `record` it after.
+    pub fn path(&self, file: &str) -> PathBuf {
+        self.out.join(file)
+    }
+
+    pub fn record(&mut self, path: PathBuf) {
+        self.files.push(path);
     }
 
     pub fn figure(&mut self, stem: &str, fig: &crate::plot::Figure) -> Result<(), String> {
