@@ -82,7 +82,7 @@ fn table() -> &'static [Vec3] {
 /// zero at or below 100 K (pbrt-v4's cutoff), interpolated from a 25 K
 /// table, clamped at 40,000 K.
 pub fn blackbody_rgb(t: f32) -> Vec3 {
-    if !(t > T_MIN) {
+    if t.is_nan() || t <= T_MIN {
         return Vec3::ZERO;
     }
     let x = ((t - T_MIN) / T_STEP).min((T_COUNT - 1) as f32);

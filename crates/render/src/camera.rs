@@ -46,6 +46,18 @@ impl Camera {
         })
     }
 
+    /// (origin, forward, right, up, tan_half): what a GPU kernel needs to
+    /// reproduce [`Camera::ray`].
+    pub fn basis(&self) -> (Vec3, Vec3, Vec3, Vec3, [f32; 2]) {
+        (
+            self.origin,
+            self.forward,
+            self.right,
+            self.up,
+            self.tan_half,
+        )
+    }
+
     /// Primary ray through film position `(x, y)` in pixels; unit direction,
     /// so ray parameters are world distances.
     #[inline]

@@ -1,0 +1,143 @@
+//! The wgpu device: adapter selection, limits, timestamp support.
+
+use std::fmt;
+
+#[derive(Debug, Clone)]
+pub struct GpuError(pub String);
+
+impl fmt::Display for GpuError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for GpuError {}
+
+pub struct Gpu {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub info: wgpu::AdapterInfo,
+    /// Timestamp queries inside compute passes are available (`gpu_ms`).
+    pub timestamps: bool,
+}
+
+impl Gpu {
+    /// The first high-performance adapter wgpu finds (Vulkan, Metal, DX12 or
+    /// GL), with the largest storage buffers it allows.
+    pub fn new() -> Result<Gpu, GpuError> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        if std::env::var_os("WGPU_BACKEND").is_none() {
+            // Vulkan, Metal, DX12; GL only on request (its probing is noisy
+            // on headless machines and it has no timestamp queries).
+            desc.backends = wgpu::Backends::PRIMARY;
+        }
+        let instance = wgpu::Instance::new(desc);
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            ..Default::default()
+        }))
+        .map_err(|e| {
+            GpuError(format!(
+                "no GPU adapter found ({e}); on Linux without a GPU, Mesa's lavapipe \
+                 (Debian package mesa-vulkan-drivers) provides a Vulkan device on the CPU"
+            ))
+        })?;
+        let info = adapter.get_info();
+        let supported = adapter.features();
+        let timestamps = supported.contains(wgpu::Features::TIMESTAMP_QUERY);
+        let mut features = wgpu::Features::empty();
+        if timestamps {
+            features |= wgpu::Features::TIMESTAMP_QUERY;
+        }
+        let al = adapter.limits();
+        let limits = wgpu::Limits {
+            max_storage_buffer_binding_size: al.max_storage_buffer_binding_size,
+            max_buffer_size: al.max_buffer_size,
+            max_storage_buffers_per_shader_stage: al.max_storage_buffers_per_shader_stage.min(16),
+            ..wgpu::Limits::default()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("fogbank"),
+            required_features: features,
+            required_limits: limits,
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError(format!("{}: cannot open the device: {e}", info.name)))?;
+        Ok(Gpu {
+            device,
+            queue,
+            info,
+            timestamps,
+        })
+    }
+
+    /// "name (backend, driver)" for logs and stats.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} ({:?}, {} {})",
+            self.info.name, self.info.backend, self.info.driver, self.info.driver_info
+        )
+    }
+
+    /// Runs `f` (creating shader modules, pipelines) and turns a validation
+    /// error into a `GpuError` instead of wgpu's default panic.
+    pub fn checked<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T, GpuError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let out = f();
+        match pollster::block_on(scope.pop()) {
+            None => Ok(out),
+            Some(e) => Err(GpuError(format!("{what}: {e}"))),
+        }
+    }
+
+    pub fn storage_buffer(&self, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+        use wgpu::util::DeviceExt;
+        // Zero-sized bindings are invalid; pad empty arrays to one word.
+        let padded;
+        let contents = if bytes.is_empty() {
+            padded = [0u8; 16];
+            &padded[..]
+        } else {
+            bytes
+        };
+        self.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            })
+    }
+
+    /// Copies `buffer` back to the host (blocking).
+    pub fn read_back(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+        let size = buffer.size();
+        let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        enc.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
+        self.queue.submit([enc.finish()]);
+        let slice = staging.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError(format!("device poll failed: {e}")))?;
+        rx.recv()
+            .map_err(|e| GpuError(format!("readback: {e}")))?
+            .map_err(|e| GpuError(format!("readback: {e}")))?;
+        let data = slice
+            .get_mapped_range()
+            .map_err(|e| GpuError(format!("readback: {e}")))?
+            .to_vec();
+        staging.unmap();
+        Ok(data)
+    }
+}

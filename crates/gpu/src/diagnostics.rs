@@ -1,0 +1,68 @@
+//! Kernels that exist to test the WGSL ports against the CPU bit for bit.
+
+use crate::{shaders, Gpu, GpuError};
+use fogbank_math::SampleKey;
+use wgpu::util::DeviceExt;
+
+/// The first `count` words of each key's PCG32 stream, computed on the GPU.
+pub fn rng_streams(gpu: &Gpu, keys: &[SampleKey], count: u32) -> Result<Vec<u32>, GpuError> {
+    let device = &gpu.device;
+    let key_words: Vec<[u32; 4]> = keys
+        .iter()
+        .map(|k| [k.seed, k.pixel, k.sample, k.dimension])
+        .collect();
+    let keys_buf = gpu.storage_buffer("keys", bytemuck::cast_slice(&key_words));
+    let out = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("out"),
+        size: (keys.len() as u64 * count as u64 * 4).max(16),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("params"),
+        contents: bytemuck::cast_slice(&[keys.len() as u32, count, 0, 0]),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("rng_streams"),
+        source: wgpu::ShaderSource::Wgsl(
+            format!("{}\n{}", shaders::RNG, shaders::RNG_STREAMS_KERNEL).into(),
+        ),
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("rng_streams"),
+        layout: None,
+        module: &module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("rng_streams"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: keys_buf.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: out.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: params.as_entire_binding(),
+            },
+        ],
+    });
+    let mut enc = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups((keys.len() as u32).div_ceil(64), 1, 1);
+    }
+    gpu.queue.submit([enc.finish()]);
+    let bytes = gpu.read_back(&out)?;
+    Ok(bytemuck::cast_slice(&bytes)[..keys.len() * count as usize].to_vec())
+}

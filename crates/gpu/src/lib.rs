@@ -1,0 +1,32 @@
+//! The GPU backend: wgpu compute kernels written in WGSL that mirror the CPU
+//! reference (`fogbank-estimators`, `fogbank-render`) for the hot paths.
+//!
+//! Layout: the scene's media are uploaded once into flat buffers
+//! ([`scene_buffers`]); WGSL sources live one concept per file under
+//! `src/wgsl/` and are concatenated per kernel ([`shaders`]), with the
+//! estimator chosen by a pipeline-overridable constant so the hot loop has
+//! no dispatch. PCG32/PCG3D are bit-identical to the CPU's, so a pixel's
+//! random stream is the same on both.
+
+pub mod context;
+pub mod diagnostics;
+pub mod scene_buffers;
+pub mod shaders;
+pub mod transmittance;
+
+pub use context::{Gpu, GpuError};
+
+/// For tests: a GPU, or `None` with a visible message. With
+/// `FOGBANK_REQUIRE_GPU=1` (set by `.ci/run`) a missing adapter is a failure.
+pub fn test_gpu() -> Option<Gpu> {
+    match Gpu::new() {
+        Ok(g) => Some(g),
+        Err(e) => {
+            if std::env::var("FOGBANK_REQUIRE_GPU").as_deref() == Ok("1") {
+                panic!("FOGBANK_REQUIRE_GPU=1 but no GPU: {e}");
+            }
+            eprintln!("SKIPPED (no GPU adapter): {e}");
+            None
+        }
+    }
+}

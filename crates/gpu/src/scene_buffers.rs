@@ -1,0 +1,200 @@
+//! One upload per scene: every medium's brick table, constant bricks, voxel
+//! data (f16 two per word, or f32) and super-voxel statistics, concatenated
+//! into flat storage buffers, with a per-medium record of offsets and
+//! placement (`MediumGpu` in `wgsl/medium.wgsl`).
+
+use crate::{Gpu, GpuError};
+use bytemuck::{Pod, Zeroable};
+use fogbank_render::Scene;
+use fogbank_volume::{BrickGrid, DensityData, Filter, Medium, Voxel};
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct MediumGpu {
+    pub w2i: [[f32; 4]; 3],
+    pub dims: [u32; 3],
+    pub filter: u32,
+    pub bdims: [u32; 3],
+    pub precision: u32,
+    pub sv_dims: [u32; 3],
+    pub sv_size: f32,
+    pub scale: f32,
+    pub table_offset: u32,
+    pub constants_offset: u32,
+    pub data_offset: u32,
+    pub sv_offset: u32,
+    pub pad: [u32; 3],
+    pub camera_index: [f32; 4],
+}
+
+/// The scene's media on the device (bind group 0 of every kernel).
+pub struct SceneBuffers {
+    pub media: Vec<MediumGpu>,
+    pub bind_group_layout: wgpu::BindGroupLayout,
+    pub bind_group: wgpu::BindGroup,
+    /// Bytes uploaded (for stats).
+    pub bytes: u64,
+}
+
+#[derive(Default)]
+struct Packed {
+    table: Vec<u32>,
+    constants: Vec<f32>,
+    data: Vec<u32>,
+    supervoxels: Vec<[f32; 4]>,
+}
+
+fn pack_grid<T: Voxel>(
+    g: &BrickGrid<T>,
+    p: &mut Packed,
+    words: impl Fn(&[T]) -> Vec<u32>,
+) -> (u32, u32, u32) {
+    let (table, constants, data) = g.buffers();
+    let offsets = (
+        p.table.len() as u32,
+        p.constants.len() as u32,
+        p.data.len() as u32,
+    );
+    p.table.extend_from_slice(table);
+    p.constants.extend_from_slice(constants);
+    p.data.extend(words(data));
+    offsets
+}
+
+fn check_size(what: &str, len: usize, limit: u64) -> Result<(), GpuError> {
+    if (len as u64) * 4 > limit {
+        return Err(GpuError(format!(
+            "{what}: {} MiB exceed the device's storage-buffer limit of {} MiB",
+            (len * 4) >> 20,
+            limit >> 20
+        )));
+    }
+    Ok(())
+}
+
+impl SceneBuffers {
+    pub fn upload(gpu: &Gpu, scene: &Scene) -> Result<SceneBuffers, GpuError> {
+        let mut p = Packed::default();
+        let mut media = Vec::new();
+        for (i, sm) in scene.media.iter().enumerate() {
+            media.push(
+                pack_medium(&sm.medium, scene.camera.origin, &mut p)
+                    .map_err(|e| GpuError(format!("media.{i} ({}): {}", sm.source, e.0)))?,
+            );
+        }
+        let limit = gpu.device.limits().max_storage_buffer_binding_size;
+        check_size("voxel data", p.data.len(), limit)?;
+        check_size("brick table", p.table.len(), limit)?;
+        check_size("super-voxels", p.supervoxels.len() * 4, limit)?;
+        let bufs = [
+            gpu.storage_buffer("media", bytemuck::cast_slice(&media)),
+            gpu.storage_buffer("brick_table", bytemuck::cast_slice(&p.table)),
+            gpu.storage_buffer("brick_constants", bytemuck::cast_slice(&p.constants)),
+            gpu.storage_buffer("brick_data", bytemuck::cast_slice(&p.data)),
+            gpu.storage_buffer("supervoxels", bytemuck::cast_slice(&p.supervoxels)),
+        ];
+        let bytes = bufs.iter().map(|b| b.size()).sum();
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..bufs.len() as u32)
+            .map(|binding| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: true },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        let bind_group_layout =
+            gpu.device
+                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("media"),
+                    entries: &entries,
+                });
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("media"),
+            layout: &bind_group_layout,
+            entries: &bufs
+                .iter()
+                .enumerate()
+                .map(|(i, b)| wgpu::BindGroupEntry {
+                    binding: i as u32,
+                    resource: b.as_entire_binding(),
+                })
+                .collect::<Vec<_>>(),
+        });
+        Ok(SceneBuffers {
+            media,
+            bind_group_layout,
+            bind_group,
+            bytes,
+        })
+    }
+}
+
+fn pack_medium(m: &Medium, camera: glam::Vec3, p: &mut Packed) -> Result<MediumGpu, GpuError> {
+    let (offsets, precision, dims) = match &m.data {
+        DensityData::F16(g) => (
+            pack_grid(g, p, |d| {
+                d.chunks(2)
+                    .map(|c| {
+                        let lo = c[0].to_bits() as u32;
+                        let hi = c.get(1).map_or(0, |h| h.to_bits() as u32);
+                        lo | (hi << 16)
+                    })
+                    .collect()
+            }),
+            0,
+            g.dims(),
+        ),
+        DensityData::F32(g) => (
+            pack_grid(g, p, |d| d.iter().map(|v| v.to_bits()).collect()),
+            1,
+            g.dims(),
+        ),
+        DensityData::Analytic(_) => {
+            return Err(GpuError(
+                "analytic media are CPU-only; use a voxel grid (cloud, vdb, vol, raw)".into(),
+            ))
+        }
+    };
+    let sv_offset = p.supervoxels.len() as u32;
+    p.supervoxels.extend(
+        m.supervoxels
+            .cells
+            .iter()
+            .map(|c| [c.min, c.max, c.mean, c.importance]),
+    );
+    let a = m.world_to_index;
+    let (x, y, z, t) = (
+        a.matrix3.x_axis,
+        a.matrix3.y_axis,
+        a.matrix3.z_axis,
+        a.translation,
+    );
+    let row = |r: usize| [x[r] as f32, y[r] as f32, z[r] as f32, t[r] as f32];
+    Ok(MediumGpu {
+        w2i: [row(0), row(1), row(2)],
+        dims,
+        filter: match m.filter {
+            Filter::Nearest => 0,
+            Filter::Trilinear => 1,
+            Filter::StochasticTrilinear => 2,
+        },
+        bdims: dims.map(|d| d.div_ceil(8)),
+        precision,
+        sv_dims: m.supervoxels.dims,
+        sv_size: m.supervoxels.size as f32,
+        scale: m.sigma_t_scale,
+        table_offset: offsets.0,
+        constants_offset: offsets.1,
+        data_offset: offsets.2,
+        sv_offset,
+        pad: [0; 3],
+        camera_index: {
+            let c = a.transform_point3(camera.as_dvec3()).as_vec3();
+            [c.x, c.y, c.z, 1.0]
+        },
+    })
+}

@@ -1,0 +1,295 @@
+//! Integrator `transmittance` on the GPU: the same image as the CPU's
+//! `integrators::transmittance` (same scene, seed, sample indices and random
+//! streams), accumulated on the device and read back once.
+
+use crate::scene_buffers::SceneBuffers;
+use crate::shaders;
+use crate::{Gpu, GpuError};
+use bytemuck::{Pod, Zeroable};
+use fogbank_estimators::Estimator;
+use fogbank_render::scene::IntegratorKind;
+use fogbank_render::{Film, Progress, RenderOptions, Scene};
+use std::sync::atomic::Ordering;
+use std::time::Instant;
+
+/// The estimators with a WGSL port, and their `ESTIMATOR` constant.
+pub fn estimator_id(e: Estimator) -> Option<u32> {
+    match e {
+        Estimator::RegularTracking => Some(0),
+        Estimator::TrackLength => Some(1),
+        Estimator::RatioTracking => Some(2),
+        _ => None,
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct Frame {
+    cam_origin: [f32; 4],
+    cam_forward: [f32; 4],
+    cam_right: [f32; 4],
+    cam_up: [f32; 4],
+    background: [f32; 4],
+    tan_half: [f32; 2],
+    width: u32,
+    height: u32,
+    seed: u32,
+    first_sample: u32,
+    sample_count: u32,
+    media_count: u32,
+    pixel_jitter: u32,
+    pad: [u32; 3],
+}
+
+pub struct GpuRender {
+    pub film: Film,
+    /// Wall-clock seconds of the render loop (upload excluded).
+    pub seconds: f64,
+    /// Kernel time from timestamp queries, when the device has them.
+    pub gpu_ms: Option<f64>,
+    pub interrupted: bool,
+    pub upload_bytes: u64,
+}
+
+/// Samples per pixel per dispatch: short dispatches keep the desktop
+/// responsive and cancellation prompt.
+const SAMPLES_PER_DISPATCH: u32 = 4;
+const MAX_TIMED_DISPATCHES: u32 = 2048;
+
+pub fn render(
+    gpu: &Gpu,
+    scene: &Scene,
+    opts: &RenderOptions,
+    progress: &Progress,
+) -> Result<GpuRender, GpuError> {
+    let IntegratorKind::Transmittance {
+        estimator,
+        background,
+    } = &scene.integrator
+    else {
+        return Err(GpuError(format!(
+            "integrator `{}` has no GPU kernel yet (available on the GPU: transmittance)",
+            scene.integrator.name()
+        )));
+    };
+    let id = estimator_id(*estimator).ok_or_else(|| {
+        GpuError(format!(
+            "estimator `{}` has no GPU kernel yet (available on the GPU: regular_tracking, track_length, ratio_tracking)",
+            estimator.name()
+        ))
+    })?;
+    let media = SceneBuffers::upload(gpu, scene)?;
+    let device = &gpu.device;
+    let module = gpu.checked("transmittance kernel", || {
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("transmittance"),
+            source: wgpu::ShaderSource::Wgsl(shaders::transmittance_kernel().into()),
+        })
+    })?;
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let pixels = (w as u64) * (h as u64);
+    let frame_buf = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("frame"),
+        size: std::mem::size_of::<Frame>() as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let zeroed = |label: &str, size: u64| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        })
+    };
+    let sum = zeroed("accum_sum", pixels * 16);
+    let sq = zeroed("accum_sq", pixels * 16);
+    let lookups = zeroed("accum_lookups", pixels * 4);
+    let storage_rw = |binding| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: false },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("frame"),
+        entries: &[
+            wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            },
+            storage_rw(1),
+            storage_rw(2),
+            storage_rw(3),
+        ],
+    });
+    let frame_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("frame"),
+        layout: &frame_layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: frame_buf.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: sum.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: sq.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: lookups.as_entire_binding(),
+            },
+        ],
+    });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("transmittance"),
+        bind_group_layouts: &[Some(&media.bind_group_layout), Some(&frame_layout)],
+        immediate_size: 0,
+    });
+    let pipeline = gpu.checked("transmittance pipeline", || {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("transmittance"),
+            layout: Some(&layout),
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &[("ESTIMATOR", id as f64)],
+                ..Default::default()
+            },
+            cache: None,
+        })
+    })?;
+    let (origin, forward, right, up, tan_half) = scene.camera.basis();
+    let v4 = |v: glam::Vec3| [v.x, v.y, v.z, 0.0];
+    let mut frame = Frame {
+        cam_origin: v4(origin),
+        cam_forward: v4(forward),
+        cam_right: v4(right),
+        cam_up: v4(up),
+        background: v4(*background),
+        tan_half,
+        width: w,
+        height: h,
+        seed: opts.seed,
+        first_sample: 0,
+        sample_count: 0,
+        media_count: media.media.len() as u32,
+        pixel_jitter: scene.desc.render.pixel_jitter as u32,
+        pad: [0; 3],
+    };
+    let dispatches = opts.spp.div_ceil(SAMPLES_PER_DISPATCH);
+    let timed = gpu.timestamps && dispatches <= MAX_TIMED_DISPATCHES && dispatches > 0;
+    let queries = timed.then(|| {
+        let set = device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("kernel time"),
+            ty: wgpu::QueryType::Timestamp,
+            count: 2 * dispatches,
+        });
+        let resolve = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamps"),
+            size: 16 * dispatches as u64,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        (set, resolve)
+    });
+    let start = Instant::now();
+    let mut interrupted = false;
+    let mut done = 0u32;
+    let mut issued = 0u32;
+    while done < opts.spp {
+        if progress.cancel.load(Ordering::Relaxed) {
+            interrupted = true;
+            break;
+        }
+        if opts.time_budget.is_some_and(|b| start.elapsed() >= b) {
+            break;
+        }
+        let n = SAMPLES_PER_DISPATCH.min(opts.spp - done);
+        frame.first_sample = done;
+        frame.sample_count = n;
+        gpu.queue
+            .write_buffer(&frame_buf, 0, bytemuck::bytes_of(&frame));
+        let mut enc = device.create_command_encoder(&Default::default());
+        {
+            let tw = queries
+                .as_ref()
+                .map(|(set, _)| wgpu::ComputePassTimestampWrites {
+                    query_set: set,
+                    beginning_of_pass_write_index: Some(2 * issued),
+                    end_of_pass_write_index: Some(2 * issued + 1),
+                });
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("transmittance"),
+                timestamp_writes: tw,
+            });
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &media.bind_group, &[]);
+            pass.set_bind_group(1, &frame_group, &[]);
+            pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+        }
+        gpu.queue.submit([enc.finish()]);
+        // Wait, so progress, cancellation and the time budget see real time.
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError(format!("device poll failed: {e}")))?;
+        issued += 1;
+        done += n;
+        progress
+            .samples_done
+            .fetch_add(n as u64 * pixels, Ordering::Relaxed);
+        progress.passes_done.fetch_add(n as u64, Ordering::Relaxed);
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    let gpu_ms = match &queries {
+        Some((set, resolve)) if issued > 0 => {
+            let mut enc = device.create_command_encoder(&Default::default());
+            enc.resolve_query_set(set, 0..2 * issued, resolve, 0);
+            gpu.queue.submit([enc.finish()]);
+            let raw = gpu.read_back(resolve)?;
+            let ticks: &[u64] = bytemuck::cast_slice(&raw[..16 * issued as usize]);
+            let period = gpu.queue.get_timestamp_period() as f64;
+            Some(
+                ticks
+                    .chunks(2)
+                    .map(|c| c[1].saturating_sub(c[0]) as f64)
+                    .sum::<f64>()
+                    * period
+                    * 1e-6,
+            )
+        }
+        _ => None,
+    };
+    let sums: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_back(&sum)?).to_vec();
+    let sqs: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_back(&sq)?).to_vec();
+    let looks: Vec<u32> = bytemuck::cast_slice(&gpu.read_back(&lookups)?).to_vec();
+    let mut film = Film::new(w, h);
+    for i in 0..pixels as usize {
+        film.sum[i] = [0, 1, 2].map(|c| sums[i][c] as f64);
+        film.sum_sq[i] = [0, 1, 2].map(|c| sqs[i][c] as f64);
+        film.count[i] = sums[i][3] as u32;
+        film.nan_samples += sqs[i][3] as u64;
+        film.lookups += looks[i] as u64;
+    }
+    Ok(GpuRender {
+        film,
+        seconds,
+        gpu_ms,
+        interrupted,
+        upload_bytes: media.bytes,
+    })
+}

@@ -1,0 +1,117 @@
+// Integrator `transmittance` (seed 000 §6.1): per pixel and sample, the
+// transmittance of the primary ray through all media times the background,
+// accumulated on the device over `sample_count` samples per dispatch.
+
+const EST_REGULAR_TRACKING: u32 = 0u;
+const EST_TRACK_LENGTH: u32 = 1u;
+const EST_RATIO_TRACKING: u32 = 2u;
+
+override ESTIMATOR: u32 = 2u;
+
+struct Frame {
+    cam_origin: vec4<f32>,
+    cam_forward: vec4<f32>,
+    cam_right: vec4<f32>,
+    cam_up: vec4<f32>,
+    background: vec4<f32>,
+    tan_half: vec2<f32>,
+    width: u32,
+    height: u32,
+    seed: u32,
+    first_sample: u32,
+    sample_count: u32,
+    media_count: u32,
+    pixel_jitter: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}
+
+@group(1) @binding(0) var<uniform> frame: Frame;
+// Per pixel: Σ radiance (rgb) and the finite sample count (w); Σ radiance²
+// (rgb) and the dropped non-finite samples (w).
+@group(1) @binding(1) var<storage, read_write> accum_sum: array<vec4<f32>>;
+@group(1) @binding(2) var<storage, read_write> accum_sq: array<vec4<f32>>;
+@group(1) @binding(3) var<storage, read_write> accum_lookups: array<u32>;
+
+// By bit pattern: WGSL lets compilers assume floats are finite, so x != x
+// may be folded away.
+fn is_finite3(v: vec3<f32>) -> bool {
+    let e = bitcast<vec3<u32>>(v) & vec3<u32>(0x7f800000u);
+    return all(e != vec3<u32>(0x7f800000u));
+}
+
+const DIM_CAMERA: u32 = 0u;
+const DIM_ESTIMATOR: u32 = 1u;
+
+// integrators::primary_ray + Camera::ray
+fn primary_ray(x: u32, y: u32, pixel: u32, sample: u32) -> Ray {
+    var j = vec2<f32>(0.5, 0.5);
+    if (frame.pixel_jitter != 0u) {
+        var cam = sample_rng(frame.seed, pixel, sample, DIM_CAMERA);
+        let jx = pcg32_next_f32(&cam);
+        let jy = pcg32_next_f32(&cam);
+        j = vec2<f32>(jx, jy);
+    }
+    let fx = f32(x) + j.x;
+    let fy = f32(y) + j.y;
+    let sx = (2.0 * fx / f32(frame.width) - 1.0) * frame.tan_half.x;
+    let sy = (1.0 - 2.0 * fy / f32(frame.height)) * frame.tan_half.y;
+    var r: Ray;
+    r.o = frame.cam_origin.xyz;
+    r.d = normalize(frame.cam_forward.xyz + sx * frame.cam_right.xyz + sy * frame.cam_up.xyz);
+    return r;
+}
+
+fn estimate(m: MediumGpu, r: Ray, t0: f32, t1: f32,
+            rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    switch ESTIMATOR {
+        case EST_REGULAR_TRACKING: {
+            return regular_tracking(m, r, t0, t1, lookups);
+        }
+        case EST_TRACK_LENGTH: {
+            return track_length(m, r, t0, t1, rng, lookups);
+        }
+        default: {
+            return ratio_tracking(m, r, t0, t1, rng, lookups);
+        }
+    }
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= frame.width || gid.y >= frame.height) {
+        return;
+    }
+    let pixel = gid.y * frame.width + gid.x;
+    var sum = vec3<f32>(0.0);
+    var sq = vec3<f32>(0.0);
+    var lookups = 0u;
+    var count = 0.0;
+    var nonfinite = 0.0;
+    for (var k = 0u; k < frame.sample_count; k++) {
+        let sample = frame.first_sample + k;
+        let world = primary_ray(gid.x, gid.y, pixel, sample);
+        var rng = sample_rng(frame.seed, pixel, sample, DIM_ESTIMATOR);
+        var tr = 1.0;
+        for (var i = 0u; i < frame.media_count; i++) {
+            let m = media[i];
+            var r: Ray;
+            let range = to_index_from_camera(m, world, F32_INF, &r);
+            if (range.z != 0.0) {
+                tr *= estimate(m, r, range.x, range.y, &rng, &lookups);
+            }
+        }
+        let v = frame.background.xyz * tr;
+        if (is_finite3(v)) {
+            sum += v;
+            sq += v * v;
+            count += 1.0;
+        } else {
+            nonfinite += 1.0;
+        }
+    }
+    accum_sum[pixel] += vec4<f32>(sum, count);
+    accum_sq[pixel] += vec4<f32>(sq, nonfinite);
+    accum_lookups[pixel] += lookups;
+}

@@ -1,0 +1,185 @@
+//! The GPU backend against the CPU reference: bit-identical random streams,
+//! deterministic estimators to 1e-4, stochastic ones under the per-pixel
+//! z-test at equal spp with matching lookup counts. Runs on any wgpu
+//! adapter (lavapipe in CI); skips with a message when there is none,
+//! unless FOGBANK_REQUIRE_GPU=1.
+
+use fogbank_eval::image_io::Image;
+use fogbank_eval::metrics::ztest::ztest;
+use fogbank_gpu::{diagnostics, test_gpu, transmittance};
+use fogbank_math::SampleKey;
+use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene};
+use std::path::Path;
+
+#[test]
+fn pcg_streams_are_bit_identical() {
+    let Some(gpu) = test_gpu() else { return };
+    let keys: Vec<SampleKey> = (0..300u32)
+        .map(|i| SampleKey {
+            seed: i.wrapping_mul(2_654_435_761),
+            pixel: i * 7919,
+            sample: i % 17,
+            dimension: if i % 5 == 0 { u32::MAX - i } else { i % 3 },
+        })
+        .collect();
+    let gpu_words = diagnostics::rng_streams(&gpu, &keys, 40).unwrap();
+    for (k, key) in keys.iter().enumerate() {
+        let mut rng = key.rng();
+        for i in 0..40 {
+            assert_eq!(
+                gpu_words[k * 40 + i],
+                rng.next_u32(),
+                "key {key:?}, word {i}"
+            );
+        }
+    }
+}
+
+fn scene(extra: &[&str]) -> Scene {
+    let text = "[camera]\nwidth = 24\nheight = 18\nfov = 28.0\n\
+        [[media]]\ndensity = { procedural = \"cloud\", resolution = 40, seed = 5 }\nsigma_t_scale = 14.0\n\
+        [[media]]\ndensity = { procedural = \"cloud\", resolution = 24, seed = 9 }\nsigma_t_scale = 6.0\n\
+        precision = \"f32\"\nto_world = { translate = [0.2, 0.1, 0.0], rotate = [0.0, 1.0, 0.3, 35.0], scale = 0.7 }\n\
+        [integrator]\ntype = \"transmittance\"\n";
+    let extra: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
+    Scene::build(parse_scene(text, "test", &extra).unwrap(), Path::new(".")).unwrap()
+}
+
+fn opts(spp: u32, seed: u32) -> RenderOptions {
+    RenderOptions {
+        spp,
+        seed,
+        time_budget: None,
+    }
+}
+
+/// The film as an image for the z-test. The variance gets a floor of
+/// (1e-5 · value)²: GPU rays are transformed in f32 (the CPU uses f64), so
+/// a grazing ray can meet a near-empty voxel on one side only, and a pixel
+/// that is exactly 1 on the CPU may be 0.9999996 on the GPU with no noise
+/// on either side.
+fn image(f: &Film) -> Image {
+    let rgb = f.mean();
+    let variance = f
+        .variance_of_mean()
+        .iter()
+        .zip(&rgb)
+        .map(|(v, m)| [0, 1, 2].map(|c| v[c].max((1e-5 * m[c]).powi(2))))
+        .collect();
+    Image {
+        width: f.width as usize,
+        height: f.height as usize,
+        rgb,
+        variance: Some(variance),
+        is_srgb8: false,
+    }
+}
+
+#[test]
+fn regular_tracking_matches_the_cpu_to_1e4() {
+    let Some(gpu) = test_gpu() else { return };
+    for filter in ["nearest", "stochastic_trilinear"] {
+        let s = scene(&[
+            "integrator.estimator=regular_tracking",
+            &format!("media.0.filter={filter}"),
+            "render.pixel_jitter=false",
+        ]);
+        let cpu = render(&s, &opts(2, 1), &Progress::default()).film;
+        let g = transmittance::render(&gpu, &s, &opts(2, 1), &Progress::default()).unwrap();
+        let (a, b) = (cpu.mean(), g.film.mean());
+        let mut varying = 0;
+        for i in 0..a.len() {
+            let (x, y) = (a[i][0], b[i][0]);
+            assert!(
+                (x - y).abs() <= 1e-4 * x.abs().max(1e-3),
+                "{filter} pixel {i}: cpu {x} gpu {y}"
+            );
+            varying += (x < 0.999) as u32;
+        }
+        assert!(
+            varying > 100,
+            "the media must cover the image ({varying} pixels)"
+        );
+        assert_eq!(cpu.lookups, g.film.lookups, "{filter}");
+    }
+}
+
+#[test]
+fn stochastic_estimators_agree_with_the_cpu() {
+    let Some(gpu) = test_gpu() else { return };
+    for estimator in ["track_length", "ratio_tracking"] {
+        for filter in ["nearest", "trilinear", "stochastic_trilinear"] {
+            let s = scene(&[
+                &format!("integrator.estimator={estimator}"),
+                &format!("media.0.filter={filter}"),
+            ]);
+            let cpu = render(&s, &opts(256, 3), &Progress::default()).film;
+            let g = transmittance::render(&gpu, &s, &opts(256, 4), &Progress::default()).unwrap();
+            assert_eq!(
+                g.film.count.iter().map(|&c| c as u64).sum::<u64>(),
+                24 * 18 * 256
+            );
+            let z = ztest(&image(&cpu), &image(&g.film)).unwrap();
+            if !z.pass {
+                for (i, m) in z.map.iter().enumerate() {
+                    if *m > 3.0 {
+                        eprintln!(
+                            "pixel {i}: z {m} cpu {:?} var {:?} gpu {:?} var {:?}",
+                            cpu.mean()[i],
+                            cpu.variance_of_mean()[i],
+                            g.film.mean()[i],
+                            g.film.variance_of_mean()[i]
+                        );
+                    }
+                }
+            }
+            assert!(
+                z.pass,
+                "{estimator}/{filter}: {} failing pixels, max |z| {:.2} at {:?}",
+                z.failing_pixels, z.max_abs_z, z.max_abs_z_pixel
+            );
+            let (lc, lg) = (cpu.lookups as f64, g.film.lookups as f64);
+            assert!(
+                (lc - lg).abs() <= 0.02 * lc,
+                "{estimator}/{filter}: lookups cpu {lc} gpu {lg}"
+            );
+        }
+    }
+}
+
+/// Same seed, same streams: most pixels of a stochastic estimator come out
+/// identical on both (a float rounding can flip a rare comparison).
+#[test]
+fn same_seed_gives_mostly_identical_samples() {
+    let Some(gpu) = test_gpu() else { return };
+    let s = scene(&[
+        "integrator.estimator=ratio_tracking",
+        "media.0.filter=nearest",
+    ]);
+    let cpu = render(&s, &opts(1, 7), &Progress::default()).film;
+    let g = transmittance::render(&gpu, &s, &opts(1, 7), &Progress::default()).unwrap();
+    let close = (0..cpu.sum.len())
+        .filter(|&i| (cpu.sum[i][0] - g.film.sum[i][0]).abs() <= 1e-3)
+        .count();
+    assert!(
+        close * 10 >= cpu.sum.len() * 9,
+        "{close} of {} pixels agree",
+        cpu.sum.len()
+    );
+}
+
+#[test]
+fn unsupported_work_is_a_clear_error() {
+    let Some(gpu) = test_gpu() else { return };
+    let s = scene(&["integrator.estimator=jackknife"]);
+    let e = transmittance::render(&gpu, &s, &opts(1, 0), &Progress::default())
+        .err()
+        .unwrap();
+    assert!(e.0.contains("jackknife"), "{e}");
+    let t = "[[media]]\ndensity = { procedural = \"constant\" }\n[integrator]\nestimator = \"ratio_tracking\"\n";
+    let s = Scene::build(parse_scene(t, "t", &[]).unwrap(), Path::new(".")).unwrap();
+    let e = transmittance::render(&gpu, &s, &opts(1, 0), &Progress::default())
+        .err()
+        .unwrap();
+    assert!(e.0.contains("analytic"), "{e}");
+}
