@@ -59,6 +59,7 @@ pub enum IntegratorKind {
         background: Vec3,
     },
     VolPath(crate::integrators::volpath::VolPath),
+    PointMis(crate::integrators::point_mis::PointMis),
 }
 
 impl IntegratorKind {
@@ -66,6 +67,7 @@ impl IntegratorKind {
         match self {
             IntegratorKind::Transmittance { .. } => "transmittance",
             IntegratorKind::VolPath(_) => "volpath",
+            IntegratorKind::PointMis(_) => "point_mis",
         }
     }
     /// The transmittance estimator (for `volpath`: the NEE estimator).
@@ -73,6 +75,7 @@ impl IntegratorKind {
         match self {
             IntegratorKind::Transmittance { estimator, .. } => *estimator,
             IntegratorKind::VolPath(v) => v.nee,
+            IntegratorKind::PointMis(p) => p.nee,
         }
     }
     pub fn estimator_name(&self) -> &'static str {
@@ -89,6 +92,12 @@ impl IntegratorKind {
                 IntegratorKind::VolPath(crate::integrators::volpath::VolPath {
                     nee: e,
                     ..v.clone()
+                })
+            }
+            IntegratorKind::PointMis(p) => {
+                IntegratorKind::PointMis(crate::integrators::point_mis::PointMis {
+                    nee: e,
+                    ..p.clone()
                 })
             }
         }
@@ -510,6 +519,19 @@ impl Scene {
                 })
             })
             .collect::<Result<Vec<_>, SceneError>>()?;
+        if desc.integrator.ty != "point_mis" {
+            if let Some(key) = [
+                ("strategy", desc.integrator.strategy.is_some()),
+                ("mis_samples", desc.integrator.mis_samples.is_some()),
+            ]
+            .iter()
+            .find_map(|(k, set)| set.then_some(k))
+            {
+                return Err(SceneError(format!(
+                    "integrator.{key}: only used by integrator.type = \"point_mis\""
+                )));
+            }
+        }
         let integrator = match desc.integrator.ty.as_str() {
             "transmittance" => {
                 let estimator = Estimator::with_options(
@@ -523,9 +545,12 @@ impl Scene {
                 }
             }
             "volpath" => IntegratorKind::VolPath(volpath_settings(&desc, &media, &lights)?),
+            "point_mis" => IntegratorKind::PointMis(crate::integrators::point_mis::settings(
+                &desc, &media, &lights,
+            )?),
             other => {
                 return Err(SceneError(format!(
-                "integrator.type: unknown integrator `{other}` (available: transmittance, volpath)"
+                "integrator.type: unknown integrator `{other}` (available: transmittance, volpath, point_mis)"
             )))
             }
         };

@@ -1,6 +1,7 @@
 //! Integrators: one file each. An integrator maps a pixel sample (a key for
 //! its random streams) to radiance and the lookups it cost.
 
+pub mod point_mis;
 pub mod transmittance;
 pub mod volpath;
 
@@ -43,5 +44,6 @@ pub fn sample_pixel(scene: &Scene, x: u32, y: u32, key: SampleKey) -> PixelSampl
             background,
         } => transmittance::sample(scene, *estimator, *background, x, y, key),
         IntegratorKind::VolPath(v) => v.sample(scene, x, y, key),
+        IntegratorKind::PointMis(p) => p.sample(scene, x, y, key),
     }
 }
