@@ -5,6 +5,7 @@
 //! streams) and its trial count can be overridden.
 
 pub mod distributions;
+pub mod fig12;
 pub mod fig14;
 pub mod fig2;
 pub mod fig3;
@@ -32,7 +33,7 @@ pub struct ExperimentReport {
 /// The experiment names `run` accepts.
 pub fn names() -> &'static [&'static str] {
     &[
-        "fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "table1", "fig14",
+        "fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig12", "table1", "fig14",
     ]
 }
 
@@ -55,6 +56,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "fig6" => fig4::run(&mut w, trials, fig4::Variant::Sparse),
         "fig5" => fig5::run(&mut w, trials),
         "fig7" => fig7::run(&mut w, trials),
+        "fig12" => fig12::run(&mut w, trials),
         "table1" => table1::run(&mut w, trials),
         "fig14" => fig14::run(&mut w, trials),
         _ => {
@@ -102,6 +104,15 @@ impl Writer {
             s.push('\n');
         }
         self.text(file, &s)
+    }
+
+    /// Where `file` goes, for writers of other formats (then [`Writer::record`]).
+    pub fn path(&self, file: &str) -> PathBuf {
+        self.out.join(file)
+    }
+
+    pub fn record(&mut self, path: PathBuf) {
+        self.files.push(path);
     }
 
     pub fn figure(&mut self, stem: &str, fig: &crate::plot::Figure) -> Result<(), String> {
