@@ -5,7 +5,8 @@ use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct ExperimentArgs {
-    /// Experiment: fig2, fig3, fig4, fig5, fig6, fig7, table1 or fig14.
+    /// Experiment: fig2, fig3, fig4, fig5, fig6, fig7, fig12, table1 or fig14
+    /// (fig12: --trials is the reference's spp).
     pub name: String,
     /// Output directory (default: experiments/NAME).
     #[arg(long)]

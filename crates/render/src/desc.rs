@@ -262,9 +262,11 @@ fn default_falloff() -> f32 {
 
 /// | key | default | meaning |
 /// |---|---|---|
-/// | `type` | `"transmittance"` | the integrator: `transmittance` or `volpath` |
-/// | `estimator` | `"ratio_tracking"` | transmittance estimator by name (`fogbank estimators`); for `volpath` the NEE estimator |
+/// | `type` | `"transmittance"` | the integrator: `transmittance`, `volpath` or `point_mis` |
+/// | `estimator` | `"ratio_tracking"` | transmittance estimator by name (`fogbank estimators`); for `volpath` the NEE estimator, for `point_mis` the light ray's |
 /// | `distance_sampler`, `max_depth`, `rr_depth`, `preset` | delta_tracking, 64, 3, – | `volpath` only |
+/// | `strategy` | `"mis_jackknife"` | `point_mis` only: `free_flight`, `equiangular`, `mis_miller`, `mis_naive`, `mis_jackknife`, `mis_jackknife_biased` |
+/// | `mis_samples` | 10 | `point_mis` only: lookups N per optical-depth estimate of the MIS weights |
 /// | `background` | (1, 1, 1) | radiance behind the media; the image is T · background |
 /// | `samples`, `mode`, `step`, `jitter`, `mult`, `doubled`, `clip` | per estimator | estimator options (`fogbank estimators`) |
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
@@ -300,6 +302,12 @@ pub struct IntegratorDesc {
     /// `volpath`: `baseline` = decomposition tracking + residual ratio tracking (seed 002's baseline).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub preset: Option<String>,
+    /// `point_mis`: distance-sampling strategy (default `mis_jackknife`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub strategy: Option<String>,
+    /// `point_mis`: N per optical-depth estimate of the MIS weights (default 10).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mis_samples: Option<u32>,
 }
 
 impl Default for IntegratorDesc {
@@ -319,6 +327,8 @@ impl Default for IntegratorDesc {
             max_depth: None,
             rr_depth: None,
             preset: None,
+            strategy: None,
+            mis_samples: None,
         }
     }
 }

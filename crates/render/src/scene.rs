@@ -90,6 +90,7 @@ pub enum IntegratorKind {
     },
     Direct(Direct),
     VolPath(VolPath),
+    PointMis(crate::integrators::point_mis::PointMis),
 }
 
 impl IntegratorKind {
@@ -98,6 +99,7 @@ impl IntegratorKind {
             IntegratorKind::Transmittance { .. } => "transmittance",
             IntegratorKind::Direct(_) => "direct",
             IntegratorKind::VolPath(_) => "volpath",
+            IntegratorKind::PointMis(_) => "point_mis",
         }
     }
     /// The transmittance estimator (for `volpath`: the NEE estimator).
@@ -106,6 +108,7 @@ impl IntegratorKind {
             IntegratorKind::Transmittance { estimator, .. } => *estimator,
             IntegratorKind::Direct(d) => d.nee,
             IntegratorKind::VolPath(v) => v.nee,
+            IntegratorKind::PointMis(p) => p.nee,
         }
     }
     pub fn estimator_name(&self) -> &'static str {
@@ -126,6 +129,12 @@ impl IntegratorKind {
                 nee: e,
                 ..v.clone()
             }),
+            IntegratorKind::PointMis(p) => {
+                IntegratorKind::PointMis(crate::integrators::point_mis::PointMis {
+                    nee: e,
+                    ..p.clone()
+                })
+            }
         }
     }
 }
@@ -580,6 +589,19 @@ impl Scene {
                 })
             })
             .collect::<Result<Vec<_>, SceneError>>()?;
+        if desc.integrator.ty != "point_mis" {
+            if let Some(key) = [
+                ("strategy", desc.integrator.strategy.is_some()),
+                ("mis_samples", desc.integrator.mis_samples.is_some()),
+            ]
+            .iter()
+            .find_map(|(k, set)| set.then_some(k))
+            {
+                return Err(SceneError(format!(
+                    "integrator.{key}: only used by integrator.type = \"point_mis\""
+                )));
+            }
+        }
         let integrator = match desc.integrator.ty.as_str() {
             "transmittance" => {
                 let estimator = Estimator::with_options(
@@ -603,9 +625,12 @@ impl Scene {
                 })
             }
             "volpath" => IntegratorKind::VolPath(volpath_settings(&desc, &media, &lights)?),
+            "point_mis" => IntegratorKind::PointMis(crate::integrators::point_mis::settings(
+                &desc, &media, &lights,
+            )?),
             other => {
                 return Err(SceneError(format!(
-                "integrator.type: unknown integrator `{other}` (available: transmittance, direct, volpath)"
+                "integrator.type: unknown integrator `{other}` (available: transmittance, direct, volpath, point_mis)"
             )))
             }
         };

@@ -8,6 +8,7 @@
 
 pub mod decomposition_tracking;
 pub mod delta_tracking;
+pub mod delta_tracking_ratio;
 pub mod equiangular;
 pub mod regular_tracking;
 

@@ -6,6 +6,7 @@
 
 pub mod distributions;
 pub mod fig1;
+pub mod fig12;
 pub mod fig14;
 pub mod fig2;
 pub mod fig3;
@@ -33,7 +34,7 @@ pub struct ExperimentReport {
 /// The experiment names `run` accepts.
 pub fn names() -> &'static [&'static str] {
     &[
-        "fig1", "fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "table1", "fig14",
+        "fig1", "fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig12", "table1", "fig14",
     ]
 }
 
@@ -57,6 +58,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "fig6" => fig4::run(&mut w, trials, fig4::Variant::Sparse),
         "fig5" => fig5::run(&mut w, trials),
         "fig7" => fig7::run(&mut w, trials),
+        "fig12" => fig12::run(&mut w, trials),
         "table1" => table1::run(&mut w, trials),
         "fig14" => fig14::run(&mut w, trials),
         _ => {

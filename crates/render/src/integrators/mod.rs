@@ -4,6 +4,7 @@
 pub mod direct;
 pub mod media;
 pub mod next_event;
+pub mod point_mis;
 pub mod transmittance;
 pub mod volpath;
 
@@ -47,5 +48,6 @@ pub fn sample_pixel(scene: &Scene, x: u32, y: u32, key: SampleKey) -> PixelSampl
         } => transmittance::sample(scene, *estimator, *background, x, y, key),
         IntegratorKind::Direct(d) => d.sample(scene, x, y, key),
         IntegratorKind::VolPath(v) => v.sample(scene, x, y, key),
+        IntegratorKind::PointMis(p) => p.sample(scene, x, y, key),
     }
 }

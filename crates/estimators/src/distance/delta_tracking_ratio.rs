@@ -1,0 +1,65 @@
+//! Delta tracking that also reports the ratio-tracking weight of its own
+//! null collisions, for the MIS of Miller et al. 2019 as seed 000 §6.2
+//! reduces it: "For free-flight sampling, T_rt(t1) reuses the null-scattering
+//! events of delta tracking", T_rt(t) = Π_{j<k} (1 − μ(t'_j)/μ̂(t'_j)).
+//!
+//! The tentative collisions are those of [`crate::null_collisions::walk`]
+//! with the super-voxel maximum as rate, exactly the process of
+//! [`super::delta_tracking`] and [`crate::ratio_tracking`], so ratio tracking
+//! along `[t0, t]` for another distance sample describes the same null path
+//! space (Miller et al.'s pdfs then share every factor but the last).
+
+use crate::null_collisions::walk;
+use fogbank_math::{Pcg32, Ray};
+use fogbank_volume::VolumeAccess;
+
+/// A delta-tracking sample with its null-collision record.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrackedFreeFlight {
+    /// Real collision, `None` when the walk left `[t0, t1]`.
+    pub t: Option<f32>,
+    /// σ_t read at the real collision (0 on escape).
+    pub mu: f32,
+    /// Π (1 − μ/μ̂) over the null collisions before `t` (over all of them
+    /// on escape): the ratio-tracking estimate T_rt(t).
+    pub ratio: f32,
+    pub lookups: u32,
+}
+
+pub fn sample<V: VolumeAccess>(
+    v: &V,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    rng: &mut Pcg32,
+) -> TrackedFreeFlight {
+    let mut out = TrackedFreeFlight {
+        t: None,
+        mu: 0.0,
+        ratio: 1.0,
+        lookups: 0,
+    };
+    let mut lookups = 0;
+    walk(
+        v,
+        ray,
+        t0,
+        t1,
+        rng,
+        &mut lookups,
+        |s, _| (s.max, 0.0),
+        |t, mu, sigma_maj, _, rng| {
+            // Same acceptance test and draw order as `delta_tracking::sample`.
+            if rng.next_f32() * sigma_maj < mu {
+                out.t = Some(t);
+                out.mu = mu;
+                false
+            } else {
+                out.ratio *= 1.0 - mu / sigma_maj;
+                true
+            }
+        },
+    );
+    out.lookups = lookups;
+    out
+}
