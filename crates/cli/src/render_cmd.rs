@@ -42,6 +42,16 @@ pub struct RenderArgs {
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Where to render: `cpu` (the reference) or `gpu` (wgpu compute; fails
+    /// with a clear message when no adapter exists).
+    #[arg(long, value_enum, default_value_t = Device::Cpu)]
+    pub device: Device,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Device {
+    Cpu,
+    Gpu,
 }
 
 pub fn run(a: RenderArgs) -> CliResult {
@@ -82,6 +92,10 @@ pub fn run(a: RenderArgs) -> CliResult {
     };
     let pool = thread_pool(a.threads)?;
     let threads = pool.current_num_threads();
+    let gpu = match a.device {
+        Device::Cpu => None,
+        Device::Gpu => Some(fogbank_gpu::Gpu::new().map_err(|e| format!("--device gpu: {e}"))?),
+    };
 
     let progress = Arc::new(Progress::default());
     {
@@ -131,10 +145,24 @@ pub fn run(a: RenderArgs) -> CliResult {
                 std::thread::sleep(Duration::from_millis(100));
             }
         });
-        let r = pool.install(|| render(&scene, &opts, &progress));
+        let r = match &gpu {
+            None => Ok((pool.install(|| render(&scene, &opts, &progress)), None)),
+            Some(g) => fogbank_gpu::transmittance::render(g, &scene, &opts, &progress).map(|r| {
+                let gpu_ms = r.gpu_ms;
+                (
+                    fogbank_render::RenderResult {
+                        film: r.film,
+                        seconds: r.seconds,
+                        interrupted: r.interrupted,
+                    },
+                    Some(gpu_ms),
+                )
+            }),
+        };
         done.store(true, Ordering::Relaxed);
         r
     });
+    let (result, gpu_ms) = result.map_err(|e| format!("--device gpu: {e}"))?;
     bar.finish_and_clear();
 
     let film = &result.film;
@@ -207,6 +235,8 @@ pub fn run(a: RenderArgs) -> CliResult {
             "spp_requested": if spp == u32::MAX { serde_json::Value::Null } else { spp.into() },
             "seed": opts.seed,
             "threads": threads,
+            "device": gpu.as_ref().map_or("cpu".to_string(), |g| format!("gpu: {}", g.describe())),
+            "gpu_ms": gpu_ms.flatten(),
             "render_seconds": result.seconds,
             "interrupted": result.interrupted,
             "mean": m,
