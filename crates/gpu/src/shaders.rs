@@ -9,6 +9,11 @@ pub const REGULAR_TRACKING: &str = include_str!("wgsl/regular_tracking.wgsl");
 pub const NULL_COLLISIONS: &str = include_str!("wgsl/null_collisions.wgsl");
 pub const TRACK_LENGTH: &str = include_str!("wgsl/track_length.wgsl");
 pub const RATIO_TRACKING: &str = include_str!("wgsl/ratio_tracking.wgsl");
+pub const RESIDUAL_RATIO_TRACKING: &str = include_str!("wgsl/residual_ratio_tracking.wgsl");
+pub const ANALYTIC_TRILINEAR: &str = include_str!("wgsl/analytic_trilinear.wgsl");
+pub const OPTICAL_DEPTH: &str = include_str!("wgsl/optical_depth.wgsl");
+pub const JACKKNIFE: &str = include_str!("wgsl/jackknife.wgsl");
+pub const RAY_MARCHING: &str = include_str!("wgsl/ray_marching.wgsl");
 pub const RNG_STREAMS_KERNEL: &str = include_str!("wgsl/rng_streams_kernel.wgsl");
 pub const TRANSMITTANCE_KERNEL: &str = include_str!("wgsl/transmittance_kernel.wgsl");
 
@@ -22,6 +27,11 @@ pub fn estimators() -> String {
         NULL_COLLISIONS,
         TRACK_LENGTH,
         RATIO_TRACKING,
+        RESIDUAL_RATIO_TRACKING,
+        ANALYTIC_TRILINEAR,
+        OPTICAL_DEPTH,
+        JACKKNIFE,
+        RAY_MARCHING,
     ]
     .join("\n")
 }

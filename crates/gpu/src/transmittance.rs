@@ -6,20 +6,80 @@ use crate::scene_buffers::SceneBuffers;
 use crate::shaders;
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
+use fogbank_estimators::jackknife::StepMode;
+use fogbank_estimators::optical_depth::Jitter;
 use fogbank_estimators::Estimator;
 use fogbank_render::scene::IntegratorKind;
 use fogbank_render::{Film, Progress, RenderOptions, Scene};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
-/// The estimators with a WGSL port, and their `ESTIMATOR` constant.
-pub fn estimator_id(e: Estimator) -> Option<u32> {
-    match e {
-        Estimator::RegularTracking => Some(0),
-        Estimator::TrackLength => Some(1),
-        Estimator::RatioTracking => Some(2),
-        _ => None,
-    }
+/// A WGSL-ported estimator: its `ESTIMATOR` constant and the options the
+/// kernel reads from the frame (samples, fixed step or 0, flags).
+pub struct GpuEstimator {
+    pub id: u32,
+    pub samples: u32,
+    pub step: f32,
+    pub flags: u32,
+}
+
+const FLAG_UNIFORM_JITTER: u32 = 1;
+const FLAG_CLIP: u32 = 2;
+
+/// The estimators with a WGSL port (`None`: CPU only, for now).
+pub fn gpu_estimator(e: Estimator) -> Option<GpuEstimator> {
+    let jitter = |j: Jitter| {
+        if j == Jitter::Uniform {
+            FLAG_UNIFORM_JITTER
+        } else {
+            0
+        }
+    };
+    let plain = |id| GpuEstimator {
+        id,
+        samples: 0,
+        step: 0.0,
+        flags: 0,
+    };
+    Some(match e {
+        Estimator::RegularTracking => plain(0),
+        Estimator::TrackLength => plain(1),
+        Estimator::RatioTracking => plain(2),
+        Estimator::AnalyticTrilinear => plain(3),
+        Estimator::ResidualRatioTracking => plain(4),
+        Estimator::RayMarching { samples, clip } => GpuEstimator {
+            id: 5,
+            samples,
+            step: 0.0,
+            flags: if clip { FLAG_CLIP } else { 0 },
+        },
+        Estimator::Jackknife {
+            samples,
+            mode,
+            jitter: j,
+        } => GpuEstimator {
+            id: 6,
+            samples,
+            step: match mode {
+                StepMode::FixedCount => 0.0,
+                StepMode::FixedStep(s) => s.max(1e-6),
+            },
+            flags: jitter(j),
+        },
+        Estimator::JackknifeNaive { samples, jitter: j } => GpuEstimator {
+            id: 7,
+            samples,
+            step: 0.0,
+            flags: jitter(j),
+        },
+        Estimator::JackknifeMeanImportance { samples, jitter: j } => GpuEstimator {
+            id: 8,
+            samples,
+            step: 0.0,
+            flags: jitter(j),
+        },
+        Estimator::BiasedRayMarching { .. } | Estimator::UnbiasedRayMarching { .. } => return None,
+    })
 }
 
 #[repr(C)]
@@ -38,7 +98,9 @@ struct Frame {
     sample_count: u32,
     media_count: u32,
     pixel_jitter: u32,
-    pad: [u32; 3],
+    est_samples: u32,
+    est_step: f32,
+    est_flags: u32,
 }
 
 pub struct GpuRender {
@@ -72,9 +134,9 @@ pub fn render(
             scene.integrator.name()
         )));
     };
-    let id = estimator_id(*estimator).ok_or_else(|| {
+    let est = gpu_estimator(*estimator).ok_or_else(|| {
         GpuError(format!(
-            "estimator `{}` has no GPU kernel yet (available on the GPU: regular_tracking, track_length, ratio_tracking)",
+            "estimator `{}` has no GPU kernel yet (CPU only: biased_ray_marching, unbiased_ray_marching)",
             estimator.name()
         ))
     })?;
@@ -167,7 +229,7 @@ pub fn render(
             module: &module,
             entry_point: Some("main"),
             compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &[("ESTIMATOR", id as f64)],
+                constants: &[("ESTIMATOR", est.id as f64)],
                 ..Default::default()
             },
             cache: None,
@@ -189,7 +251,9 @@ pub fn render(
         sample_count: 0,
         media_count: media.media.len() as u32,
         pixel_jitter: scene.desc.render.pixel_jitter as u32,
-        pad: [0; 3],
+        est_samples: est.samples,
+        est_step: est.step,
+        est_flags: est.flags,
     };
     let dispatches = opts.spp.div_ceil(SAMPLES_PER_DISPATCH);
     let timed = gpu.timestamps && dispatches <= MAX_TIMED_DISPATCHES && dispatches > 0;

@@ -76,11 +76,15 @@ fn image(f: &Film) -> Image {
 }
 
 #[test]
-fn regular_tracking_matches_the_cpu_to_1e4() {
+fn deterministic_estimators_match_the_cpu_to_1e4() {
     let Some(gpu) = test_gpu() else { return };
-    for filter in ["nearest", "stochastic_trilinear"] {
+    for (estimator, filter) in [
+        ("regular_tracking", "nearest"),
+        ("regular_tracking", "stochastic_trilinear"),
+        ("analytic_trilinear", "trilinear"),
+    ] {
         let s = scene(&[
-            "integrator.estimator=regular_tracking",
+            &format!("integrator.estimator={estimator}"),
             &format!("media.0.filter={filter}"),
             "render.pixel_jitter=false",
         ]);
@@ -92,7 +96,7 @@ fn regular_tracking_matches_the_cpu_to_1e4() {
             let (x, y) = (a[i][0], b[i][0]);
             assert!(
                 (x - y).abs() <= 1e-4 * x.abs().max(1e-3),
-                "{filter} pixel {i}: cpu {x} gpu {y}"
+                "{estimator}/{filter} pixel {i}: cpu {x} gpu {y}"
             );
             varying += (x < 0.999) as u32;
         }
@@ -100,19 +104,46 @@ fn regular_tracking_matches_the_cpu_to_1e4() {
             varying > 100,
             "the media must cover the image ({varying} pixels)"
         );
-        assert_eq!(cpu.lookups, g.film.lookups, "{filter}");
+        // Zero-length dual-cell segments are skipped: f32 rounding may keep
+        // or skip a handful differently.
+        let (lc, lg) = (cpu.lookups as f64, g.film.lookups as f64);
+        assert!(
+            (lc - lg).abs() <= 1e-3 * lc,
+            "{estimator}/{filter}: lookups cpu {lc} gpu {lg}"
+        );
     }
 }
 
 #[test]
 fn stochastic_estimators_agree_with_the_cpu() {
     let Some(gpu) = test_gpu() else { return };
-    for estimator in ["track_length", "ratio_tracking"] {
+    let cases: &[(&str, &[&str])] = &[
+        ("track_length", &[]),
+        ("ratio_tracking", &[]),
+        ("residual_ratio_tracking", &[]),
+        ("ray_marching", &["integrator.samples=7"]),
+        ("ray_marching", &["integrator.clip=true"]),
+        ("jackknife", &[]),
+        (
+            "jackknife",
+            &["integrator.jitter=uniform", "integrator.samples=4"],
+        ),
+        (
+            "jackknife",
+            &["integrator.mode=fixed_step", "integrator.step=0.5"],
+        ),
+        ("jackknife_naive", &[]),
+        ("jackknife_mean_importance", &[]),
+    ];
+    for (estimator, options) in cases {
         for filter in ["nearest", "trilinear", "stochastic_trilinear"] {
-            let s = scene(&[
-                &format!("integrator.estimator={estimator}"),
-                &format!("media.0.filter={filter}"),
-            ]);
+            let mut args = vec![
+                format!("integrator.estimator={estimator}"),
+                format!("media.0.filter={filter}"),
+            ];
+            args.extend(options.iter().map(|o| o.to_string()));
+            let args: Vec<&str> = args.iter().map(String::as_str).collect();
+            let s = scene(&args);
             let cpu = render(&s, &opts(256, 3), &Progress::default()).film;
             let g = transmittance::render(&gpu, &s, &opts(256, 4), &Progress::default()).unwrap();
             assert_eq!(
@@ -135,13 +166,13 @@ fn stochastic_estimators_agree_with_the_cpu() {
             }
             assert!(
                 z.pass,
-                "{estimator}/{filter}: {} failing pixels, max |z| {:.2} at {:?}",
+                "{estimator} {options:?}/{filter}: {} failing pixels, max |z| {:.2} at {:?}",
                 z.failing_pixels, z.max_abs_z, z.max_abs_z_pixel
             );
             let (lc, lg) = (cpu.lookups as f64, g.film.lookups as f64);
             assert!(
                 (lc - lg).abs() <= 0.02 * lc,
-                "{estimator}/{filter}: lookups cpu {lc} gpu {lg}"
+                "{estimator} {options:?}/{filter}: lookups cpu {lc} gpu {lg}"
             );
         }
     }
@@ -171,11 +202,11 @@ fn same_seed_gives_mostly_identical_samples() {
 #[test]
 fn unsupported_work_is_a_clear_error() {
     let Some(gpu) = test_gpu() else { return };
-    let s = scene(&["integrator.estimator=jackknife"]);
+    let s = scene(&["integrator.estimator=biased_ray_marching"]);
     let e = transmittance::render(&gpu, &s, &opts(1, 0), &Progress::default())
         .err()
         .unwrap();
-    assert!(e.0.contains("jackknife"), "{e}");
+    assert!(e.0.contains("biased_ray_marching"), "{e}");
     let t = "[[media]]\ndensity = { procedural = \"constant\" }\n[integrator]\nestimator = \"ratio_tracking\"\n";
     let s = Scene::build(parse_scene(t, "t", &[]).unwrap(), Path::new(".")).unwrap();
     let e = transmittance::render(&gpu, &s, &opts(1, 0), &Progress::default())

@@ -1,17 +1,33 @@
-// fogbank_estimators::null_collisions::walk for the two estimators that
-// share it, over super-voxel majorants: track-length (stop at the first
-// real collision) and ratio tracking (multiply by 1 − μ/μ̄ at each event).
+// fogbank_estimators::null_collisions::walk for the estimators that share
+// it: track-length (stop at the first real collision) and ratio tracking
+// (multiply by 1 − μ/μ̄ at each event) over super-voxel majorants, and
+// residual ratio tracking (control μ_c per super-voxel, ratio tracking of
+// the residual with majorant max(μ_max − μ_c, μ_c − μ_min)).
 
 const WALK_TRACK_LENGTH: u32 = 0u;
 const WALK_RATIO: u32 = 1u;
+const WALK_RESIDUAL: u32 = 2u;
 
 fn null_collision_walk(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32,
                        rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
     var tr = 1.0;
+    var tau_c = 0.0;
+    // Super-voxel diagonal in ray-parameter units (residual control).
+    let diagonal = m.sv_size * sqrt(3.0) / max(length(r.d), 1.1754944e-38);
     var dda = dda_new(r, m.sv_size, m.sv_dims, t0, t1);
     var s: DdaStep;
     while (dda_next(&dda, &s)) {
-        let sigma_bar = supervoxel(m, s.cell).y;
+        let sv = supervoxel(m, s.cell);
+        var sigma_bar = sv.y;
+        var mu_c = 0.0;
+        if (mode == WALK_RESIDUAL) {
+            if (sv.y <= 0.0) {
+                continue;
+            }
+            mu_c = control_extinction(sv, diagonal);
+            tau_c += (s.t1 - s.t0) * mu_c;
+            sigma_bar = max(sv.y - mu_c, mu_c - sv.x);
+        }
         if (sigma_bar <= 0.0) {
             continue;
         }
@@ -26,6 +42,8 @@ fn null_collision_walk(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32,
                 if (!(pcg32_next_f32(rng) * sigma_bar >= mu)) {
                     return 0.0;
                 }
+            } else if (mode == WALK_RESIDUAL) {
+                tr *= 1.0 - (mu - mu_c) / sigma_bar;
             } else {
                 tr *= 1.0 - mu / sigma_bar;
                 if (tr == 0.0) {
@@ -34,5 +52,19 @@ fn null_collision_walk(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32,
             }
         }
     }
+    if (mode == WALK_RESIDUAL) {
+        return exp(-tau_c) * tr;
+    }
     return tr;
+}
+
+// residual_ratio_tracking::control_extinction: a control between the
+// super-voxel's minimum and mean that keeps the residual majorant small.
+fn control_extinction(sv: vec4<f32>, d: f32) -> f32 {
+    let delta = sv.y - sv.x;
+    if (delta <= 0.0) {
+        return sv.x;
+    }
+    let c = sv.x + delta * (exp2(1.0 / (d * delta)) - 1.0);
+    return min(sv.z, max(c, sv.x));
 }

@@ -5,6 +5,16 @@
 const EST_REGULAR_TRACKING: u32 = 0u;
 const EST_TRACK_LENGTH: u32 = 1u;
 const EST_RATIO_TRACKING: u32 = 2u;
+const EST_ANALYTIC_TRILINEAR: u32 = 3u;
+const EST_RESIDUAL_RATIO_TRACKING: u32 = 4u;
+const EST_RAY_MARCHING: u32 = 5u;
+const EST_JACKKNIFE: u32 = 6u;
+const EST_JACKKNIFE_NAIVE: u32 = 7u;
+const EST_JACKKNIFE_MEAN_IMPORTANCE: u32 = 8u;
+
+// Bits of `Frame::est_flags`.
+const FLAG_UNIFORM_JITTER: u32 = 1u;
+const FLAG_CLIP: u32 = 2u;
 
 override ESTIMATOR: u32 = 2u;
 
@@ -22,9 +32,10 @@ struct Frame {
     sample_count: u32,
     media_count: u32,
     pixel_jitter: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
+    // Estimator options: sample count N, fixed step (0: fixed count), flags.
+    est_samples: u32,
+    est_step: f32,
+    est_flags: u32,
 }
 
 @group(1) @binding(0) var<uniform> frame: Frame;
@@ -65,6 +76,7 @@ fn primary_ray(x: u32, y: u32, pixel: u32, sample: u32) -> Ray {
 
 fn estimate(m: MediumGpu, r: Ray, t0: f32, t1: f32,
             rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    let uniform = (frame.est_flags & FLAG_UNIFORM_JITTER) != 0u;
     switch ESTIMATOR {
         case EST_REGULAR_TRACKING: {
             return regular_tracking(m, r, t0, t1, lookups);
@@ -72,8 +84,26 @@ fn estimate(m: MediumGpu, r: Ray, t0: f32, t1: f32,
         case EST_TRACK_LENGTH: {
             return track_length(m, r, t0, t1, rng, lookups);
         }
-        default: {
+        case EST_RATIO_TRACKING: {
             return ratio_tracking(m, r, t0, t1, rng, lookups);
+        }
+        case EST_ANALYTIC_TRILINEAR: {
+            return analytic_trilinear(m, r, t0, t1, lookups);
+        }
+        case EST_RESIDUAL_RATIO_TRACKING: {
+            return residual_ratio_tracking(m, r, t0, t1, rng, lookups);
+        }
+        case EST_RAY_MARCHING: {
+            return ray_marching(m, r, t0, t1, frame.est_samples, (frame.est_flags & FLAG_CLIP) != 0u, rng, lookups);
+        }
+        case EST_JACKKNIFE: {
+            return jackknife(m, r, t0, t1, frame.est_samples, frame.est_step, false, uniform, rng, lookups);
+        }
+        case EST_JACKKNIFE_NAIVE: {
+            return jackknife_naive(m, r, t0, t1, frame.est_samples, uniform, rng, lookups);
+        }
+        default: {
+            return jackknife(m, r, t0, t1, frame.est_samples, 0.0, true, uniform, rng, lookups);
         }
     }
 }

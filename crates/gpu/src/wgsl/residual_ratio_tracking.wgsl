@@ -1,0 +1,5 @@
+// fogbank_estimators::residual_ratio_tracking (Novák et al. 2014).
+fn residual_ratio_tracking(m: MediumGpu, r: Ray, t0: f32, t1: f32,
+                           rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    return null_collision_walk(m, r, t0, t1, WALK_RESIDUAL, rng, lookups);
+}
