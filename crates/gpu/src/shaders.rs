@@ -14,6 +14,7 @@ pub const ANALYTIC_TRILINEAR: &str = include_str!("wgsl/analytic_trilinear.wgsl"
 pub const OPTICAL_DEPTH: &str = include_str!("wgsl/optical_depth.wgsl");
 pub const JACKKNIFE: &str = include_str!("wgsl/jackknife.wgsl");
 pub const RAY_MARCHING: &str = include_str!("wgsl/ray_marching.wgsl");
+pub const KETTUNEN: &str = include_str!("wgsl/kettunen.wgsl");
 pub const RNG_STREAMS_KERNEL: &str = include_str!("wgsl/rng_streams_kernel.wgsl");
 pub const TRANSMITTANCE_KERNEL: &str = include_str!("wgsl/transmittance_kernel.wgsl");
 
@@ -32,6 +33,7 @@ pub fn estimators() -> String {
         OPTICAL_DEPTH,
         JACKKNIFE,
         RAY_MARCHING,
+        KETTUNEN,
     ]
     .join("\n")
 }

@@ -25,8 +25,9 @@ pub struct GpuEstimator {
 
 const FLAG_UNIFORM_JITTER: u32 = 1;
 const FLAG_CLIP: u32 = 2;
+const FLAG_DOUBLED: u32 = 4;
 
-/// The estimators with a WGSL port (`None`: CPU only, for now).
+/// Every estimator has a WGSL port; `None` is kept for future CPU-only ones.
 pub fn gpu_estimator(e: Estimator) -> Option<GpuEstimator> {
     let jitter = |j: Jitter| {
         if j == Jitter::Uniform {
@@ -78,7 +79,18 @@ pub fn gpu_estimator(e: Estimator) -> Option<GpuEstimator> {
             step: 0.0,
             flags: jitter(j),
         },
-        Estimator::BiasedRayMarching { .. } | Estimator::UnbiasedRayMarching { .. } => return None,
+        Estimator::BiasedRayMarching { doubled } => GpuEstimator {
+            id: 9,
+            samples: 0,
+            step: 0.0,
+            flags: if doubled { FLAG_DOUBLED } else { 0 },
+        },
+        Estimator::UnbiasedRayMarching { mult } => GpuEstimator {
+            id: 10,
+            samples: mult,
+            step: 0.0,
+            flags: 0,
+        },
     })
 }
 
@@ -136,7 +148,7 @@ pub fn render(
     };
     let est = gpu_estimator(*estimator).ok_or_else(|| {
         GpuError(format!(
-            "estimator `{}` has no GPU kernel yet (CPU only: biased_ray_marching, unbiased_ray_marching)",
+            "estimator `{}` has no GPU kernel",
             estimator.name()
         ))
     })?;

@@ -11,10 +11,13 @@ const EST_RAY_MARCHING: u32 = 5u;
 const EST_JACKKNIFE: u32 = 6u;
 const EST_JACKKNIFE_NAIVE: u32 = 7u;
 const EST_JACKKNIFE_MEAN_IMPORTANCE: u32 = 8u;
+const EST_BIASED_RAY_MARCHING: u32 = 9u;
+const EST_UNBIASED_RAY_MARCHING: u32 = 10u;
 
 // Bits of `Frame::est_flags`.
 const FLAG_UNIFORM_JITTER: u32 = 1u;
 const FLAG_CLIP: u32 = 2u;
+const FLAG_DOUBLED: u32 = 4u;
 
 override ESTIMATOR: u32 = 2u;
 
@@ -101,6 +104,12 @@ fn estimate(m: MediumGpu, r: Ray, t0: f32, t1: f32,
         }
         case EST_JACKKNIFE_NAIVE: {
             return jackknife_naive(m, r, t0, t1, frame.est_samples, uniform, rng, lookups);
+        }
+        case EST_BIASED_RAY_MARCHING: {
+            return biased_ray_marching(m, r, t0, t1, (frame.est_flags & FLAG_DOUBLED) != 0u, rng, lookups);
+        }
+        case EST_UNBIASED_RAY_MARCHING: {
+            return unbiased_ray_marching(m, r, t0, t1, frame.est_samples, rng, lookups);
         }
         default: {
             return jackknife(m, r, t0, t1, frame.est_samples, 0.0, true, uniform, rng, lookups);
