@@ -39,6 +39,10 @@ pub struct BenchArgs {
     /// Frames for the bias/std measurement.
     #[arg(long, default_value_t = 2048)]
     pub stats_frames: u32,
+    /// Devices to time, comma separated: `cpu` (at each of --threads) and/or
+    /// `gpu` (wgpu; kernel time from timestamp queries when available).
+    #[arg(long, default_value = "cpu", value_delimiter = ',')]
+    pub device: Vec<String>,
     /// Also write the table as JSON.
     #[arg(long)]
     pub json: Option<std::path::PathBuf>,
@@ -113,14 +117,33 @@ pub fn run(a: BenchArgs) -> CliResult {
     } else {
         vec![None; estimators.len()]
     };
+    for d in &a.device {
+        if d != "cpu" && d != "gpu" {
+            return Err(format!("--device: `{d}` is not cpu or gpu").into());
+        }
+    }
+    let gpu = if a.device.iter().any(|d| d == "gpu") {
+        let g = fogbank_gpu::Gpu::new().map_err(|e| format!("--device gpu: {e}"))?;
+        eprintln!("GPU: {}", g.describe());
+        Some(g)
+    } else {
+        None
+    };
     let rays = (a.size as u64 * a.size as u64 * a.frames as u64) as f64;
     println!(
-        "| estimator | threads | ms/frame | Mrays/s | lookups/ray | mean abs bias | mean std |"
+        "| estimator | threads (or gpu) | ms/frame | Mrays/s | lookups/ray | mean abs bias | mean std |"
     );
     println!("|---|---:|---:|---:|---:|---:|---:|");
     let mut rows = Vec::new();
-    for &threads in &a.threads {
-        let pool = thread_pool(Some(threads))?;
+    let mut runs: Vec<Option<usize>> = Vec::new();
+    if a.device.iter().any(|d| d == "cpu") {
+        runs.extend(a.threads.iter().map(|&t| Some(t)));
+    }
+    if gpu.is_some() {
+        runs.push(None);
+    }
+    for threads in runs {
+        let pool = thread_pool(Some(threads.unwrap_or(1)))?;
         for (i, e) in estimators.iter().copied().enumerate() {
             scene.integrator = fogbank_render::scene::IntegratorKind::Transmittance {
                 estimator: e,
@@ -131,18 +154,35 @@ pub fn run(a: BenchArgs) -> CliResult {
                 seed: 1,
                 time_budget: None,
             };
-            let r = pool.install(|| render(&scene, &opts, &Progress::default()));
-            let ms = r.seconds * 1000.0 / a.frames as f64;
-            let mrays = rays / r.seconds / 1e6;
-            let lpr = r.film.lookups as f64 / rays;
+            let (film, seconds) = match (threads, &gpu) {
+                (Some(_), _) | (None, None) => {
+                    let r = pool.install(|| render(&scene, &opts, &Progress::default()));
+                    (r.film, r.seconds)
+                }
+                (None, Some(g)) => {
+                    // One untimed frame first: pipeline compilation and upload.
+                    let warm = RenderOptions {
+                        spp: 1,
+                        ..opts.clone()
+                    };
+                    fogbank_gpu::transmittance::render(g, &scene, &warm, &Progress::default())?;
+                    let r =
+                        fogbank_gpu::transmittance::render(g, &scene, &opts, &Progress::default())?;
+                    (r.film, r.gpu_ms.map_or(r.seconds, |ms| ms / 1000.0))
+                }
+            };
+            let ms = seconds * 1000.0 / a.frames as f64;
+            let mrays = rays / seconds / 1e6;
+            let lpr = film.lookups as f64 / rays;
             let (bias, std) = accuracy[i]
                 .map_or(("–".to_string(), "–".to_string()), |(b, s)| {
                     (format!("{b:.5}"), format!("{s:.4}"))
                 });
+            let device = threads.map_or("gpu".to_string(), |t| t.to_string());
             println!(
                 "| {} | {} | {:.1} | {:.2} | {:.1} | {} | {} |",
                 e.name(),
-                threads,
+                device,
                 ms,
                 mrays,
                 lpr,
@@ -150,7 +190,7 @@ pub fn run(a: BenchArgs) -> CliResult {
                 std
             );
             rows.push(serde_json::json!({
-                "estimator": e.name(), "threads": threads, "ms_per_frame": ms, "mrays_per_s": mrays,
+                "estimator": e.name(), "threads": device, "ms_per_frame": ms, "mrays_per_s": mrays,
                 "lookups_per_ray": lpr,
                 "mean_abs_bias": accuracy[i].map(|v| v.0), "mean_std": accuracy[i].map(|v| v.1),
             }));
