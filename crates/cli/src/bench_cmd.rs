@@ -165,9 +165,8 @@ pub fn run(a: BenchArgs) -> CliResult {
                         spp: 1,
                         ..opts.clone()
                     };
-                    fogbank_gpu::transmittance::render(g, &scene, &warm, &Progress::default())?;
-                    let r =
-                        fogbank_gpu::transmittance::render(g, &scene, &opts, &Progress::default())?;
+                    fogbank_gpu::render::render(g, &scene, &warm, &Progress::default())?;
+                    let r = fogbank_gpu::render::render(g, &scene, &opts, &Progress::default())?;
                     (r.film, r.gpu_ms.map_or(r.seconds, |ms| ms / 1000.0))
                 }
             };

@@ -147,7 +147,7 @@ pub fn run(a: RenderArgs) -> CliResult {
         });
         let r = match &gpu {
             None => Ok((pool.install(|| render(&scene, &opts, &progress)), None)),
-            Some(g) => fogbank_gpu::transmittance::render(g, &scene, &opts, &progress).map(|r| {
+            Some(g) => fogbank_gpu::render::render(g, &scene, &opts, &progress).map(|r| {
                 let gpu_ms = r.gpu_ms;
                 (
                     fogbank_render::RenderResult {

@@ -10,9 +10,10 @@
 
 pub mod context;
 pub mod diagnostics;
+pub mod lights;
+pub mod render;
 pub mod scene_buffers;
 pub mod shaders;
-pub mod transmittance;
 
 pub use context::{Gpu, GpuError};
 

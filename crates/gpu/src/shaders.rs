@@ -16,6 +16,11 @@ pub const JACKKNIFE: &str = include_str!("wgsl/jackknife.wgsl");
 pub const RAY_MARCHING: &str = include_str!("wgsl/ray_marching.wgsl");
 pub const KETTUNEN: &str = include_str!("wgsl/kettunen.wgsl");
 pub const RNG_STREAMS_KERNEL: &str = include_str!("wgsl/rng_streams_kernel.wgsl");
+pub const FRAME: &str = include_str!("wgsl/frame.wgsl");
+pub const DISTANCE: &str = include_str!("wgsl/distance.wgsl");
+pub const PHASE: &str = include_str!("wgsl/phase.wgsl");
+pub const LIGHTS: &str = include_str!("wgsl/lights.wgsl");
+pub const SCATTER_KERNEL: &str = include_str!("wgsl/scatter_kernel.wgsl");
 pub const TRANSMITTANCE_KERNEL: &str = include_str!("wgsl/transmittance_kernel.wgsl");
 
 /// Every estimator's source, after the shared media code.
@@ -39,5 +44,18 @@ pub fn estimators() -> String {
 }
 
 pub fn transmittance_kernel() -> String {
-    format!("{}\n{}", estimators(), TRANSMITTANCE_KERNEL)
+    [&estimators(), FRAME, TRANSMITTANCE_KERNEL].join("\n")
+}
+
+/// `direct` and `volpath`.
+pub fn scatter_kernel() -> String {
+    [
+        &estimators(),
+        FRAME,
+        DISTANCE,
+        PHASE,
+        LIGHTS,
+        SCATTER_KERNEL,
+    ]
+    .join("\n")
 }

@@ -6,7 +6,7 @@
 
 use fogbank_eval::image_io::Image;
 use fogbank_eval::metrics::ztest::ztest;
-use fogbank_gpu::{diagnostics, test_gpu, transmittance};
+use fogbank_gpu::{diagnostics, render as gpu_render, test_gpu};
 use fogbank_math::SampleKey;
 use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene};
 use std::path::Path;
@@ -89,7 +89,7 @@ fn deterministic_estimators_match_the_cpu_to_1e4() {
             "render.pixel_jitter=false",
         ]);
         let cpu = render(&s, &opts(2, 1), &Progress::default()).film;
-        let g = transmittance::render(&gpu, &s, &opts(2, 1), &Progress::default()).unwrap();
+        let g = gpu_render::render(&gpu, &s, &opts(2, 1), &Progress::default()).unwrap();
         let (a, b) = (cpu.mean(), g.film.mean());
         let mut varying = 0;
         for i in 0..a.len() {
@@ -149,7 +149,7 @@ fn stochastic_estimators_agree_with_the_cpu() {
             let args: Vec<&str> = args.iter().map(String::as_str).collect();
             let s = scene(&args);
             let cpu = render(&s, &opts(256, 3), &Progress::default()).film;
-            let g = transmittance::render(&gpu, &s, &opts(256, 4), &Progress::default()).unwrap();
+            let g = gpu_render::render(&gpu, &s, &opts(256, 4), &Progress::default()).unwrap();
             assert_eq!(
                 g.film.count.iter().map(|&c| c as u64).sum::<u64>(),
                 24 * 18 * 256
@@ -192,7 +192,7 @@ fn same_seed_gives_mostly_identical_samples() {
         "media.0.filter=nearest",
     ]);
     let cpu = render(&s, &opts(1, 7), &Progress::default()).film;
-    let g = transmittance::render(&gpu, &s, &opts(1, 7), &Progress::default()).unwrap();
+    let g = gpu_render::render(&gpu, &s, &opts(1, 7), &Progress::default()).unwrap();
     let close = (0..cpu.sum.len())
         .filter(|&i| (cpu.sum[i][0] - g.film.sum[i][0]).abs() <= 1e-3)
         .count();
@@ -208,7 +208,7 @@ fn unsupported_work_is_a_clear_error() {
     let Some(gpu) = test_gpu() else { return };
     let t = "[[media]]\ndensity = { procedural = \"constant\" }\n[integrator]\nestimator = \"ratio_tracking\"\n";
     let s = Scene::build(parse_scene(t, "t", &[]).unwrap(), Path::new(".")).unwrap();
-    let e = transmittance::render(&gpu, &s, &opts(1, 0), &Progress::default())
+    let e = gpu_render::render(&gpu, &s, &opts(1, 0), &Progress::default())
         .err()
         .unwrap();
     assert!(e.0.contains("analytic"), "{e}");

@@ -193,6 +193,20 @@ impl Envmap {
         })
     }
 
+    /// The flat arrays a GPU port needs: radiance per pixel, the row CDF
+    /// (height + 1) followed by the per-row column CDFs (height · (width + 1)),
+    /// the world → map rotation and ∫ Y dω.
+    pub fn gpu_layout(&self) -> (Vec<[f32; 4]>, Vec<f32>, Mat3, f32) {
+        let rgb = self.radiance.iter().map(|c| [c.x, c.y, c.z, 0.0]).collect();
+        let cdf = self
+            .row_cdf
+            .iter()
+            .chain(&self.col_cdf)
+            .map(|&c| c as f32)
+            .collect();
+        (rgb, cdf, self.to_local, self.luminance_integral as f32)
+    }
+
     pub fn width(&self) -> usize {
         self.width
     }

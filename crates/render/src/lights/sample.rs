@@ -191,6 +191,12 @@ impl LightSampler {
         Some((i, self.pmf(i)))
     }
 
+    /// The normalised CDF over the scene's lights (empty when no light has
+    /// power): what a GPU port needs to pick lights identically.
+    pub fn cdf(&self) -> &[f32] {
+        &self.cdf
+    }
+
     pub fn pmf(&self, i: usize) -> f32 {
         match i {
             0 => self.cdf.first().copied().unwrap_or(0.0),

@@ -1,6 +1,7 @@
-//! Integrator `transmittance` on the GPU: the same image as the CPU's
-//! `integrators::transmittance` (same scene, seed, sample indices and random
-//! streams), accumulated on the device and read back once.
+//! The progressive render loop on the GPU for the integrators with a WGSL
+//! kernel (`transmittance`, `direct`, `volpath`): the same image as the
+//! CPU's (same scene, seed, sample indices and random streams), accumulated
+//! on the device and read back once.
 
 use crate::scene_buffers::SceneBuffers;
 use crate::shaders;
@@ -113,6 +114,76 @@ struct Frame {
     est_samples: u32,
     est_step: f32,
     est_flags: u32,
+    max_depth: u32,
+    rr_depth: u32,
+    sampler: u32,
+    pad0: u32,
+}
+
+/// What the integrator asks of the kernels.
+struct Kernel {
+    scatter: bool,
+    estimator: Estimator,
+    background: glam::Vec3,
+    max_depth: u32,
+    rr_depth: u32,
+    sampler: u32,
+}
+
+impl Kernel {
+    fn of(scene: &Scene) -> Result<Kernel, GpuError> {
+        use fogbank_render::integrators::media::DistanceSampler;
+        let sampler = |s: DistanceSampler| match s {
+            DistanceSampler::DeltaTracking => 0,
+            DistanceSampler::DecompositionTracking => 1,
+            DistanceSampler::RegularTracking => 2,
+        };
+        let k = match &scene.integrator {
+            IntegratorKind::Transmittance {
+                estimator,
+                background,
+            } => Kernel {
+                scatter: false,
+                estimator: *estimator,
+                background: *background,
+                max_depth: 0,
+                rr_depth: 0,
+                sampler: 0,
+            },
+            IntegratorKind::Direct(d) => Kernel {
+                scatter: true,
+                estimator: d.nee,
+                background: glam::Vec3::ZERO,
+                max_depth: 1,
+                rr_depth: u32::MAX,
+                sampler: sampler(d.distance),
+            },
+            IntegratorKind::VolPath(v) => Kernel {
+                scatter: true,
+                estimator: v.nee,
+                background: glam::Vec3::ZERO,
+                max_depth: v.max_depth,
+                rr_depth: v.rr_depth,
+                sampler: sampler(v.distance),
+            },
+            other => {
+                return Err(GpuError(format!(
+                    "integrator `{}` has no GPU kernel yet (on the GPU: transmittance, direct, volpath)",
+                    other.name()
+                )))
+            }
+        };
+        if k.scatter {
+            for (i, m) in scene.media.iter().enumerate() {
+                if m.albedo_grid.is_some() || m.emission.is_some() {
+                    return Err(GpuError(format!(
+                        "media.{i}: albedo grids and emission are CPU-only for now"
+                    )));
+                }
+            }
+        }
+        Ok(k)
+    }
 }
 
 pub struct GpuRender {
@@ -136,28 +207,29 @@ pub fn render(
     opts: &RenderOptions,
     progress: &Progress,
 ) -> Result<GpuRender, GpuError> {
-    let IntegratorKind::Transmittance {
-        estimator,
-        background,
-    } = &scene.integrator
-    else {
-        return Err(GpuError(format!(
-            "integrator `{}` has no GPU kernel yet (available on the GPU: transmittance)",
-            scene.integrator.name()
-        )));
-    };
-    let est = gpu_estimator(*estimator).ok_or_else(|| {
+    let kernel = Kernel::of(scene)?;
+    let est = gpu_estimator(kernel.estimator).ok_or_else(|| {
         GpuError(format!(
             "estimator `{}` has no GPU kernel",
-            estimator.name()
+            kernel.estimator.name()
         ))
     })?;
     let media = SceneBuffers::upload(gpu, scene)?;
     let device = &gpu.device;
-    let module = gpu.checked("transmittance kernel", || {
+    let lights = if kernel.scatter {
+        Some(crate::lights::LightBuffers::upload(gpu, scene)?)
+    } else {
+        None
+    };
+    let source = if kernel.scatter {
+        shaders::scatter_kernel()
+    } else {
+        shaders::transmittance_kernel()
+    };
+    let module = gpu.checked("kernel", || {
         device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("transmittance"),
-            source: wgpu::ShaderSource::Wgsl(shaders::transmittance_kernel().into()),
+            label: Some(scene.integrator.name()),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
         })
     })?;
     let (w, h) = (scene.camera.width, scene.camera.height);
@@ -231,7 +303,11 @@ pub fn render(
     });
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("transmittance"),
-        bind_group_layouts: &[Some(&media.bind_group_layout), Some(&frame_layout)],
+        bind_group_layouts: &[
+            Some(&media.bind_group_layout),
+            Some(&frame_layout),
+            lights.as_ref().map(|l| &l.bind_group_layout),
+        ],
         immediate_size: 0,
     });
     let pipeline = gpu.checked("transmittance pipeline", || {
@@ -254,7 +330,7 @@ pub fn render(
         cam_forward: v4(forward),
         cam_right: v4(right),
         cam_up: v4(up),
-        background: v4(*background),
+        background: v4(kernel.background),
         tan_half,
         width: w,
         height: h,
@@ -266,6 +342,10 @@ pub fn render(
         est_samples: est.samples,
         est_step: est.step,
         est_flags: est.flags,
+        max_depth: kernel.max_depth,
+        rr_depth: kernel.rr_depth,
+        sampler: kernel.sampler,
+        pad0: 0,
     };
     let dispatches = opts.spp.div_ceil(SAMPLES_PER_DISPATCH);
     let timed = gpu.timestamps && dispatches <= MAX_TIMED_DISPATCHES && dispatches > 0;
@@ -310,12 +390,15 @@ pub fn render(
                     end_of_pass_write_index: Some(2 * issued + 1),
                 });
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("transmittance"),
+                label: Some("render"),
                 timestamp_writes: tw,
             });
             pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &media.bind_group, &[]);
             pass.set_bind_group(1, &frame_group, &[]);
+            if let Some(l) = &lights {
+                pass.set_bind_group(2, &l.bind_group, &[]);
+            }
             pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         }
         gpu.queue.submit([enc.finish()]);

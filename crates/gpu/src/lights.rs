@@ -1,0 +1,186 @@
+//! Bind group 2 of the scattering kernels: light records with their
+//! selection CDF, the environment map with its sampling CDFs, and each
+//! medium's albedo and phase (`wgsl/lights.wgsl`, `wgsl/scatter_kernel.wgsl`).
+
+use crate::{Gpu, GpuError};
+use bytemuck::{Pod, Zeroable};
+use fogbank_render::scene::{IntegratorKind, Light, Scene};
+use wgpu::util::DeviceExt;
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct LightGpu {
+    kind: u32,
+    pad: [u32; 3],
+    a: [f32; 4],
+    b: [f32; 4],
+    c: [f32; 4],
+    d: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct EnvParams {
+    to_local: [[f32; 4]; 3],
+    width: u32,
+    height: u32,
+    light_count: u32,
+    integral: f32,
+    pickable: u32,
+    pad: [u32; 3],
+}
+
+pub struct LightBuffers {
+    pub bind_group_layout: wgpu::BindGroupLayout,
+    pub bind_group: wgpu::BindGroup,
+}
+
+fn v4(v: glam::Vec3, w: f32) -> [f32; 4] {
+    [v.x, v.y, v.z, w]
+}
+
+impl LightBuffers {
+    pub fn upload(gpu: &Gpu, scene: &Scene) -> Result<LightBuffers, GpuError> {
+        let sampler = match &scene.integrator {
+            IntegratorKind::Direct(d) => &d.lights,
+            IntegratorKind::VolPath(v) => &v.lights,
+            _ => {
+                return Err(GpuError(
+                    "lights are uploaded for direct and volpath only".into(),
+                ))
+            }
+        };
+        let cdf = sampler.cdf();
+        let mut env = EnvParams {
+            to_local: [
+                [1.0, 0.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0, 0.0],
+                [0.0, 0.0, 1.0, 0.0],
+            ],
+            width: 1,
+            height: 1,
+            light_count: scene.lights.len() as u32,
+            integral: 0.0,
+            pickable: (!cdf.is_empty()) as u32,
+            pad: [0; 3],
+        };
+        let (mut env_rgb, mut env_cdf) = (vec![[0.0f32; 4]], vec![0.0f32, 1.0, 0.0, 1.0]);
+        let mut records = Vec::new();
+        let mut envmaps = 0;
+        for (i, l) in scene.lights.iter().enumerate() {
+            let (c, pmf) = (cdf.get(i).copied().unwrap_or(1.0), sampler.pmf(i));
+            let zero = [0.0; 4];
+            let rec = |kind, a, b, c4, d: [f32; 2]| LightGpu {
+                kind,
+                pad: [0; 3],
+                a,
+                b,
+                c: c4,
+                d: [d[0], d[1], c, pmf],
+            };
+            records.push(match l {
+                Light::Constant { radiance } => rec(0, zero, v4(*radiance, 0.0), zero, [0.0; 2]),
+                Light::Envmap(e) => {
+                    envmaps += 1;
+                    if envmaps > 1 {
+                        return Err(GpuError(format!(
+                            "lights.{i}: the GPU backend takes one environment map per scene"
+                        )));
+                    }
+                    let (rgb, cdfs, to_local, integral) = e.gpu_layout();
+                    env.width = e.width() as u32;
+                    env.height = e.height() as u32;
+                    env.integral = integral;
+                    env.to_local = [
+                        v4(to_local.row(0), 0.0),
+                        v4(to_local.row(1), 0.0),
+                        v4(to_local.row(2), 0.0),
+                    ];
+                    env_rgb = rgb;
+                    env_cdf = cdfs;
+                    rec(1, zero, zero, zero, [0.0; 2])
+                }
+                Light::Point {
+                    position,
+                    intensity,
+                } => rec(2, v4(*position, 1.0), v4(*intensity, 0.0), zero, [0.0; 2]),
+                Light::Directional {
+                    direction,
+                    irradiance,
+                } => rec(3, v4(*direction, 0.0), v4(*irradiance, 0.0), zero, [0.0; 2]),
+                Light::Spot {
+                    position,
+                    direction,
+                    intensity,
+                    cos_falloff_start,
+                    cos_total,
+                } => rec(
+                    4,
+                    v4(*position, 1.0),
+                    v4(*intensity, 0.0),
+                    v4(*direction, 0.0),
+                    [*cos_falloff_start, *cos_total],
+                ),
+            });
+        }
+        let shading: Vec<[f32; 4]> = scene
+            .media
+            .iter()
+            .map(|m| [m.albedo[0], m.albedo[1], m.albedo[2], m.phase_g])
+            .collect();
+        let lights_buf = gpu.storage_buffer("lights", bytemuck::cast_slice(&records));
+        let env_buf = gpu
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("env"),
+                contents: bytemuck::bytes_of(&env),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+        let rgb_buf = gpu.storage_buffer("env_rgb", bytemuck::cast_slice(&env_rgb));
+        let cdf_buf = gpu.storage_buffer("env_cdf", bytemuck::cast_slice(&env_cdf));
+        let shading_buf = gpu.storage_buffer("shading", bytemuck::cast_slice(&shading));
+        let entry = |binding, uniform: bool| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: if uniform {
+                    wgpu::BufferBindingType::Uniform
+                } else {
+                    wgpu::BufferBindingType::Storage { read_only: true }
+                },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let bind_group_layout =
+            gpu.device
+                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("lights"),
+                    entries: &[
+                        entry(0, false),
+                        entry(1, true),
+                        entry(2, false),
+                        entry(3, false),
+                        entry(4, false),
+                    ],
+                });
+        let bufs = [&lights_buf, &env_buf, &rgb_buf, &cdf_buf, &shading_buf];
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("lights"),
+            layout: &bind_group_layout,
+            entries: &bufs
+                .iter()
+                .enumerate()
+                .map(|(i, b)| wgpu::BindGroupEntry {
+                    binding: i as u32,
+                    resource: b.as_entire_binding(),
+                })
+                .collect::<Vec<_>>(),
+        });
+        Ok(LightBuffers {
+            bind_group_layout,
+            bind_group,
+        })
+    }
+}

@@ -1,0 +1,86 @@
+// fogbank_estimators::distance: free-flight samplers. Each returns the
+// collision's ray parameter, or −1 when the ray leaves [t0, t1].
+
+const NO_HIT: f32 = -1.0;
+
+// Delta tracking over super-voxel majorants.
+fn delta_tracking_sample(m: MediumGpu, r: Ray, t0: f32, t1: f32,
+                         rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    var dda = dda_new(r, m.sv_size, m.sv_dims, t0, t1);
+    var s: DdaStep;
+    while (dda_next(&dda, &s)) {
+        let sigma_bar = supervoxel(m, s.cell).y;
+        if (sigma_bar <= 0.0) {
+            continue;
+        }
+        var t = s.t0;
+        loop {
+            t += -log(1.0 - pcg32_next_f32(rng)) / sigma_bar;
+            if (t >= s.t1) {
+                break;
+            }
+            let mu = sigma_t(m, ray_at(r, t), rng, lookups);
+            if (pcg32_next_f32(rng) * sigma_bar < mu) {
+                return t;
+            }
+        }
+    }
+    return NO_HIT;
+}
+
+// Decomposition tracking (Kutz et al. 2017): the super-voxel minimum as a
+// homogeneous control, delta tracking of the residual.
+fn decomposition_tracking_sample(m: MediumGpu, r: Ray, t0: f32, t1: f32,
+                                 rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    var dda = dda_new(r, m.sv_size, m.sv_dims, t0, t1);
+    var s: DdaStep;
+    while (dda_next(&dda, &s)) {
+        let sv = supervoxel(m, s.cell);
+        if (sv.y <= 0.0) {
+            continue;
+        }
+        var t_control = F32_INF;
+        if (sv.x > 0.0) {
+            t_control = s.t0 + -log(1.0 - pcg32_next_f32(rng)) / sv.x;
+        }
+        let limit = min(t_control, s.t1);
+        let sigma_r = sv.y - sv.x;
+        if (sigma_r > 0.0) {
+            var t = s.t0;
+            loop {
+                t += -log(1.0 - pcg32_next_f32(rng)) / sigma_r;
+                if (t >= limit) {
+                    break;
+                }
+                let mu = sigma_t(m, ray_at(r, t), rng, lookups);
+                if (pcg32_next_f32(rng) * sigma_r < mu - sv.x) {
+                    return t;
+                }
+            }
+        }
+        if (t_control < s.t1) {
+            return t_control;
+        }
+    }
+    return NO_HIT;
+}
+
+// Regular tracking: invert the exact optical depth of the nearest-filtered
+// grid voxel by voxel.
+fn regular_tracking_sample(m: MediumGpu, r: Ray, t0: f32, t1: f32,
+                           rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    let tau_target = -log(1.0 - pcg32_next_f32(rng));
+    var tau = 0.0;
+    var dda = dda_new(r, 1.0, m.dims, t0, t1);
+    var s: DdaStep;
+    while (dda_next(&dda, &s)) {
+        *lookups += 1u;
+        let mu = m.scale * fetch(m, s.cell.x, s.cell.y, s.cell.z);
+        let d = mu * (s.t1 - s.t0);
+        if (tau + d >= tau_target && mu > 0.0) {
+            return clamp(s.t0 + (tau_target - tau) / mu, s.t0, s.t1);
+        }
+        tau += d;
+    }
+    return NO_HIT;
+}

@@ -1,0 +1,124 @@
+// The per-frame uniform, the device-side accumulation buffers, primary
+// rays and the transmittance-estimator switch, shared by every kernel.
+
+const EST_REGULAR_TRACKING: u32 = 0u;
+const EST_TRACK_LENGTH: u32 = 1u;
+const EST_RATIO_TRACKING: u32 = 2u;
+const EST_ANALYTIC_TRILINEAR: u32 = 3u;
+const EST_RESIDUAL_RATIO_TRACKING: u32 = 4u;
+const EST_RAY_MARCHING: u32 = 5u;
+const EST_JACKKNIFE: u32 = 6u;
+const EST_JACKKNIFE_NAIVE: u32 = 7u;
+const EST_JACKKNIFE_MEAN_IMPORTANCE: u32 = 8u;
+const EST_BIASED_RAY_MARCHING: u32 = 9u;
+const EST_UNBIASED_RAY_MARCHING: u32 = 10u;
+
+// Bits of `Frame::est_flags`.
+const FLAG_UNIFORM_JITTER: u32 = 1u;
+const FLAG_CLIP: u32 = 2u;
+const FLAG_DOUBLED: u32 = 4u;
+
+override ESTIMATOR: u32 = 2u;
+
+struct Frame {
+    cam_origin: vec4<f32>,
+    cam_forward: vec4<f32>,
+    cam_right: vec4<f32>,
+    cam_up: vec4<f32>,
+    background: vec4<f32>,
+    tan_half: vec2<f32>,
+    width: u32,
+    height: u32,
+    seed: u32,
+    first_sample: u32,
+    sample_count: u32,
+    media_count: u32,
+    pixel_jitter: u32,
+    // Estimator options: sample count N, fixed step (0: fixed count), flags.
+    est_samples: u32,
+    est_step: f32,
+    est_flags: u32,
+    // Scattering integrators: path length, first Russian-roulette bounce,
+    // distance sampler (0 delta, 1 decomposition, 2 regular tracking).
+    max_depth: u32,
+    rr_depth: u32,
+    sampler: u32,
+    pad0: u32,
+}
+
+@group(1) @binding(0) var<uniform> frame: Frame;
+// Per pixel: Σ radiance (rgb) and the finite sample count (w); Σ radiance²
+// (rgb) and the dropped non-finite samples (w).
+@group(1) @binding(1) var<storage, read_write> accum_sum: array<vec4<f32>>;
+@group(1) @binding(2) var<storage, read_write> accum_sq: array<vec4<f32>>;
+@group(1) @binding(3) var<storage, read_write> accum_lookups: array<u32>;
+
+// By bit pattern: WGSL lets compilers assume floats are finite, so x != x
+// may be folded away.
+fn is_finite3(v: vec3<f32>) -> bool {
+    let e = bitcast<vec3<u32>>(v) & vec3<u32>(0x7f800000u);
+    return all(e != vec3<u32>(0x7f800000u));
+}
+
+const DIM_CAMERA: u32 = 0u;
+const DIM_ESTIMATOR: u32 = 1u;
+
+// integrators::primary_ray + Camera::ray
+fn primary_ray(x: u32, y: u32, pixel: u32, sample: u32) -> Ray {
+    var j = vec2<f32>(0.5, 0.5);
+    if (frame.pixel_jitter != 0u) {
+        var cam = sample_rng(frame.seed, pixel, sample, DIM_CAMERA);
+        let jx = pcg32_next_f32(&cam);
+        let jy = pcg32_next_f32(&cam);
+        j = vec2<f32>(jx, jy);
+    }
+    let fx = f32(x) + j.x;
+    let fy = f32(y) + j.y;
+    let sx = (2.0 * fx / f32(frame.width) - 1.0) * frame.tan_half.x;
+    let sy = (1.0 - 2.0 * fy / f32(frame.height)) * frame.tan_half.y;
+    var r: Ray;
+    r.o = frame.cam_origin.xyz;
+    r.d = normalize(frame.cam_forward.xyz + sx * frame.cam_right.xyz + sy * frame.cam_up.xyz);
+    return r;
+}
+
+fn estimate(m: MediumGpu, r: Ray, t0: f32, t1: f32,
+            rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    let uniform = (frame.est_flags & FLAG_UNIFORM_JITTER) != 0u;
+    switch ESTIMATOR {
+        case EST_REGULAR_TRACKING: {
+            return regular_tracking(m, r, t0, t1, lookups);
+        }
+        case EST_TRACK_LENGTH: {
+            return track_length(m, r, t0, t1, rng, lookups);
+        }
+        case EST_RATIO_TRACKING: {
+            return ratio_tracking(m, r, t0, t1, rng, lookups);
+        }
+        case EST_ANALYTIC_TRILINEAR: {
+            return analytic_trilinear(m, r, t0, t1, lookups);
+        }
+        case EST_RESIDUAL_RATIO_TRACKING: {
+            return residual_ratio_tracking(m, r, t0, t1, rng, lookups);
+        }
+        case EST_RAY_MARCHING: {
+            return ray_marching(m, r, t0, t1, frame.est_samples, (frame.est_flags & FLAG_CLIP) != 0u, rng, lookups);
+        }
+        case EST_JACKKNIFE: {
+            return jackknife(m, r, t0, t1, frame.est_samples, frame.est_step, false, uniform, rng, lookups);
+        }
+        case EST_JACKKNIFE_NAIVE: {
+            return jackknife_naive(m, r, t0, t1, frame.est_samples, uniform, rng, lookups);
+        }
+        case EST_BIASED_RAY_MARCHING: {
+            return biased_ray_marching(m, r, t0, t1, (frame.est_flags & FLAG_DOUBLED) != 0u, rng, lookups);
+        }
+        case EST_UNBIASED_RAY_MARCHING: {
+            return unbiased_ray_marching(m, r, t0, t1, frame.est_samples, rng, lookups);
+        }
+        default: {
+            return jackknife(m, r, t0, t1, frame.est_samples, 0.0, true, uniform, rng, lookups);
+        }
+    }
+}
+

@@ -1,0 +1,219 @@
+// fogbank_render::lights: light records, selection by power (CDF), the
+// lat-long environment map (luminance × solid-angle 2D CDF, Mitsuba's
+// layout) and light sampling, as in lights/sample.rs and lights/envmap.rs.
+
+const LIGHT_CONSTANT: u32 = 0u;
+const LIGHT_ENVMAP: u32 = 1u;
+const LIGHT_POINT: u32 = 2u;
+const LIGHT_DIRECTIONAL: u32 = 3u;
+const LIGHT_SPOT: u32 = 4u;
+
+struct LightGpu {
+    kind: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+    a: vec4<f32>,   // position (point, spot) or direction (directional)
+    b: vec4<f32>,   // radiance / intensity / irradiance
+    c: vec4<f32>,   // spot: axis direction
+    d: vec4<f32>,   // spot: (cos_falloff_start, cos_total); z = CDF, w = pmf
+}
+
+struct EnvParams {
+    to_local0: vec4<f32>,
+    to_local1: vec4<f32>,
+    to_local2: vec4<f32>,
+    width: u32,
+    height: u32,
+    light_count: u32,
+    integral: f32,
+    // 0 when no light has power: the CPU's sampler then picks nothing.
+    pickable: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}
+
+@group(2) @binding(0) var<storage, read> lights: array<LightGpu>;
+@group(2) @binding(1) var<uniform> env: EnvParams;
+@group(2) @binding(2) var<storage, read> env_rgb: array<vec4<f32>>;
+// Row CDF (height + 1), then per row the column CDF (width + 1 each).
+@group(2) @binding(3) var<storage, read> env_cdf: array<f32>;
+
+fn luminance(c: vec3<f32>) -> f32 {
+    return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+}
+
+// LightSampler::pick: first light whose CDF exceeds u.
+fn pick_light(u: f32) -> u32 {
+    var i = 0u;
+    while (i + 1u < env.light_count && lights[i].d.z <= u) {
+        i++;
+    }
+    return i;
+}
+
+fn env_pixel(dir_world: vec3<f32>) -> u32 {
+    let d = vec3<f32>(dot(env.to_local0.xyz, dir_world), dot(env.to_local1.xyz, dir_world),
+                      dot(env.to_local2.xyz, dir_world));
+    let theta = atan2(sqrt(d.x * d.x + d.z * d.z), d.y);
+    var phi = atan2(d.x, -d.z);
+    if (phi < 0.0) {
+        phi += 2.0 * PI;
+    }
+    let row = min(u32(theta / PI * f32(env.height)), env.height - 1u);
+    let col = min(u32(phi / (2.0 * PI) * f32(env.width)), env.width - 1u);
+    return row * env.width + col;
+}
+
+fn env_pdf_of_pixel(p: u32) -> f32 {
+    if (env.integral > 0.0) {
+        return luminance(env_rgb[p].xyz) / env.integral;
+    }
+    return 0.0;
+}
+
+// sample_cdf over env_cdf[start .. start + n + 1]: (index, fraction).
+fn sample_cdf(start: u32, n: u32, u: f32) -> vec2<f32> {
+    var lo = 0u;
+    var hi = n;   // first k in [0, n) with cdf[start + k + 1] > u
+    while (lo < hi) {
+        let mid = (lo + hi) / 2u;
+        if (env_cdf[start + mid + 1u] <= u) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    let k = min(lo, n - 1u);
+    let width = env_cdf[start + k + 1u] - env_cdf[start + k];
+    var f = 0.5;
+    if (width > 0.0) {
+        f = clamp((u - env_cdf[start + k]) / width, 0.0, 1.0);
+    }
+    return vec2<f32>(f32(k), f);
+}
+
+fn to_world_dir(local: vec3<f32>) -> vec3<f32> {
+    // to_local is a rotation: its transpose maps back.
+    return normalize(env.to_local0.xyz * local.x + env.to_local1.xyz * local.y
+                     + env.to_local2.xyz * local.z);
+}
+
+struct LightSample {
+    wi: vec3<f32>,
+    radiance: vec3<f32>,
+    pdf: f32,
+    distance: f32,
+    is_delta: bool,
+    valid: bool,
+}
+
+const EDGE_MARGIN: f32 = 1e-4;
+
+fn envmap_sample(u0: f32, u1: f32) -> LightSample {
+    var ls: LightSample;
+    ls.distance = F32_INF;
+    ls.is_delta = false;
+    ls.valid = false;
+    if (env.integral <= 0.0) {
+        return ls;
+    }
+    let rv = sample_cdf(0u, env.height, u0);
+    let i = u32(rv.x);
+    let cu = sample_cdf(env.height + 1u + i * (env.width + 1u), env.width, u1);
+    let j = u32(cu.x);
+    let c0 = cos(PI * f32(i) / f32(env.height));
+    let c1 = cos(PI * f32(i + 1u) / f32(env.height));
+    let fv = clamp(rv.y, EDGE_MARGIN, 1.0 - EDGE_MARGIN);
+    let fu = clamp(cu.y, EDGE_MARGIN, 1.0 - EDGE_MARGIN);
+    let cos_theta = c0 + (c1 - c0) * fv;
+    let phi = 2.0 * PI * (f32(j) + fu) / f32(env.width);
+    let sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
+    let local = vec3<f32>(sin_theta * sin(phi), cos_theta, -sin_theta * cos(phi));
+    ls.wi = to_world_dir(local);
+    let p = env_pixel(ls.wi);
+    ls.radiance = env_rgb[p].xyz;
+    ls.pdf = env_pdf_of_pixel(p);
+    ls.valid = ls.pdf > 0.0;
+    return ls;
+}
+
+fn is_environment(l: LightGpu) -> bool {
+    return l.kind == LIGHT_CONSTANT || l.kind == LIGHT_ENVMAP;
+}
+
+fn light_le(l: LightGpu, dir: vec3<f32>) -> vec3<f32> {
+    if (l.kind == LIGHT_CONSTANT) {
+        return l.b.xyz;
+    }
+    if (l.kind == LIGHT_ENVMAP) {
+        return env_rgb[env_pixel(dir)].xyz;
+    }
+    return vec3<f32>(0.0);
+}
+
+fn light_pdf_li(l: LightGpu, dir: vec3<f32>) -> f32 {
+    if (l.kind == LIGHT_CONSTANT) {
+        return INV_4PI;
+    }
+    if (l.kind == LIGHT_ENVMAP) {
+        return env_pdf_of_pixel(env_pixel(dir));
+    }
+    return 0.0;
+}
+
+fn spot_falloff(cos_theta: f32, cos_start: f32, cos_total: f32) -> f32 {
+    if (cos_theta >= cos_start) {
+        return 1.0;
+    }
+    if (cos_theta <= cos_total || cos_start <= cos_total) {
+        return 0.0;
+    }
+    let x = (cos_theta - cos_total) / (cos_start - cos_total);
+    return x * x * (3.0 - 2.0 * x);
+}
+
+fn light_sample_li(l: LightGpu, p: vec3<f32>, u0: f32, u1: f32) -> LightSample {
+    var ls: LightSample;
+    ls.valid = false;
+    ls.is_delta = true;
+    ls.pdf = 1.0;
+    ls.distance = F32_INF;
+    switch l.kind {
+        case LIGHT_CONSTANT: {
+            let z = 1.0 - 2.0 * u0;
+            let r = sqrt(max(1.0 - z * z, 0.0));
+            let phi = 2.0 * PI * u1;
+            ls.wi = vec3<f32>(r * cos(phi), r * sin(phi), z);
+            ls.radiance = l.b.xyz;
+            ls.pdf = INV_4PI;
+            ls.is_delta = false;
+            ls.valid = true;
+        }
+        case LIGHT_ENVMAP: {
+            ls = envmap_sample(u0, u1);
+        }
+        case LIGHT_DIRECTIONAL: {
+            ls.wi = -l.a.xyz;
+            ls.radiance = l.b.xyz;
+            ls.valid = true;
+        }
+        default: {
+            let d = l.a.xyz - p;
+            let dist2 = dot(d, d);
+            if (dist2 > 0.0) {
+                let dist = sqrt(dist2);
+                ls.wi = d / dist;
+                ls.distance = dist;
+                var k = 1.0;
+                if (l.kind == LIGHT_SPOT) {
+                    k = spot_falloff(dot(l.c.xyz, -ls.wi), l.d.x, l.d.y);
+                }
+                ls.radiance = l.b.xyz * (k / dist2);
+                ls.valid = k > 0.0;
+            }
+        }
+    }
+    return ls;
+}

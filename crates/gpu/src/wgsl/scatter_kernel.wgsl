@@ -1,0 +1,213 @@
+// Integrators `direct` and `volpath` (direct = volpath with max_depth 1),
+// mirroring integrators/volpath.rs, next_event.rs and media.rs sample for
+// sample: free-flight sampling across media, next-event estimation toward
+// one light chosen by power with the transmittance estimator ESTIMATOR,
+// environments MIS-combined with phase sampling (at the last vertex the
+// phase-sampled direction's transmittance is estimated instead of traced),
+// Russian roulette on the throughput after rr_depth bounces.
+
+// Per medium: (albedo rgb, HG g).
+@group(2) @binding(4) var<storage, read> shading: array<vec4<f32>>;
+
+const SAMPLER_DELTA: u32 = 0u;
+const SAMPLER_DECOMPOSITION: u32 = 1u;
+const SAMPLER_REGULAR: u32 = 2u;
+
+fn balance(a: f32, b: f32) -> f32 {
+    if (a + b > 0.0) {
+        return a / (a + b);
+    }
+    return 0.0;
+}
+
+fn free_flight(m: MediumGpu, r: Ray, t0: f32, t1: f32,
+               rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    if (frame.sampler == SAMPLER_REGULAR) {
+        return regular_tracking_sample(m, r, t0, t1, rng, lookups);
+    }
+    if (frame.sampler == SAMPLER_DECOMPOSITION) {
+        return decomposition_tracking_sample(m, r, t0, t1, rng, lookups);
+    }
+    return delta_tracking_sample(m, r, t0, t1, rng, lookups);
+}
+
+// media::next_collision: (t, medium index) or t < 0.
+fn next_collision(world: Ray, from_camera: bool, rng: ptr<function, Pcg32>,
+                  lookups: ptr<function, u32>) -> vec2<f32> {
+    var hit = vec2<f32>(NO_HIT, 0.0);
+    for (var i = 0u; i < frame.media_count; i++) {
+        let m = media[i];
+        var t_max = F32_INF;
+        if (hit.x >= 0.0) {
+            t_max = hit.x;
+        }
+        var r: Ray;
+        var range: vec3<f32>;
+        if (from_camera) {
+            range = to_index_from_camera(m, world, t_max, &r);
+        } else {
+            range = to_index(m, world, t_max, &r);
+        }
+        if (range.z == 0.0) {
+            continue;
+        }
+        let t = free_flight(m, r, range.x, range.y, rng, lookups);
+        if (t >= 0.0) {
+            hit = vec2<f32>(t, f32(i));
+        }
+    }
+    return hit;
+}
+
+// media::shadow_transmittance
+fn shadow(world: Ray, distance: f32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    var tr = 1.0;
+    for (var i = 0u; i < frame.media_count; i++) {
+        let m = media[i];
+        var r: Ray;
+        let range = to_index(m, world, distance, &r);
+        if (range.z != 0.0) {
+            tr *= estimate(m, r, range.x, range.y, rng, lookups);
+        }
+    }
+    return tr;
+}
+
+// next_event::escaped; phase_pdf < 0 means a camera ray.
+fn escaped(d: vec3<f32>, phase_pdf: f32) -> vec3<f32> {
+    var l = vec3<f32>(0.0);
+    for (var i = 0u; i < env.light_count; i++) {
+        let light = lights[i];
+        if (is_environment(light)) {
+            var w = 1.0;
+            if (phase_pdf >= 0.0) {
+                w = balance(phase_pdf, light.d.w * light_pdf_li(light, d));
+            }
+            l += light_le(light, d) * w;
+        }
+    }
+    return l;
+}
+
+fn has_environment() -> bool {
+    for (var i = 0u; i < env.light_count; i++) {
+        if (is_environment(lights[i])) {
+            return true;
+        }
+    }
+    return false;
+}
+
+// next_event::light_sample
+fn light_sample(p: vec3<f32>, d: vec3<f32>, g: f32, rng: ptr<function, Pcg32>,
+                lookups: ptr<function, u32>) -> vec3<f32> {
+    // The CPU draws the selection number before finding there is no light.
+    let u_pick = pcg32_next_f32(rng);
+    if (env.pickable == 0u) {
+        return vec3<f32>(0.0);
+    }
+    let li = pick_light(u_pick);
+    let light = lights[li];
+    let pmf = light.d.w;
+    let u0 = pcg32_next_f32(rng);
+    let u1 = pcg32_next_f32(rng);
+    let ls = light_sample_li(light, p, u0, u1);
+    if (!ls.valid) {
+        return vec3<f32>(0.0);
+    }
+    let f = hg_eval(g, dot(d, ls.wi));
+    if (f <= 0.0 || all(ls.radiance == vec3<f32>(0.0))) {
+        return vec3<f32>(0.0);
+    }
+    var sr: Ray;
+    sr.o = p;
+    sr.d = ls.wi;
+    let tr = shadow(sr, ls.distance, rng, lookups);
+    if (ls.is_delta) {
+        return ls.radiance * (f * tr / pmf);
+    }
+    let light_pdf = pmf * ls.pdf;
+    return ls.radiance * (f * tr * balance(light_pdf, f) / light_pdf);
+}
+
+// next_event::phase_sample_to_environment
+fn phase_sample_to_environment(p: vec3<f32>, wi: vec3<f32>, phase_pdf: f32,
+                               rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> vec3<f32> {
+    if (!has_environment()) {
+        return vec3<f32>(0.0);
+    }
+    let le = escaped(wi, phase_pdf);
+    if (all(le == vec3<f32>(0.0))) {
+        return vec3<f32>(0.0);
+    }
+    var sr: Ray;
+    sr.o = p;
+    sr.d = wi;
+    return le * shadow(sr, F32_INF, rng, lookups);
+}
+
+fn path(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, u32>) -> vec3<f32> {
+    var rng = sample_rng(frame.seed, pixel, sample, DIM_ESTIMATOR);
+    var ray = primary_ray(x, y, pixel, sample);
+    var beta = vec3<f32>(1.0);
+    var radiance = vec3<f32>(0.0);
+    var phase_pdf = -1.0;
+    for (var depth = 0u; depth < frame.max_depth; depth++) {
+        let hit = next_collision(ray, depth == 0u, &rng, lookups);
+        if (hit.x < 0.0) {
+            radiance += beta * escaped(ray.d, phase_pdf);
+            break;
+        }
+        let sh = shading[u32(hit.y)];
+        let p = ray.o + hit.x * ray.d;
+        beta *= sh.xyz;
+        if (all(beta == vec3<f32>(0.0))) {
+            break;
+        }
+        radiance += beta * light_sample(p, ray.d, sh.w, &rng, lookups);
+        let u0 = pcg32_next_f32(&rng);
+        let u1 = pcg32_next_f32(&rng);
+        let s = hg_sample(sh.w, -ray.d, u0, u1);
+        if (depth + 1u == frame.max_depth) {
+            radiance += beta * phase_sample_to_environment(p, s.xyz, s.w, &rng, lookups);
+            break;
+        }
+        phase_pdf = s.w;
+        ray.o = p;
+        ray.d = s.xyz;
+        if (depth + 1u >= frame.rr_depth) {
+            let q = min(max(beta.x, max(beta.y, beta.z)), 1.0);
+            if (pcg32_next_f32(&rng) >= q) {
+                break;
+            }
+            beta /= q;
+        }
+    }
+    return radiance;
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= frame.width || gid.y >= frame.height) {
+        return;
+    }
+    let pixel = gid.y * frame.width + gid.x;
+    var sum = vec3<f32>(0.0);
+    var sq = vec3<f32>(0.0);
+    var lookups = 0u;
+    var count = 0.0;
+    var nonfinite = 0.0;
+    for (var k = 0u; k < frame.sample_count; k++) {
+        let v = path(pixel, gid.x, gid.y, frame.first_sample + k, &lookups);
+        if (is_finite3(v)) {
+            sum += v;
+            sq += v * v;
+            count += 1.0;
+        } else {
+            nonfinite += 1.0;
+        }
+    }
+    accum_sum[pixel] += vec4<f32>(sum, count);
+    accum_sq[pixel] += vec4<f32>(sq, nonfinite);
+    accum_lookups[pixel] += lookups;
+}
