@@ -32,6 +32,9 @@ pub struct ConvergeArgs {
     /// Override a scene key, as in `render`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// `cpu` (reference) or `gpu`.
+    #[arg(long, value_enum, default_value_t = crate::render_cmd::Device::Cpu)]
+    pub device: crate::render_cmd::Device,
 }
 
 pub fn run(a: ConvergeArgs) -> CliResult {
@@ -50,6 +53,12 @@ pub fn run(a: ConvergeArgs) -> CliResult {
                 a.reference_estimator
             )
         })?;
+    let gpu = match a.device {
+        crate::render_cmd::Device::Cpu => None,
+        crate::render_cmd::Device::Gpu => {
+            Some(fogbank_gpu::Gpu::new().map_err(|e| format!("--device gpu: {e}"))?)
+        }
+    };
     let base = load_scene(a.scene.as_deref(), &overrides)?;
     let reference = pool.install(|| exact_reference(&base, reference_estimator));
     let mut curves = Vec::new();
@@ -58,7 +67,13 @@ pub fn run(a: ConvergeArgs) -> CliResult {
         o.push(format!("integrator.estimator={name}"));
         let scene = load_scene(a.scene.as_deref(), &o)?;
         eprintln!("{name}: {} s ...", a.seconds);
-        let points = pool.install(|| convergence(&scene, a.seconds, &reference, a.seed));
+        let points = match &gpu {
+            None => pool.install(|| convergence(&scene, a.seconds, &reference, a.seed)),
+            Some(g) => {
+                fogbank_eval::converge::convergence_gpu(g, &scene, a.seconds, &reference, a.seed)
+                    .map_err(|e| format!("--device gpu: {e}"))?
+            }
+        };
         curves.push(Curve {
             label: name.clone(),
             points,

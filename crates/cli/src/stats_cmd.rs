@@ -37,6 +37,9 @@ pub struct StatsArgs {
     /// Override a scene key, as in `render`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// `cpu` (reference) or `gpu` (the frames accumulated on the device).
+    #[arg(long, value_enum, default_value_t = crate::render_cmd::Device::Cpu)]
+    pub device: crate::render_cmd::Device,
 }
 
 pub fn run(a: StatsArgs) -> CliResult {
@@ -69,7 +72,14 @@ pub fn run(a: StatsArgs) -> CliResult {
         scene.camera.width,
         scene.camera.height
     );
-    let mut st = pool.install(|| frame_stats(&scene, a.runs, a.seed));
+    let mut st = match a.device {
+        crate::render_cmd::Device::Cpu => pool.install(|| frame_stats(&scene, a.runs, a.seed)),
+        crate::render_cmd::Device::Gpu => {
+            let gpu = fogbank_gpu::Gpu::new().map_err(|e| format!("--device gpu: {e}"))?;
+            fogbank_eval::frame_stats::frame_stats_gpu(&gpu, &scene, a.runs, a.seed)
+                .map_err(|e| format!("--device gpu: {e}"))?
+        }
+    };
     if let Some(r) = reference {
         st.reference = Some(pool.install(|| exact_reference(&scene, r)));
     }
@@ -126,6 +136,7 @@ pub fn run(a: StatsArgs) -> CliResult {
         "lookups_per_pixel": s.lookups_per_pixel,
         "nonfinite_samples": st.nonfinite,
         "stats_seconds": st.seconds,
+        "device": format!("{:?}", a.device).to_lowercase(),
         "peak_memory_bytes": peak_memory_bytes(),
     });
     fogbank_eval::maps::write_maps(&st, scene.integrator.estimator_name(), &a.out.join("maps"))?;

@@ -54,6 +54,39 @@ pub fn convergence(
     points
 }
 
+/// [`convergence`] on the GPU (the film is read back after every dispatch;
+/// read-back time is not counted).
+pub fn convergence_gpu(
+    gpu: &fogbank_gpu::Gpu,
+    scene: &Scene,
+    seconds: f64,
+    reference: &[[f64; 3]],
+    seed: u32,
+) -> Result<Vec<CurvePoint>, String> {
+    let opts = RenderOptions {
+        spp: u32::MAX,
+        seed,
+        time_budget: Some(Duration::from_secs_f64(seconds)),
+    };
+    let mut points = Vec::new();
+    let mut observe = |film: &fogbank_render::Film, t: f64| {
+        points.push(CurvePoint {
+            spp: film.min_spp(),
+            seconds: t,
+            mse: mse(&film.mean(), reference),
+        });
+    };
+    fogbank_gpu::render::render_observed(
+        gpu,
+        scene,
+        &opts,
+        &Progress::default(),
+        Some(&mut observe),
+    )
+    .map_err(|e| e.0)?;
+    Ok(points)
+}
+
 /// Time at which the curve first reaches `target` MSE, interpolated
 /// log-log between passes; `None` if it never does.
 pub fn time_to_reach(curve: &[CurvePoint], target: f64) -> Option<f64> {

@@ -105,17 +105,7 @@ pub fn frame_stats(scene: &Scene, runs: u32, seed: u32) -> FrameStats {
         })
         .collect();
     let seconds = start.elapsed().as_secs_f64();
-    let covered = (0..(w * h) as usize)
-        .map(|p| {
-            let ray = scene
-                .camera
-                .ray((p % w as usize) as f32 + 0.5, (p / w as usize) as f32 + 0.5);
-            scene
-                .media
-                .iter()
-                .any(|m| m.medium.to_index(&ray, 0.0, f32::INFINITY).is_some())
-        })
-        .collect();
+    let covered = covered_pixels(&scene);
     FrameStats {
         width: w,
         height: h,
@@ -129,6 +119,66 @@ pub fn frame_stats(scene: &Scene, runs: u32, seed: u32) -> FrameStats {
         nonfinite: per_pixel.iter().map(|v| v.4).sum(),
         seconds,
     }
+}
+
+/// Pixels whose centre ray meets a medium's box.
+fn covered_pixels(scene: &Scene) -> Vec<bool> {
+    let w = scene.camera.width as usize;
+    (0..w * scene.camera.height as usize)
+        .map(|p| {
+            let ray = scene.camera.ray((p % w) as f32 + 0.5, (p / w) as f32 + 0.5);
+            scene
+                .media
+                .iter()
+                .any(|m| m.medium.to_index(&ray, 0.0, f32::INFINITY).is_some())
+        })
+        .collect()
+}
+
+/// [`frame_stats`] on the GPU: the same frames (sample indices, streams),
+/// accumulated on the device. Sums are f32 there, so the variance of nearly
+/// constant pixels carries a relative error of about 1e-5 · runs · mean²/var.
+pub fn frame_stats_gpu(
+    gpu: &fogbank_gpu::Gpu,
+    scene: &Scene,
+    runs: u32,
+    seed: u32,
+) -> Result<FrameStats, String> {
+    let scene = centred(scene);
+    let opts = fogbank_render::RenderOptions {
+        spp: runs,
+        seed,
+        time_budget: None,
+    };
+    let r = fogbank_gpu::render::render(gpu, &scene, &opts, &fogbank_render::Progress::default())
+        .map_err(|e| e.0)?;
+    let f = &r.film;
+    let variance = (0..f.sum.len())
+        .map(|i| {
+            let n = f.count[i] as f64;
+            if n > 1.0 {
+                [0, 1, 2].map(|c| {
+                    let mean = f.sum[i][c] / n;
+                    ((f.sum_sq[i][c] - n * mean * mean) / (n - 1.0)).max(0.0)
+                })
+            } else {
+                [0.0; 3]
+            }
+        })
+        .collect();
+    Ok(FrameStats {
+        width: f.width,
+        height: f.height,
+        runs,
+        mean: f.mean().iter().map(|p| p.map(f64::from)).collect(),
+        variance,
+        count: f.count.clone(),
+        reference: None,
+        covered: covered_pixels(&scene),
+        lookups: f.lookups,
+        nonfinite: f.nan_samples + f.inf_samples,
+        seconds: r.gpu_ms.map_or(r.seconds, |ms| ms / 1000.0),
+    })
 }
 
 /// One frame of the scene with its estimator replaced by `exact` (a

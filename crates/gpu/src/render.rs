@@ -207,6 +207,19 @@ pub fn render(
     opts: &RenderOptions,
     progress: &Progress,
 ) -> Result<GpuRender, GpuError> {
+    render_observed(gpu, scene, opts, progress, None)
+}
+
+/// [`render`], calling `after(film, seconds)` after every dispatch with the
+/// film read back and the render time so far (the read-back is not
+/// counted), for equal-time convergence curves.
+pub fn render_observed(
+    gpu: &Gpu,
+    scene: &Scene,
+    opts: &RenderOptions,
+    progress: &Progress,
+    mut after: Option<&mut dyn FnMut(&Film, f64)>,
+) -> Result<GpuRender, GpuError> {
     let kernel = Kernel::of(scene)?;
     let est = gpu_estimator(kernel.estimator).ok_or_else(|| {
         GpuError(format!(
@@ -363,7 +376,7 @@ pub fn render(
         });
         (set, resolve)
     });
-    let start = Instant::now();
+    let mut start = Instant::now();
     let mut interrupted = false;
     let mut done = 0u32;
     let mut issued = 0u32;
@@ -412,6 +425,12 @@ pub fn render(
             .samples_done
             .fetch_add(n as u64 * pixels, Ordering::Relaxed);
         progress.passes_done.fetch_add(n as u64, Ordering::Relaxed);
+        if let Some(f) = after.as_mut() {
+            let observing = Instant::now();
+            let film = read_film(gpu, w, h, &sum, &sq, &lookups)?;
+            f(&film, (observing - start).as_secs_f64());
+            start += observing.elapsed();
+        }
     }
     let seconds = start.elapsed().as_secs_f64();
     let gpu_ms = match &queries {
@@ -433,9 +452,29 @@ pub fn render(
         }
         _ => None,
     };
-    let sums: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_back(&sum)?).to_vec();
-    let sqs: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_back(&sq)?).to_vec();
-    let looks: Vec<u32> = bytemuck::cast_slice(&gpu.read_back(&lookups)?).to_vec();
+    let film = read_film(gpu, w, h, &sum, &sq, &lookups)?;
+    Ok(GpuRender {
+        film,
+        seconds,
+        gpu_ms,
+        interrupted,
+        upload_bytes: media.bytes,
+    })
+}
+
+/// The device accumulation buffers as a film (sums widened to f64).
+fn read_film(
+    gpu: &Gpu,
+    w: u32,
+    h: u32,
+    sum: &wgpu::Buffer,
+    sq: &wgpu::Buffer,
+    lookups: &wgpu::Buffer,
+) -> Result<Film, GpuError> {
+    let pixels = w as u64 * h as u64;
+    let sums: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_back(sum)?).to_vec();
+    let sqs: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_back(sq)?).to_vec();
+    let looks: Vec<u32> = bytemuck::cast_slice(&gpu.read_back(lookups)?).to_vec();
     let mut film = Film::new(w, h);
     for i in 0..pixels as usize {
         film.sum[i] = [0, 1, 2].map(|c| sums[i][c] as f64);
@@ -444,11 +483,5 @@ pub fn render(
         film.nan_samples += sqs[i][3] as u64;
         film.lookups += looks[i] as u64;
     }
-    Ok(GpuRender {
-        film,
-        seconds,
-        gpu_ms,
-        interrupted,
-        upload_bytes: media.bytes,
-    })
+    Ok(film)
 }
