@@ -186,6 +186,9 @@ impl Kernel {
     }
 }
 
+/// Called with the film so far and the render seconds so far.
+pub type Observer<'a> = &'a mut dyn FnMut(&Film, f64);
+
 pub struct GpuRender {
     pub film: Film,
     /// Wall-clock seconds of the render loop (upload excluded).
@@ -218,7 +221,7 @@ pub fn render_observed(
     scene: &Scene,
     opts: &RenderOptions,
     progress: &Progress,
-    mut after: Option<&mut dyn FnMut(&Film, f64)>,
+    mut after: Option<Observer<'_>>,
 ) -> Result<GpuRender, GpuError> {
     let kernel = Kernel::of(scene)?;
     let est = gpu_estimator(kernel.estimator).ok_or_else(|| {
