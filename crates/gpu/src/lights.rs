@@ -44,9 +44,10 @@ impl LightBuffers {
         let sampler = match &scene.integrator {
             IntegratorKind::Direct(d) => &d.lights,
             IntegratorKind::VolPath(v) => &v.lights,
+            IntegratorKind::PointMis(p) => &p.lights,
             _ => {
                 return Err(GpuError(
-                    "lights are uploaded for direct and volpath only".into(),
+                    "lights are uploaded for direct, volpath and point_mis only".into(),
                 ))
             }
         };

@@ -117,17 +117,27 @@ struct Frame {
     max_depth: u32,
     rr_depth: u32,
     sampler: u32,
-    pad0: u32,
+    mis_samples: u32,
 }
 
 /// What the integrator asks of the kernels.
 struct Kernel {
+    source: KernelSource,
+    /// Needs bind group 2 (lights, environment, shading).
     scatter: bool,
     estimator: Estimator,
     background: glam::Vec3,
     max_depth: u32,
     rr_depth: u32,
     sampler: u32,
+    mis_samples: u32,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum KernelSource {
+    Transmittance,
+    Scatter,
+    PointMis,
 }
 
 impl Kernel {
@@ -143,6 +153,8 @@ impl Kernel {
                 estimator,
                 background,
             } => Kernel {
+                source: KernelSource::Transmittance,
+                mis_samples: 0,
                 scatter: false,
                 estimator: *estimator,
                 background: *background,
@@ -151,6 +163,8 @@ impl Kernel {
                 sampler: 0,
             },
             IntegratorKind::Direct(d) => Kernel {
+                source: KernelSource::Scatter,
+                mis_samples: 0,
                 scatter: true,
                 estimator: d.nee,
                 background: glam::Vec3::ZERO,
@@ -159,6 +173,8 @@ impl Kernel {
                 sampler: sampler(d.distance),
             },
             IntegratorKind::VolPath(v) => Kernel {
+                source: KernelSource::Scatter,
+                mis_samples: 0,
                 scatter: true,
                 estimator: v.nee,
                 background: glam::Vec3::ZERO,
@@ -166,12 +182,19 @@ impl Kernel {
                 rr_depth: v.rr_depth,
                 sampler: sampler(v.distance),
             },
-            other => {
-                return Err(GpuError(format!(
-                    "integrator `{}` has no GPU kernel yet (on the GPU: transmittance, direct, volpath)",
-                    other.name()
-                )))
-            }
+            IntegratorKind::PointMis(p) => Kernel {
+                source: KernelSource::PointMis,
+                scatter: true,
+                estimator: p.nee,
+                background: glam::Vec3::ZERO,
+                max_depth: 1,
+                rr_depth: u32::MAX,
+                sampler: fogbank_render::integrators::point_mis::Strategy::ALL
+                    .iter()
+                    .position(|s| *s == p.strategy)
+                    .expect("every strategy is in ALL") as u32,
+                mis_samples: p.mis_samples,
+            },
         };
         if k.scatter {
             for (i, m) in scene.media.iter().enumerate() {
@@ -237,10 +260,10 @@ pub fn render_observed(
     } else {
         None
     };
-    let source = if kernel.scatter {
-        shaders::scatter_kernel()
-    } else {
-        shaders::transmittance_kernel()
+    let source = match kernel.source {
+        KernelSource::Transmittance => shaders::transmittance_kernel(),
+        KernelSource::Scatter => shaders::scatter_kernel(),
+        KernelSource::PointMis => shaders::point_mis_kernel(),
     };
     let module = gpu.checked("kernel", || {
         device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -326,6 +349,10 @@ pub fn render_observed(
         ],
         immediate_size: 0,
     });
+    let mut constants = vec![("ESTIMATOR", est.id as f64)];
+    if kernel.source == KernelSource::PointMis {
+        constants.push(("STRATEGY", kernel.sampler as f64));
+    }
     let pipeline = gpu.checked("transmittance pipeline", || {
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("transmittance"),
@@ -333,7 +360,7 @@ pub fn render_observed(
             module: &module,
             entry_point: Some("main"),
             compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &[("ESTIMATOR", est.id as f64)],
+                constants: &constants,
                 ..Default::default()
             },
             cache: None,
@@ -361,7 +388,7 @@ pub fn render_observed(
         max_depth: kernel.max_depth,
         rr_depth: kernel.rr_depth,
         sampler: kernel.sampler,
-        pad0: 0,
+        mis_samples: kernel.mis_samples,
     };
     let dispatches = opts.spp.div_ceil(SAMPLES_PER_DISPATCH);
     let timed = gpu.timestamps && dispatches <= MAX_TIMED_DISPATCHES && dispatches > 0;

@@ -21,6 +21,7 @@ pub const DISTANCE: &str = include_str!("wgsl/distance.wgsl");
 pub const PHASE: &str = include_str!("wgsl/phase.wgsl");
 pub const LIGHTS: &str = include_str!("wgsl/lights.wgsl");
 pub const SCATTER_KERNEL: &str = include_str!("wgsl/scatter_kernel.wgsl");
+pub const POINT_MIS_KERNEL: &str = include_str!("wgsl/point_mis_kernel.wgsl");
 pub const TRANSMITTANCE_KERNEL: &str = include_str!("wgsl/transmittance_kernel.wgsl");
 
 /// Every estimator's source, after the shared media code.
@@ -56,6 +57,19 @@ pub fn scatter_kernel() -> String {
         PHASE,
         LIGHTS,
         SCATTER_KERNEL,
+    ]
+    .join("\n")
+}
+
+/// `point_mis`.
+pub fn point_mis_kernel() -> String {
+    [
+        &estimators(),
+        FRAME,
+        DISTANCE,
+        PHASE,
+        LIGHTS,
+        POINT_MIS_KERNEL,
     ]
     .join("\n")
 }

@@ -128,3 +128,48 @@ fn cpu_only_features_are_clear_errors() {
         .unwrap();
     assert!(e.0.contains("emission"), "{e}");
 }
+
+#[test]
+fn point_mis_matches_the_cpu_for_every_strategy() {
+    let Some(gpu) = test_gpu() else { return };
+    let text = "[camera]\nwidth = 14\nheight = 12\nfov = 24.0\n\
+        [[media]]\ndensity = { procedural = \"cloud\", resolution = 32, seed = 5 }\nsigma_t_scale = 12.0\n\
+        albedo = [0.9, 0.8, 0.7]\nphase = { type = \"hg\", g = 0.4 }\nfilter = \"nearest\"\n\
+        [[lights]]\ntype = \"point\"\nposition = [0.05, 0.1, 0.0]\nintensity = [0.3, 0.3, 0.2]\n\
+        [[lights]]\ntype = \"point\"\nposition = [-0.15, -0.05, 0.1]\nintensity = [0.2, 0.25, 0.3]\n\
+        [integrator]\ntype = \"point_mis\"\nestimator = \"jackknife\"\n";
+    for (strategy, filter) in [
+        ("free_flight", "nearest"),
+        ("equiangular", "nearest"),
+        ("mis_miller", "nearest"),
+        ("mis_naive", "nearest"),
+        ("mis_jackknife", "nearest"),
+        ("mis_jackknife_biased", "nearest"),
+        ("mis_jackknife_biased", "stochastic_trilinear"),
+    ] {
+        let extra = vec![
+            format!("integrator.strategy={strategy}"),
+            format!("media.0.filter={filter}"),
+        ];
+        let s = Scene::build(parse_scene(text, "t", &extra).unwrap(), Path::new(".")).unwrap();
+        let opts = |seed| RenderOptions {
+            spp: 192,
+            seed,
+            time_budget: None,
+        };
+        let cpu = render(&s, &opts(1), &Progress::default()).film;
+        let g = gpu_render::render(&gpu, &s, &opts(2), &Progress::default()).unwrap();
+        let z = ztest(&image(&cpu), &image(&g.film)).unwrap();
+        assert!(
+            z.pass,
+            "{strategy}/{filter}: {} failing pixels, max |z| {:.2} (threshold {:.2}) at {:?}",
+            z.failing_pixels, z.max_abs_z, z.threshold, z.max_abs_z_pixel
+        );
+        let (lc, lg) = (cpu.lookups as f64, g.film.lookups as f64);
+        assert!(
+            (lc - lg).abs() <= 0.03 * lc,
+            "{strategy}/{filter}: lookups cpu {lc} gpu {lg}"
+        );
+        assert!(cpu.image_mean()[0] > 1e-3, "the scene must be lit");
+    }
+}

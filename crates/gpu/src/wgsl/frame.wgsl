@@ -39,11 +39,12 @@ struct Frame {
     est_step: f32,
     est_flags: u32,
     // Scattering integrators: path length, first Russian-roulette bounce,
-    // distance sampler (0 delta, 1 decomposition, 2 regular tracking).
+    // distance sampler (0 delta, 1 decomposition, 2 regular tracking) — or,
+    // for point_mis, the strategy — and point_mis's N for the MIS weights.
     max_depth: u32,
     rr_depth: u32,
     sampler: u32,
-    pad0: u32,
+    mis_samples: u32,
 }
 
 @group(1) @binding(0) var<uniform> frame: Frame;
