@@ -7,6 +7,7 @@
 pub mod distributions;
 pub mod fig1;
 pub mod fig12;
+pub mod fig13;
 pub mod fig14;
 pub mod fig2;
 pub mod fig3;
@@ -34,7 +35,7 @@ pub struct ExperimentReport {
 /// The experiment names `run` accepts.
 pub fn names() -> &'static [&'static str] {
     &[
-        "fig1", "fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig12", "table1", "fig14",
+        "fig1", "fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig12", "fig13", "table1", "fig14",
     ]
 }
 
@@ -59,6 +60,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "fig5" => fig5::run(&mut w, trials),
         "fig7" => fig7::run(&mut w, trials),
         "fig12" => fig12::run(&mut w, trials),
+        "fig13" => fig13::run(&mut w, trials),
         "table1" => table1::run(&mut w, trials),
         "fig14" => fig14::run(&mut w, trials),
         _ => {

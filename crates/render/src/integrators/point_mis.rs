@@ -34,7 +34,7 @@ use fogbank_estimators::lookup::sigma_t;
 use fogbank_estimators::optical_depth::{Importance, Jitter};
 use fogbank_estimators::{ratio_tracking, transmittance, Estimator};
 use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
-use fogbank_volume::{MediumView, VolumeAccess};
+use fogbank_volume::{Filter, MediumView, VolumeAccess};
 
 /// How distances along the camera ray are sampled and combined.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -282,30 +282,7 @@ impl PointMis {
         rng: &mut Pcg32,
         lookups: &mut u32,
     ) -> (f64, f64) {
-        let mut x = [0.0f64; 2];
-        let (n, out) = if naive {
-            (2 * self.mis_samples, &mut x[..1])
-        } else {
-            (self.mis_samples, &mut x[..])
-        };
-        optical_depths(
-            v,
-            &s.index,
-            s.a,
-            t,
-            n,
-            StepMode::FixedCount,
-            Importance::VarianceAware,
-            Jitter::Stratified,
-            rng,
-            lookups,
-            out,
-        );
-        if naive {
-            (x[0], x[0])
-        } else {
-            (x[0], x[1])
-        }
+        depths_n(v, s, t, self.mis_samples, naive, rng, lookups)
     }
 
     /// σ_t at parameter t (one lookup).
@@ -443,6 +420,182 @@ impl PointMis {
             }
         }
         total
+    }
+}
+
+/// [`PointMis::depths`] with an explicit N.
+fn depths_n<V: VolumeAccess>(
+    v: &V,
+    s: &Segment,
+    t: f32,
+    mis_samples: u32,
+    naive: bool,
+    rng: &mut Pcg32,
+    lookups: &mut u32,
+) -> (f64, f64) {
+    let mut x = [0.0f64; 2];
+    let (n, out) = if naive {
+        (2 * mis_samples, &mut x[..1])
+    } else {
+        (mis_samples, &mut x[..])
+    };
+    optical_depths(
+        v,
+        &s.index,
+        s.a,
+        t,
+        n,
+        StepMode::FixedCount,
+        Importance::VarianceAware,
+        Jitter::Stratified,
+        rng,
+        lookups,
+        out,
+    );
+    if naive {
+        (x[0], x[0])
+    } else {
+        (x[0], x[1])
+    }
+}
+
+impl PointMis {
+    /// Seed 000 Fig. 13 in isolation: one pixel sample of Eq. 10 with exact
+    /// weights g(τ(t_j)) and the errors of its estimated weights, on common
+    /// random numbers.
+    ///
+    /// The light choice, the distances t0, t1, μ(t_j) and one estimate
+    /// L̃_s(t_j) per distance are drawn exactly as [`Strategy::MisNaive`] and
+    /// [`Strategy::MisJackknifeBiased`] draw them; τ(t_j) is computed exactly
+    /// by regular tracking. Returns Σ_j g(τ(t_j)) L̃_s(t_j) / P(light), an
+    /// unbiased estimate of the single-scattering radiance (Eq. 10 with exact
+    /// weights is the balance heuristic), and writes to `errors[k]`
+    /// [naive, jackknife] = Σ_j (g̃(t_j) − g(τ(t_j))) L̃_s(t_j) / P(light)
+    /// for N = `mis_samples[k]`, each g̃ from its own optical-depth estimates
+    /// (independent of L̃_s, as in the integrator). So E[errors[k][0]] is
+    /// exactly the bias of `mis_naive` with `integrator.mis_samples = N`,
+    /// and likewise for `mis_jackknife_biased`, but with far less variance
+    /// than a difference of two renders. `None` where τ cannot be computed
+    /// exactly (filters other than nearest on grids).
+    pub fn eq10_weight_errors(
+        &self,
+        scene: &Scene,
+        x: u32,
+        y: u32,
+        key: SampleKey,
+        mis_samples: &[u32],
+        errors: &mut [[Vec3; 2]],
+    ) -> Option<Vec3> {
+        errors.iter_mut().for_each(|e| *e = [Vec3::ZERO; 2]);
+        let medium = scene.media.first()?;
+        let view = medium.medium.view();
+        if !matches!(view, MediumView::Analytic(_)) && medium.medium.filter != Filter::Nearest {
+            return None;
+        }
+        let mut rng = SampleKey {
+            dimension: dim::ESTIMATOR,
+            ..key
+        }
+        .rng();
+        let world = primary_ray(scene, x, y, key);
+        let Some((index, a, b)) = medium.medium.to_index(&world, 0.0, f32::INFINITY) else {
+            return Some(Vec3::ZERO);
+        };
+        let Some((li, pmf)) = self.lights.pick(rng.next_f32()) else {
+            return Some(Vec3::ZERO);
+        };
+        let Light::Point {
+            position,
+            intensity,
+        } = scene.lights[li]
+        else {
+            return Some(Vec3::ZERO);
+        };
+        if pmf <= 0.0 {
+            return Some(Vec3::ZERO);
+        }
+        let seg = Segment {
+            medium,
+            world,
+            index,
+            a,
+            b,
+            light: position,
+            intensity,
+            hg: HenyeyGreenstein { g: medium.phase_g },
+        };
+        let l = match view {
+            MediumView::F16(v) => self.eq10_errors_in(&v, &seg, mis_samples, errors, &mut rng),
+            MediumView::F32(v) => self.eq10_errors_in(&v, &seg, mis_samples, errors, &mut rng),
+            MediumView::Analytic(v) => self.eq10_errors_in(&v, &seg, mis_samples, errors, &mut rng),
+        };
+        errors
+            .iter_mut()
+            .for_each(|e| *e = [e[0] / pmf, e[1] / pmf]);
+        Some(l / pmf)
+    }
+
+    fn eq10_errors_in<V: VolumeAccess>(
+        &self,
+        v: &V,
+        s: &Segment,
+        mis_samples: &[u32],
+        errors: &mut [[Vec3; 2]],
+        rng: &mut Pcg32,
+    ) -> Vec3 {
+        let mut lookups = 0u32;
+        let p0 = |t: f32| equiangular::pdf(&s.world, s.light, s.a, s.b, t);
+        // The same draws, in the same order, as the Eq. 10 strategies.
+        let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
+        let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
+        let mut ts = [None, None];
+        if let Some(t1) = f.t {
+            ts[0] = Some((t1, p0(t1), Some(f.mu)));
+        }
+        if pdf0 > 0.0 && pdf0.is_finite() {
+            ts[1] = Some((t0, pdf0, None));
+        }
+        let mut total = Vec3::ZERO;
+        for (t, p, known_mu) in ts.into_iter().flatten() {
+            let mu = match known_mu {
+                Some(m) if !v.needs_jitter() => m,
+                _ => Self::mu(v, s, t, rng, &mut lookups),
+            };
+            if mu <= 0.0 {
+                continue;
+            }
+            let ls = self.in_scattered(s, t, rng, &mut lookups);
+            let tr = transmittance(
+                Estimator::RegularTracking,
+                &s.medium.medium,
+                &s.world,
+                t,
+                rng,
+            )
+            .transmittance as f64;
+            let (m, p) = (mu as f64, p as f64);
+            let g = balance_f64(m * tr, p);
+            total += ls * g as f32;
+            for (&n, e) in mis_samples.iter().zip(errors.iter_mut()) {
+                for (k, naive) in [(0, true), (1, false)] {
+                    let (x0, x1) = depths_n(v, s, t, n, naive, rng, &mut lookups);
+                    let gk = mis_weight(m, 0.0, m, p, x0, x1);
+                    if gk.is_finite() {
+                        e[k] += ls * (gk - g) as f32;
+                    }
+                }
+            }
+        }
+        total
+    }
+}
+
+fn balance_f64(q: f64, p: f64) -> f64 {
+    let d = q + p;
+    if d > 0.0 && d.is_finite() {
+        q / d
+    } else {
+        0.0
     }
 }
 
