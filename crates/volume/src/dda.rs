@@ -5,6 +5,7 @@
 //! step along their zero axes; a start on a face or slightly outside (from
 //! rounding in the box clip) is clamped into the grid.
 
+use crate::access::floor_i32;
 use fogbank_math::Ray;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,7 +39,7 @@ impl Dda {
         let mut inv_d = [0.0; 3];
         let mut t_next = [f32::INFINITY; 3];
         for a in 0..3 {
-            cell[a] = ((p[a] / cell_size).floor() as i32).clamp(0, n[a] - 1);
+            cell[a] = floor_i32(p[a] / cell_size).clamp(0, n[a] - 1);
             let d = ray.d[a];
             if d > 0.0 {
                 step[a] = 1;
