@@ -40,7 +40,12 @@ fn v4(v: glam::Vec3, w: f32) -> [f32; 4] {
 }
 
 impl LightBuffers {
-    pub fn upload(gpu: &Gpu, scene: &Scene) -> Result<LightBuffers, GpuError> {
+    /// `properties`: per medium, [`crate::scene_buffers::SceneBuffers::properties`].
+    pub fn upload(
+        gpu: &Gpu,
+        scene: &Scene,
+        properties: &[[u32; 3]],
+    ) -> Result<LightBuffers, GpuError> {
         let sampler = match &scene.integrator {
             IntegratorKind::Direct(d) => &d.lights,
             IntegratorKind::VolPath(v) => &v.lights,
@@ -129,6 +134,32 @@ impl LightBuffers {
             .iter()
             .map(|m| [m.albedo[0], m.albedo[1], m.albedo[2], m.phase_g])
             .collect();
+        // Per medium three vec4s: (albedo grid first + 1, its channels,
+        // emission kind, emission grid first + 1) as small exact floats,
+        // (radiance, temperature scale), (temperature offset, 0, 0, 0).
+        // Emission kind: 0 none, 1 colour, 2 blackbody.
+        let mut ext: Vec<[f32; 4]> = Vec::new();
+        for (m, prop) in scene.media.iter().zip(properties) {
+            use fogbank_render::emission::Emission;
+            let (kind, radiance, scale, offset) = match &m.emission {
+                None => (0.0, glam::Vec3::ZERO, 1.0, 0.0),
+                Some(Emission::Color { radiance, .. }) => (1.0, *radiance, 1.0, 0.0),
+                Some(Emission::Blackbody {
+                    radiance,
+                    scale,
+                    offset,
+                    ..
+                }) => (2.0, *radiance, *scale, *offset),
+            };
+            ext.push([prop[0] as f32, prop[1] as f32, kind, prop[2] as f32]);
+            ext.push(v4(radiance, scale));
+            ext.push([offset, 0.0, 0.0, 0.0]);
+        }
+        let (bb_min, bb_step, bb) = fogbank_render::blackbody::blackbody_table();
+        let mut table: Vec<[f32; 4]> = vec![[bb_min, bb_step, bb.len() as f32, 0.0]];
+        table.extend(bb.iter().map(|c| v4(*c, 0.0)));
+        let ext_buf = gpu.storage_buffer("medium_ext", bytemuck::cast_slice(&ext));
+        let bb_buf = gpu.storage_buffer("blackbody", bytemuck::cast_slice(&table));
         let lights_buf = gpu.storage_buffer("lights", bytemuck::cast_slice(&records));
         let env_buf = gpu
             .device
@@ -164,9 +195,19 @@ impl LightBuffers {
                         entry(2, false),
                         entry(3, false),
                         entry(4, false),
+                        entry(5, false),
+                        entry(6, false),
                     ],
                 });
-        let bufs = [&lights_buf, &env_buf, &rgb_buf, &cdf_buf, &shading_buf];
+        let bufs = [
+            &lights_buf,
+            &env_buf,
+            &rgb_buf,
+            &cdf_buf,
+            &shading_buf,
+            &ext_buf,
+            &bb_buf,
+        ];
         let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("lights"),
             layout: &bind_group_layout,

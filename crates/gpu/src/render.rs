@@ -196,15 +196,6 @@ impl Kernel {
                 mis_samples: p.mis_samples,
             },
         };
-        if k.scatter {
-            for (i, m) in scene.media.iter().enumerate() {
-                if m.albedo_grid.is_some() || m.emission.is_some() {
-                    return Err(GpuError(format!(
-                        "media.{i}: albedo grids and emission are CPU-only for now"
-                    )));
-                }
-            }
-        }
         Ok(k)
     }
 }
@@ -256,7 +247,11 @@ pub fn render_observed(
     let media = SceneBuffers::upload(gpu, scene)?;
     let device = &gpu.device;
     let lights = if kernel.scatter {
-        Some(crate::lights::LightBuffers::upload(gpu, scene)?)
+        Some(crate::lights::LightBuffers::upload(
+            gpu,
+            scene,
+            &media.properties,
+        )?)
     } else {
         None
     };
@@ -380,7 +375,7 @@ pub fn render_observed(
         seed: opts.seed,
         first_sample: 0,
         sample_count: 0,
-        media_count: media.media.len() as u32,
+        media_count: scene.media.len() as u32,
         pixel_jitter: scene.desc.render.pixel_jitter as u32,
         est_samples: est.samples,
         est_step: est.step,

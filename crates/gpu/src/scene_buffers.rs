@@ -5,6 +5,7 @@
 
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
+use fogbank_render::emission::Emission;
 use fogbank_render::Scene;
 use fogbank_volume::{BrickGrid, DensityData, Filter, Medium, Voxel};
 
@@ -29,7 +30,12 @@ pub struct MediumGpu {
 
 /// The scene's media on the device (bind group 0 of every kernel).
 pub struct SceneBuffers {
+    /// The scene's media first, then the channels of their property grids
+    /// (albedo, emission, temperature), which reuse the grid fetch code.
     pub media: Vec<MediumGpu>,
+    /// Per scene medium: (first record + 1 of its albedo grid or 0, its
+    /// channels, first record + 1 of its emission/temperature grid or 0).
+    pub properties: Vec<[u32; 3]>,
     pub bind_group_layout: wgpu::BindGroupLayout,
     pub bind_group: wgpu::BindGroup,
     /// Bytes uploaded (for stats).
@@ -82,6 +88,30 @@ impl SceneBuffers {
                     .map_err(|e| GpuError(format!("media.{i} ({}): {}", sm.source, e.0)))?,
             );
         }
+        let mut properties = Vec::new();
+        for (i, sm) in scene.media.iter().enumerate() {
+            let mut push = |f: &fogbank_render::field::Field| -> Result<u32, GpuError> {
+                let first = media.len() as u32;
+                let (channels, w2i) = f.parts();
+                for c in channels {
+                    media.push(
+                        pack_property(c, w2i, &mut p)
+                            .map_err(|e| GpuError(format!("media.{i} ({}): {}", f.source, e.0)))?,
+                    );
+                }
+                Ok(first + 1)
+            };
+            let albedo = match &sm.albedo_grid {
+                Some(f) => (push(f)?, f.channel_count() as u32),
+                None => (0, 0),
+            };
+            let emission = match &sm.emission {
+                Some(Emission::Color { grid: Some(f), .. }) => push(f)?,
+                Some(Emission::Blackbody { temperature, .. }) => push(temperature)?,
+                _ => 0,
+            };
+            properties.push([albedo.0, albedo.1, emission]);
+        }
         let limit = gpu.device.limits().max_storage_buffer_binding_size;
         check_size("voxel data", p.data.len(), limit)?;
         check_size("brick table", p.table.len(), limit)?;
@@ -126,6 +156,7 @@ impl SceneBuffers {
         });
         Ok(SceneBuffers {
             media,
+            properties,
             bind_group_layout,
             bind_group,
             bytes,
@@ -135,19 +166,7 @@ impl SceneBuffers {
 
 fn pack_medium(m: &Medium, camera: glam::Vec3, p: &mut Packed) -> Result<MediumGpu, GpuError> {
     let (offsets, precision, dims) = match &m.data {
-        DensityData::F16(g) => (
-            pack_grid(g, p, |d| {
-                d.chunks(2)
-                    .map(|c| {
-                        let lo = c[0].to_bits() as u32;
-                        let hi = c.get(1).map_or(0, |h| h.to_bits() as u32);
-                        lo | (hi << 16)
-                    })
-                    .collect()
-            }),
-            0,
-            g.dims(),
-        ),
+        DensityData::F16(g) => (pack_grid(g, p, pack_f16), 0, g.dims()),
         DensityData::F32(g) => (
             pack_grid(g, p, |d| d.iter().map(|v| v.to_bits()).collect()),
             1,
@@ -197,4 +216,61 @@ fn pack_medium(m: &Medium, camera: glam::Vec3, p: &mut Packed) -> Result<MediumG
             [c.x, c.y, c.z, 1.0]
         },
     })
+}
+
+/// A property grid channel as a record of the media buffer: trilinear,
+/// unscaled, with one empty super-voxel (never traversed).
+fn pack_property(
+    data: &DensityData,
+    w2i: fogbank_math::DAffine3,
+    p: &mut Packed,
+) -> Result<MediumGpu, GpuError> {
+    let (offsets, storage, dims) = match data {
+        DensityData::F16(g) => (pack_grid(g, p, pack_f16), 0, g.dims()),
+        DensityData::F32(g) => (
+            pack_grid(g, p, |d| d.iter().map(|v| v.to_bits()).collect()),
+            1,
+            g.dims(),
+        ),
+        DensityData::Analytic(_) => {
+            return Err(GpuError(
+                "analytic property grids are CPU-only; use a voxel grid".into(),
+            ))
+        }
+    };
+    let sv_offset = p.supervoxels.len() as u32;
+    p.supervoxels.push([0.0; 4]);
+    let (x, y, z, t) = (
+        w2i.matrix3.x_axis,
+        w2i.matrix3.y_axis,
+        w2i.matrix3.z_axis,
+        w2i.translation,
+    );
+    let row = |r: usize| [x[r] as f32, y[r] as f32, z[r] as f32, t[r] as f32];
+    Ok(MediumGpu {
+        w2i: [row(0), row(1), row(2)],
+        dims,
+        filter: 1,
+        bdims: dims.map(|d| d.div_ceil(8)),
+        precision: storage,
+        sv_dims: [1, 1, 1],
+        sv_size: dims.into_iter().max().unwrap_or(1) as f32,
+        scale: 1.0,
+        table_offset: offsets.0,
+        constants_offset: offsets.1,
+        data_offset: offsets.2,
+        sv_offset,
+        pad: [0; 3],
+        camera_index: [0.0; 4],
+    })
+}
+
+fn pack_f16(d: &[half::f16]) -> Vec<u32> {
+    d.chunks(2)
+        .map(|c| {
+            let lo = c[0].to_bits() as u32;
+            let hi = c.get(1).map_or(0, |h| h.to_bits() as u32);
+            lo | (hi << 16)
+        })
+        .collect()
 }

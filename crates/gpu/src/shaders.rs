@@ -20,6 +20,7 @@ pub const FRAME: &str = include_str!("wgsl/frame.wgsl");
 pub const DISTANCE: &str = include_str!("wgsl/distance.wgsl");
 pub const PHASE: &str = include_str!("wgsl/phase.wgsl");
 pub const LIGHTS: &str = include_str!("wgsl/lights.wgsl");
+pub const PROPERTIES: &str = include_str!("wgsl/properties.wgsl");
 pub const SCATTER_KERNEL: &str = include_str!("wgsl/scatter_kernel.wgsl");
 pub const POINT_MIS_KERNEL: &str = include_str!("wgsl/point_mis_kernel.wgsl");
 pub const TRANSMITTANCE_KERNEL: &str = include_str!("wgsl/transmittance_kernel.wgsl");
@@ -56,6 +57,7 @@ pub fn scatter_kernel() -> String {
         DISTANCE,
         PHASE,
         LIGHTS,
+        PROPERTIES,
         SCATTER_KERNEL,
     ]
     .join("\n")
@@ -69,6 +71,7 @@ pub fn point_mis_kernel() -> String {
         DISTANCE,
         PHASE,
         LIGHTS,
+        PROPERTIES,
         POINT_MIS_KERNEL,
     ]
     .join("\n")

@@ -64,6 +64,12 @@ const T_MIN: f32 = 100.0;
 const T_STEP: f32 = 25.0;
 const T_COUNT: usize = 1597; // up to 40,000 K
 
+/// (first temperature, step, values) of the table behind [`blackbody_rgb`],
+/// for GPU ports that interpolate it the same way.
+pub fn blackbody_table() -> (f32, f32, &'static [Vec3]) {
+    (T_MIN, T_STEP, table())
+}
+
 fn table() -> &'static [Vec3] {
     static TABLE: OnceLock<Vec<Vec3>> = OnceLock::new();
     TABLE.get_or_init(|| {

@@ -60,6 +60,11 @@ impl Field {
         })
     }
 
+    /// The channel grids and the world → index map, for GPU upload.
+    pub fn parts(&self) -> (&[DensityData], DAffine3) {
+        (&self.channels, self.world_to_index)
+    }
+
     pub fn channel_count(&self) -> usize {
         self.channels.len()
     }

@@ -4,7 +4,6 @@
 // equiangular and the MIS strategies (Miller et al. 2019; Eq. 10 with naive
 // or jackknife weights; Eq. 9 with jackknife weights).
 
-@group(2) @binding(4) var<storage, read> shading: array<vec4<f32>>;
 
 const STRATEGY_FREE_FLIGHT: u32 = 0u;
 const STRATEGY_EQUIANGULAR: u32 = 1u;
@@ -146,7 +145,7 @@ fn in_scattered(m: MediumGpu, s: Segment, t: f32, rng: ptr<function, Pcg32>,
     if (range.z != 0.0) {
         tr = estimate(m, r, range.x, range.y, rng, lookups);
     }
-    return s.albedo * s.intensity * (f * tr / dist2);
+    return albedo_at(0u, p) * s.intensity * (f * tr / dist2);
 }
 
 // PointMis::depths: two estimates of N (or one of 2N, repeated, naive).

@@ -6,8 +6,6 @@
 // phase-sampled direction's transmittance is estimated instead of traced),
 // Russian roulette on the throughput after rr_depth bounces.
 
-// Per medium: (albedo rgb, HG g).
-@group(2) @binding(4) var<storage, read> shading: array<vec4<f32>>;
 
 const SAMPLER_DELTA: u32 = 0u;
 const SAMPLER_DECOMPOSITION: u32 = 1u;
@@ -158,9 +156,12 @@ fn path(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, u32>) ->
             radiance += beta * escaped(ray.d, phase_pdf);
             break;
         }
-        let sh = shading[u32(hit.y)];
+        let mi = u32(hit.y);
+        let sh = shading[mi];
         let p = ray.o + hit.x * ray.d;
-        beta *= sh.xyz;
+        let albedo = albedo_at(mi, p);
+        radiance += beta * emitted(mi, p, albedo);
+        beta *= albedo;
         if (all(beta == vec3<f32>(0.0))) {
             break;
         }

@@ -1,0 +1,68 @@
+// Medium properties at scattering vertices (render/src/field.rs,
+// emission.rs, blackbody.rs, SceneMedium::albedo_at / emitted): albedo
+// grids, emission (colour × grid, or a blackbody of a temperature grid).
+// Property grids are records of the media buffer after the scene's media.
+
+// Per medium i: shading[i] = (albedo, g); medium_ext[3i..3i+3] as in lights.rs.
+@group(2) @binding(4) var<storage, read> shading: array<vec4<f32>>;
+@group(2) @binding(5) var<storage, read> medium_ext: array<vec4<f32>>;
+// [0] = (first kelvin, step, count, 0); then linear-sRGB rows.
+@group(2) @binding(6) var<storage, read> blackbody: array<vec4<f32>>;
+
+// Field::eval: trilinear value(s) at world point p, zero outside the box.
+fn field_eval(first: u32, channels: u32, p: vec3<f32>) -> vec3<f32> {
+    var out = vec3<f32>(0.0);
+    for (var c = 0u; c < channels; c++) {
+        let m = media[first + c];
+        let o = vec4<f32>(p, 1.0);
+        let q = vec3<f32>(dot(m.w2i0, o), dot(m.w2i1, o), dot(m.w2i2, o));
+        if (any(q < vec3<f32>(0.0)) || any(q > vec3<f32>(m.dims))) {
+            return vec3<f32>(0.0);
+        }
+        out[c] = trilinear(m, q);
+    }
+    if (channels == 1u) {
+        return vec3<f32>(out.x);
+    }
+    return out;
+}
+
+fn albedo_at(mi: u32, p: vec3<f32>) -> vec3<f32> {
+    let a = shading[mi].xyz;
+    let ext = medium_ext[3u * mi];
+    if (ext.x == 0.0) {
+        return a;
+    }
+    return clamp(a * field_eval(u32(ext.x) - 1u, u32(ext.y), p), vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
+fn blackbody_rgb(t: f32) -> vec3<f32> {
+    let h = blackbody[0];
+    if (!(t > h.x)) {
+        return vec3<f32>(0.0);
+    }
+    let n = u32(h.z);
+    let x = min((t - h.x) / h.y, f32(n - 1u));
+    let i = min(u32(x), n - 2u);
+    let w = x - f32(i);
+    return blackbody[1u + i].xyz * (1.0 - w) + blackbody[2u + i].xyz * w;
+}
+
+// SceneMedium::emitted: (1 − albedo) L_e.
+fn emitted(mi: u32, p: vec3<f32>, albedo: vec3<f32>) -> vec3<f32> {
+    let ext = medium_ext[3u * mi];
+    if (ext.z == 0.0) {
+        return vec3<f32>(0.0);
+    }
+    let e = medium_ext[3u * mi + 1u];
+    var le = e.xyz;
+    if (ext.z == 1.0) {
+        if (ext.w != 0.0) {
+            le *= max(field_eval(u32(ext.w) - 1u, 1u, p), vec3<f32>(0.0));
+        }
+    } else {
+        let offset = medium_ext[3u * mi + 2u].x;
+        le *= blackbody_rgb((field_eval(u32(ext.w) - 1u, 1u, p).x - offset) * e.w);
+    }
+    return (vec3<f32>(1.0) - albedo) * le;
+}
