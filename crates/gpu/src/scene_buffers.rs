@@ -186,15 +186,8 @@ fn pack_medium(m: &Medium, camera: glam::Vec3, p: &mut Packed) -> Result<MediumG
             .map(|c| [c.min, c.max, c.mean, c.importance]),
     );
     let a = m.world_to_index;
-    let (x, y, z, t) = (
-        a.matrix3.x_axis,
-        a.matrix3.y_axis,
-        a.matrix3.z_axis,
-        a.translation,
-    );
-    let row = |r: usize| [x[r] as f32, y[r] as f32, z[r] as f32, t[r] as f32];
     Ok(MediumGpu {
-        w2i: [row(0), row(1), row(2)],
+        w2i: affine_rows(a),
         dims,
         filter: match m.filter {
             Filter::Nearest => 0,
@@ -240,15 +233,8 @@ fn pack_property(
     };
     let sv_offset = p.supervoxels.len() as u32;
     p.supervoxels.push([0.0; 4]);
-    let (x, y, z, t) = (
-        w2i.matrix3.x_axis,
-        w2i.matrix3.y_axis,
-        w2i.matrix3.z_axis,
-        w2i.translation,
-    );
-    let row = |r: usize| [x[r] as f32, y[r] as f32, z[r] as f32, t[r] as f32];
     Ok(MediumGpu {
-        w2i: [row(0), row(1), row(2)],
+        w2i: affine_rows(w2i),
         dims,
         filter: 1,
         bdims: dims.map(|d| d.div_ceil(8)),
@@ -273,4 +259,15 @@ fn pack_f16(d: &[half::f16]) -> Vec<u32> {
             lo | (hi << 16)
         })
         .collect()
+}
+
+/// The rows of a 3×4 affine map (world → index) in f32.
+fn affine_rows(a: fogbank_math::DAffine3) -> [[f32; 4]; 3] {
+    let (x, y, z, t) = (
+        a.matrix3.x_axis,
+        a.matrix3.y_axis,
+        a.matrix3.z_axis,
+        a.translation,
+    );
+    std::array::from_fn(|r| [x[r] as f32, y[r] as f32, z[r] as f32, t[r] as f32])
 }

@@ -23,6 +23,7 @@ pub const LIGHTS: &str = include_str!("wgsl/lights.wgsl");
 pub const PROPERTIES: &str = include_str!("wgsl/properties.wgsl");
 pub const SCATTER_KERNEL: &str = include_str!("wgsl/scatter_kernel.wgsl");
 pub const POINT_MIS_KERNEL: &str = include_str!("wgsl/point_mis_kernel.wgsl");
+pub const ACCUMULATE: &str = include_str!("wgsl/accumulate.wgsl");
 pub const TRANSMITTANCE_KERNEL: &str = include_str!("wgsl/transmittance_kernel.wgsl");
 
 /// Every estimator's source, after the shared media code.
@@ -46,7 +47,7 @@ pub fn estimators() -> String {
 }
 
 pub fn transmittance_kernel() -> String {
-    [&estimators(), FRAME, TRANSMITTANCE_KERNEL].join("\n")
+    [&estimators(), FRAME, TRANSMITTANCE_KERNEL, ACCUMULATE].join("\n")
 }
 
 /// `direct` and `volpath`.
@@ -59,6 +60,7 @@ pub fn scatter_kernel() -> String {
         LIGHTS,
         PROPERTIES,
         SCATTER_KERNEL,
+        ACCUMULATE,
     ]
     .join("\n")
 }
@@ -73,6 +75,7 @@ pub fn point_mis_kernel() -> String {
         LIGHTS,
         PROPERTIES,
         POINT_MIS_KERNEL,
+        ACCUMULATE,
     ]
     .join("\n")
 }

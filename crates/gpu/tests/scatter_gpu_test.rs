@@ -2,11 +2,13 @@
 //! at equal spp and matching lookup counts, for every distance sampler,
 //! several NEE estimators and every light type (lavapipe in CI).
 
-use fogbank_eval::image_io::Image;
 use fogbank_eval::metrics::ztest::ztest;
 use fogbank_gpu::{render as gpu_render, test_gpu};
-use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene};
+use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::Path;
+
+mod common;
+use common::image;
 
 fn scene(lights: &str, extra: &[String]) -> Scene {
     let text = format!(
@@ -28,24 +30,6 @@ const MIXED: &str = "[[lights]]\ntype = \"constant\"\nradiance = [0.3, 0.4, 0.5]
     [[lights]]\ntype = \"spot\"\nposition = [0.0, 0.9, 0.3]\ndirection = [0.0, -1.0, -0.2]\nintensity = [2.0, 2.0, 2.0]\n";
 const PROBE: &str =
     "[[lights]]\ntype = \"envmap\"\nfile = \"probes/sky.hdr\"\nrotate = [0.0, 1.0, 0.0, 40.0]\n";
-
-fn image(f: &Film) -> Image {
-    let rgb = f.mean();
-    // f32 rounding floor, as in the transmittance tests.
-    let variance = f
-        .variance_of_mean()
-        .iter()
-        .zip(&rgb)
-        .map(|(v, m)| [0, 1, 2].map(|c| v[c].max((1e-5 * m[c]).powi(2))))
-        .collect();
-    Image {
-        width: f.width as usize,
-        height: f.height as usize,
-        rgb,
-        variance: Some(variance),
-        is_srgb8: false,
-    }
-}
 
 fn compare(lights: &str, extra: &[&str], spp: u32) {
     let Some(gpu) = test_gpu() else { return };

@@ -4,12 +4,14 @@
 //! adapter (lavapipe in CI); skips with a message when there is none,
 //! unless FOGBANK_REQUIRE_GPU=1.
 
-use fogbank_eval::image_io::Image;
 use fogbank_eval::metrics::ztest::ztest;
 use fogbank_gpu::{diagnostics, render as gpu_render, test_gpu};
 use fogbank_math::SampleKey;
-use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene};
+use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::Path;
+
+mod common;
+use common::image;
 
 #[test]
 fn pcg_streams_are_bit_identical() {
@@ -50,28 +52,6 @@ fn opts(spp: u32, seed: u32) -> RenderOptions {
         spp,
         seed,
         time_budget: None,
-    }
-}
-
-/// The film as an image for the z-test. The variance gets a floor of
-/// (1e-5 · value)²: GPU rays are transformed in f32 (the CPU uses f64), so
-/// a grazing ray can meet a near-empty voxel on one side only, and a pixel
-/// that is exactly 1 on the CPU may be 0.9999996 on the GPU with no noise
-/// on either side.
-fn image(f: &Film) -> Image {
-    let rgb = f.mean();
-    let variance = f
-        .variance_of_mean()
-        .iter()
-        .zip(&rgb)
-        .map(|(v, m)| [0, 1, 2].map(|c| v[c].max((1e-5 * m[c]).powi(2))))
-        .collect();
-    Image {
-        width: f.width as usize,
-        height: f.height as usize,
-        rgb,
-        variance: Some(variance),
-        is_srgb8: false,
     }
 }
 

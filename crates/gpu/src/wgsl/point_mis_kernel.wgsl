@@ -268,7 +268,7 @@ fn point_mis_radiance(m: MediumGpu, s: Segment, rng: ptr<function, Pcg32>,
     return total;
 }
 
-fn point_mis_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, u32>) -> vec3<f32> {
+fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, u32>) -> vec3<f32> {
     var rng = sample_rng(frame.seed, pixel, sample, DIM_ESTIMATOR);
     let world = primary_ray(x, y, pixel, sample);
     let m = media[0];
@@ -291,28 +291,3 @@ fn point_mis_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<functi
     return point_mis_radiance(m, s, &rng, lookups) / pmf;
 }
 
-@compute @workgroup_size(8, 8, 1)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x >= frame.width || gid.y >= frame.height) {
-        return;
-    }
-    let pixel = gid.y * frame.width + gid.x;
-    var sum = vec3<f32>(0.0);
-    var sq = vec3<f32>(0.0);
-    var lookups = 0u;
-    var count = 0.0;
-    var nonfinite = 0.0;
-    for (var k = 0u; k < frame.sample_count; k++) {
-        let v = point_mis_sample(pixel, gid.x, gid.y, frame.first_sample + k, &lookups);
-        if (is_finite3(v)) {
-            sum += v;
-            sq += v * v;
-            count += 1.0;
-        } else {
-            nonfinite += 1.0;
-        }
-    }
-    accum_sum[pixel] += vec4<f32>(sum, count);
-    accum_sq[pixel] += vec4<f32>(sq, nonfinite);
-    accum_lookups[pixel] += lookups;
-}

@@ -144,7 +144,7 @@ fn phase_sample_to_environment(p: vec3<f32>, wi: vec3<f32>, phase_pdf: f32,
     return le * shadow(sr, F32_INF, rng, lookups);
 }
 
-fn path(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, u32>) -> vec3<f32> {
+fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, u32>) -> vec3<f32> {
     var rng = sample_rng(frame.seed, pixel, sample, DIM_ESTIMATOR);
     var ray = primary_ray(x, y, pixel, sample);
     var beta = vec3<f32>(1.0);
@@ -187,28 +187,3 @@ fn path(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, u32>) ->
     return radiance;
 }
 
-@compute @workgroup_size(8, 8, 1)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x >= frame.width || gid.y >= frame.height) {
-        return;
-    }
-    let pixel = gid.y * frame.width + gid.x;
-    var sum = vec3<f32>(0.0);
-    var sq = vec3<f32>(0.0);
-    var lookups = 0u;
-    var count = 0.0;
-    var nonfinite = 0.0;
-    for (var k = 0u; k < frame.sample_count; k++) {
-        let v = path(pixel, gid.x, gid.y, frame.first_sample + k, &lookups);
-        if (is_finite3(v)) {
-            sum += v;
-            sq += v * v;
-            count += 1.0;
-        } else {
-            nonfinite += 1.0;
-        }
-    }
-    accum_sum[pixel] += vec4<f32>(sum, count);
-    accum_sq[pixel] += vec4<f32>(sq, nonfinite);
-    accum_lookups[pixel] += lookups;
-}
