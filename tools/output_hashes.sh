@@ -69,7 +69,7 @@ for d in "${devices[@]}"; do
 done
 
 # Every estimator through `fogbank stats` (CPU and GPU), 32 frames of 24×16.
-for e in $("$bin" estimators | awk 'NR>1 && $1 ~ /^[a-z_]+$/ {print $1}'); do
+for e in $("$bin" estimators | awk '$1 ~ /^[a-z_]+$/ {print $1}'); do
   for d in "${devices[@]}"; do
     dir="$work/stats-$e-$d"
     if "$bin" stats --estimator "$e" --runs 32 --reference-estimator analytic_trilinear \
@@ -77,7 +77,7 @@ for e in $("$bin" estimators | awk 'NR>1 && $1 ~ /^[a-z_]+$/ {print $1}'); do
       >/dev/null 2>"$work/err"; then
       echo "$(hash_file "$dir/stats.exr")  stats $e $d stats.exr" >> "$out"
       # summary.json without timings and memory.
-      grep -v -E '"(ms_per_frame|seconds|render_seconds|gpu_ms|peak_memory_bytes|threads|frames_per_second)"' \
+      grep -v -E '"(ms_per_frame|seconds|render_seconds|stats_seconds|gpu_ms|peak_memory_bytes|threads|frames_per_second)"' \
         "$dir/summary.json" | sha256sum | cut -d' ' -f1 | sed "s/\$/  stats $e $d summary.json/" >> "$out"
     else
       echo "error  stats $e $d: $(tail -1 "$work/err")" >> "$out"

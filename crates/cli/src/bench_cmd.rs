@@ -145,7 +145,7 @@ pub fn run(a: BenchArgs) -> CliResult {
     for threads in runs {
         let pool = thread_pool(Some(threads.unwrap_or(1)))?;
         for (i, e) in estimators.iter().copied().enumerate() {
-            scene.integrator = fogbank_render::scene::IntegratorKind::Transmittance {
+            scene.integrator = fogbank_render::integrators::IntegratorKind::Transmittance {
                 estimator: e,
                 background: glam::Vec3::ONE,
             };

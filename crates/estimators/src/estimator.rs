@@ -6,20 +6,7 @@ use crate::optical_depth::{Importance, Jitter};
 use fogbank_math::{Pcg32, Ray};
 use fogbank_volume::{Medium, MediumView};
 
-/// One transmittance estimate and what it cost.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Estimate {
-    pub transmittance: f32,
-    /// Full-resolution lookups (filtered σ_t evaluations) taken.
-    pub lookups: u32,
-}
-
-impl Estimate {
-    pub const ONE: Estimate = Estimate {
-        transmittance: 1.0,
-        lookups: 0,
-    };
-}
+pub use crate::estimate::Estimate;
 
 /// A transmittance estimator with its options.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -201,6 +188,62 @@ impl Estimator {
         self.info().options
     }
 
+    /// The option keys estimator `name` takes (`None`: no such estimator).
+    pub fn option_keys(name: &str) -> Option<&'static [&'static str]> {
+        INFO.iter().any(|i| i.name == name).then(|| -> &'static [&'static str] {
+            match name {
+                "ray_marching" => &["samples", "clip"],
+                "biased_ray_marching" => &["doubled"],
+                "unbiased_ray_marching" => &["mult"],
+                "jackknife" => &["samples", "mode", "step", "jitter"],
+                "jackknife_naive" | "jackknife_mean_importance" => &["samples", "jitter"],
+                _ => &[],
+            }
+        })
+    }
+
+    /// The options that give this estimator back through
+    /// [`Estimator::with_options`] (every option it takes, spelled out).
+    pub fn options(&self) -> EstimatorOptions {
+        let jitter = |j: Jitter| {
+            Some(match j {
+                Jitter::Stratified => "stratified".to_string(),
+                Jitter::Uniform => "uniform".to_string(),
+            })
+        };
+        let mut o = EstimatorOptions::default();
+        match *self {
+            Estimator::RayMarching { samples, clip } => {
+                o.samples = Some(samples);
+                o.clip = Some(clip);
+            }
+            Estimator::BiasedRayMarching { doubled } => o.doubled = Some(doubled),
+            Estimator::UnbiasedRayMarching { mult } => o.mult = Some(mult),
+            Estimator::Jackknife {
+                samples,
+                mode,
+                jitter: j,
+            } => {
+                o.samples = Some(samples);
+                match mode {
+                    StepMode::FixedCount => o.mode = Some("fixed_count".into()),
+                    StepMode::FixedStep(s) => {
+                        o.mode = Some("fixed_step".into());
+                        o.step = Some(s);
+                    }
+                }
+                o.jitter = jitter(j);
+            }
+            Estimator::JackknifeNaive { samples, jitter: j }
+            | Estimator::JackknifeMeanImportance { samples, jitter: j } => {
+                o.samples = Some(samples);
+                o.jitter = jitter(j);
+            }
+            _ => {}
+        }
+        o
+    }
+
     /// The estimator `name` with default options.
     pub fn parse(name: &str) -> Option<Estimator> {
         Estimator::with_options(name, &EstimatorOptions::default()).ok()
@@ -209,14 +252,7 @@ impl Estimator {
     /// The estimator `name` with `o` applied; an option the estimator does
     /// not take, or a bad value, is an error naming it.
     pub fn with_options(name: &str, o: &EstimatorOptions) -> Result<Estimator, String> {
-        let allowed: &[&str] = match name {
-            "ray_marching" => &["samples", "clip"],
-            "biased_ray_marching" => &["doubled"],
-            "unbiased_ray_marching" => &["mult"],
-            "jackknife" => &["samples", "mode", "step", "jitter"],
-            "jackknife_naive" | "jackknife_mean_importance" => &["samples", "jitter"],
-            _ => &[],
-        };
+        let allowed = Estimator::option_keys(name).unwrap_or(&[]);
         let given = [
             ("samples", o.samples.is_some()),
             ("mode", o.mode.is_some()),

@@ -8,6 +8,7 @@
 
 pub mod analytic_trilinear;
 pub mod distance;
+pub mod estimate;
 pub mod estimator;
 pub mod jackknife;
 pub mod jackknife_function;
@@ -21,4 +22,5 @@ pub mod regular_tracking;
 pub mod residual_ratio_tracking;
 pub mod track_length;
 
-pub use estimator::{transmittance, Estimate, Estimator, EstimatorOptions};
+pub use estimate::Estimate;
+pub use estimator::{transmittance, Estimator, EstimatorOptions};

@@ -9,8 +9,7 @@
 
 use fogbank_estimators::Estimator;
 use fogbank_math::SampleKey;
-use fogbank_render::integrators::sample_pixel;
-use fogbank_render::scene::IntegratorKind;
+use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::Scene;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -54,7 +53,7 @@ pub struct Summary {
 
 fn centred(scene: &Scene) -> Scene {
     let mut s = scene.clone();
-    s.desc.render.pixel_jitter = false;
+    s.world.pixel_jitter = false;
     s
 }
 
@@ -72,8 +71,7 @@ pub fn frame_stats(scene: &Scene, runs: u32, seed: u32) -> FrameStats {
             let (mut mean, mut m2, mut n, mut lookups, mut bad) =
                 ([0.0f64; 3], [0.0f64; 3], 0u32, 0u64, 0u64);
             for k in 0..runs {
-                let s = sample_pixel(
-                    &scene,
+                let s = scene.sample_pixel(
                     x,
                     y,
                     SampleKey {

@@ -9,6 +9,9 @@
 //! random stream is the same on both.
 
 pub mod context;
+pub mod contract;
+#[cfg(test)]
+mod contract_test;
 pub mod diagnostics;
 pub mod lights;
 pub mod render;

@@ -4,30 +4,32 @@
 
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
-use fogbank_render::scene::{IntegratorKind, Light, Scene};
+use fogbank_render::integrators::IntegratorKind;
+use fogbank_render::lights::Light;
+use fogbank_render::Scene;
 use wgpu::util::DeviceExt;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-struct LightGpu {
-    kind: u32,
-    pad: [u32; 3],
-    a: [f32; 4],
-    b: [f32; 4],
-    c: [f32; 4],
-    d: [f32; 4],
+pub(crate) struct LightGpu {
+    pub(crate) kind: u32,
+    pub(crate) pad: [u32; 3],
+    pub(crate) a: [f32; 4],
+    pub(crate) b: [f32; 4],
+    pub(crate) c: [f32; 4],
+    pub(crate) d: [f32; 4],
 }
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-struct EnvParams {
-    to_local: [[f32; 4]; 3],
-    width: u32,
-    height: u32,
-    light_count: u32,
-    integral: f32,
-    pickable: u32,
-    pad: [u32; 3],
+pub(crate) struct EnvParams {
+    pub(crate) to_local: [[f32; 4]; 3],
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    pub(crate) light_count: u32,
+    pub(crate) integral: f32,
+    pub(crate) pickable: u32,
+    pub(crate) pad: [u32; 3],
 }
 
 pub struct LightBuffers {
@@ -84,8 +86,9 @@ impl LightBuffers {
                 c: c4,
                 d: [d[0], d[1], c, pmf],
             };
+            let kind = crate::contract::light_id(l);
             records.push(match l {
-                Light::Constant { radiance } => rec(0, zero, v4(*radiance, 0.0), zero, [0.0; 2]),
+                Light::Constant { radiance } => rec(kind, zero, v4(*radiance, 0.0), zero, [0.0; 2]),
                 Light::Envmap(e) => {
                     envmaps += 1;
                     if envmaps > 1 {
@@ -104,16 +107,16 @@ impl LightBuffers {
                     ];
                     env_rgb = rgb;
                     env_cdf = cdfs;
-                    rec(1, zero, zero, zero, [0.0; 2])
+                    rec(kind, zero, zero, zero, [0.0; 2])
                 }
                 Light::Point {
                     position,
                     intensity,
-                } => rec(2, v4(*position, 1.0), v4(*intensity, 0.0), zero, [0.0; 2]),
+                } => rec(kind, v4(*position, 1.0), v4(*intensity, 0.0), zero, [0.0; 2]),
                 Light::Directional {
                     direction,
                     irradiance,
-                } => rec(3, v4(*direction, 0.0), v4(*irradiance, 0.0), zero, [0.0; 2]),
+                } => rec(kind, v4(*direction, 0.0), v4(*irradiance, 0.0), zero, [0.0; 2]),
                 Light::Spot {
                     position,
                     direction,
@@ -121,7 +124,7 @@ impl LightBuffers {
                     cos_falloff_start,
                     cos_total,
                 } => rec(
-                    4,
+                    kind,
                     v4(*position, 1.0),
                     v4(*intensity, 0.0),
                     v4(*direction, 0.0),
@@ -140,22 +143,23 @@ impl LightBuffers {
         // Emission kind: 0 none, 1 colour, 2 blackbody.
         let mut ext: Vec<[f32; 4]> = Vec::new();
         for (m, prop) in scene.media.iter().zip(properties) {
-            use fogbank_render::emission::Emission;
-            let (kind, radiance, scale, offset) = match &m.emission {
-                None => (0.0, glam::Vec3::ZERO, 1.0, 0.0),
-                Some(Emission::Color { radiance, .. }) => (1.0, *radiance, 1.0, 0.0),
+            use fogbank_render::world::emission::Emission;
+            let kind = crate::contract::emission_id(m.emission.as_ref()) as f32;
+            let (radiance, scale, offset) = match &m.emission {
+                None => (glam::Vec3::ZERO, 1.0, 0.0),
+                Some(Emission::Color { radiance, .. }) => (*radiance, 1.0, 0.0),
                 Some(Emission::Blackbody {
                     radiance,
                     scale,
                     offset,
                     ..
-                }) => (2.0, *radiance, *scale, *offset),
+                }) => (*radiance, *scale, *offset),
             };
             ext.push([prop[0] as f32, prop[1] as f32, kind, prop[2] as f32]);
             ext.push(v4(radiance, scale));
             ext.push([offset, 0.0, 0.0, 0.0]);
         }
-        let (bb_min, bb_step, bb) = fogbank_render::blackbody::blackbody_table();
+        let (bb_min, bb_step, bb) = fogbank_render::world::blackbody::blackbody_table();
         let mut table: Vec<[f32; 4]> = vec![[bb_min, bb_step, bb.len() as f32, 0.0]];
         table.extend(bb.iter().map(|c| v4(*c, 0.0)));
         let ext_buf = gpu.storage_buffer("medium_ext", bytemuck::cast_slice(&ext));

@@ -3,133 +3,53 @@
 //! CPU's (same scene, seed, sample indices and random streams), accumulated
 //! on the device and read back once.
 
+use crate::contract::{gpu_estimator, sampler_id, strategy_id, GpuEstimator};
 use crate::scene_buffers::SceneBuffers;
 use crate::shaders;
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
-use fogbank_estimators::jackknife::StepMode;
-use fogbank_estimators::optical_depth::Jitter;
-use fogbank_estimators::Estimator;
-use fogbank_render::scene::IntegratorKind;
+use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{Film, Progress, RenderOptions, Scene};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
-/// A WGSL-ported estimator: its `ESTIMATOR` constant and the options the
-/// kernel reads from the frame (samples, fixed step or 0, flags).
-pub struct GpuEstimator {
-    pub id: u32,
-    pub samples: u32,
-    pub step: f32,
-    pub flags: u32,
-}
-
-const FLAG_UNIFORM_JITTER: u32 = 1;
-const FLAG_CLIP: u32 = 2;
-const FLAG_DOUBLED: u32 = 4;
-
-/// Every estimator has a WGSL port; `None` is kept for future CPU-only ones.
-pub fn gpu_estimator(e: Estimator) -> Option<GpuEstimator> {
-    let jitter = |j: Jitter| {
-        if j == Jitter::Uniform {
-            FLAG_UNIFORM_JITTER
-        } else {
-            0
-        }
-    };
-    let plain = |id| GpuEstimator {
-        id,
-        samples: 0,
-        step: 0.0,
-        flags: 0,
-    };
-    Some(match e {
-        Estimator::RegularTracking => plain(0),
-        Estimator::TrackLength => plain(1),
-        Estimator::RatioTracking => plain(2),
-        Estimator::AnalyticTrilinear => plain(3),
-        Estimator::ResidualRatioTracking => plain(4),
-        Estimator::RayMarching { samples, clip } => GpuEstimator {
-            id: 5,
-            samples,
-            step: 0.0,
-            flags: if clip { FLAG_CLIP } else { 0 },
-        },
-        Estimator::Jackknife {
-            samples,
-            mode,
-            jitter: j,
-        } => GpuEstimator {
-            id: 6,
-            samples,
-            step: match mode {
-                StepMode::FixedCount => 0.0,
-                StepMode::FixedStep(s) => s.max(1e-6),
-            },
-            flags: jitter(j),
-        },
-        Estimator::JackknifeNaive { samples, jitter: j } => GpuEstimator {
-            id: 7,
-            samples,
-            step: 0.0,
-            flags: jitter(j),
-        },
-        Estimator::JackknifeMeanImportance { samples, jitter: j } => GpuEstimator {
-            id: 8,
-            samples,
-            step: 0.0,
-            flags: jitter(j),
-        },
-        Estimator::BiasedRayMarching { doubled } => GpuEstimator {
-            id: 9,
-            samples: 0,
-            step: 0.0,
-            flags: if doubled { FLAG_DOUBLED } else { 0 },
-        },
-        Estimator::UnbiasedRayMarching { mult } => GpuEstimator {
-            id: 10,
-            samples: mult,
-            step: 0.0,
-            flags: 0,
-        },
-    })
-}
-
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-struct Frame {
-    cam_origin: [f32; 4],
-    cam_forward: [f32; 4],
-    cam_right: [f32; 4],
-    cam_up: [f32; 4],
-    background: [f32; 4],
-    tan_half: [f32; 2],
-    width: u32,
-    height: u32,
-    seed: u32,
-    first_sample: u32,
-    sample_count: u32,
-    media_count: u32,
-    pixel_jitter: u32,
-    est_samples: u32,
-    est_step: f32,
-    est_flags: u32,
-    max_depth: u32,
-    rr_depth: u32,
-    sampler: u32,
-    mis_samples: u32,
+pub(crate) struct Frame {
+    pub(crate) cam_origin: [f32; 4],
+    pub(crate) cam_forward: [f32; 4],
+    pub(crate) cam_right: [f32; 4],
+    pub(crate) cam_up: [f32; 4],
+    pub(crate) background: [f32; 4],
+    pub(crate) tan_half: [f32; 2],
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    pub(crate) seed: u32,
+    pub(crate) first_sample: u32,
+    pub(crate) sample_count: u32,
+    pub(crate) media_count: u32,
+    pub(crate) pixel_jitter: u32,
+    pub(crate) est_samples: u32,
+    pub(crate) est_step: f32,
+    pub(crate) est_flags: u32,
+    pub(crate) max_depth: u32,
+    pub(crate) rr_depth: u32,
+    pub(crate) sampler: u32,
+    pub(crate) mis_samples: u32,
 }
 
 /// What the integrator asks of the kernels.
-struct Kernel {
+pub(crate) struct Kernel {
     source: KernelSource,
     /// Needs bind group 2 (lights, environment, shading).
     scatter: bool,
-    estimator: Estimator,
+    /// The transmittance estimator's `EST_*` id and frame options.
+    pub(crate) est: GpuEstimator,
     background: glam::Vec3,
     max_depth: u32,
     rr_depth: u32,
-    sampler: u32,
+    /// `SAMPLER_*` id, or for `point_mis` the `STRATEGY_*` id.
+    pub(crate) sampler: u32,
     mis_samples: u32,
 }
 
@@ -141,22 +61,17 @@ enum KernelSource {
 }
 
 impl Kernel {
-    fn of(scene: &Scene) -> Result<Kernel, GpuError> {
-        use fogbank_render::integrators::media::DistanceSampler;
-        let sampler = |s: DistanceSampler| match s {
-            DistanceSampler::DeltaTracking => 0,
-            DistanceSampler::DecompositionTracking => 1,
-            DistanceSampler::RegularTracking => 2,
-        };
+    pub(crate) fn of(scene: &Scene) -> Result<Kernel, GpuError> {
+        let estimator = scene.integrator.estimator();
+        let est = gpu_estimator(estimator).ok_or_else(|| {
+            GpuError(format!("estimator `{}` has no GPU kernel", estimator.name()))
+        })?;
         let k = match &scene.integrator {
-            IntegratorKind::Transmittance {
-                estimator,
-                background,
-            } => Kernel {
+            IntegratorKind::Transmittance { background, .. } => Kernel {
                 source: KernelSource::Transmittance,
                 mis_samples: 0,
                 scatter: false,
-                estimator: *estimator,
+                est,
                 background: *background,
                 max_depth: 0,
                 rr_depth: 0,
@@ -166,33 +81,30 @@ impl Kernel {
                 source: KernelSource::Scatter,
                 mis_samples: 0,
                 scatter: true,
-                estimator: d.nee,
+                est,
                 background: glam::Vec3::ZERO,
                 max_depth: 1,
                 rr_depth: u32::MAX,
-                sampler: sampler(d.distance),
+                sampler: sampler_id(d.distance),
             },
             IntegratorKind::VolPath(v) => Kernel {
                 source: KernelSource::Scatter,
                 mis_samples: 0,
                 scatter: true,
-                estimator: v.nee,
+                est,
                 background: glam::Vec3::ZERO,
                 max_depth: v.max_depth,
                 rr_depth: v.rr_depth,
-                sampler: sampler(v.distance),
+                sampler: sampler_id(v.distance),
             },
             IntegratorKind::PointMis(p) => Kernel {
                 source: KernelSource::PointMis,
                 scatter: true,
-                estimator: p.nee,
+                est,
                 background: glam::Vec3::ZERO,
                 max_depth: 1,
                 rr_depth: u32::MAX,
-                sampler: fogbank_render::integrators::point_mis::Strategy::ALL
-                    .iter()
-                    .position(|s| *s == p.strategy)
-                    .expect("every strategy is in ALL") as u32,
+                sampler: strategy_id(p.strategy),
                 mis_samples: p.mis_samples,
             },
         };
@@ -235,15 +147,21 @@ pub fn render_observed(
     scene: &Scene,
     opts: &RenderOptions,
     progress: &Progress,
+    after: Option<Observer<'_>>,
+) -> Result<GpuRender, GpuError> {
+    render_kernel(gpu, scene, &Kernel::of(scene)?, opts, progress, after)
+}
+
+/// Runs `kernel` (as [`Kernel::of`] the scene's integrator gives it).
+pub(crate) fn render_kernel(
+    gpu: &Gpu,
+    scene: &Scene,
+    kernel: &Kernel,
+    opts: &RenderOptions,
+    progress: &Progress,
     mut after: Option<Observer<'_>>,
 ) -> Result<GpuRender, GpuError> {
-    let kernel = Kernel::of(scene)?;
-    let est = gpu_estimator(kernel.estimator).ok_or_else(|| {
-        GpuError(format!(
-            "estimator `{}` has no GPU kernel",
-            kernel.estimator.name()
-        ))
-    })?;
+    let est = &kernel.est;
     let media = SceneBuffers::upload(gpu, scene)?;
     let device = &gpu.device;
     let lights = if kernel.scatter {
@@ -376,7 +294,7 @@ pub fn render_observed(
         first_sample: 0,
         sample_count: 0,
         media_count: scene.media.len() as u32,
-        pixel_jitter: scene.desc.render.pixel_jitter as u32,
+        pixel_jitter: scene.pixel_jitter as u32,
         est_samples: est.samples,
         est_step: est.step,
         est_flags: est.flags,

@@ -5,7 +5,7 @@
 
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
-use fogbank_render::emission::Emission;
+use fogbank_render::world::emission::Emission;
 use fogbank_render::Scene;
 use fogbank_volume::{BrickGrid, DensityData, Filter, Medium, Voxel};
 
@@ -90,7 +90,7 @@ impl SceneBuffers {
         }
         let mut properties = Vec::new();
         for (i, sm) in scene.media.iter().enumerate() {
-            let mut push = |f: &fogbank_render::field::Field| -> Result<u32, GpuError> {
+            let mut push = |f: &fogbank_render::world::field::Field| -> Result<u32, GpuError> {
                 let first = media.len() as u32;
                 let (channels, w2i) = f.parts();
                 for c in channels {

@@ -26,9 +26,11 @@ pub const POINT_MIS_KERNEL: &str = include_str!("wgsl/point_mis_kernel.wgsl");
 pub const ACCUMULATE: &str = include_str!("wgsl/accumulate.wgsl");
 pub const TRANSMITTANCE_KERNEL: &str = include_str!("wgsl/transmittance_kernel.wgsl");
 
-/// Every estimator's source, after the shared media code.
+/// Every estimator's source, after the generated contract constants
+/// ([`crate::contract::wgsl_prelude`]) and the shared media code.
 pub fn estimators() -> String {
     [
+        &crate::contract::wgsl_prelude(),
         RNG,
         MEDIUM,
         DDA,

@@ -1,18 +1,24 @@
 //! Scenes, cameras, lights, integrators and the progressive render loop.
+//!
+//! Modules in layers, each importing only those before it:
+//! `error`, `params`, `overrides` → `world` (camera, film, media and their
+//! fields, emission, phase) and `lights` → `integrators` (the shared pieces
+//! in `integrators::shared`, one file or folder per integrator, registered in
+//! `integrators/mod.rs`) → `scene` (description + world + integrator) →
+//! `render` (the progressive loop); `desc` re-exports every description.
 
-pub mod blackbody;
-pub mod camera;
 pub mod desc;
-pub mod emission;
-pub mod field;
-pub mod film;
+pub mod error;
 pub mod integrators;
 pub mod lights;
-pub mod phase;
+pub mod overrides;
+pub mod params;
 pub mod render;
 pub mod scene;
+pub mod world;
 
-pub use desc::{SceneDesc, SceneError, DEFAULT_SCENE};
-pub use film::Film;
+pub use error::SceneError;
 pub use render::{render, render_observed, Progress, RenderOptions, RenderResult};
-pub use scene::{load_scene, parse_scene, Scene};
+pub use scene::{load_scene, parse_scene, Scene, SceneDesc, DEFAULT_SCENE};
+pub use world::film::Film;
+pub use world::World;

@@ -4,8 +4,7 @@
 //! index order, so the image is bit-identical for any thread count or
 //! scheduling.
 
-use crate::film::Film;
-use crate::integrators::sample_pixel;
+use crate::world::film::Film;
 use crate::scene::Scene;
 use fogbank_math::SampleKey;
 use rayon::prelude::*;
@@ -97,7 +96,7 @@ pub fn render_observed(
                         sample: pass,
                         dimension: 0,
                     };
-                    let s = sample_pixel(scene, x as u32, y as u32, key);
+                    let s = scene.sample_pixel(x as u32, y as u32, key);
                     t.lookups += s.lookups as u64;
                     let v = s.radiance.to_array();
                     if v.iter().any(|c| c.is_nan()) {

@@ -2,7 +2,7 @@
 //! answers, and its identity with `volpath` at `max_depth = 1`.
 
 use fogbank_math::Vec3;
-use fogbank_render::blackbody::blackbody_rgb;
+use fogbank_render::world::blackbody::blackbody_rgb;
 use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene};
 use std::path::Path;
 

@@ -2,7 +2,7 @@
 
 use fogbank_math::Vec3;
 use fogbank_render::lights::sample::{spot_falloff, LightSampler};
-use fogbank_render::scene::Light;
+use fogbank_render::lights::Light;
 
 #[test]
 fn spot_light_is_full_inside_zero_outside_and_smooth_between() {

@@ -3,7 +3,7 @@
 
 use fogbank_math::chi2::{adaptive_simpson, sidak, SphereTest, SIGNIFICANCE};
 use fogbank_math::Pcg32;
-use fogbank_render::phase::HenyeyGreenstein;
+use fogbank_render::world::phase::HenyeyGreenstein;
 use glam::Vec3;
 use std::f64::consts::PI;
 

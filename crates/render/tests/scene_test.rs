@@ -31,7 +31,7 @@ fn overrides_set_nested_keys_and_array_entries() {
         ],
     )
     .unwrap();
-    assert_eq!(d.integrator.estimator, "track_length");
+    assert_eq!(d.integrator.estimator().name(), "track_length");
     assert_eq!(d.media[0].sigma_t_scale, 40.0);
     assert_eq!(d.camera.from, [1.0, 2.0, 3.0]);
 }
@@ -80,4 +80,110 @@ fn missing_files_name_the_file() {
     .unwrap();
     let e = Scene::build(d, Path::new("/tmp")).unwrap_err().to_string();
     assert!(e.contains("nope.vol"), "{e}");
+}
+
+/// A scene with `[integrator]` as given, parsed from the file's text.
+fn file_err(integrator: &str) -> String {
+    let text = format!("{DEFAULT_SCENE}\n").replace(
+        "[integrator]\ntype = \"transmittance\"\nestimator = \"ratio_tracking\"\n",
+        &format!("[integrator]\n{integrator}\n"),
+    );
+    match parse_scene(&text, "scene.toml", &[]) {
+        Ok(_) => panic!("{integrator:?} should fail"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn misplaced_and_misspelt_integrator_keys_are_refused() {
+    // In the file: the message names the key, the integrator and its keys.
+    let e = file_err("type = \"transmittance\"\nmax_depth = 4");
+    assert!(
+        e.contains(
+            "integrator.max_depth is not a parameter of \"transmittance\"; it takes estimator, background"
+        ) && e.contains("line"),
+        "{e}"
+    );
+    let e = file_err("type = \"volpath\"\nbackground = [0, 0, 0]");
+    assert!(
+        e.contains("integrator.background is not a parameter of \"volpath\"")
+            && e.contains("it takes distance_sampler, estimator, preset, max_depth, rr_depth")
+            && e.contains("is a parameter of transmittance"),
+        "{e}"
+    );
+    let e = file_err("type = \"direct\"\nmax_depht = 4");
+    assert!(
+        e.contains("integrator.max_depht is not a parameter of \"direct\"; it takes distance_sampler, estimator, preset"),
+        "{e}"
+    );
+    let e = file_err("type = \"point_mis\"\nrr_depth = 2");
+    assert!(
+        e.contains("integrator.rr_depth is not a parameter of \"point_mis\"; it takes strategy, estimator, mis_samples"),
+        "{e}"
+    );
+    // Through --set.
+    let e = err(&["integrator.max_depth=4"]);
+    assert!(
+        e.contains("integrator.max_depth is not a parameter of \"transmittance\""),
+        "{e}"
+    );
+    let e = err(&["integrator.type=volpath", "integrator.strategy=equiangular"]);
+    assert!(
+        e.contains("integrator.strategy is not a parameter of \"volpath\"")
+            && e.contains("is a parameter of point_mis"),
+        "{e}"
+    );
+    let e = err(&["integrator.type=direct", "integrator.rr_depth=3"]);
+    assert!(
+        e.contains("integrator.rr_depth is not a parameter of \"direct\""),
+        "{e}"
+    );
+    let e = err(&["integrator.type=point_mis", "integrator.preset=baseline"]);
+    assert!(
+        e.contains("integrator.preset is not a parameter of \"point_mis\""),
+        "{e}"
+    );
+    // An estimator option the estimator does not take.
+    let e = err(&["integrator.samples=4"]);
+    assert!(
+        e.contains("integrator.samples is not a parameter of \"transmittance\"; it takes estimator, background"),
+        "{e}"
+    );
+    let e = err(&["integrator.estimator=jackknife", "integrator.clip=true"]);
+    assert!(
+        e.contains("with estimator \"jackknife\"")
+            && e.contains("estimator, background, samples, mode, step, jitter"),
+        "{e}"
+    );
+    let e = err(&["integrator.estimator={ type = \"ray_marching\", mult = 2 }"]);
+    assert!(
+        e.contains("integrator.estimator.mult is not a parameter of \"ray_marching\"; it takes type, samples, clip"),
+        "{e}"
+    );
+}
+
+#[test]
+fn estimators_take_their_options_flat_or_as_a_table() {
+    let parse = |o: &[&str]| {
+        let o: Vec<String> = o.iter().map(|s| s.to_string()).collect();
+        parse_scene(DEFAULT_SCENE, "built-in", &o).unwrap()
+    };
+    let flat = parse(&["integrator.estimator=jackknife", "integrator.samples=20"]);
+    let table = parse(&["integrator.estimator={ type = \"jackknife\", samples = 20 }"]);
+    assert_eq!(flat, table);
+    assert_eq!(
+        format!("{:?}", flat.integrator.estimator()),
+        "Jackknife { samples: 20, mode: FixedCount, jitter: Stratified }"
+    );
+    // Every integrator round-trips through its table, options included.
+    for o in [
+        &["integrator.estimator={ type = \"ray_marching\", samples = 3, clip = true }"][..],
+        &["integrator.type=volpath", "integrator.preset=baseline", "integrator.max_depth=7"],
+        &["integrator.type=direct", "integrator.distance_sampler=regular_tracking"],
+        &["integrator.type=point_mis", "integrator.strategy=equiangular", "integrator.estimator=jackknife", "integrator.mode=fixed_step", "integrator.step=0.5"],
+    ] {
+        let d = parse(o);
+        let again = parse_scene(&toml::to_string(&d).unwrap(), "round trip", &[]).unwrap();
+        assert_eq!(d, again, "{o:?}");
+    }
 }

@@ -90,7 +90,7 @@ fn absorbing_medium_matches_analytic_trilinear_transmittance() {
             "integrator.type=\"transmittance\"",
             "integrator.estimator=analytic_trilinear",
         ]));
-        exact_scene.desc.render.pixel_jitter = false;
+        exact_scene.world.pixel_jitter = false;
         let exact = render(
             &exact_scene,
             &RenderOptions {

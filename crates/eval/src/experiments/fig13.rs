@@ -32,7 +32,7 @@ use super::Writer;
 use crate::image_io::linear_to_srgb;
 use fogbank_math::{SampleKey, Vec3};
 use fogbank_render::integrators::point_mis::PointMis;
-use fogbank_render::scene::IntegratorKind;
+use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene};
 use rayon::prelude::*;
 use std::path::Path;

@@ -1,6 +1,6 @@
 // The entry point every rendering kernel shares: per pixel, `sample_count`
 // samples of the kernel's `pixel_sample`, finite ones summed (with squares)
-// and non-finite ones counted, added to the device accumulation buffers.
+// and non-finite or invalid ones counted, added to the device accumulation buffers.
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -14,8 +14,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var count = 0.0;
     var nonfinite = 0.0;
     for (var k = 0u; k < frame.sample_count; k++) {
+        sample_invalid = false;
         let v = pixel_sample(pixel, gid.x, gid.y, frame.first_sample + k, &lookups);
-        if (is_finite3(v)) {
+        if (is_finite3(v) && !sample_invalid) {
             sum += v;
             sq += v * v;
             count += 1.0;

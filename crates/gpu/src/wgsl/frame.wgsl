@@ -1,22 +1,7 @@
 // The per-frame uniform, the device-side accumulation buffers, primary
 // rays and the transmittance-estimator switch, shared by every kernel.
 
-const EST_REGULAR_TRACKING: u32 = 0u;
-const EST_TRACK_LENGTH: u32 = 1u;
-const EST_RATIO_TRACKING: u32 = 2u;
-const EST_ANALYTIC_TRILINEAR: u32 = 3u;
-const EST_RESIDUAL_RATIO_TRACKING: u32 = 4u;
-const EST_RAY_MARCHING: u32 = 5u;
-const EST_JACKKNIFE: u32 = 6u;
-const EST_JACKKNIFE_NAIVE: u32 = 7u;
-const EST_JACKKNIFE_MEAN_IMPORTANCE: u32 = 8u;
-const EST_BIASED_RAY_MARCHING: u32 = 9u;
-const EST_UNBIASED_RAY_MARCHING: u32 = 10u;
-
-// Bits of `Frame::est_flags`.
-const FLAG_UNIFORM_JITTER: u32 = 1u;
-const FLAG_CLIP: u32 = 2u;
-const FLAG_DOUBLED: u32 = 4u;
+// EST_*, FLAG_* and DIM_* come from the generated prelude (contract.rs).
 
 override ESTIMATOR: u32 = 2u;
 
@@ -54,15 +39,22 @@ struct Frame {
 @group(1) @binding(2) var<storage, read_write> accum_sq: array<vec4<f32>>;
 @group(1) @binding(3) var<storage, read_write> accum_lookups: array<u32>;
 
+// Set by a kernel that meets an id it has no branch for: the sample is
+// then dropped and counted with the non-finite ones instead of running
+// another method (reset per sample by accumulate.wgsl).
+var<private> sample_invalid: bool;
+
+fn invalid_id() -> f32 {
+    sample_invalid = true;
+    return 0.0;
+}
+
 // By bit pattern: WGSL lets compilers assume floats are finite, so x != x
 // may be folded away.
 fn is_finite3(v: vec3<f32>) -> bool {
     let e = bitcast<vec3<u32>>(v) & vec3<u32>(0x7f800000u);
     return all(e != vec3<u32>(0x7f800000u));
 }
-
-const DIM_CAMERA: u32 = 0u;
-const DIM_ESTIMATOR: u32 = 1u;
 
 // integrators::primary_ray + Camera::ray
 fn primary_ray(x: u32, y: u32, pixel: u32, sample: u32) -> Ray {
@@ -117,8 +109,11 @@ fn estimate(m: MediumGpu, r: Ray, t0: f32, t1: f32,
         case EST_UNBIASED_RAY_MARCHING: {
             return unbiased_ray_marching(m, r, t0, t1, frame.est_samples, rng, lookups);
         }
-        default: {
+        case EST_JACKKNIFE_MEAN_IMPORTANCE: {
             return jackknife(m, r, t0, t1, frame.est_samples, 0.0, true, uniform, rng, lookups);
+        }
+        default: {
+            return invalid_id();
         }
     }
 }

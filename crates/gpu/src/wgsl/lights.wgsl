@@ -2,11 +2,6 @@
 // lat-long environment map (luminance × solid-angle 2D CDF, Mitsuba's
 // layout) and light sampling, as in lights/sample.rs and lights/envmap.rs.
 
-const LIGHT_CONSTANT: u32 = 0u;
-const LIGHT_ENVMAP: u32 = 1u;
-const LIGHT_POINT: u32 = 2u;
-const LIGHT_DIRECTIONAL: u32 = 3u;
-const LIGHT_SPOT: u32 = 4u;
 
 struct LightGpu {
     kind: u32,
@@ -199,7 +194,7 @@ fn light_sample_li(l: LightGpu, p: vec3<f32>, u0: f32, u1: f32) -> LightSample {
             ls.radiance = l.b.xyz;
             ls.valid = true;
         }
-        default: {
+        case LIGHT_POINT, LIGHT_SPOT: {
             let d = l.a.xyz - p;
             let dist2 = dot(d, d);
             if (dist2 > 0.0) {
@@ -213,6 +208,9 @@ fn light_sample_li(l: LightGpu, p: vec3<f32>, u0: f32, u1: f32) -> LightSample {
                 ls.radiance = l.b.xyz * (k / dist2);
                 ls.valid = k > 0.0;
             }
+        }
+        default: {
+            invalid_id();
         }
     }
     return ls;

@@ -1,4 +1,4 @@
-// fogbank_render::phase::HenyeyGreenstein: eval, and exact sampling (so
+// fogbank_render::world::phase::HenyeyGreenstein: eval, and exact sampling (so
 // f / pdf = 1), written in the split 1 ∓ cos form that stays accurate as
 // |g| → 1.
 

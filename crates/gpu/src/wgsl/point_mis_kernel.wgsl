@@ -5,13 +5,6 @@
 // or jackknife weights; Eq. 9 with jackknife weights).
 
 
-const STRATEGY_FREE_FLIGHT: u32 = 0u;
-const STRATEGY_EQUIANGULAR: u32 = 1u;
-const STRATEGY_MIS_MILLER: u32 = 2u;
-const STRATEGY_MIS_NAIVE: u32 = 3u;
-const STRATEGY_MIS_JACKKNIFE: u32 = 4u;
-const STRATEGY_MIS_JACKKNIFE_BIASED: u32 = 5u;
-
 // A pipeline constant, so the compiler drops the other strategies (all six
 // inlined make one kernel that takes lavapipe half a minute to compile).
 override STRATEGY: u32 = 0u;
@@ -174,6 +167,10 @@ fn finite(x: f32) -> bool {
 fn point_mis_radiance(m: MediumGpu, s: Segment, rng: ptr<function, Pcg32>,
                       lookups: ptr<function, u32>) -> vec3<f32> {
     var total = vec3<f32>(0.0);
+    if (STRATEGY >= STRATEGY_COUNT) {
+        invalid_id();
+        return total;
+    }
     let jitter = m.filter_mode == 2u;
     let eq10 = STRATEGY == STRATEGY_MIS_NAIVE || STRATEGY == STRATEGY_MIS_JACKKNIFE_BIASED;
     let naive = STRATEGY == STRATEGY_MIS_NAIVE;

@@ -51,18 +51,25 @@ fn blackbody_rgb(t: f32) -> vec3<f32> {
 // SceneMedium::emitted: (1 − albedo) L_e.
 fn emitted(mi: u32, p: vec3<f32>, albedo: vec3<f32>) -> vec3<f32> {
     let ext = medium_ext[3u * mi];
-    if (ext.z == 0.0) {
-        return vec3<f32>(0.0);
-    }
     let e = medium_ext[3u * mi + 1u];
     var le = e.xyz;
-    if (ext.z == 1.0) {
-        if (ext.w != 0.0) {
-            le *= max(field_eval(u32(ext.w) - 1u, 1u, p), vec3<f32>(0.0));
+    switch u32(ext.z) {
+        case EMISSION_NONE: {
+            return vec3<f32>(0.0);
         }
-    } else {
-        let offset = medium_ext[3u * mi + 2u].x;
-        le *= blackbody_rgb((field_eval(u32(ext.w) - 1u, 1u, p).x - offset) * e.w);
+        case EMISSION_COLOR: {
+            if (ext.w != 0.0) {
+                le *= max(field_eval(u32(ext.w) - 1u, 1u, p), vec3<f32>(0.0));
+            }
+        }
+        case EMISSION_BLACKBODY: {
+            let offset = medium_ext[3u * mi + 2u].x;
+            le *= blackbody_rgb((field_eval(u32(ext.w) - 1u, 1u, p).x - offset) * e.w);
+        }
+        default: {
+            invalid_id();
+            return vec3<f32>(0.0);
+        }
     }
     return (vec3<f32>(1.0) - albedo) * le;
 }

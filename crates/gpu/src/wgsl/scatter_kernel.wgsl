@@ -7,10 +7,6 @@
 // Russian roulette on the throughput after rr_depth bounces.
 
 
-const SAMPLER_DELTA: u32 = 0u;
-const SAMPLER_DECOMPOSITION: u32 = 1u;
-const SAMPLER_REGULAR: u32 = 2u;
-
 fn balance(a: f32, b: f32) -> f32 {
     if (a + b > 0.0) {
         return a / (a + b);
@@ -20,13 +16,21 @@ fn balance(a: f32, b: f32) -> f32 {
 
 fn free_flight(m: MediumGpu, r: Ray, t0: f32, t1: f32,
                rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
-    if (frame.sampler == SAMPLER_REGULAR) {
-        return regular_tracking_sample(m, r, t0, t1, rng, lookups);
+    switch frame.sampler {
+        case SAMPLER_DELTA_TRACKING: {
+            return delta_tracking_sample(m, r, t0, t1, rng, lookups);
+        }
+        case SAMPLER_DECOMPOSITION_TRACKING: {
+            return decomposition_tracking_sample(m, r, t0, t1, rng, lookups);
+        }
+        case SAMPLER_REGULAR_TRACKING: {
+            return regular_tracking_sample(m, r, t0, t1, rng, lookups);
+        }
+        default: {
+            invalid_id();
+            return NO_HIT;
+        }
     }
-    if (frame.sampler == SAMPLER_DECOMPOSITION) {
-        return decomposition_tracking_sample(m, r, t0, t1, rng, lookups);
-    }
-    return delta_tracking_sample(m, r, t0, t1, rng, lookups);
 }
 
 // media::next_collision: (t, medium index) or t < 0.

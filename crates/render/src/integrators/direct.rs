@@ -7,14 +7,23 @@
 //! probe, estimators compared at equal spp), where the NEE estimator is the
 //! only thing that changes. It equals `volpath` with `max_depth = 1`.
 
-use super::media::{next_collision, DistanceSampler};
-use super::next_event::{escaped, light_sample, phase_sample_to_environment};
-use super::{dim, primary_ray, PixelSample};
+//!
+//! Parameters: those of [`ScatterParams`] (`distance_sampler`, `estimator`
+//! with its options, `preset`).
+
+use super::shared::free_flight::next_collision;
+use super::shared::next_event::{escaped, light_sample, phase_sample_to_environment};
+use super::shared::{estimator_rng, primary_ray, DistanceSampler, PixelSample, ScatterParams};
 use crate::lights::sample::LightSampler;
-use crate::phase::HenyeyGreenstein;
-use crate::scene::Scene;
+use crate::world::phase::HenyeyGreenstein;
+use crate::world::World;
 use fogbank_estimators::Estimator;
 use fogbank_math::{SampleKey, Vec3};
+
+/// `direct` takes exactly the scattering parameters `volpath` has besides
+/// its path length.
+pub type DirectParams = ScatterParams;
+pub use super::shared::SCATTER_PARAMS as PARAMS;
 
 #[derive(Clone, Debug)]
 pub struct Direct {
@@ -24,22 +33,27 @@ pub struct Direct {
 }
 
 impl Direct {
-    pub fn sample(&self, scene: &Scene, x: u32, y: u32, key: SampleKey) -> PixelSample {
-        let mut rng = SampleKey {
-            dimension: dim::ESTIMATOR,
-            ..key
+    pub fn new(p: &DirectParams, world: &World) -> Direct {
+        let (distance, nee) = p.resolved();
+        Direct {
+            distance,
+            nee,
+            lights: LightSampler::new(&world.lights, world.radius()),
         }
-        .rng();
-        let ray = primary_ray(scene, x, y, key);
+    }
+
+    pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+        let mut rng = estimator_rng(key);
+        let ray = primary_ray(world, x, y, key);
         let mut lookups = 0u32;
-        let Some((t, mi)) = next_collision(self.distance, scene, &ray, &mut rng, &mut lookups)
+        let Some((t, mi)) = next_collision(self.distance, world, &ray, &mut rng, &mut lookups)
         else {
             return PixelSample {
-                radiance: escaped(scene, &self.lights, ray.d, None),
+                radiance: escaped(world, &self.lights, ray.d, None),
                 lookups,
             };
         };
-        let m = &scene.media[mi];
+        let m = &world.media[mi];
         let p = ray.at(t);
         let albedo = m.albedo_at(p);
         let mut radiance = m.emitted(p, albedo);
@@ -47,10 +61,10 @@ impl Direct {
             let hg = HenyeyGreenstein { g: m.phase_g };
             let (lights, nee) = (&self.lights, self.nee);
             let rng = &mut rng;
-            radiance += albedo * light_sample(scene, lights, nee, p, ray.d, &hg, rng, &mut lookups);
+            radiance += albedo * light_sample(world, lights, nee, p, ray.d, &hg, rng, &mut lookups);
             let (wi, pdf) = hg.sample(-ray.d, [rng.next_f32(), rng.next_f32()]);
             radiance += albedo
-                * phase_sample_to_environment(scene, lights, nee, p, wi, pdf, rng, &mut lookups);
+                * phase_sample_to_environment(world, lights, nee, p, wi, pdf, rng, &mut lookups);
         }
         PixelSample { radiance, lookups }
     }

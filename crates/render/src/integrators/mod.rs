@@ -1,53 +1,230 @@
-//! Integrators: one file each. An integrator maps a pixel sample (a key for
-//! its random streams) to radiance and the lookups it cost.
+//! Integrators: one file (or folder) each, registered here and only here.
+//! An integrator maps a pixel sample (a key for its random streams) to
+//! radiance and the lookups it cost, reading the [`World`]; its typed
+//! parameter struct and parameter table live in its own file.
+//!
+//! Adding an integrator: a variant in [`IntegratorDesc`] and
+//! [`IntegratorKind`] and a line in each `match` below.
 
 pub mod direct;
-pub mod media;
-pub mod next_event;
 pub mod point_mis;
+pub mod shared;
 pub mod transmittance;
 pub mod volpath;
 
-use crate::scene::{IntegratorKind, Scene};
+use crate::error::SceneError;
+use crate::params::{Param, ParamReader};
+use crate::world::World;
+use direct::{Direct, DirectParams};
+use fogbank_estimators::Estimator;
 use fogbank_math::{SampleKey, Vec3};
+use point_mis::{PointMis, PointMisParams};
+use shared::PixelSample;
+use transmittance::TransmittanceParams;
+use volpath::{VolPath, VolPathParams};
 
-/// Random-stream dimensions, so each purpose has its own PCG32 stream.
-pub mod dim {
-    pub const CAMERA: u32 = 0;
-    pub const ESTIMATOR: u32 = 1;
+/// The `[integrator]` table: `type` selects the integrator, every other key
+/// is one of its parameters (see each integrator's table).
+#[derive(Clone, Debug, PartialEq)]
+pub enum IntegratorDesc {
+    Transmittance(TransmittanceParams),
+    Direct(DirectParams),
+    VolPath(VolPathParams),
+    PointMis(PointMisParams),
 }
 
-#[derive(Clone, Copy, Debug, Default)]
-pub struct PixelSample {
-    pub radiance: Vec3,
-    pub lookups: u32,
+impl Default for IntegratorDesc {
+    fn default() -> Self {
+        IntegratorDesc::Transmittance(TransmittanceParams::default())
+    }
 }
 
-/// The primary ray of a pixel sample: jittered within the pixel, or through
-/// its centre when `render.pixel_jitter` is off.
-pub fn primary_ray(scene: &Scene, x: u32, y: u32, key: SampleKey) -> fogbank_math::Ray {
-    let (jx, jy) = if scene.desc.render.pixel_jitter {
-        let mut cam = SampleKey {
-            dimension: dim::CAMERA,
-            ..key
+/// Every integrator's `type` and parameter table, in one place.
+pub const REGISTRY: [(&str, &[Param]); 4] = [
+    ("transmittance", &transmittance::PARAMS),
+    ("direct", &direct::PARAMS),
+    ("volpath", &volpath::PARAMS),
+    ("point_mis", &point_mis::PARAMS),
+];
+
+impl IntegratorDesc {
+    pub fn name(&self) -> &'static str {
+        match self {
+            IntegratorDesc::Transmittance(_) => "transmittance",
+            IntegratorDesc::Direct(_) => "direct",
+            IntegratorDesc::VolPath(_) => "volpath",
+            IntegratorDesc::PointMis(_) => "point_mis",
         }
-        .rng();
-        (cam.next_f32(), cam.next_f32())
-    } else {
-        (0.5, 0.5)
-    };
-    scene.camera.ray(x as f32 + jx, y as f32 + jy)
+    }
+
+    /// The typed description of the table at scene key `path`.
+    pub fn from_table(path: &str, mut table: toml::Table) -> Result<IntegratorDesc, SceneError> {
+        let ty = match table.remove("type") {
+            None => "transmittance".to_string(),
+            Some(toml::Value::String(s)) => s,
+            Some(v) => {
+                return Err(SceneError(format!(
+                    "{path}.type: expected a string, got {}",
+                    v.type_str()
+                )))
+            }
+        };
+        let Some(&(name, params)) = REGISTRY.iter().find(|(n, _)| *n == ty) else {
+            let names: Vec<&str> = REGISTRY.iter().map(|(n, _)| *n).collect();
+            return Err(SceneError(format!(
+                "{path}.type: unknown integrator `{ty}` (available: {})",
+                names.join(", ")
+            )));
+        };
+        let mut r = ParamReader::new(path, name, table);
+        let desc = match name {
+            "transmittance" => IntegratorDesc::Transmittance(TransmittanceParams::read(&mut r)?),
+            "direct" => IntegratorDesc::Direct(DirectParams::read(&mut r)?),
+            "volpath" => IntegratorDesc::VolPath(VolPathParams::read(&mut r)?),
+            "point_mis" => IntegratorDesc::PointMis(PointMisParams::read(&mut r)?),
+            _ => unreachable!("every registered integrator is read"),
+        };
+        // The estimator's options may stand flat in the table.
+        let mut takes: Vec<&str> = params.iter().map(|p| p.key).collect();
+        let estimator = desc.estimator();
+        takes.extend_from_slice(Estimator::option_keys(estimator.name()).unwrap_or(&[]));
+        let leftover = r.first_key();
+        r.with_owner(&desc.owner()).finish(&takes).map_err(|SceneError(e)| {
+            let owners: Vec<&str> = REGISTRY
+                .iter()
+                .filter(|(_, ps)| ps.iter().any(|p| Some(p.key) == leftover.as_deref()))
+                .map(|(n, _)| *n)
+                .collect();
+            match (leftover, owners.is_empty()) {
+                (Some(k), false) => SceneError(format!(
+                    "{e} (`{k}` is a parameter of {})",
+                    owners.join(", ")
+                )),
+                _ => SceneError(e),
+            }
+        })?;
+        Ok(desc)
+    }
+
+    /// Who owns the table's keys, for messages: the integrator, and its
+    /// estimator when that takes options.
+    fn owner(&self) -> String {
+        let e = self.estimator();
+        if Estimator::option_keys(e.name()).is_some_and(|k| !k.is_empty()) {
+            format!("{}\" with estimator \"{}", self.name(), e.name())
+        } else {
+            self.name().to_string()
+        }
+    }
+
+    /// The table this description reads back from.
+    pub fn to_table(&self) -> toml::Table {
+        let mut t = toml::Table::new();
+        t.insert("type".into(), self.name().into());
+        match self {
+            IntegratorDesc::Transmittance(p) => p.write(&mut t),
+            IntegratorDesc::Direct(p) => p.write(&mut t),
+            IntegratorDesc::VolPath(p) => p.write(&mut t),
+            IntegratorDesc::PointMis(p) => p.write(&mut t),
+        }
+        t
+    }
+
+    /// The transmittance estimator as given (before any preset).
+    pub fn estimator(&self) -> Estimator {
+        match self {
+            IntegratorDesc::Transmittance(p) => p.estimator,
+            IntegratorDesc::Direct(p) => p.estimator,
+            IntegratorDesc::VolPath(p) => p.scatter.estimator,
+            IntegratorDesc::PointMis(p) => p.estimator,
+        }
+    }
+
+    /// The integrator ready to render `world`.
+    pub fn build(&self, world: &World) -> Result<IntegratorKind, SceneError> {
+        Ok(match self {
+            IntegratorDesc::Transmittance(p) => IntegratorKind::Transmittance {
+                estimator: p.estimator,
+                background: Vec3::from(p.background),
+            },
+            IntegratorDesc::Direct(p) => IntegratorKind::Direct(Direct::new(p, world)),
+            IntegratorDesc::VolPath(p) => IntegratorKind::VolPath(VolPath::new(p, world)),
+            IntegratorDesc::PointMis(p) => IntegratorKind::PointMis(PointMis::new(p, world)?),
+        })
+    }
 }
 
-/// One sample of pixel `(x, y)` with sample index `key.sample`.
-pub fn sample_pixel(scene: &Scene, x: u32, y: u32, key: SampleKey) -> PixelSample {
-    match &scene.integrator {
-        IntegratorKind::Transmittance {
-            estimator,
-            background,
-        } => transmittance::sample(scene, *estimator, *background, x, y, key),
-        IntegratorKind::Direct(d) => d.sample(scene, x, y, key),
-        IntegratorKind::VolPath(v) => v.sample(scene, x, y, key),
-        IntegratorKind::PointMis(p) => p.sample(scene, x, y, key),
+impl<'de> serde::Deserialize<'de> for IntegratorDesc {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let table = toml::Table::deserialize(d)?;
+        IntegratorDesc::from_table("integrator", table).map_err(serde::de::Error::custom)
+    }
+}
+
+impl serde::Serialize for IntegratorDesc {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.to_table().serialize(s)
+    }
+}
+
+/// A built integrator.
+#[derive(Clone, Debug)]
+pub enum IntegratorKind {
+    Transmittance {
+        estimator: Estimator,
+        background: Vec3,
+    },
+    Direct(Direct),
+    VolPath(VolPath),
+    PointMis(PointMis),
+}
+
+impl IntegratorKind {
+    pub fn name(&self) -> &'static str {
+        match self {
+            IntegratorKind::Transmittance { .. } => "transmittance",
+            IntegratorKind::Direct(_) => "direct",
+            IntegratorKind::VolPath(_) => "volpath",
+            IntegratorKind::PointMis(_) => "point_mis",
+        }
+    }
+
+    /// The transmittance estimator (for `volpath`: the NEE estimator).
+    pub fn estimator(&self) -> Estimator {
+        match self {
+            IntegratorKind::Transmittance { estimator, .. } => *estimator,
+            IntegratorKind::Direct(d) => d.nee,
+            IntegratorKind::VolPath(v) => v.nee,
+            IntegratorKind::PointMis(p) => p.nee,
+        }
+    }
+
+    pub fn estimator_name(&self) -> &'static str {
+        self.estimator().name()
+    }
+
+    /// The same integrator with its transmittance estimator replaced.
+    pub fn with_estimator(&self, e: Estimator) -> IntegratorKind {
+        let mut k = self.clone();
+        match &mut k {
+            IntegratorKind::Transmittance { estimator, .. } => *estimator = e,
+            IntegratorKind::Direct(d) => d.nee = e,
+            IntegratorKind::VolPath(v) => v.nee = e,
+            IntegratorKind::PointMis(p) => p.nee = e,
+        }
+        k
+    }
+
+    /// One sample of pixel `(x, y)` with sample index `key.sample`.
+    pub fn sample_pixel(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+        match self {
+            IntegratorKind::Transmittance {
+                estimator,
+                background,
+            } => transmittance::sample(world, *estimator, *background, x, y, key),
+            IntegratorKind::Direct(d) => d.sample(world, x, y, key),
+            IntegratorKind::VolPath(v) => v.sample(world, x, y, key),
+            IntegratorKind::PointMis(p) => p.sample(world, x, y, key),
+        }
     }
 }

@@ -1,18 +1,68 @@
-//! The transmittance view of seed 000 §6.1: per pixel, the transmittance of
-//! the primary ray through all media in front of a uniform background, so
-//! the image is T itself. Overlapping media add extinctions, hence multiply
-//! transmittances; independent unbiased estimates multiply to an unbiased
-//! estimate.
+//! `transmittance`: the transmittance view of seed 000 §6.1. Per pixel, the
+//! transmittance of the primary ray through all media in front of a uniform
+//! background, so the image is T itself. Overlapping media add extinctions,
+//! hence multiply transmittances; independent unbiased estimates multiply to
+//! an unbiased estimate.
+//!
+//! | key | default | meaning |
+//! |---|---|---|
+//! | `estimator` | `ratio_tracking` | transmittance estimator (`fogbank estimators`), with its options flat in `[integrator]` or as `{ type = "…", … }` |
+//! | `background` | (1, 1, 1) | radiance behind the media; the image is T · background |
 
-use super::{dim, PixelSample};
-use crate::scene::Scene;
+use super::shared::{estimator_rng, primary_ray, PixelSample};
+use crate::error::SceneError;
+use crate::params::{estimator_value, take_estimator, Param, ParamReader};
+use crate::world::World;
 use fogbank_estimators::{transmittance, Estimate, Estimator};
 use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
 
+pub const PARAMS: [Param; 2] = [
+    Param {
+        key: "estimator",
+        default: "ratio_tracking",
+        meaning: "transmittance estimator, with its options",
+    },
+    Param {
+        key: "background",
+        default: "[1, 1, 1]",
+        meaning: "radiance behind the media; the image is T · background",
+    },
+];
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TransmittanceParams {
+    pub estimator: Estimator,
+    pub background: [f32; 3],
+}
+
+impl Default for TransmittanceParams {
+    fn default() -> Self {
+        TransmittanceParams {
+            estimator: Estimator::RatioTracking,
+            background: [1.0; 3],
+        }
+    }
+}
+
+impl TransmittanceParams {
+    pub fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
+        Ok(TransmittanceParams {
+            estimator: take_estimator(r)?,
+            background: r.take("background")?.unwrap_or([1.0; 3]),
+        })
+    }
+
+    pub fn write(&self, t: &mut toml::Table) {
+        t.insert("estimator".into(), estimator_value(self.estimator));
+        let bg = self.background.map(|c| toml::Value::from(f64::from(c)));
+        t.insert("background".into(), toml::Value::Array(bg.to_vec()));
+    }
+}
+
 /// Transmittance of all media along `ray` (to infinity).
-pub fn along_ray(scene: &Scene, estimator: Estimator, ray: &Ray, rng: &mut Pcg32) -> Estimate {
+pub fn along_ray(world: &World, estimator: Estimator, ray: &Ray, rng: &mut Pcg32) -> Estimate {
     let mut total = Estimate::ONE;
-    for m in &scene.media {
+    for m in &world.media {
         let e = transmittance(estimator, &m.medium, ray, f32::INFINITY, rng);
         total.transmittance *= e.transmittance;
         total.lookups += e.lookups;
@@ -21,20 +71,16 @@ pub fn along_ray(scene: &Scene, estimator: Estimator, ray: &Ray, rng: &mut Pcg32
 }
 
 pub fn sample(
-    scene: &Scene,
+    world: &World,
     estimator: Estimator,
     background: Vec3,
     x: u32,
     y: u32,
     key: SampleKey,
 ) -> PixelSample {
-    let ray = super::primary_ray(scene, x, y, key);
-    let mut rng = SampleKey {
-        dimension: dim::ESTIMATOR,
-        ..key
-    }
-    .rng();
-    let e = along_ray(scene, estimator, &ray, &mut rng);
+    let ray = primary_ray(world, x, y, key);
+    let mut rng = estimator_rng(key);
+    let e = along_ray(world, estimator, &ray, &mut rng);
     PixelSample {
         radiance: background * e.transmittance,
         lookups: e.lookups,

@@ -12,16 +12,84 @@
 //! Russian roulette on the throughput after `rr_depth` bounces (seed 002
 //! uses 3).
 
-use super::media::next_collision;
-use super::next_event::{escaped, light_sample, phase_sample_to_environment};
-use super::{dim, primary_ray, PixelSample};
+//!
+//! | key | default | meaning |
+//! |---|---|---|
+//! | `distance_sampler` | `delta_tracking` | free-flight sampler: `delta_tracking`, `decomposition_tracking`, `regular_tracking` |
+//! | `estimator` | `ratio_tracking` | NEE transmittance estimator (`fogbank estimators`), with its options |
+//! | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE, seed 002's baseline |
+//! | `max_depth` | 64 | longest path, in scattering vertices (1..=100000) |
+//! | `rr_depth` | 3 | first bounce with Russian roulette on the throughput |
+
+use super::shared::free_flight::next_collision;
+use super::shared::next_event::{escaped, light_sample, phase_sample_to_environment};
+use super::shared::{estimator_rng, primary_ray, PixelSample, ScatterParams, SCATTER_PARAMS};
+use crate::error::SceneError;
 use crate::lights::sample::LightSampler;
-use crate::phase::HenyeyGreenstein;
-use crate::scene::Scene;
+use crate::params::{Param, ParamReader};
+use crate::world::phase::HenyeyGreenstein;
+use crate::world::World;
 use fogbank_estimators::Estimator;
 use fogbank_math::{Ray, SampleKey, Vec3};
 
-pub use super::media::DistanceSampler;
+pub use super::shared::DistanceSampler;
+
+pub const PARAMS: [Param; 5] = [
+    SCATTER_PARAMS[0],
+    SCATTER_PARAMS[1],
+    SCATTER_PARAMS[2],
+    Param {
+        key: "max_depth",
+        default: "64",
+        meaning: "longest path, in scattering vertices (1..=100000)",
+    },
+    Param {
+        key: "rr_depth",
+        default: "3",
+        meaning: "first bounce with Russian roulette on the throughput",
+    },
+];
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct VolPathParams {
+    pub scatter: ScatterParams,
+    pub max_depth: u32,
+    pub rr_depth: u32,
+}
+
+impl Default for VolPathParams {
+    fn default() -> Self {
+        VolPathParams {
+            scatter: ScatterParams::default(),
+            max_depth: 64,
+            rr_depth: 3,
+        }
+    }
+}
+
+impl VolPathParams {
+    pub fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
+        let scatter = ScatterParams::read(r)?;
+        let max_depth = r.take("max_depth")?.unwrap_or(64);
+        if max_depth == 0 || max_depth > 100_000 {
+            return Err(SceneError(format!(
+                "{}: {max_depth} is outside 1..=100000",
+                r.key_path("max_depth")
+            )));
+        }
+        Ok(VolPathParams {
+            scatter,
+            max_depth,
+            rr_depth: r.take("rr_depth")?.unwrap_or(3),
+        })
+    }
+
+    pub fn write(&self, t: &mut toml::Table) {
+        self.scatter.write(t);
+        t.insert("max_depth".into(), i64::from(self.max_depth).into());
+        t.insert("rr_depth".into(), i64::from(self.rr_depth).into());
+    }
+}
 
 #[derive(Clone, Debug)]
 pub struct VolPath {
@@ -33,22 +101,29 @@ pub struct VolPath {
 }
 
 impl VolPath {
-    pub fn sample(&self, scene: &Scene, x: u32, y: u32, key: SampleKey) -> PixelSample {
-        let mut rng = SampleKey {
-            dimension: dim::ESTIMATOR,
-            ..key
+    pub fn new(p: &VolPathParams, world: &World) -> VolPath {
+        let (distance, nee) = p.scatter.resolved();
+        VolPath {
+            distance,
+            nee,
+            max_depth: p.max_depth,
+            rr_depth: p.rr_depth,
+            lights: LightSampler::new(&world.lights, world.radius()),
         }
-        .rng();
-        let mut ray = primary_ray(scene, x, y, key);
+    }
+
+    pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+        let mut rng = estimator_rng(key);
+        let mut ray = primary_ray(world, x, y, key);
         let (mut beta, mut radiance, mut lookups) = (Vec3::ONE, Vec3::ZERO, 0u32);
         let mut phase_pdf: Option<f32> = None;
         for depth in 0..self.max_depth {
-            let Some((t, mi)) = next_collision(self.distance, scene, &ray, &mut rng, &mut lookups)
+            let Some((t, mi)) = next_collision(self.distance, world, &ray, &mut rng, &mut lookups)
             else {
-                radiance += beta * escaped(scene, &self.lights, ray.d, phase_pdf);
+                radiance += beta * escaped(world, &self.lights, ray.d, phase_pdf);
                 break;
             };
-            let m = &scene.media[mi];
+            let m = &world.media[mi];
             let p = ray.at(t);
             let albedo = m.albedo_at(p);
             radiance += beta * m.emitted(p, albedo);
@@ -59,7 +134,7 @@ impl VolPath {
             let hg = HenyeyGreenstein { g: m.phase_g };
             radiance += beta
                 * light_sample(
-                    scene,
+                    world,
                     &self.lights,
                     self.nee,
                     p,
@@ -72,7 +147,7 @@ impl VolPath {
             if depth + 1 == self.max_depth {
                 radiance += beta
                     * phase_sample_to_environment(
-                        scene,
+                        world,
                         &self.lights,
                         self.nee,
                         p,

@@ -1,4 +1,165 @@
-//! Light sources.
+//! Light sources: their scene description and the built lights.
 
 pub mod envmap;
 pub mod sample;
+
+use crate::error::SceneError;
+use fogbank_math::Vec3;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// | type | keys |
+/// |---|---|
+/// | `constant` | `radiance` (RGB) |
+/// | `envmap` | `file`, `scale` (1) |
+/// | `point` | `position`, `intensity` (RGB) |
+/// | `directional` | `direction` (towards which light travels), `irradiance` (RGB) |
+/// | `spot` | `position`, `direction`, `intensity` (RGB), `cone_angle` (30°), `falloff_start` (25°) |
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum LightDesc {
+    Constant {
+        radiance: [f32; 3],
+    },
+    Envmap {
+        file: String,
+        #[serde(default = "one")]
+        scale: f32,
+        /// Rotation as `[x, y, z, degrees]` (axis and angle).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        rotate: Option<[f32; 4]>,
+    },
+    Point {
+        position: [f32; 3],
+        intensity: [f32; 3],
+    },
+    Directional {
+        direction: [f32; 3],
+        irradiance: [f32; 3],
+    },
+    /// A point light emitting into a cone around `direction`: full intensity
+    /// within `falloff_start` degrees of the axis, smoothly down to zero at
+    /// `cone_angle` degrees (pbrt-v4's spotlight).
+    Spot {
+        position: [f32; 3],
+        direction: [f32; 3],
+        intensity: [f32; 3],
+        #[serde(default = "default_cone")]
+        cone_angle: f32,
+        #[serde(default = "default_falloff")]
+        falloff_start: f32,
+    },
+}
+
+fn default_cone() -> f32 {
+    30.0
+}
+fn default_falloff() -> f32 {
+    25.0
+}
+
+fn one() -> f32 {
+    1.0
+}
+
+#[derive(Clone, Debug)]
+pub enum Light {
+    Constant {
+        radiance: Vec3,
+    },
+    Envmap(std::sync::Arc<envmap::Envmap>),
+    Point {
+        position: Vec3,
+        intensity: Vec3,
+    },
+    Directional {
+        direction: Vec3,
+        irradiance: Vec3,
+    },
+    /// Cosines of the falloff start and of the cone edge.
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        intensity: Vec3,
+        cos_falloff_start: f32,
+        cos_total: f32,
+    },
+}
+
+impl Light {
+    /// Every kind of light, by the name its `type` has in a scene.
+    pub const KINDS: [&'static str; 5] = ["constant", "envmap", "point", "directional", "spot"];
+
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Light::Constant { .. } => "constant",
+            Light::Envmap(_) => "envmap",
+            Light::Point { .. } => "point",
+            Light::Directional { .. } => "directional",
+            Light::Spot { .. } => "spot",
+        }
+    }
+}
+
+impl LightDesc {
+    /// The light `lights.{i}`, files resolved against `base`.
+    pub fn build(&self, i: usize, base: &Path) -> Result<Light, SceneError> {
+        let l = self;
+        Ok(match l {
+            LightDesc::Constant { radiance } => Light::Constant {
+                radiance: Vec3::from(*radiance),
+            },
+            LightDesc::Envmap {
+                file,
+                scale,
+                rotate,
+            } => {
+                let path = base.join(file);
+                let rotation = match rotate {
+                    Some([x, y, z, deg]) => glam::Mat3::from_axis_angle(
+                        Vec3::new(*x, *y, *z).try_normalize().ok_or_else(|| {
+                            SceneError(format!("lights.{i}.rotate: zero axis"))
+                        })?,
+                        deg.to_radians(),
+                    ),
+                    None => glam::Mat3::IDENTITY,
+                };
+                let env = envmap::Envmap::load(&path, *scale, rotation)
+                    .map_err(|e| SceneError(format!("lights.{i}: {e}")))?;
+                Light::Envmap(std::sync::Arc::new(env))
+            }
+            LightDesc::Point {
+                position,
+                intensity,
+            } => Light::Point {
+                position: Vec3::from(*position),
+                intensity: Vec3::from(*intensity),
+            },
+            LightDesc::Directional {
+                direction,
+                irradiance,
+            } => Light::Directional {
+                direction: Vec3::from(*direction).try_normalize().ok_or_else(|| {
+                    SceneError(format!("lights.{i}.direction: zero vector"))
+                })?,
+                irradiance: Vec3::from(*irradiance),
+            },
+            LightDesc::Spot { position, direction, intensity, cone_angle, falloff_start } => {
+                if !(*cone_angle > 0.0 && *cone_angle <= 180.0 && *falloff_start >= 0.0 && falloff_start <= cone_angle) {
+                    return Err(SceneError(format!(
+                        "lights.{i}: need 0 ≤ falloff_start ≤ cone_angle ≤ 180 degrees, cone_angle > 0"
+                    )));
+                }
+                Light::Spot {
+                    position: Vec3::from(*position),
+                    direction: Vec3::from(*direction)
+                        .try_normalize()
+                        .ok_or_else(|| SceneError(format!("lights.{i}.direction: zero vector")))?,
+                    intensity: Vec3::from(*intensity),
+                    cos_falloff_start: falloff_start.to_radians().cos(),
+                    cos_total: cone_angle.to_radians().cos(),
+                }
+            }
+        })
+    }
+}

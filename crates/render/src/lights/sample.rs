@@ -3,7 +3,7 @@
 //! direction towards it with its solid-angle pdf (delta lights report
 //! `is_delta` and pdf 1).
 
-use crate::scene::Light;
+use super::Light;
 use fogbank_math::Vec3;
 use std::f32::consts::PI;
 

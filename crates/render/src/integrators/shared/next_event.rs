@@ -3,10 +3,11 @@
 //! phase sampling by the balance heuristic for lights a direction can hit
 //! (environments). HG sampling is exact, so the phase pdf equals f.
 
-use super::media::{balance, shadow_transmittance};
+use super::balance;
+use super::free_flight::shadow_transmittance;
 use crate::lights::sample::LightSampler;
-use crate::phase::HenyeyGreenstein;
-use crate::scene::Scene;
+use crate::world::phase::HenyeyGreenstein;
+use crate::world::World;
 use fogbank_estimators::Estimator;
 use fogbank_math::{Pcg32, Ray, Vec3};
 
@@ -15,7 +16,7 @@ use fogbank_math::{Pcg32, Ray, Vec3};
 /// The caller multiplies by the path throughput.
 #[allow(clippy::too_many_arguments)]
 pub fn light_sample(
-    scene: &Scene,
+    world: &World,
     lights: &LightSampler,
     nee: Estimator,
     p: Vec3,
@@ -27,14 +28,14 @@ pub fn light_sample(
     let Some((li, pmf)) = lights.pick(rng.next_f32()) else {
         return Vec3::ZERO;
     };
-    let Some(ls) = scene.lights[li].sample_li(p, [rng.next_f32(), rng.next_f32()]) else {
+    let Some(ls) = world.lights[li].sample_li(p, [rng.next_f32(), rng.next_f32()]) else {
         return Vec3::ZERO;
     };
     let f = hg.eval(d.dot(ls.wi));
     if f <= 0.0 || ls.radiance == Vec3::ZERO {
         return Vec3::ZERO;
     }
-    let tr = shadow_transmittance(nee, scene, &Ray::new(p, ls.wi), ls.distance, rng, lookups);
+    let tr = shadow_transmittance(nee, world, &Ray::new(p, ls.wi), ls.distance, rng, lookups);
     if ls.is_delta {
         ls.radiance * (f * tr / pmf)
     } else {
@@ -46,9 +47,9 @@ pub fn light_sample(
 /// Radiance of the environment lights seen along `d` by a path that left
 /// its last vertex by phase sampling with pdf `phase_pdf` (`None`: a camera
 /// ray, which no light strategy could have produced).
-pub fn escaped(scene: &Scene, lights: &LightSampler, d: Vec3, phase_pdf: Option<f32>) -> Vec3 {
+pub fn escaped(world: &World, lights: &LightSampler, d: Vec3, phase_pdf: Option<f32>) -> Vec3 {
     let mut l = Vec3::ZERO;
-    for (li, light) in scene.lights.iter().enumerate() {
+    for (li, light) in world.lights.iter().enumerate() {
         if light.is_environment() {
             let w = phase_pdf.map_or(1.0, |p| balance(p, lights.pmf(li) * light.pdf_li(d)));
             l += light.le(d) * w;
@@ -63,7 +64,7 @@ pub fn escaped(scene: &Scene, lights: &LightSampler, d: Vec3, phase_pdf: Option<
 /// MIS partner of [`light_sample`] is never missing.
 #[allow(clippy::too_many_arguments)]
 pub fn phase_sample_to_environment(
-    scene: &Scene,
+    world: &World,
     lights: &LightSampler,
     nee: Estimator,
     p: Vec3,
@@ -72,12 +73,12 @@ pub fn phase_sample_to_environment(
     rng: &mut Pcg32,
     lookups: &mut u32,
 ) -> Vec3 {
-    if !scene.lights.iter().any(|l| l.is_environment()) {
+    if !world.lights.iter().any(|l| l.is_environment()) {
         return Vec3::ZERO;
     }
-    let le = escaped(scene, lights, wi, Some(phase_pdf));
+    let le = escaped(world, lights, wi, Some(phase_pdf));
     if le == Vec3::ZERO {
         return Vec3::ZERO;
     }
-    le * shadow_transmittance(nee, scene, &Ray::new(p, wi), f32::INFINITY, rng, lookups)
+    le * shadow_transmittance(nee, world, &Ray::new(p, wi), f32::INFINITY, rng, lookups)
 }

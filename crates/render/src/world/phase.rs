@@ -31,6 +31,7 @@
 //! the HG cdf, pbrt-v4 §11.3.1), so no special case for g = 0 is needed.
 
 use glam::Vec3;
+use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
 
 const INV_4PI: f32 = 1.0 / (4.0 * PI);
@@ -126,3 +127,23 @@ impl HenyeyGreenstein {
         INV_4PI * one_minus_g * one_plus_g / (denom * denom.sqrt())
     }
 }
+
+/// `phase = { type = "hg" | "isotropic", g = 0 }`.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PhaseDesc {
+    #[serde(rename = "type")]
+    pub ty: String,
+    #[serde(default)]
+    pub g: f32,
+}
+
+impl Default for PhaseDesc {
+    fn default() -> Self {
+        PhaseDesc {
+            ty: "hg".into(),
+            g: 0.0,
+        }
+    }
+}
+

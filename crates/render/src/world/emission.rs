@@ -1,10 +1,48 @@
 //! Volumetric emission L_e of a medium (see `EmissionDesc` for the keys).
 
-use crate::blackbody::blackbody_rgb;
-use crate::desc::{EmissionDesc, SceneError};
-use crate::field::Field;
+use super::blackbody::blackbody_rgb;
+use super::field::{Field, FieldDesc};
+use crate::error::SceneError;
 use fogbank_math::{DAffine3, Vec3};
+use serde::{Deserialize, Serialize};
 use std::path::Path;
+
+/// Emitted radiance L_e of a medium. Following pbrt-v4, a medium emits
+/// where it absorbs: the radiance gained along a ray is ∫ T σ_a L_e dt with
+/// σ_a = σ_t (1 − albedo), so emission needs albedo < 1 and vanishes where
+/// the density does.
+///
+/// | key | default | meaning |
+/// |---|---|---|
+/// | `color` | (1, 1, 1) | RGB radiance (or tint of the blackbody) |
+/// | `scale` | 1 | multiplies the radiance |
+/// | `grid` | none | a grid (same keys as `density`) multiplying `color` |
+/// | `temperature` | none | a temperature grid in kelvin: L_e = scale · color · blackbody(T), the Planck spectrum normalised to peak 1 (as pbrt-v4) in linear sRGB |
+/// | `temperature_scale`, `temperature_offset` | 1, 0 | T = (grid − offset) · scale; T ≤ 100 K emits nothing |
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct EmissionDesc {
+    #[serde(default = "white")]
+    pub color: [f32; 3],
+    #[serde(default = "one")]
+    pub scale: f32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grid: Option<FieldDesc>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub temperature: Option<FieldDesc>,
+    #[serde(default = "one")]
+    pub temperature_scale: f32,
+    #[serde(default)]
+    pub temperature_offset: f32,
+}
+
+fn white() -> [f32; 3] {
+    [1.0; 3]
+}
+
+fn one() -> f32 {
+    1.0
+}
 
 #[derive(Clone, Debug)]
 pub enum Emission {

@@ -1,0 +1,164 @@
+//! The CPU↔GPU contract: every id and flag bit a WGSL kernel switches on,
+//! taken from the Rust definitions (the registries of estimators, distance
+//! samplers, `point_mis` strategies, light and emission kinds, random-stream
+//! dimensions) and written into the WGSL prelude when shaders are assembled.
+//! Naming a variant on the CPU is all it takes to name it on the GPU; a
+//! kernel meeting an id it has no branch for marks the sample invalid.
+
+use fogbank_estimators::jackknife::StepMode;
+use fogbank_estimators::optical_depth::Jitter;
+use fogbank_estimators::Estimator;
+use fogbank_render::integrators::point_mis::Strategy;
+use fogbank_render::integrators::shared::{dim, DistanceSampler};
+use fogbank_render::lights::Light;
+use fogbank_render::world::emission::Emission;
+
+/// Bits of `Frame::est_flags`.
+pub const FLAGS: [(&str, u32); 3] = [("UNIFORM_JITTER", 1), ("CLIP", 2), ("DOUBLED", 4)];
+const FLAG_UNIFORM_JITTER: u32 = FLAGS[0].1;
+const FLAG_CLIP: u32 = FLAGS[1].1;
+const FLAG_DOUBLED: u32 = FLAGS[2].1;
+
+/// Emission kinds of a medium (0: none).
+pub const EMISSION_KINDS: [&str; 3] = ["none", "color", "blackbody"];
+
+fn position(names: &[&str], name: &str) -> u32 {
+    names
+        .iter()
+        .position(|n| *n == name)
+        .expect("every variant is registered") as u32
+}
+
+/// The `EST_*` id of an estimator: its place in the estimator registry.
+pub fn estimator_id(e: Estimator) -> u32 {
+    position(&Estimator::names(), e.name())
+}
+
+pub fn sampler_id(s: DistanceSampler) -> u32 {
+    position(&DistanceSampler::ALL.map(DistanceSampler::name), s.name())
+}
+
+pub fn strategy_id(s: Strategy) -> u32 {
+    position(&Strategy::ALL.map(Strategy::name), s.name())
+}
+
+pub fn light_id(l: &Light) -> u32 {
+    position(&Light::KINDS, l.kind())
+}
+
+pub fn emission_id(e: Option<&Emission>) -> u32 {
+    position(
+        &EMISSION_KINDS,
+        match e {
+            None => "none",
+            Some(Emission::Color { .. }) => "color",
+            Some(Emission::Blackbody { .. }) => "blackbody",
+        },
+    )
+}
+
+/// A WGSL-ported estimator: its `ESTIMATOR` constant and the options the
+/// kernel reads from the frame (samples, fixed step or 0, flags).
+pub struct GpuEstimator {
+    pub id: u32,
+    pub samples: u32,
+    pub step: f32,
+    pub flags: u32,
+}
+
+/// Every estimator has a WGSL port; `None` is kept for future CPU-only ones.
+pub fn gpu_estimator(e: Estimator) -> Option<GpuEstimator> {
+    let jitter = |j: Jitter| {
+        if j == Jitter::Uniform {
+            FLAG_UNIFORM_JITTER
+        } else {
+            0
+        }
+    };
+    let id = estimator_id(e);
+    Some(match e {
+        Estimator::RegularTracking
+        | Estimator::TrackLength
+        | Estimator::RatioTracking
+        | Estimator::AnalyticTrilinear
+        | Estimator::ResidualRatioTracking => GpuEstimator {
+            id,
+            samples: 0,
+            step: 0.0,
+            flags: 0,
+        },
+        Estimator::RayMarching { samples, clip } => GpuEstimator {
+            id,
+            samples,
+            step: 0.0,
+            flags: if clip { FLAG_CLIP } else { 0 },
+        },
+        Estimator::Jackknife {
+            samples,
+            mode,
+            jitter: j,
+        } => GpuEstimator {
+            id,
+            samples,
+            step: match mode {
+                StepMode::FixedCount => 0.0,
+                StepMode::FixedStep(s) => s.max(1e-6),
+            },
+            flags: jitter(j),
+        },
+        Estimator::JackknifeNaive { samples, jitter: j } => GpuEstimator {
+            id,
+            samples,
+            step: 0.0,
+            flags: jitter(j),
+        },
+        Estimator::JackknifeMeanImportance { samples, jitter: j } => GpuEstimator {
+            id,
+            samples,
+            step: 0.0,
+            flags: jitter(j),
+        },
+        Estimator::BiasedRayMarching { doubled } => GpuEstimator {
+            id,
+            samples: 0,
+            step: 0.0,
+            flags: if doubled { FLAG_DOUBLED } else { 0 },
+        },
+        Estimator::UnbiasedRayMarching { mult } => GpuEstimator {
+            id,
+            samples: mult,
+            step: 0.0,
+            flags: 0,
+        },
+    })
+}
+
+/// One group of WGSL constants, `PREFIX_NAME = index` (and `PREFIX_COUNT`).
+fn enumeration(out: &mut String, prefix: &str, names: &[&str]) {
+    for (i, n) in names.iter().enumerate() {
+        out.push_str(&format!("const {prefix}_{}: u32 = {i}u;\n", n.to_uppercase()));
+    }
+    out.push_str(&format!("const {prefix}_COUNT: u32 = {}u;\n", names.len()));
+}
+
+/// The WGSL prelude of every kernel: the contract's ids and flag bits.
+pub fn wgsl_prelude() -> String {
+    let mut s = String::from(
+        "// Generated from the Rust definitions (fogbank-gpu contract.rs) when the\n\
+         // shaders are assembled: ids and flag bits shared with the CPU.\n",
+    );
+    enumeration(&mut s, "EST", &Estimator::names());
+    enumeration(&mut s, "SAMPLER", &DistanceSampler::ALL.map(DistanceSampler::name));
+    enumeration(&mut s, "STRATEGY", &Strategy::ALL.map(Strategy::name));
+    enumeration(&mut s, "LIGHT", &Light::KINDS);
+    enumeration(&mut s, "EMISSION", &EMISSION_KINDS);
+    for (name, bit) in FLAGS {
+        s.push_str(&format!("const FLAG_{name}: u32 = {bit}u;\n"));
+    }
+    s.push_str(&format!(
+        "const DIM_CAMERA: u32 = {}u;\nconst DIM_ESTIMATOR: u32 = {}u;\n",
+        dim::CAMERA,
+        dim::ESTIMATOR
+    ));
+    s
+}

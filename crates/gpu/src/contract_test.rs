@@ -1,0 +1,356 @@
+//! Tests of the CPU↔GPU contract: the WGSL structs have the layout of the
+//! Rust `bytemuck` structs (reflected with naga), every Rust variant has
+//! its own WGSL branch and reaches it, and an id without a branch marks the
+//! sample invalid instead of running another method.
+
+use crate::contract::{wgsl_prelude, EMISSION_KINDS};
+use crate::lights::{EnvParams, LightGpu};
+use crate::render::{render_kernel, Frame, Kernel};
+use crate::scene_buffers::MediumGpu;
+use crate::shaders;
+use fogbank_estimators::Estimator;
+use fogbank_render::integrators::point_mis::Strategy;
+use fogbank_render::integrators::shared::DistanceSampler;
+use fogbank_render::lights::Light;
+use fogbank_render::{parse_scene, Film, Progress, RenderOptions, Scene};
+use std::mem::{offset_of, size_of};
+use std::path::Path;
+
+/// (span, [(member, offset)]) of WGSL struct `name` in `source`.
+fn wgsl_struct(source: &str, name: &str) -> (u32, Vec<(String, u32)>) {
+    let module = naga::front::wgsl::parse_str(source).expect("kernel parses");
+    for (_, ty) in module.types.iter() {
+        if ty.name.as_deref() == Some(name) {
+            if let naga::TypeInner::Struct { members, span } = &ty.inner {
+                let m = members
+                    .iter()
+                    .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                    .collect();
+                return (*span, m);
+            }
+        }
+    }
+    panic!("no struct {name} in the kernel");
+}
+
+fn check_layout(source: &str, name: &str, size: usize, expected: &[(&str, usize)]) {
+    let (span, members) = wgsl_struct(source, name);
+    assert_eq!(span as usize, size, "{name}: WGSL size vs Rust size_of");
+    let got: Vec<(&str, usize)> = members
+        .iter()
+        .map(|(n, o)| (n.as_str(), *o as usize))
+        .collect();
+    assert_eq!(got, expected, "{name}: WGSL members and offsets vs Rust");
+}
+
+#[test]
+fn wgsl_structs_have_the_layout_of_the_rust_structs() {
+    let scatter = shaders::scatter_kernel();
+    let f = |o: usize| o;
+    check_layout(
+        &scatter,
+        "Frame",
+        size_of::<Frame>(),
+        &[
+            ("cam_origin", f(offset_of!(Frame, cam_origin))),
+            ("cam_forward", offset_of!(Frame, cam_forward)),
+            ("cam_right", offset_of!(Frame, cam_right)),
+            ("cam_up", offset_of!(Frame, cam_up)),
+            ("background", offset_of!(Frame, background)),
+            ("tan_half", offset_of!(Frame, tan_half)),
+            ("width", offset_of!(Frame, width)),
+            ("height", offset_of!(Frame, height)),
+            ("seed", offset_of!(Frame, seed)),
+            ("first_sample", offset_of!(Frame, first_sample)),
+            ("sample_count", offset_of!(Frame, sample_count)),
+            ("media_count", offset_of!(Frame, media_count)),
+            ("pixel_jitter", offset_of!(Frame, pixel_jitter)),
+            ("est_samples", offset_of!(Frame, est_samples)),
+            ("est_step", offset_of!(Frame, est_step)),
+            ("est_flags", offset_of!(Frame, est_flags)),
+            ("max_depth", offset_of!(Frame, max_depth)),
+            ("rr_depth", offset_of!(Frame, rr_depth)),
+            ("sampler", offset_of!(Frame, sampler)),
+            ("mis_samples", offset_of!(Frame, mis_samples)),
+        ],
+    );
+    let w2i = offset_of!(MediumGpu, w2i);
+    let pad = offset_of!(MediumGpu, pad);
+    check_layout(
+        &scatter,
+        "MediumGpu",
+        size_of::<MediumGpu>(),
+        &[
+            ("w2i0", w2i),
+            ("w2i1", w2i + 16),
+            ("w2i2", w2i + 32),
+            ("dims", offset_of!(MediumGpu, dims)),
+            ("filter_mode", offset_of!(MediumGpu, filter)),
+            ("bdims", offset_of!(MediumGpu, bdims)),
+            ("storage", offset_of!(MediumGpu, precision)),
+            ("sv_dims", offset_of!(MediumGpu, sv_dims)),
+            ("sv_size", offset_of!(MediumGpu, sv_size)),
+            ("scale", offset_of!(MediumGpu, scale)),
+            ("table_offset", offset_of!(MediumGpu, table_offset)),
+            ("constants_offset", offset_of!(MediumGpu, constants_offset)),
+            ("data_offset", offset_of!(MediumGpu, data_offset)),
+            ("sv_offset", offset_of!(MediumGpu, sv_offset)),
+            ("pad0", pad),
+            ("pad1", pad + 4),
+            ("pad2", pad + 8),
+            ("camera_index", offset_of!(MediumGpu, camera_index)),
+        ],
+    );
+    let lpad = offset_of!(LightGpu, pad);
+    check_layout(
+        &scatter,
+        "LightGpu",
+        size_of::<LightGpu>(),
+        &[
+            ("kind", offset_of!(LightGpu, kind)),
+            ("pad0", lpad),
+            ("pad1", lpad + 4),
+            ("pad2", lpad + 8),
+            ("a", offset_of!(LightGpu, a)),
+            ("b", offset_of!(LightGpu, b)),
+            ("c", offset_of!(LightGpu, c)),
+            ("d", offset_of!(LightGpu, d)),
+        ],
+    );
+    let tl = offset_of!(EnvParams, to_local);
+    let epad = offset_of!(EnvParams, pad);
+    check_layout(
+        &scatter,
+        "EnvParams",
+        size_of::<EnvParams>(),
+        &[
+            ("to_local0", tl),
+            ("to_local1", tl + 16),
+            ("to_local2", tl + 32),
+            ("width", offset_of!(EnvParams, width)),
+            ("height", offset_of!(EnvParams, height)),
+            ("light_count", offset_of!(EnvParams, light_count)),
+            ("integral", offset_of!(EnvParams, integral)),
+            ("pickable", offset_of!(EnvParams, pickable)),
+            ("pad0", epad),
+            ("pad1", epad + 4),
+            ("pad2", epad + 8),
+        ],
+    );
+}
+
+/// The generated constants name every Rust variant, and each has a branch
+/// of its own in the kernel that switches on it.
+#[test]
+fn every_rust_variant_has_its_own_wgsl_branch() {
+    let prelude = wgsl_prelude();
+    let transmittance = shaders::transmittance_kernel();
+    let scatter = shaders::scatter_kernel();
+    let point_mis = shaders::point_mis_kernel();
+    let has_case = |src: &str, id: &str| {
+        src.lines().any(|l| {
+            let l = l.trim();
+            l.starts_with("case ")
+                && l.trim_start_matches("case ")
+                    .trim_end_matches(": {")
+                    .split(',')
+                    .any(|c| c.trim() == id)
+        })
+    };
+    for (i, name) in Estimator::names().iter().enumerate() {
+        let id = format!("EST_{}", name.to_uppercase());
+        assert!(prelude.contains(&format!("const {id}: u32 = {i}u;")), "{id}");
+        assert!(has_case(&transmittance, &id), "no `case {id}` in estimate()");
+    }
+    for s in DistanceSampler::ALL {
+        let id = format!("SAMPLER_{}", s.name().to_uppercase());
+        assert!(has_case(&scatter, &id), "no `case {id}` in free_flight()");
+    }
+    for kind in Light::KINDS {
+        let id = format!("LIGHT_{}", kind.to_uppercase());
+        assert!(has_case(&scatter, &id), "no `case {id}` in light_sample_li()");
+    }
+    for kind in EMISSION_KINDS {
+        let id = format!("EMISSION_{}", kind.to_uppercase());
+        assert!(has_case(&scatter, &id), "no `case {id}` in emitted()");
+    }
+    // point_mis selects its strategy by a pipeline constant in if-chains.
+    for s in Strategy::ALL {
+        let id = format!("STRATEGY_{}", s.name().to_uppercase());
+        assert!(
+            point_mis.matches(&id).count() >= 1 && prelude.contains(&format!("const {id}:")),
+            "{id}"
+        );
+    }
+    // No hand-typed ids are left in the WGSL files.
+    for src in [&transmittance, &scatter, &point_mis] {
+        let body = src.replacen(&prelude, "", 1);
+        for prefix in ["EST_", "SAMPLER_", "STRATEGY_", "LIGHT_", "EMISSION_", "FLAG_", "DIM_"] {
+            assert!(
+                !body.contains(&format!("const {prefix}")),
+                "a `const {prefix}…` is typed in WGSL instead of generated"
+            );
+        }
+    }
+}
+
+fn scene(text: &str, overrides: &[&str]) -> Scene {
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    let desc = parse_scene(text, "test", &o).expect("scene parses");
+    Scene::build(desc, Path::new(".")).expect("scene builds")
+}
+
+const SCENE: &str = r#"
+[camera]
+# Narrow, so every camera ray meets the medium's box.
+from = [0.0, 0.0, 1.2]
+width = 12
+height = 10
+fov = 20.0
+
+[[media]]
+density = { procedural = "cloud", resolution = 24 }
+sigma_t_scale = 4.0
+filter = "nearest"
+albedo = [0.9, 0.8, 0.7]
+phase = { type = "hg", g = 0.3 }
+
+[[lights]]
+type = "point"
+position = [0.1, 0.05, 0.0]
+intensity = [1.0, 0.8, 0.6]
+
+[render]
+spp = 8
+"#;
+
+fn gpu_film(gpu: &crate::Gpu, s: &Scene, kernel: &Kernel) -> Film {
+    let opts = RenderOptions {
+        spp: 8,
+        seed: 5,
+        time_budget: None,
+    };
+    render_kernel(gpu, s, kernel, &opts, &Progress::default(), None)
+        .expect("renders")
+        .film
+}
+
+fn cpu_film(s: &Scene) -> Film {
+    let opts = RenderOptions {
+        spp: 8,
+        seed: 5,
+        time_budget: None,
+    };
+    fogbank_render::render(s, &opts, &Progress::default()).film
+}
+
+/// The GPU took the CPU's method: no invalid samples, the same lookups
+/// (within 2 %) and, as both draw the same random streams, the same values
+/// in most pixels (f32 ray transforms let some paths diverge: two thirds).
+fn assert_same_method(what: &str, gpu: &Film, cpu: &Film) {
+    assert_eq!(gpu.nan_samples + gpu.inf_samples, 0, "{what}: invalid samples");
+    let (g, c) = (gpu.lookups as f64, cpu.lookups as f64);
+    assert!((g - c).abs() <= 0.02 * c.max(1.0), "{what}: lookups {g} vs {c}");
+    let (gm, cm) = (gpu.mean(), cpu.mean());
+    let close = gm
+        .iter()
+        .zip(&cm)
+        .filter(|(a, b)| (0..3).all(|k| (a[k] - b[k]).abs() <= 1e-3 * b[k].abs().max(1.0)))
+        .count();
+    assert!(
+        close * 3 >= gm.len() * 2,
+        "{what}: only {close} of {} pixels agree",
+        gm.len()
+    );
+}
+
+/// (lookups, mean of the red channel): different methods differ in one.
+fn fingerprint(f: &Film) -> (u64, i64) {
+    let m = f.mean();
+    let mean = m.iter().map(|p| p[0] as f64).sum::<f64>() / m.len() as f64;
+    (f.lookups, (mean * 1e5).round() as i64)
+}
+
+/// Runs each case on both devices; every case must agree with the CPU and
+/// no two cases may look alike (so no two variants share a branch).
+fn check_family(gpu: &crate::Gpu, cases: Vec<(String, Scene)>) {
+    let mut seen: Vec<(String, (u64, i64))> = Vec::new();
+    for (what, s) in cases {
+        let k = Kernel::of(&s).unwrap();
+        let g = gpu_film(gpu, &s, &k);
+        assert_same_method(&what, &g, &cpu_film(&s));
+        let fp = fingerprint(&g);
+        if let Some((other, _)) = seen.iter().find(|(_, f)| *f == fp) {
+            panic!("{what} and {other} give the same image and lookups");
+        }
+        seen.push((what, fp));
+    }
+}
+
+#[test]
+fn every_variant_reaches_its_own_branch_on_the_gpu() {
+    let Some(gpu) = crate::test_gpu() else {
+        return;
+    };
+    let estimators = Estimator::all()
+        .into_iter()
+        .map(|e| {
+            let s = scene(SCENE, &[&format!("integrator.estimator={}", e.name())]);
+            (e.name().to_string(), s)
+        })
+        .collect();
+    check_family(&gpu, estimators);
+    // One-voxel super-voxels, so their minima are not 0 and decomposition
+    // tracking differs from delta tracking.
+    let samplers = DistanceSampler::ALL
+        .into_iter()
+        .map(|d| {
+            let s = scene(
+                SCENE,
+                &[
+                    "integrator.type=volpath",
+                    "integrator.max_depth=3",
+                    "media.0.supervoxel=1",
+                    &format!("integrator.distance_sampler={}", d.name()),
+                ],
+            );
+            (d.name().to_string(), s)
+        })
+        .collect();
+    check_family(&gpu, samplers);
+    let strategies = Strategy::ALL
+        .into_iter()
+        .map(|st| {
+            let s = scene(
+                SCENE,
+                &["integrator.type=point_mis", &format!("integrator.strategy={}", st.name())],
+            );
+            (st.name().to_string(), s)
+        })
+        .collect();
+    check_family(&gpu, strategies);
+}
+
+#[test]
+fn an_id_without_a_branch_marks_every_sample_invalid() {
+    let Some(gpu) = crate::test_gpu() else {
+        return;
+    };
+    let samples = 12 * 10 * 8;
+    let all_invalid = |what: &str, film: Film| {
+        assert_eq!(film.nan_samples + film.inf_samples, samples, "{what}");
+        assert!(film.count.iter().all(|&n| n == 0), "{what}: a sample was kept");
+    };
+    let s = scene(SCENE, &[]);
+    let mut k = Kernel::of(&s).unwrap();
+    k.est.id = Estimator::names().len() as u32;
+    all_invalid("estimator", gpu_film(&gpu, &s, &k));
+    let s = scene(SCENE, &["integrator.type=volpath"]);
+    let mut k = Kernel::of(&s).unwrap();
+    k.sampler = DistanceSampler::ALL.len() as u32;
+    all_invalid("distance sampler", gpu_film(&gpu, &s, &k));
+    let s = scene(SCENE, &["integrator.type=point_mis"]);
+    let mut k = Kernel::of(&s).unwrap();
+    k.sampler = Strategy::ALL.len() as u32;
+    all_invalid("strategy", gpu_film(&gpu, &s, &k));
+}

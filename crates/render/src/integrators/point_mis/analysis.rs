@@ -1,0 +1,203 @@
+//! Analyses of the MIS weights behind `point_mis`, on common random
+//! numbers: the errors of Eq. 10's estimated weights against exact ones
+//! (seed 000 Fig. 13) and the jackknife weights of Eq. 9 at one point
+//! (App. D).
+
+use super::integrator::{depths_n, PointMis, Segment};
+use super::strategy::Strategy;
+use crate::integrators::shared::{balance, estimator_rng, primary_ray};
+use crate::lights::sample::LightSampler;
+use crate::lights::Light;
+use crate::world::medium::SceneMedium;
+use crate::world::phase::HenyeyGreenstein;
+use crate::world::World;
+use fogbank_estimators::distance::{delta_tracking_ratio, equiangular};
+use fogbank_estimators::jackknife_function::mis_weight;
+use fogbank_estimators::{transmittance, Estimator};
+use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
+use fogbank_volume::{Filter, MediumView, VolumeAccess};
+
+impl PointMis {
+    /// Seed 000 Fig. 13 in isolation: one pixel sample of Eq. 10 with exact
+    /// weights g(τ(t_j)) and the errors of its estimated weights, on common
+    /// random numbers.
+    ///
+    /// The light choice, the distances t0, t1, μ(t_j) and one estimate
+    /// L̃_s(t_j) per distance are drawn exactly as [`Strategy::MisNaive`] and
+    /// [`Strategy::MisJackknifeBiased`] draw them; τ(t_j) is computed exactly
+    /// by regular tracking. Returns Σ_j g(τ(t_j)) L̃_s(t_j) / P(light), an
+    /// unbiased estimate of the single-scattering radiance (Eq. 10 with exact
+    /// weights is the balance heuristic), and writes to `errors[k]`
+    /// [naive, jackknife] = Σ_j (g̃(t_j) − g(τ(t_j))) L̃_s(t_j) / P(light)
+    /// for N = `mis_samples[k]`, each g̃ from its own optical-depth estimates
+    /// (independent of L̃_s, as in the integrator). So E[errors[k][0]] is
+    /// exactly the bias of `mis_naive` with `integrator.mis_samples = N`,
+    /// and likewise for `mis_jackknife_biased`, but with far less variance
+    /// than a difference of two renders. `None` where τ cannot be computed
+    /// exactly (filters other than nearest on grids).
+    pub fn eq10_weight_errors(
+        &self,
+        world: &World,
+        x: u32,
+        y: u32,
+        key: SampleKey,
+        mis_samples: &[u32],
+        errors: &mut [[Vec3; 2]],
+    ) -> Option<Vec3> {
+        errors.iter_mut().for_each(|e| *e = [Vec3::ZERO; 2]);
+        let medium = world.media.first()?;
+        let view = medium.medium.view();
+        if !matches!(view, MediumView::Analytic(_)) && medium.medium.filter != Filter::Nearest {
+            return None;
+        }
+        let mut rng = estimator_rng(key);
+        let ray = primary_ray(world, x, y, key);
+        let Some((index, a, b)) = medium.medium.to_index(&ray, 0.0, f32::INFINITY) else {
+            return Some(Vec3::ZERO);
+        };
+        let Some((li, pmf)) = self.lights.pick(rng.next_f32()) else {
+            return Some(Vec3::ZERO);
+        };
+        let Light::Point {
+            position,
+            intensity,
+        } = world.lights[li]
+        else {
+            return Some(Vec3::ZERO);
+        };
+        if pmf <= 0.0 {
+            return Some(Vec3::ZERO);
+        }
+        let seg = Segment {
+            medium,
+            world: ray,
+            index,
+            a,
+            b,
+            light: position,
+            intensity,
+            hg: HenyeyGreenstein { g: medium.phase_g },
+        };
+        let l = match view {
+            MediumView::F16(v) => self.eq10_errors_in(&v, &seg, mis_samples, errors, &mut rng),
+            MediumView::F32(v) => self.eq10_errors_in(&v, &seg, mis_samples, errors, &mut rng),
+            MediumView::Analytic(v) => self.eq10_errors_in(&v, &seg, mis_samples, errors, &mut rng),
+        };
+        errors
+            .iter_mut()
+            .for_each(|e| *e = [e[0] / pmf, e[1] / pmf]);
+        Some(l / pmf)
+    }
+
+    fn eq10_errors_in<V: VolumeAccess>(
+        &self,
+        v: &V,
+        s: &Segment,
+        mis_samples: &[u32],
+        errors: &mut [[Vec3; 2]],
+        rng: &mut Pcg32,
+    ) -> Vec3 {
+        let mut lookups = 0u32;
+        let p0 = |t: f32| equiangular::pdf(&s.world, s.light, s.a, s.b, t);
+        // The same draws, in the same order, as the Eq. 10 strategies.
+        let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
+        let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
+        let mut ts = [None, None];
+        if let Some(t1) = f.t {
+            ts[0] = Some((t1, p0(t1), Some(f.mu)));
+        }
+        if pdf0 > 0.0 && pdf0.is_finite() {
+            ts[1] = Some((t0, pdf0, None));
+        }
+        let mut total = Vec3::ZERO;
+        for (t, p, known_mu) in ts.into_iter().flatten() {
+            let mu = match known_mu {
+                Some(m) if !v.needs_jitter() => m,
+                _ => Self::mu(v, s, t, rng, &mut lookups),
+            };
+            if mu <= 0.0 {
+                continue;
+            }
+            let ls = self.in_scattered(s, t, rng, &mut lookups);
+            let tr = transmittance(
+                Estimator::RegularTracking,
+                &s.medium.medium,
+                &s.world,
+                t,
+                rng,
+            )
+            .transmittance as f64;
+            let (m, p) = (mu as f64, p as f64);
+            let g = balance(m * tr, p);
+            total += ls * g as f32;
+            for (&n, e) in mis_samples.iter().zip(errors.iter_mut()) {
+                for (k, naive) in [(0, true), (1, false)] {
+                    let (x0, x1) = depths_n(v, s, t, n, naive, rng, &mut lookups);
+                    let gk = mis_weight(m, 0.0, m, p, x0, x1);
+                    if gk.is_finite() {
+                        e[k] += ls * (gk - g) as f32;
+                    }
+                }
+            }
+        }
+        total
+    }
+}
+
+/// Seed 000 App. D in isolation: the jackknife estimates of w0(t) and w1(t)
+/// at a point t of the camera ray `world`, each from its own pair of
+/// optical-depth estimates of [entry, t], as [`Strategy::MisJackknife`]
+/// computes them. `p0` is the other strategy's density at t. Returns
+/// (w̃0, w̃1, lookups); E[w̃0] + E[w̃1] = 1 although neither sum is 1.
+pub fn jackknife_weights(
+    medium: &SceneMedium,
+    world: &Ray,
+    t: f32,
+    p0: f32,
+    mis_samples: u32,
+    rng: &mut Pcg32,
+) -> Option<(f64, f64, u32)> {
+    let (index, a, _) = medium.medium.to_index(world, 0.0, f32::INFINITY)?;
+    let mut lookups = 0u32;
+    let pm = PointMis {
+        strategy: Strategy::MisJackknife,
+        nee: Estimator::RatioTracking,
+        mis_samples,
+        lights: LightSampler::default(),
+    };
+    let seg = Segment {
+        medium,
+        world: *world,
+        index,
+        a,
+        b: t,
+        light: Vec3::ZERO,
+        intensity: Vec3::ZERO,
+        hg: HenyeyGreenstein { g: 0.0 },
+    };
+    let (w0, w1) = match medium.medium.view() {
+        MediumView::F16(v) => weights_pair(&pm, &v, &seg, t, p0, rng, &mut lookups),
+        MediumView::F32(v) => weights_pair(&pm, &v, &seg, t, p0, rng, &mut lookups),
+        MediumView::Analytic(v) => weights_pair(&pm, &v, &seg, t, p0, rng, &mut lookups),
+    };
+    Some((w0, w1, lookups))
+}
+
+fn weights_pair<V: VolumeAccess>(
+    pm: &PointMis,
+    v: &V,
+    s: &Segment,
+    t: f32,
+    p0: f32,
+    rng: &mut Pcg32,
+    lookups: &mut u32,
+) -> (f64, f64) {
+    let p = p0 as f64;
+    let mu0 = PointMis::mu(v, s, t, rng, lookups) as f64;
+    let (a0, a1) = pm.depths(v, s, t, false, rng, lookups);
+    let w0 = mis_weight(0.0, p, mu0, p, a0, a1);
+    let mu1 = PointMis::mu(v, s, t, rng, lookups) as f64;
+    let (b0, b1) = pm.depths(v, s, t, false, rng, lookups);
+    let w1 = mis_weight(mu1, 0.0, mu1, p, b0, b1);
+    (w0, w1)
+}

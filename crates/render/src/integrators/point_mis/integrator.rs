@@ -1,0 +1,337 @@
+//! The `point_mis` integrator: per camera sample one point light chosen by
+//! power, the strategy's distance samples along the camera ray, and the
+//! in-scattered radiance at each (see the module documentation).
+
+use super::params::PointMisParams;
+use super::strategy::Strategy;
+use crate::error::SceneError;
+use crate::integrators::shared::{balance, estimator_rng, primary_ray, PixelSample};
+use crate::lights::sample::LightSampler;
+use crate::lights::Light;
+use crate::world::medium::SceneMedium;
+use crate::world::phase::HenyeyGreenstein;
+use crate::world::World;
+use fogbank_estimators::distance::{delta_tracking_ratio, equiangular};
+use fogbank_estimators::jackknife::{optical_depths, StepMode};
+use fogbank_estimators::jackknife_function::mis_weight;
+use fogbank_estimators::lookup::sigma_t;
+use fogbank_estimators::optical_depth::{Importance, Jitter};
+use fogbank_estimators::{ratio_tracking, transmittance, Estimator};
+use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
+use fogbank_volume::{MediumView, VolumeAccess};
+
+#[derive(Clone, Debug)]
+pub struct PointMis {
+    pub strategy: Strategy,
+    /// Transmittance estimator of the ray from the scattering point to the light.
+    pub nee: Estimator,
+    /// N of the optical-depth estimates behind the MIS weights.
+    pub mis_samples: u32,
+    pub lights: LightSampler,
+}
+
+impl PointMis {
+    /// Builds `point_mis`, rejecting worlds it cannot render: exactly one
+    /// medium and only point lights.
+    pub fn new(p: &PointMisParams, world: &World) -> Result<PointMis, SceneError> {
+        if world.media.len() != 1 {
+            return Err(SceneError(format!(
+                "integrator.type = \"point_mis\": needs exactly one medium, the scene has {}",
+                world.media.len()
+            )));
+        }
+        if world.lights.is_empty() {
+            return Err(SceneError(
+                "integrator.type = \"point_mis\": needs at least one point light".into(),
+            ));
+        }
+        if let Some(i) = world
+            .lights
+            .iter()
+            .position(|l| !matches!(l, Light::Point { .. }))
+        {
+            return Err(SceneError(format!(
+                "lights.{i}: `point_mis` supports only point lights"
+            )));
+        }
+        Ok(PointMis {
+            strategy: p.strategy,
+            nee: p.estimator,
+            mis_samples: p.mis_samples,
+            // Point-light power does not depend on the scene radius.
+            lights: LightSampler::new(&world.lights, 1.0),
+        })
+    }
+}
+
+/// What every distance sample of one pixel sample shares.
+pub(super) struct Segment<'a> {
+    pub(super) medium: &'a SceneMedium,
+    /// World-space camera ray (unit direction) and the same ray in index
+    /// space; both share the parameter t.
+    pub(super) world: Ray,
+    pub(super) index: Ray,
+    /// The camera ray's parameter range inside the medium's box.
+    pub(super) a: f32,
+    pub(super) b: f32,
+    pub(super) light: Vec3,
+    pub(super) intensity: Vec3,
+    pub(super) hg: HenyeyGreenstein,
+}
+
+impl PointMis {
+    pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+        let mut rng = estimator_rng(key);
+        let ray = primary_ray(world, x, y, key);
+        let mut lookups = 0u32;
+        let zero = PixelSample::default();
+        let Some(medium) = world.media.first() else {
+            return zero;
+        };
+        let Some((index, a, b)) = medium.medium.to_index(&ray, 0.0, f32::INFINITY) else {
+            return zero;
+        };
+        let Some((li, pmf)) = self.lights.pick(rng.next_f32()) else {
+            return zero;
+        };
+        let Light::Point {
+            position,
+            intensity,
+        } = world.lights[li]
+        else {
+            return zero;
+        };
+        if pmf <= 0.0 {
+            return zero;
+        }
+        let seg = Segment {
+            medium,
+            world: ray,
+            index,
+            a,
+            b,
+            light: position,
+            intensity,
+            hg: HenyeyGreenstein { g: medium.phase_g },
+        };
+        let l = match medium.medium.view() {
+            MediumView::F16(v) => self.radiance(&v, &seg, &mut rng, &mut lookups),
+            MediumView::F32(v) => self.radiance(&v, &seg, &mut rng, &mut lookups),
+            MediumView::Analytic(v) => self.radiance(&v, &seg, &mut rng, &mut lookups),
+        };
+        PixelSample {
+            radiance: l / pmf,
+            lookups,
+        }
+    }
+
+    /// L_s(t): single-scattered radiance towards the camera at parameter `t`
+    /// from the chosen light (albedo · phase · I/d² · T_l), with the light
+    /// ray's transmittance T_l estimated by `self.nee`.
+    pub(super) fn in_scattered(&self, s: &Segment, t: f32, rng: &mut Pcg32, lookups: &mut u32) -> Vec3 {
+        let p = s.world.at(t);
+        let to_light = s.light - p;
+        let dist2 = to_light.length_squared();
+        if !(dist2 > 0.0 && dist2.is_finite()) {
+            return Vec3::ZERO;
+        }
+        let dist = dist2.sqrt();
+        let wi = to_light / dist;
+        let f = s.hg.eval(s.world.d.dot(wi));
+        if f <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let e = transmittance(self.nee, &s.medium.medium, &Ray::new(p, wi), dist, rng);
+        *lookups += e.lookups;
+        s.medium.albedo_at(p) * s.intensity * (f * e.transmittance / dist2)
+    }
+
+    /// Two optical-depth estimates X0, X1 of [a, t] (seed 000 Alg. 2, Alg. 1
+    /// with Eq. 5 importance, N lookups each) — or, for the naive weight, one
+    /// estimate of 2N lookups in `x[0]` and `x[1] = x[0]` so that S = 0 and
+    /// App. F's formula reduces to g(X).
+    pub(super) fn depths<V: VolumeAccess>(
+        &self,
+        v: &V,
+        s: &Segment,
+        t: f32,
+        naive: bool,
+        rng: &mut Pcg32,
+        lookups: &mut u32,
+    ) -> (f64, f64) {
+        depths_n(v, s, t, self.mis_samples, naive, rng, lookups)
+    }
+
+    /// σ_t at parameter t (one lookup).
+    pub(super) fn mu<V: VolumeAccess>(v: &V, s: &Segment, t: f32, rng: &mut Pcg32, lookups: &mut u32) -> f32 {
+        sigma_t(v, s.index.at(t), rng, lookups)
+    }
+
+    fn radiance<V: VolumeAccess>(
+        &self,
+        v: &V,
+        s: &Segment,
+        rng: &mut Pcg32,
+        lookups: &mut u32,
+    ) -> Vec3 {
+        let p0 = |t: f32| equiangular::pdf(&s.world, s.light, s.a, s.b, t);
+        let mut total = Vec3::ZERO;
+        match self.strategy {
+            Strategy::FreeFlight => {
+                let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
+                *lookups += f.lookups;
+                if let Some(t1) = f.t {
+                    total += self.in_scattered(s, t1, rng, lookups);
+                }
+            }
+            Strategy::Equiangular => {
+                let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
+                if pdf0 > 0.0 && pdf0.is_finite() {
+                    let mu = Self::mu(v, s, t0, rng, lookups);
+                    if mu > 0.0 {
+                        let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng);
+                        *lookups += tr.lookups;
+                        let l = self.in_scattered(s, t0, rng, lookups);
+                        total += l * (tr.transmittance * mu / pdf0);
+                    }
+                }
+            }
+            Strategy::MisMiller => {
+                // Free-flight sample: w1 = μ T_rt / (p0 + μ T_rt) with T_rt from
+                // delta tracking's null collisions before t1 (seed 000 §6.2).
+                let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
+                *lookups += f.lookups;
+                if let Some(t1) = f.t {
+                    let w1 = balance(f.mu * f.ratio, p0(t1));
+                    if w1 > 0.0 {
+                        total += self.in_scattered(s, t1, rng, lookups) * w1;
+                    }
+                }
+                // Equiangular sample: one ratio-tracking walk over [a, t0]
+                // gives both T(t0) and the weight; w0 T μ / p0 = q/(p0 + q).
+                let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
+                if pdf0 > 0.0 && pdf0.is_finite() {
+                    let mu = Self::mu(v, s, t0, rng, lookups);
+                    if mu > 0.0 {
+                        let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng);
+                        *lookups += tr.lookups;
+                        let c = balance(mu * tr.transmittance, pdf0);
+                        if c != 0.0 {
+                            total += self.in_scattered(s, t0, rng, lookups) * c;
+                        }
+                    }
+                }
+            }
+            Strategy::MisJackknife => {
+                // Seed 000, Eq. 9. Every weight uses its own optical-depth
+                // estimates and σ_t lookup, independent of the distance
+                // sample and of T̃(t0), as App. D's proof needs.
+                let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
+                *lookups += f.lookups;
+                if let Some(t1) = f.t {
+                    // The value read by delta tracking is correlated with the
+                    // acceptance under stochastic filtering; read afresh.
+                    let mu = if v.needs_jitter() {
+                        Self::mu(v, s, t1, rng, lookups)
+                    } else {
+                        f.mu
+                    };
+                    let (x0, x1) = self.depths(v, s, t1, false, rng, lookups);
+                    let (mu, p) = (mu as f64, p0(t1) as f64);
+                    let w1 = mis_weight(mu, 0.0, mu, p, x0, x1) as f32;
+                    if w1 != 0.0 && w1.is_finite() {
+                        total += self.in_scattered(s, t1, rng, lookups) * w1;
+                    }
+                }
+                let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
+                if pdf0 > 0.0 && pdf0.is_finite() {
+                    let mu_w = Self::mu(v, s, t0, rng, lookups);
+                    let mu = if v.needs_jitter() {
+                        Self::mu(v, s, t0, rng, lookups)
+                    } else {
+                        mu_w
+                    };
+                    if mu > 0.0 {
+                        let (x0, x1) = self.depths(v, s, t0, false, rng, lookups);
+                        let (mw, p) = (mu_w as f64, pdf0 as f64);
+                        let w0 = mis_weight(0.0, p, mw, p, x0, x1) as f32;
+                        let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng);
+                        *lookups += tr.lookups;
+                        let c = w0 * tr.transmittance * mu / pdf0;
+                        if c != 0.0 && c.is_finite() {
+                            total += self.in_scattered(s, t0, rng, lookups) * c;
+                        }
+                    }
+                }
+            }
+            Strategy::MisNaive | Strategy::MisJackknifeBiased => {
+                // Seed 000, Eq. 10: both samples contribute g̃(τ(t_j)) L_s(t_j)
+                // with g(τ) = μ e^{−τ}/(p0 + μ e^{−τ}) (Eq. 11), estimated by
+                // Eq. 12 (jackknife) or g(X) (naive, m = 1).
+                let naive = self.strategy == Strategy::MisNaive;
+                let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
+                *lookups += f.lookups;
+                let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
+                let mut ts = [None, None];
+                if let Some(t1) = f.t {
+                    ts[0] = Some((t1, p0(t1), Some(f.mu)));
+                }
+                if pdf0 > 0.0 && pdf0.is_finite() {
+                    ts[1] = Some((t0, pdf0, None));
+                }
+                for (t, p, known_mu) in ts.into_iter().flatten() {
+                    let mu = match known_mu {
+                        Some(m) if !v.needs_jitter() => m,
+                        _ => Self::mu(v, s, t, rng, lookups),
+                    };
+                    if mu <= 0.0 {
+                        continue;
+                    }
+                    let (x0, x1) = self.depths(v, s, t, naive, rng, lookups);
+                    let m = mu as f64;
+                    let g = mis_weight(m, 0.0, m, p as f64, x0, x1) as f32;
+                    if g != 0.0 && g.is_finite() {
+                        total += self.in_scattered(s, t, rng, lookups) * g;
+                    }
+                }
+            }
+        }
+        total
+    }
+}
+
+/// [`PointMis::depths`] with an explicit N.
+pub(super) fn depths_n<V: VolumeAccess>(
+    v: &V,
+    s: &Segment,
+    t: f32,
+    mis_samples: u32,
+    naive: bool,
+    rng: &mut Pcg32,
+    lookups: &mut u32,
+) -> (f64, f64) {
+    let mut x = [0.0f64; 2];
+    let (n, out) = if naive {
+        (2 * mis_samples, &mut x[..1])
+    } else {
+        (mis_samples, &mut x[..])
+    };
+    optical_depths(
+        v,
+        &s.index,
+        s.a,
+        t,
+        n,
+        StepMode::FixedCount,
+        Importance::VarianceAware,
+        Jitter::Stratified,
+        rng,
+        lookups,
+        out,
+    );
+    if naive {
+        (x[0], x[0])
+    } else {
+        (x[0], x[1])
+    }
+}

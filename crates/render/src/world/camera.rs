@@ -1,0 +1,149 @@
+//! Pinhole camera. Pixel (0, 0) is the top-left corner; a sample at
+//! continuous film position (x, y) maps through the tangent plane.
+
+use crate::error::SceneError;
+use fogbank_math::{Ray, Vec3};
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Debug)]
+pub struct Camera {
+    pub origin: Vec3,
+    pub width: u32,
+    pub height: u32,
+    forward: Vec3,
+    right: Vec3,
+    up: Vec3,
+    /// Half-extent of the image plane at distance 1, per axis.
+    tan_half: [f32; 2],
+}
+
+impl Camera {
+    pub fn new(
+        from: Vec3,
+        to: Vec3,
+        up: Vec3,
+        fov_deg: f32,
+        fov_axis_x: bool,
+        width: u32,
+        height: u32,
+    ) -> Option<Self> {
+        let forward = (to - from).try_normalize()?;
+        let right = forward.cross(up).try_normalize()?;
+        let up = right.cross(forward);
+        let t = (0.5 * fov_deg.to_radians()).tan();
+        let aspect = width as f32 / height as f32;
+        let tan_half = if fov_axis_x {
+            [t, t / aspect]
+        } else {
+            [t * aspect, t]
+        };
+        Some(Camera {
+            origin: from,
+            width,
+            height,
+            forward,
+            right,
+            up,
+            tan_half,
+        })
+    }
+
+    /// (origin, forward, right, up, tan_half): what a GPU kernel needs to
+    /// reproduce [`Camera::ray`].
+    pub fn basis(&self) -> (Vec3, Vec3, Vec3, Vec3, [f32; 2]) {
+        (
+            self.origin,
+            self.forward,
+            self.right,
+            self.up,
+            self.tan_half,
+        )
+    }
+
+    /// Primary ray through film position `(x, y)` in pixels; unit direction,
+    /// so ray parameters are world distances.
+    #[inline]
+    pub fn ray(&self, x: f32, y: f32) -> Ray {
+        let sx = (2.0 * x / self.width as f32 - 1.0) * self.tan_half[0];
+        let sy = (1.0 - 2.0 * y / self.height as f32) * self.tan_half[1];
+        Ray::new(
+            self.origin,
+            (self.forward + sx * self.right + sy * self.up).normalize(),
+        )
+    }
+}
+
+/// | key | default | meaning |
+/// |---|---|---|
+/// | `from`, `to`, `up` | (0,0,2.2), (0,0,0), (0,1,0) | pinhole placement |
+/// | `fov` | 40 | field of view in degrees along `fov_axis` |
+/// | `fov_axis` | `"x"` | `"x"` or `"y"` |
+/// | `width`, `height` | 512, 512 | image size in pixels |
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct CameraDesc {
+    pub from: [f32; 3],
+    pub to: [f32; 3],
+    pub up: [f32; 3],
+    pub fov: f32,
+    pub fov_axis: String,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Default for CameraDesc {
+    fn default() -> Self {
+        CameraDesc {
+            from: [0.0, 0.0, 2.2],
+            to: [0.0, 0.0, 0.0],
+            up: [0.0, 1.0, 0.0],
+            fov: 40.0,
+            fov_axis: "x".into(),
+            width: 512,
+            height: 512,
+        }
+    }
+}
+
+impl CameraDesc {
+    /// The camera, after checking the size, field of view and frame.
+    pub fn build(&self) -> Result<Camera, SceneError> {
+        let c = self;
+        if c.width == 0 || c.height == 0 || c.width > 16384 || c.height > 16384 {
+            return Err(SceneError(format!(
+                "camera: image size {}×{} outside 1..=16384",
+                c.width, c.height
+            )));
+        }
+        if !(c.fov > 0.0 && c.fov < 180.0) {
+            return Err(SceneError(format!(
+                "camera.fov: {} is outside (0, 180)",
+                c.fov
+            )));
+        }
+        let fov_x = match c.fov_axis.as_str() {
+            "x" => true,
+            "y" => false,
+            other => {
+                return Err(SceneError(format!(
+                    "camera.fov_axis: `{other}` is not x or y"
+                )))
+            }
+        };
+        Camera::new(
+            Vec3::from(c.from),
+            Vec3::from(c.to),
+            Vec3::from(c.up),
+            c.fov,
+            fov_x,
+            c.width,
+            c.height,
+        )
+        .ok_or_else(|| {
+            SceneError(
+                "camera: `from`, `to` and `up` must span a frame (from ≠ to, up not parallel)"
+                    .into(),
+            )
+        })
+    }
+}

@@ -1,0 +1,260 @@
+//! Spatially varying medium properties other than extinction (albedo,
+//! emission colour, temperature): a grid placed in the world like the
+//! density, looked up with trilinear interpolation at scattering vertices.
+
+use crate::error::SceneError;
+use fogbank_math::{DAffine3, Vec3};
+use fogbank_volume::loaders::{raw, vdb, vdb_grid, vol};
+use fogbank_volume::{
+    medium::unit_box_transform, procedural, AnalyticField, AnalyticKind, BrickGrid, DensityData,
+    Precision,
+};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The source of a scalar field (density, albedo, emission, temperature).
+/// Exactly one source key: `vdb`, `vol`, `raw` or `procedural`.
+///
+/// | source | further keys |
+/// |---|---|
+/// | `vdb = "f.vdb"` | `grid` (default `density`, else the first float grid), `level_set` = `"fog"` (default) or `"raw"` |
+/// | `vol = "f.vol"` | `channel` (default 0) |
+/// | `raw = "f.raw"` | `dims = [x, y, z]`, `type = "u8"/"u16"/"f32"` (or from a `name_XxYxZ_uint8.raw` file name) |
+/// | `procedural = "cloud"` | `resolution` (128), `seed` (7) |
+/// | `procedural = "constant"/"ramp"/"sinusoid"/"slabs"/"sphere"/"empty"` | `resolution`, `value`, `gradient`, `amplitude`, `frequency`, `phase`, `count`, `width`, `axis`, `radius` |
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FieldDesc {
+    pub vdb: Option<String>,
+    pub grid: Option<String>,
+    pub level_set: Option<String>,
+    pub vol: Option<String>,
+    pub channel: Option<u32>,
+    pub raw: Option<String>,
+    pub dims: Option<[u32; 3]>,
+    #[serde(rename = "type")]
+    pub ty: Option<String>,
+    pub procedural: Option<String>,
+    pub resolution: Option<u32>,
+    pub seed: Option<u64>,
+    pub value: Option<f32>,
+    pub gradient: Option<[f32; 3]>,
+    pub amplitude: Option<f32>,
+    pub frequency: Option<[f32; 3]>,
+    pub phase: Option<f32>,
+    pub count: Option<u32>,
+    pub width: Option<f32>,
+    pub axis: Option<usize>,
+    /// `procedural = "sphere"`: ball radius in units of the cube (≤ ½).
+    pub radius: Option<f32>,
+}
+
+
+
+#[derive(Clone, Debug)]
+pub struct Field {
+    /// One channel (a scalar, splatted to RGB) or three (RGB).
+    channels: Vec<DensityData>,
+    world_to_index: DAffine3,
+    dims: [u32; 3],
+    pub source: String,
+}
+
+impl Field {
+    /// Loads the grid `d` of scene key `key`; `to_world` is the medium's
+    /// placement, applied after the file's own transform, so property grids
+    /// line up with a density grid from the same kind of file.
+    pub fn load(
+        d: &FieldDesc,
+        key: &str,
+        base: &Path,
+        to_world: DAffine3,
+    ) -> Result<Field, SceneError> {
+        let (channels, file_xf, source) = match &d.vol {
+            // A 3-channel .vol without `channel` is an RGB grid (Mitsuba's
+            // convention for albedo).
+            Some(f) if d.channel.is_none() => {
+                let path = base.join(f);
+                let v = vol::read_vol(&path).map_err(|e| SceneError(format!("{key}: {e}")))?;
+                let n = if v.channels == 3 { 3 } else { 1 };
+                let channels = (0..n)
+                    .map(|c| {
+                        v.channel_grid(c)
+                            .map(|g| DensityData::from_f32(g, Precision::F32))
+                            .map_err(|e| SceneError(format!("{key}: {e}")))
+                    })
+                    .collect::<Result<Vec<_>, _>>()?;
+                (channels, v.index_to_world(), path.display().to_string())
+            }
+            _ => {
+                let (data, xf, source) = field_data(d, key, base, Precision::F32)?;
+                (vec![data], xf, source)
+            }
+        };
+        let xf = to_world * file_xf;
+        if xf.matrix3.determinant().abs() < 1e-30 {
+            return Err(SceneError(format!("{key}: transform is singular")));
+        }
+        Ok(Field {
+            dims: channels[0].dims(),
+            channels,
+            world_to_index: xf.inverse(),
+            source,
+        })
+    }
+
+    /// The channel grids and the world → index map, for GPU upload.
+    pub fn parts(&self) -> (&[DensityData], DAffine3) {
+        (&self.channels, self.world_to_index)
+    }
+
+    pub fn channel_count(&self) -> usize {
+        self.channels.len()
+    }
+
+    /// Trilinearly interpolated value at world point `p`; zero outside the
+    /// grid's box, like the density.
+    pub fn eval(&self, p: Vec3) -> Vec3 {
+        let q = self.world_to_index.transform_point3(p.as_dvec3()).as_vec3();
+        let d = Vec3::new(
+            self.dims[0] as f32,
+            self.dims[1] as f32,
+            self.dims[2] as f32,
+        );
+        if !(q.cmpge(Vec3::ZERO).all() && q.cmple(d).all()) {
+            return Vec3::ZERO;
+        }
+        let one = |c: &DensityData| match c {
+            DensityData::F16(g) => g.trilinear(q),
+            DensityData::F32(g) => g.trilinear(q),
+            DensityData::Analytic(a) => a.density(q / a.n as f32),
+        };
+        match self.channels.as_slice() {
+            [c] => Vec3::splat(one(c)),
+            [r, g, b] => Vec3::new(one(r), one(g), one(b)),
+            _ => unreachable!("fields have one or three channels"),
+        }
+    }
+}
+
+fn analytic_kind(name: &str, d: &FieldDesc, key: &str) -> Result<AnalyticKind, SceneError> {
+    Ok(match name {
+        "empty" => AnalyticKind::Empty,
+        "constant" => AnalyticKind::Constant { value: d.value.unwrap_or(1.0) },
+        "ramp" => AnalyticKind::Ramp { base: d.value.unwrap_or(0.1), gradient: d.gradient.unwrap_or([1.0, 0.0, 0.0]) },
+        "sinusoid" => AnalyticKind::Sinusoid {
+            mean: d.value.unwrap_or(1.0),
+            amplitude: d.amplitude.unwrap_or(0.9),
+            frequency: d.frequency.unwrap_or([2.0, 1.0, 3.0]),
+            phase: d.phase.unwrap_or(0.0),
+        },
+        "slabs" => AnalyticKind::Slabs {
+            value: d.value.unwrap_or(1.0),
+            count: d.count.unwrap_or(4),
+            width: d.width.unwrap_or(0.02),
+            axis: d.axis.unwrap_or(0),
+        },
+        "sphere" => AnalyticKind::Sphere {
+            value: d.value.unwrap_or(1.0),
+            radius: d.radius.unwrap_or(0.5),
+        },
+        other => {
+            return Err(SceneError(format!(
+                "{key}.procedural: unknown procedural medium `{other}` (cloud, constant, ramp, sinusoid, slabs, sphere, empty)"
+            )))
+        }
+    })
+}
+
+/// Loads the field `d` (scene key `key`): its data, index→world transform
+/// and a description of its source.
+pub fn field_data(
+    d: &FieldDesc,
+    key: &str,
+    base: &Path,
+    precision: Precision,
+) -> Result<(DensityData, DAffine3, String), SceneError> {
+    let sources = [
+        d.vdb.is_some(),
+        d.vol.is_some(),
+        d.raw.is_some(),
+        d.procedural.is_some(),
+    ];
+    if sources.iter().filter(|&&s| s).count() != 1 {
+        return Err(SceneError(format!(
+            "{key}: give exactly one of `vdb`, `vol`, `raw`, `procedural`"
+        )));
+    }
+    let err = |e: fogbank_volume::VolumeError| SceneError(format!("{key}: {e}"));
+    if let Some(f) = &d.vdb {
+        let path = base.join(f);
+        let g = vdb::read_grid(&path, d.grid.as_deref()).map_err(err)?;
+        let (mut grid, xf) = vdb_grid::to_brick_grid(&g).map_err(err)?;
+        let mode = d.level_set.as_deref().unwrap_or("fog");
+        if vdb_grid::is_level_set(&g) {
+            match mode {
+                "fog" => grid = vdb_grid::level_set_to_fog(&grid, g.background),
+                "raw" => grid = grid.map_values(|v| v.max(0.0)),
+                other => {
+                    return Err(SceneError(format!(
+                        "{key}.level_set: `{other}` is not `fog` or `raw`"
+                    )))
+                }
+            }
+        } else {
+            grid = grid.map_values(|v| v.max(0.0));
+        }
+        return Ok((
+            DensityData::from_f32(grid, precision),
+            xf,
+            format!("{} ({})", path.display(), g.name),
+        ));
+    }
+    if let Some(f) = &d.vol {
+        let path = base.join(f);
+        let v = vol::read_vol(&path).map_err(err)?;
+        let grid = v
+            .channel_grid(d.channel.unwrap_or(0))
+            .map_err(err)?
+            .map_values(|x| x.max(0.0));
+        return Ok((
+            DensityData::from_f32(grid, precision),
+            v.index_to_world(),
+            path.display().to_string(),
+        ));
+    }
+    if let Some(f) = &d.raw {
+        let path = base.join(f);
+        let ty = match &d.ty {
+            Some(t) => Some(raw::RawType::parse(t).ok_or_else(|| {
+                SceneError(format!(
+                    "{key}.type: unknown raw type `{t}` (u8, u16, i16, f32, f64)"
+                ))
+            })?),
+            None => None,
+        };
+        let grid = raw::read_raw(&path, d.dims, ty).map_err(err)?;
+        let xf = unit_box_transform(grid.dims());
+        return Ok((
+            DensityData::from_f32(grid, precision),
+            xf,
+            path.display().to_string(),
+        ));
+    }
+    let name = d.procedural.as_deref().unwrap_or_default();
+    let res = d.resolution.unwrap_or(128);
+    if name == "cloud" {
+        let grid: BrickGrid<f32> = procedural::cloud_grid(res, d.seed.unwrap_or(7)).map_err(err)?;
+        return Ok((
+            DensityData::from_f32(grid, precision),
+            unit_box_transform([res; 3]),
+            format!("procedural cloud {res}³"),
+        ));
+    }
+    let field = AnalyticField::new(analytic_kind(name, d, key)?, res).map_err(err)?;
+    Ok((
+        DensityData::Analytic(field),
+        unit_box_transform([res; 3]),
+        format!("analytic {name}"),
+    ))
+}

@@ -1,0 +1,221 @@
+//! A medium of the scene: its extinction grid and placement plus the
+//! scattering properties (albedo, emission, phase) integrators use.
+
+use super::emission::{Emission, EmissionDesc};
+use super::field::{field_data, Field, FieldDesc};
+use super::phase::PhaseDesc;
+use crate::error::SceneError;
+use fogbank_math::{DAffine3, DVec3, Vec3};
+use fogbank_volume::{Filter, Medium, Precision};
+use glam::DQuat;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// | key | default | meaning |
+/// |---|---|---|
+/// | `density` | — | data source, see [`FieldDesc`] |
+/// | `sigma_t_scale` | 1 | σ_t = scale · density (per world unit) |
+/// | `albedo` | (0.8, 0.8, 0.8) | single-scattering albedo σ_s/σ_t, each channel in [0, 1] |
+/// | `albedo_grid` | none | a grid (same keys as `density`, placed like it) multiplying `albedo`; a 3-channel `.vol` without `channel` gives RGB; values clamp to [0, 1] |
+/// | `emission` | none | volumetric emission, see [`EmissionDesc`] |
+/// | `phase` | `{ type = "hg", g = 0 }` | phase function |
+/// | `to_world` | identity | placement after the file's own transform |
+/// | `filter` | `"stochastic_trilinear"` | `nearest`, `trilinear`, `stochastic_trilinear` |
+/// | `supervoxel` | 16 | super-voxel edge in voxels |
+/// | `precision` | `"f16"` | voxel storage, `f16` or `f32` |
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MediumDesc {
+    pub density: FieldDesc,
+    #[serde(default = "one")]
+    pub sigma_t_scale: f32,
+    #[serde(default = "default_albedo")]
+    pub albedo: [f32; 3],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub albedo_grid: Option<FieldDesc>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub emission: Option<EmissionDesc>,
+    #[serde(default)]
+    pub phase: PhaseDesc,
+    #[serde(default)]
+    pub to_world: TransformDesc,
+    #[serde(default = "default_filter")]
+    pub filter: String,
+    #[serde(default = "default_supervoxel")]
+    pub supervoxel: u32,
+    #[serde(default = "default_precision")]
+    pub precision: String,
+}
+
+fn one() -> f32 {
+    1.0
+}
+fn default_albedo() -> [f32; 3] {
+    [0.8; 3]
+}
+fn default_filter() -> String {
+    "stochastic_trilinear".into()
+}
+fn default_supervoxel() -> u32 {
+    16
+}
+fn default_precision() -> String {
+    "f16".into()
+}
+
+/// Applied as translate · rotate · scale.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TransformDesc {
+    pub translate: Option<[f32; 3]>,
+    /// Uniform (`scale = 2`) or per axis (`scale = [1, 2, 1]`).
+    pub scale: Option<ScaleDesc>,
+    /// Axis and angle in degrees: `[x, y, z, degrees]`.
+    pub rotate: Option<[f32; 4]>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(untagged)]
+pub enum ScaleDesc {
+    Uniform(f32),
+    PerAxis([f32; 3]),
+}
+
+/// A medium of the scene: its extinction plus the scattering properties the
+/// later integrators use.
+#[derive(Clone, Debug)]
+pub struct SceneMedium {
+    pub medium: Medium,
+    /// Constant albedo, or the tint of `albedo_grid`.
+    pub albedo: [f32; 3],
+    pub albedo_grid: Option<Field>,
+    pub emission: Option<Emission>,
+    pub phase_g: f32,
+    /// What the density came from, for `--stats` and messages.
+    pub source: String,
+}
+
+impl SceneMedium {
+    /// Single-scattering albedo σ_s/σ_t at world point `p`, in [0, 1].
+    #[inline]
+    pub fn albedo_at(&self, p: Vec3) -> Vec3 {
+        let a = Vec3::from(self.albedo);
+        match &self.albedo_grid {
+            Some(g) => (a * g.eval(p)).clamp(Vec3::ZERO, Vec3::ONE),
+            None => a,
+        }
+    }
+
+    /// Radiance emitted at a real collision at `p` with albedo `albedo`:
+    /// (σ_a/σ_t) L_e, so that free-flight sampling (density σ_t T) gives
+    /// ∫ T σ_a L_e dt in expectation.
+    #[inline]
+    pub fn emitted(&self, p: Vec3, albedo: Vec3) -> Vec3 {
+        match &self.emission {
+            Some(e) => (Vec3::ONE - albedo) * e.radiance(p),
+            None => Vec3::ZERO,
+        }
+    }
+}
+
+impl MediumDesc {
+    /// The medium `media.{i}`, its files resolved against `base`.
+    pub fn build(&self, i: usize, base: &Path) -> Result<SceneMedium, SceneError> {
+        let m = self;
+    let key = format!("media.{i}");
+    let filter = Filter::parse(&m.filter).ok_or_else(|| {
+        SceneError(format!(
+            "{key}.filter: `{}` is not nearest, trilinear or stochastic_trilinear",
+            m.filter
+        ))
+    })?;
+    let precision = match m.precision.as_str() {
+        "f16" => Precision::F16,
+        "f32" => Precision::F32,
+        other => {
+            return Err(SceneError(format!(
+                "{key}.precision: `{other}` is not f16 or f32"
+            )))
+        }
+    };
+    if m.supervoxel == 0 || m.supervoxel > 256 {
+        return Err(SceneError(format!(
+            "{key}.supervoxel: {} is outside 1..=256",
+            m.supervoxel
+        )));
+    }
+    if !(m.sigma_t_scale >= 0.0 && m.sigma_t_scale.is_finite()) {
+        return Err(SceneError(format!(
+            "{key}.sigma_t_scale: must be a finite value ≥ 0"
+        )));
+    }
+    if m.phase.ty != "hg" && m.phase.ty != "isotropic" {
+        return Err(SceneError(format!(
+            "{key}.phase.type: `{}` is not hg or isotropic",
+            m.phase.ty
+        )));
+    }
+    if !(m.phase.g > -1.0 && m.phase.g < 1.0) {
+        return Err(SceneError(format!(
+            "{key}.phase.g: {} is outside (−1, 1)",
+            m.phase.g
+        )));
+    }
+    let (data, file_xf, source) = field_data(&m.density, &format!("{key}.density"), base, precision)?;
+    let placement = transform(&m.to_world);
+    let xf = placement * file_xf;
+    if xf.matrix3.determinant().abs() < 1e-30 {
+        return Err(SceneError(format!("{key}.to_world: transform is singular")));
+    }
+    if !m.albedo.iter().all(|a| (0.0..=1.0).contains(a)) {
+        return Err(SceneError(format!(
+            "{key}.albedo: each channel must be in [0, 1], got {:?}",
+            m.albedo
+        )));
+    }
+    let albedo_grid = m
+        .albedo_grid
+        .as_ref()
+        .map(|g| Field::load(g, &format!("{key}.albedo_grid"), base, placement))
+        .transpose()?;
+    let emission = m
+        .emission
+        .as_ref()
+        .map(|e| Emission::build(e, &format!("{key}.emission"), base, placement))
+        .transpose()?;
+    Ok(SceneMedium {
+        medium: Medium::new(data, m.sigma_t_scale, filter, xf, m.supervoxel),
+        albedo: m.albedo,
+        albedo_grid,
+        emission,
+        phase_g: if m.phase.ty == "isotropic" {
+            0.0
+        } else {
+            m.phase.g
+        },
+        source,
+    })
+}
+}
+
+pub fn transform(t: &TransformDesc) -> DAffine3 {
+    let s = match &t.scale {
+        None => DVec3::ONE,
+        Some(ScaleDesc::Uniform(s)) => DVec3::splat(*s as f64),
+        Some(ScaleDesc::PerAxis(s)) => DVec3::from(s.map(f64::from)),
+    };
+    let r = match t.rotate {
+        Some([x, y, z, deg]) => {
+            let axis = DVec3::new(x as f64, y as f64, z as f64);
+            if axis.length() > 0.0 {
+                DQuat::from_axis_angle(axis.normalize(), (deg as f64).to_radians())
+            } else {
+                DQuat::IDENTITY
+            }
+        }
+        None => DQuat::IDENTITY,
+    };
+    let tr = DVec3::from(t.translate.unwrap_or([0.0; 3]).map(f64::from));
+    DAffine3::from_scale_rotation_translation(s, r, tr)
+}
+

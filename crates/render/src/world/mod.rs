@@ -1,0 +1,69 @@
+//! The world an integrator renders: camera, media with their property
+//! fields and emission, and lights. Nothing here knows the integrators.
+
+pub mod blackbody;
+pub mod camera;
+pub mod emission;
+pub mod field;
+pub mod film;
+pub mod medium;
+pub mod phase;
+
+use crate::error::SceneError;
+use crate::lights::{Light, LightDesc};
+use camera::{Camera, CameraDesc};
+use fogbank_math::Vec3;
+use medium::{MediumDesc, SceneMedium};
+use std::path::Path;
+
+#[derive(Clone, Debug)]
+pub struct World {
+    pub camera: Camera,
+    pub media: Vec<SceneMedium>,
+    pub lights: Vec<Light>,
+    /// Jitter primary rays within the pixel (`render.pixel_jitter`).
+    pub pixel_jitter: bool,
+}
+
+impl World {
+    /// Builds camera, media and lights, resolving files against `base`.
+    pub fn build(
+        camera: &CameraDesc,
+        media: &[MediumDesc],
+        lights: &[LightDesc],
+        pixel_jitter: bool,
+        base: &Path,
+    ) -> Result<World, SceneError> {
+        Ok(World {
+            camera: camera.build()?,
+            media: media
+                .iter()
+                .enumerate()
+                .map(|(i, m)| m.build(i, base))
+                .collect::<Result<_, _>>()?,
+            lights: lights
+                .iter()
+                .enumerate()
+                .map(|(i, l)| l.build(i, base))
+                .collect::<Result<_, _>>()?,
+            pixel_jitter,
+        })
+    }
+
+    /// Half the diagonal of the media's world bounds (1 without media): the
+    /// scene radius of the light-power proxy.
+    pub fn radius(&self) -> f32 {
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for m in &self.media {
+            let b = m.medium.world_bounds();
+            lo = lo.min(b.min);
+            hi = hi.max(b.max);
+        }
+        if lo.x <= hi.x {
+            0.5 * (hi - lo).length()
+        } else {
+            1.0
+        }
+    }
+}
