@@ -90,15 +90,7 @@ def main():
                     help="Mitsuba's spp list (default: --spp-list)")
     args = ap.parse_args()
 
-    import drjit as dr
-    import mitsuba as mi
-
-    mi.set_variant(args.variant)
-    dr.set_thread_count(args.threads)
-    os.makedirs(args.out, exist_ok=True)
-    out = os.path.abspath(args.out)
-    vol = os.path.join(out, "grid.vol")
-    mc.write_vol(vol, mc.make_grid())
+    mi, out, vol, _grid = mc.setup_mitsuba(args)
     spps = [int(s) for s in args.spp_list.split(",")]
     m_spps = [int(s) for s in (args.mitsuba_spp_list or args.spp_list).split(",")]
     report = dict(versions=mc.versions(args.fogbank), threads=args.threads,

@@ -97,6 +97,23 @@ SCENES = {
 }
 
 
+def setup_mitsuba(args):
+    """Imports Mitsuba in `args.variant` on `args.threads` threads and writes
+    the test grid to `<args.out>/grid.vol`; returns (mi, out, vol, grid)
+    with `out` the absolute output folder."""
+    import drjit as dr
+    import mitsuba as mi
+
+    mi.set_variant(args.variant)
+    dr.set_thread_count(args.threads)
+    os.makedirs(args.out, exist_ok=True)
+    out = os.path.abspath(args.out)
+    vol = os.path.join(out, "grid.vol")
+    grid = make_grid()
+    write_vol(vol, grid)
+    return mi, out, vol, grid
+
+
 def fogbank_toml(scene, vol_path, width, height, spp, seed, estimator="ratio_tracking",
                  preset=None, extra=None):
     s = SCENES[scene]

@@ -91,16 +91,7 @@ def main():
     ap.add_argument("--estimator", default="ratio_tracking", help="fogbank NEE estimator")
     args = ap.parse_args()
 
-    import drjit as dr
-    import mitsuba as mi
-
-    mi.set_variant(args.variant)
-    dr.set_thread_count(args.threads)
-    os.makedirs(args.out, exist_ok=True)
-    out = os.path.abspath(args.out)
-    vol = os.path.join(out, "grid.vol")
-    grid = mc.make_grid()
-    mc.write_vol(vol, grid)
+    mi, out, vol, grid = mc.setup_mitsuba(args)
     grid_err = mc.check_grid_convention(mi, vol, grid)
     print(f"gridvolume vs cell-centred clamped trilinear: max |diff| = {grid_err:.2e}")
     report = dict(versions=mc.versions(args.fogbank), threads=args.threads,

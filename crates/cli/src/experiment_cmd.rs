@@ -5,8 +5,7 @@ use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct ExperimentArgs {
-    /// Experiment: fig2, fig3, fig4, fig5, fig6, fig7, fig12, table1 or fig14
-    /// (fig12: --trials is the reference's spp).
+    #[arg(help = name_help())]
     pub name: String,
     /// Output directory (default: experiments/NAME).
     #[arg(long)]
@@ -28,4 +27,15 @@ pub fn run(a: ExperimentArgs) -> crate::CliResult {
     }
     println!("{} took {:.1} s", report.name, report.seconds);
     Ok(())
+}
+
+/// The help of NAME, generated from the experiments `fogbank_eval` runs so
+/// that it lists every one.
+fn name_help() -> String {
+    let names = fogbank_eval::experiments::names();
+    let (last, rest) = names.split_last().expect("at least one experiment");
+    format!(
+        "Experiment: {} or {last} (fig12: --trials is the reference's spp)",
+        rest.join(", ")
+    )
 }

@@ -1,7 +1,11 @@
 //! End-to-end tests of the `fogbank` binary.
 
+use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use fogbank_math::testdata::shared_data;
 
 fn fogbank() -> Command {
     Command::new(env!("CARGO_BIN_EXE_fogbank"))
@@ -13,16 +17,35 @@ fn tmp(name: &str) -> PathBuf {
     d.join(name)
 }
 
-fn shared(name: &str) -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data")
-        .join(name);
-    if p.exists() {
-        Some(p)
-    } else {
-        eprintln!("skipping: {} not found", p.display());
-        None
-    }
+/// [`tmp`], created as a folder.
+fn tmp_dir(name: &str) -> PathBuf {
+    let dir = tmp(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs `cmd` and asserts that it succeeded, showing its stderr if not.
+fn run_ok(cmd: &mut Command) -> Output {
+    let out = cmd.output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+/// Runs `cmd` and asserts that it failed with a message naming `needle`,
+/// not with a panic.
+fn run_fails_naming(cmd: &mut Command, needle: &str) {
+    let out = cmd.output().unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(needle) && !err.contains("panicked"), "{err}");
+}
+
+fn read_json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
 const SMALL: [&str; 6] = [
@@ -36,18 +59,12 @@ const SMALL: [&str; 6] = [
 
 #[test]
 fn default_render_writes_exr_with_variance_png_and_stats() {
-    let dir = tmp("default");
-    std::fs::create_dir_all(&dir).unwrap();
-    let out = fogbank()
-        .current_dir(&dir)
-        .args(["render", "--quiet", "--spp", "4", "--stats", "stats.json"])
-        .args(SMALL)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let dir = tmp_dir("default");
+    run_ok(
+        fogbank()
+            .current_dir(&dir)
+            .args(["render", "--quiet", "--spp", "4", "--stats", "stats.json"])
+            .args(SMALL),
     );
     assert!(dir.join("fogbank.png").exists());
     let image = exr::prelude::read_all_flat_layers_from_file(dir.join("fogbank.exr")).unwrap();
@@ -65,8 +82,7 @@ fn default_render_writes_exr_with_variance_png_and_stats() {
         );
     }
     assert_eq!(layer.size.0 * layer.size.1, 40 * 30);
-    let stats: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("stats.json")).unwrap()).unwrap();
+    let stats = read_json(&dir.join("stats.json"));
     for key in [
         "integrator",
         "estimator",
@@ -93,75 +109,50 @@ fn default_render_writes_exr_with_variance_png_and_stats() {
 
 #[test]
 fn bad_set_key_is_an_error_naming_it() {
-    let out = fogbank()
-        .args([
+    run_fails_naming(
+        fogbank().args([
             "render",
             "--quiet",
             "-o",
             tmp("x.png").to_str().unwrap(),
             "--set",
             "integrator.estimatr=x",
-        ])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("estimatr") && !err.contains("panicked"),
-        "{err}"
+        ]),
+        "estimatr",
     );
 }
 
 #[test]
 fn info_reports_the_dragon() {
-    let Some(p) = shared("dragon.vdb") else {
+    let Some(p) = shared_data("dragon.vdb") else {
         return;
     };
-    let out = fogbank()
-        .args(["info", p.to_str().unwrap()])
-        .output()
-        .unwrap();
+    let out = run_ok(fogbank().args(["info", p.to_str().unwrap()]));
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     assert!(text.contains("active voxels 19660"), "{text}");
     assert!(text.contains("[16, 1, 35] – [85, 49, 65]"), "{text}");
 }
 
 #[test]
 fn info_reports_vol_and_rejects_garbage() {
-    if let Some(p) = shared("sigmat.vol") {
-        let out = fogbank()
-            .args(["info", p.to_str().unwrap()])
-            .output()
-            .unwrap();
-        assert!(out.status.success());
+    if let Some(p) = shared_data("sigmat.vol") {
+        let out = run_ok(fogbank().args(["info", p.to_str().unwrap()]));
         assert!(String::from_utf8_lossy(&out.stdout).contains("16×16×16"));
     }
     let bad = tmp("garbage.vdb");
     std::fs::write(&bad, b"this is not a vdb file at all").unwrap();
-    let out = fogbank()
-        .args(["info", bad.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("garbage.vdb") && !err.contains("panicked"),
-        "{err}"
+    run_fails_naming(
+        fogbank().args(["info", bad.to_str().unwrap()]),
+        "garbage.vdb",
     );
 }
 
 #[test]
 fn renders_a_vdb_scene_file_with_relative_paths() {
-    let Some(p) = shared("dragon.vdb") else {
+    let Some(p) = shared_data("dragon.vdb") else {
         return;
     };
-    let dir = tmp("vdbscene");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = tmp_dir("vdbscene");
     std::fs::copy(&p, dir.join("dragon.vdb")).unwrap();
     std::fs::write(
         dir.join("scene.toml"),
@@ -170,58 +161,90 @@ fn renders_a_vdb_scene_file_with_relative_paths() {
          [integrator]\nestimator = \"analytic_trilinear\"\n[render]\nspp = 1\n",
     )
     .unwrap();
-    let out = fogbank()
-        .args([
-            "render",
-            "--quiet",
-            dir.join("scene.toml").to_str().unwrap(),
-            "-o",
-            dir.join("d.exr").to_str().unwrap(),
-            "--stats",
-            dir.join("s.json").to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stats: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("s.json")).unwrap()).unwrap();
+    run_ok(fogbank().args([
+        "render",
+        "--quiet",
+        dir.join("scene.toml").to_str().unwrap(),
+        "-o",
+        dir.join("d.exr").to_str().unwrap(),
+        "--stats",
+        dir.join("s.json").to_str().unwrap(),
+    ]));
+    let stats = read_json(&dir.join("s.json"));
     let mean = stats["mean"][0].as_f64().unwrap();
     assert!(mean < 1.0, "the dragon must be visible (mean T {mean})");
 }
 
+/// Whether process `pid` has installed its SIGINT handler (bit 2 of
+/// `SigCgt` in `/proc/PID/status`). Without `/proc` (not Linux) there is no
+/// such evidence; then it waits 1.5 s and assumes so.
+fn render_started(pid: u32) -> bool {
+    if !Path::new("/proc/self/status").exists() {
+        std::thread::sleep(Duration::from_millis(1500));
+        return true;
+    }
+    let Ok(status) = std::fs::read_to_string(format!("/proc/{pid}/status")) else {
+        return false;
+    };
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("SigCgt:"))
+        .and_then(|mask| u64::from_str_radix(mask.trim(), 16).ok())
+        .is_some_and(|mask| mask & (1 << (2 - 1)) != 0)
+}
+
 #[test]
 fn ctrl_c_stops_and_still_writes_the_image() {
-    let dir = tmp("interrupt");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = tmp_dir("interrupt");
     let _ = std::fs::remove_file(dir.join("i.exr"));
+    // Not `--quiet`: the summary line on stderr says the render was interrupted.
     let mut child = fogbank()
         .current_dir(&dir)
         .args([
-            "render", "--quiet", "--spp", "1000000", "-o", "i.exr", "--stats", "i.json",
+            "render", "--spp", "1000000", "-o", "i.exr", "--stats", "i.json",
         ])
         .args(SMALL)
+        .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    // Wait until the scene is built and rendering has begun (the stats file
-    // does not exist before), then interrupt.
-    std::thread::sleep(std::time::Duration::from_millis(1500));
+    // Read stderr on a thread so that a full pipe can never block the child.
+    let mut pipe = child.stderr.take().unwrap();
+    let stderr = std::thread::spawn(move || {
+        let mut text = String::new();
+        let _ = pipe.read_to_string(&mut text);
+        text
+    });
+    // The progress bar is hidden when stderr is not a terminal, so the first
+    // evidence of rendering is the Ctrl-C handler, installed once the scene
+    // is built, right before the first pass.
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while !render_started(child.id()) {
+        if let Some(status) = child.try_wait().unwrap() {
+            panic!(
+                "render exited before it was interrupted ({status}): {}",
+                stderr.join().unwrap()
+            );
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("render showed no sign of starting within 120 s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
     let status = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()
         .unwrap();
     assert!(status.success());
     let status = child.wait().unwrap();
+    let err = stderr.join().unwrap();
     assert!(
         status.success(),
-        "interrupted render must exit cleanly, got {status}"
+        "interrupted render must exit cleanly, got {status}: {err}"
     );
+    assert!(err.contains("interrupted after"), "{err}");
     assert!(dir.join("i.exr").exists(), "no image written after Ctrl-C");
-    let stats: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("i.json")).unwrap()).unwrap();
+    let stats = read_json(&dir.join("i.json"));
     assert_eq!(stats["interrupted"], true);
     assert!(stats["spp"].as_u64().unwrap() < 1_000_000);
 }
@@ -230,28 +253,21 @@ fn ctrl_c_stops_and_still_writes_the_image() {
 fn stats_reports_no_bias_for_an_unbiased_estimator_and_report_gathers_it() {
     let dir = tmp("stats");
     let _ = std::fs::remove_dir_all(&dir);
-    let out = fogbank()
-        .args([
-            "stats",
-            "--estimator",
-            "ratio_tracking",
-            "--runs",
-            "512",
-            "--reference-estimator",
-            "analytic_trilinear",
-        ])
-        .args(["--out", dir.join("rt").to_str().unwrap()])
-        .args(SMALL)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    run_ok(
+        fogbank()
+            .args([
+                "stats",
+                "--estimator",
+                "ratio_tracking",
+                "--runs",
+                "512",
+                "--reference-estimator",
+                "analytic_trilinear",
+            ])
+            .args(["--out", dir.join("rt").to_str().unwrap()])
+            .args(SMALL),
     );
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("rt/summary.json")).unwrap())
-            .unwrap();
+    let s = read_json(&dir.join("rt/summary.json"));
     for key in [
         "mean_abs_bias",
         "mean_bias",
@@ -275,38 +291,28 @@ fn stats_reports_no_bias_for_an_unbiased_estimator_and_report_gathers_it() {
         "mean bias {bias} (se {se})"
     );
     assert!(dir.join("rt/maps.png").exists() && dir.join("rt/stats.exr").exists());
-    let out = fogbank()
-        .args(["report", dir.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(out.status.success());
+    run_ok(fogbank().args(["report", dir.to_str().unwrap()]));
     let page = std::fs::read_to_string(dir.join("index.html")).unwrap();
     assert!(page.contains("rt/maps.png") && page.contains("mean_abs_bias"));
 }
 
 #[test]
 fn compare_flags_a_biased_render_and_reports_every_metric() {
-    let dir = tmp("compare");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = tmp_dir("compare");
     let render = |name: &str, estimator: &str, extra: &[&str]| {
-        let out = fogbank()
-            .args([
-                "render",
-                "--quiet",
-                "--spp",
-                "512",
-                "-o",
-                dir.join(name).to_str().unwrap(),
-            ])
-            .args(["--set", &format!("integrator.estimator={estimator}")])
-            .args(extra)
-            .args(SMALL)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
+        run_ok(
+            fogbank()
+                .args([
+                    "render",
+                    "--quiet",
+                    "--spp",
+                    "512",
+                    "-o",
+                    dir.join(name).to_str().unwrap(),
+                ])
+                .args(["--set", &format!("integrator.estimator={estimator}")])
+                .args(extra)
+                .args(SMALL),
         );
     };
     render("ref.exr", "ratio_tracking", &[]);
@@ -316,20 +322,12 @@ fn compare_flags_a_biased_render_and_reports_every_metric() {
         &["--set", "integrator.samples=2"],
     );
     let compare = |a: &str, b: &str| {
-        let out = fogbank()
-            .args([
-                "compare",
-                dir.join(a).to_str().unwrap(),
-                dir.join(b).to_str().unwrap(),
-                "--json",
-            ])
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let out = run_ok(fogbank().args([
+            "compare",
+            dir.join(a).to_str().unwrap(),
+            dir.join(b).to_str().unwrap(),
+            "--json",
+        ]));
         serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
     };
     let same = compare("ref.exr", "ref.exr");
@@ -345,4 +343,14 @@ fn compare_flags_a_biased_render_and_reports_every_metric() {
         "two-sample ray marching must be flagged: {}",
         biased["ztest"]
     );
+}
+
+#[test]
+fn experiment_help_lists_every_experiment() {
+    let out = run_ok(fogbank().args(["experiment", "--help"]));
+    let help = String::from_utf8_lossy(&out.stdout);
+    let words: Vec<&str> = help.split(|c: char| !c.is_ascii_alphanumeric()).collect();
+    for name in fogbank_eval::experiments::names() {
+        assert!(words.contains(name), "`{name}` missing from:\n{help}");
+    }
 }

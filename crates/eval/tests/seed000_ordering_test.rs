@@ -40,11 +40,7 @@ fn cloud(res: u32, seed: u64) -> Scene {
 }
 
 fn dragon() -> Option<Scene> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/dragon.vdb");
-    if !p.exists() {
-        eprintln!("skipping the dragon: {} not found", p.display());
-        return None;
-    }
+    let p = fogbank_math::testdata::shared_data("dragon.vdb")?;
     let text = format!(
         "[camera]\nfrom = [5.0, 3.0, 14.0]\nto = [5.0, 2.5, 5.0]\nfov = 40.0\nwidth = 28\nheight = 20\n\
          [[media]]\ndensity = {{ vdb = \"{}\" }}\nsigma_t_scale = 1.0\n",

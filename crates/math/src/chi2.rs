@@ -120,32 +120,23 @@ impl IntervalTest {
     /// bin.
     pub fn run(
         &self,
-        mut sample: impl FnMut(&mut Pcg32) -> Option<f64>,
+        sample: impl FnMut(&mut Pcg32) -> Option<f64>,
         pdf: impl Fn(f64) -> f64,
         none_probability: f64,
     ) -> Chi2Result {
         assert!(self.b > self.a && self.bins > 0 && self.samples > 0);
         let n = self.bins;
         let width = (self.b - self.a) / n as f64;
-        let mut observed = vec![0.0f64; n];
-        let mut none = 0.0f64;
-        let mut invalid = 0usize;
-        let mut rng = Pcg32::new(self.seed, 0x5851_f42d);
-        for _ in 0..self.samples {
-            match sample(&mut rng) {
-                None => none += 1.0,
-                Some(x) if x.is_finite() && x >= self.a && x <= self.b => {
-                    let i = (((x - self.a) / width) as usize).min(n - 1);
-                    observed[i] += 1.0;
-                }
-                Some(_) => invalid += 1,
-            }
-        }
+        let rng = Pcg32::new(self.seed, 0x5851_f42d);
+        let tally = Tally::draw(self.samples, rng, n, sample, |x| {
+            (x.is_finite() && x >= self.a && x <= self.b)
+                .then(|| (((x - self.a) / width) as usize).min(n - 1))
+        });
         // Integration error is budgeted in expected counts: a thousandth of
         // a sample per bin is far below the Poisson noise of any bin.
         let tolerance = 1e-3 / self.samples as f64;
         let mut bins = Vec::with_capacity(n + 1);
-        for (i, &obs) in observed.iter().enumerate() {
+        for (i, &obs) in tally.observed.iter().enumerate() {
             let x0 = self.a + i as f64 * width;
             let x1 = if i + 1 == n { self.b } else { x0 + width };
             let mass = adaptive_simpson(&mut |x| pdf(x), x0, x1, tolerance);
@@ -155,12 +146,7 @@ impl IntervalTest {
                 expected: mass * self.samples as f64,
             });
         }
-        bins.push(Bin {
-            label: "no sample".into(),
-            observed: none,
-            expected: none_probability * self.samples as f64,
-        });
-        evaluate(bins, self.samples, invalid)
+        tally.evaluate(bins, none_probability, self.samples)
     }
 }
 
@@ -182,7 +168,7 @@ impl SphereTest {
     /// the probability of `None`.
     pub fn run(
         &self,
-        mut sample: impl FnMut(&mut Pcg32) -> Option<DVec3>,
+        sample: impl FnMut(&mut Pcg32) -> Option<DVec3>,
         pdf: impl Fn(DVec3) -> f64,
         none_probability: f64,
     ) -> Chi2Result {
@@ -190,26 +176,20 @@ impl SphereTest {
         assert!(nz > 0 && np > 0 && self.samples > 0);
         let dz = 2.0 / nz as f64;
         let dphi = 2.0 * PI / np as f64;
-        let mut observed = vec![0.0f64; nz * np];
-        let mut none = 0.0f64;
-        let mut invalid = 0usize;
-        let mut rng = Pcg32::new(self.seed, 0xda3e_39cb);
-        for _ in 0..self.samples {
-            match sample(&mut rng) {
-                None => none += 1.0,
-                Some(d) if d.is_finite() && (d.length() - 1.0).abs() < 1e-3 => {
-                    let z = d.z.clamp(-1.0, 1.0);
-                    let mut phi = d.y.atan2(d.x);
-                    if phi < 0.0 {
-                        phi += 2.0 * PI;
-                    }
-                    let iz = (((z + 1.0) / dz) as usize).min(nz - 1);
-                    let ip = ((phi / dphi) as usize).min(np - 1);
-                    observed[iz * np + ip] += 1.0;
-                }
-                Some(_) => invalid += 1,
+        let rng = Pcg32::new(self.seed, 0xda3e_39cb);
+        let tally = Tally::draw(self.samples, rng, nz * np, sample, |d| {
+            if !(d.is_finite() && (d.length() - 1.0).abs() < 1e-3) {
+                return None;
             }
-        }
+            let z = d.z.clamp(-1.0, 1.0);
+            let mut phi = d.y.atan2(d.x);
+            if phi < 0.0 {
+                phi += 2.0 * PI;
+            }
+            let iz = (((z + 1.0) / dz) as usize).min(nz - 1);
+            let ip = ((phi / dphi) as usize).min(np - 1);
+            Some(iz * np + ip)
+        });
         let tolerance = 1e-3 / self.samples as f64;
         let direction = |z: f64, phi: f64| {
             let s = (1.0 - z * z).max(0.0).sqrt();
@@ -235,17 +215,55 @@ impl SphereTest {
                 );
                 bins.push(Bin {
                     label: format!("cosθ ∈ [{z0:+.4}, {z1:+.4}], φ ∈ [{p0:.4}, {p1:.4}]"),
-                    observed: observed[iz * np + ip],
+                    observed: tally.observed[iz * np + ip],
                     expected: mass * self.samples as f64,
                 });
             }
         }
+        tally.evaluate(bins, none_probability, self.samples)
+    }
+}
+
+/// Observed counts of a sampler: per bin, without a sample, and invalid.
+struct Tally {
+    observed: Vec<f64>,
+    none: f64,
+    invalid: usize,
+}
+
+impl Tally {
+    /// Draws `samples` samples with `rng`; `bin_of` places a sample in one
+    /// of `bins` bins, or returns `None` when the sample is invalid.
+    fn draw<T>(
+        samples: usize,
+        mut rng: Pcg32,
+        bins: usize,
+        mut sample: impl FnMut(&mut Pcg32) -> Option<T>,
+        bin_of: impl Fn(T) -> Option<usize>,
+    ) -> Tally {
+        let mut tally = Tally {
+            observed: vec![0.0f64; bins],
+            none: 0.0,
+            invalid: 0,
+        };
+        for _ in 0..samples {
+            match sample(&mut rng).map(&bin_of) {
+                None => tally.none += 1.0,
+                Some(Some(i)) => tally.observed[i] += 1.0,
+                Some(None) => tally.invalid += 1,
+            }
+        }
+        tally
+    }
+
+    /// Adds the "no sample" bin to `bins` and evaluates the test.
+    fn evaluate(&self, mut bins: Vec<Bin>, none_probability: f64, samples: usize) -> Chi2Result {
         bins.push(Bin {
             label: "no sample".into(),
-            observed: none,
-            expected: none_probability * self.samples as f64,
+            observed: self.none,
+            expected: none_probability * samples as f64,
         });
-        evaluate(bins, self.samples, invalid)
+        evaluate(bins, samples, self.invalid)
     }
 }
 

@@ -7,6 +7,7 @@ pub mod bbox;
 pub mod chi2;
 pub mod ray;
 pub mod rng;
+pub mod testdata;
 
 pub use bbox::Aabb;
 pub use glam::{DAffine3, DVec3, Vec3};

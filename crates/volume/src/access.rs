@@ -337,22 +337,17 @@ mod access_test {
         let (mut total, mut fast) = (0usize, 0usize);
         for g in test_grids::<T>() {
             for p in test_points(g.dims(), &mut rng, 100_000) {
-                let (a, b) = (g.trilinear(p), g.trilinear_reference(p));
-                assert_eq!(
-                    a.to_bits(),
-                    b.to_bits(),
-                    "{} {:?} at {p}: {a} vs {b}",
-                    T::NAME,
-                    g.dims()
-                );
-                let (a, b) = (g.nearest(p), g.nearest_reference(p));
-                assert_eq!(
-                    a.to_bits(),
-                    b.to_bits(),
-                    "{} {:?} at {p}: {a} vs {b}",
-                    T::NAME,
-                    g.dims()
-                );
+                let same = |a: f32, b: f32| {
+                    assert_eq!(
+                        a.to_bits(),
+                        b.to_bits(),
+                        "{} {:?} at {p}: {a} vs {b}",
+                        T::NAME,
+                        g.dims()
+                    )
+                };
+                same(g.trilinear(p), g.trilinear_reference(p));
+                same(g.nearest(p), g.nearest_reference(p));
                 let q = p - Vec3::splat(0.5);
                 total += 1;
                 if q.min_element() >= 0.0 {

@@ -115,10 +115,7 @@ impl AnalyticField {
                 amplitude,
                 frequency,
                 phase,
-            } => {
-                let arg = std::f32::consts::TAU * Vec3::from(*frequency).dot(x) + phase;
-                mean + amplitude * arg.sin()
-            }
+            } => sinusoid(*mean, *amplitude, *frequency, *phase, x),
             AnalyticKind::Slabs {
                 value,
                 count,
@@ -167,12 +164,11 @@ impl AnalyticField {
                 phase,
             } => {
                 let c = 0.5 * (lo + hi);
-                let arg = std::f32::consts::TAU * Vec3::from(*frequency).dot(c) + phase;
                 let half_span: f32 = (0..3)
                     .map(|a| std::f32::consts::TAU * frequency[a].abs() * 0.5 * (hi[a] - lo[a]))
                     .sum();
                 let a = amplitude.abs();
-                let centre = mean + amplitude * arg.sin();
+                let centre = sinusoid(*mean, *amplitude, *frequency, *phase, c);
                 let slack = a * half_span * 1.0001;
                 (
                     (centre - slack).max(mean - a),
@@ -345,6 +341,13 @@ impl AnalyticField {
     }
 }
 
+/// `mean + amplitude · sin(2π frequency · x + phase)`.
+#[inline]
+fn sinusoid(mean: f32, amplitude: f32, frequency: [f32; 3], phase: f32, x: Vec3) -> f32 {
+    let arg = std::f32::consts::TAU * Vec3::from(frequency).dot(x) + phase;
+    mean + amplitude * arg.sin()
+}
+
 /// An analytic field seen as extinction (scaled density).
 pub struct AnalyticView<'a> {
     pub field: &'a AnalyticField,
@@ -434,6 +437,18 @@ mod analytic_test {
         }
     }
 
+    /// Calls `check(density, super-voxel)` at 20 000 random points of the
+    /// 16³ field `f`, whose super-voxels have edge 4.
+    fn for_random_points(f: &AnalyticField, stream: u64, mut check: impl FnMut(f32, &SuperVoxel)) {
+        let sv = f.supervoxels(4);
+        let mut rng = Pcg32::new(5, stream);
+        for _ in 0..20_000 {
+            let p = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 16.0;
+            let c = (p / 4.0).floor().as_ivec3().min(glam::IVec3::splat(3));
+            check(f.density(p / 16.0), sv.get([c.x, c.y, c.z]));
+        }
+    }
+
     #[test]
     fn bounds_are_conservative() {
         let f = AnalyticField::new(
@@ -446,15 +461,9 @@ mod analytic_test {
             16,
         )
         .unwrap();
-        let sv = f.supervoxels(4);
-        let mut rng = Pcg32::new(5, 5);
-        for _ in 0..20_000 {
-            let p = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 16.0;
-            let c = (p / 4.0).floor().as_ivec3().min(glam::IVec3::splat(3));
-            let s = sv.get([c.x, c.y, c.z]);
-            let v = f.density(p / 16.0);
+        for_random_points(&f, 5, |v, s| {
             assert!(v >= s.min - 1e-5 && v <= s.max + 1e-5);
-        }
+        });
     }
 
     #[test]
@@ -467,14 +476,8 @@ mod analytic_test {
             16,
         )
         .unwrap();
-        let sv = f.supervoxels(4);
-        let mut rng = Pcg32::new(5, 6);
         let (mut inside, mut outside) = (0, 0);
-        for _ in 0..20_000 {
-            let p = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 16.0;
-            let c = (p / 4.0).floor().as_ivec3().min(glam::IVec3::splat(3));
-            let s = sv.get([c.x, c.y, c.z]);
-            let v = f.density(p / 16.0);
+        for_random_points(&f, 6, |v, s| {
             assert!(
                 v >= s.min && v <= s.max,
                 "{v} outside [{}, {}]",
@@ -486,7 +489,7 @@ mod analytic_test {
             } else {
                 outside += 1
             }
-        }
+        });
         assert!(inside > 1000 && outside > 1000);
     }
 

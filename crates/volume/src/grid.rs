@@ -192,15 +192,9 @@ impl<T: Voxel> BrickGrid<T> {
         let i = i.clamp(0, self.dims[0] as i32 - 1) as u32;
         let j = j.clamp(0, self.dims[1] as i32 - 1) as u32;
         let k = k.clamp(0, self.dims[2] as i32 - 1) as u32;
-        let b = ((k >> BRICK_LOG2) * self.bdims[1] + (j >> BRICK_LOG2)) * self.bdims[0]
-            + (i >> BRICK_LOG2);
-        // SAFETY-free indexing: indices are clamped above, so these never fail.
-        let entry = self.table[b as usize];
-        if entry & CONSTANT != 0 {
-            self.constants[(entry & !CONSTANT) as usize]
-        } else {
-            self.data[entry as usize * BRICK_VOXELS + local_index(i, j, k)].load()
-        }
+        // SAFETY-free indexing: indices are clamped above, so the lookups
+        // in `fetch_in_grid` never fail.
+        self.fetch_in_grid(i, j, k)
     }
 
     /// Value of voxel `(i, j, k)`, which the caller has already clamped into

@@ -4,6 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
+use fogbank_math::testdata::shared_data;
 use fogbank_volume::loaders::vdb::{self, GridClass, VdbGrid};
 use fogbank_volume::VolumeError;
 use serde_json::Value;
@@ -12,21 +13,9 @@ fn fixture_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/vdb")
 }
 
-fn shared(name: &str) -> PathBuf {
-    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data")).join(name)
-}
-
 fn manifest() -> Value {
     let text = std::fs::read_to_string(fixture_dir().join("manifest.json")).unwrap();
     serde_json::from_str(&text).unwrap()
-}
-
-fn fixture_path(entry: &Value) -> PathBuf {
-    let file = entry["file"].as_str().unwrap();
-    match file.strip_prefix("shared:") {
-        Some(name) => shared(name),
-        None => fixture_dir().join(file),
-    }
 }
 
 fn class_name(c: GridClass) -> &'static str {
@@ -110,16 +99,10 @@ fn check_grid(file: &str, grid: &VdbGrid, r: &Value) {
     }
 }
 
-/// Checks every read listed for one manifest entry; returns false when the
-/// file is not there (shared data is optional).
-fn check_entry(entry: &Value) -> bool {
-    let path = fixture_path(entry);
+/// Checks every read listed for one manifest entry against the file at `path`.
+fn check_entry(entry: &Value, path: &Path) {
     let file = entry["file"].as_str().unwrap();
-    if !path.exists() {
-        println!("skipping {file}: {} not found", path.display());
-        return false;
-    }
-    let listed = vdb::list_grids(&path).unwrap();
+    let listed = vdb::list_grids(path).unwrap();
     let want = entry["grids"].as_array().unwrap();
     assert_eq!(listed.len(), want.len(), "{file}: grid count");
     let mut names: Vec<(String, String, &str)> = listed
@@ -146,7 +129,7 @@ fn check_entry(entry: &Value) -> bool {
         assert_eq!(d.supported, d.value_type == "float", "{file}: {}", d.name);
     }
     for r in entry["reads"].as_array().unwrap() {
-        let grid = vdb::read_grid(&path, r["request"].as_str()).unwrap();
+        let grid = vdb::read_grid(path, r["request"].as_str()).unwrap();
         assert_eq!(
             grid.file_version as u64,
             entry["file_version"].as_u64().unwrap(),
@@ -154,7 +137,6 @@ fn check_entry(entry: &Value) -> bool {
         );
         check_grid(file, &grid, r);
     }
-    true
 }
 
 fn entry(file: &str) -> Value {
@@ -172,10 +154,11 @@ fn fixtures_match_openvdb_reference() {
     let m = manifest();
     let mut checked = 0;
     for e in m["fixtures"].as_array().unwrap() {
-        if e["file"].as_str().unwrap().starts_with("shared:") {
+        let file = e["file"].as_str().unwrap();
+        if file.starts_with("shared:") {
             continue;
         }
-        assert!(check_entry(e));
+        check_entry(e, &fixture_dir().join(file));
         checked += 1;
     }
     assert!(checked >= 13, "only {checked} fixtures in manifest");
@@ -208,10 +191,10 @@ fn float_and_half_in_every_compression() {
 
 #[test]
 fn dragon_matches_vdb_print() {
-    let path = shared("dragon.vdb");
-    if !check_entry(&entry("shared:dragon.vdb")) {
+    let Some(path) = shared_data("dragon.vdb") else {
         return;
-    }
+    };
+    check_entry(&entry("shared:dragon.vdb"), &path);
     let g = vdb::read_grid(&path, Some("density")).unwrap();
     assert_eq!(g.file_version, 224);
     assert_eq!(g.grid_class, GridClass::FogVolume);
@@ -226,10 +209,10 @@ fn dragon_matches_vdb_print() {
 
 #[test]
 fn sphere_half_level_set_version_222() {
-    let path = shared("sphere.vdb");
-    if !check_entry(&entry("shared:sphere.vdb")) {
+    let Some(path) = shared_data("sphere.vdb") else {
         return;
-    }
+    };
+    check_entry(&entry("shared:sphere.vdb"), &path);
     let g = vdb::read_grid(&path, None).unwrap();
     assert_eq!(g.name, "ls_sphere");
     assert_eq!(
@@ -245,10 +228,10 @@ fn sphere_half_level_set_version_222() {
 
 #[test]
 fn cube_half_level_set_version_222() {
-    let path = shared("cube.vdb");
-    if !check_entry(&entry("shared:cube.vdb")) {
+    let Some(path) = shared_data("cube.vdb") else {
         return;
-    }
+    };
+    check_entry(&entry("shared:cube.vdb"), &path);
     let g = vdb::read_grid(&path, None).unwrap();
     assert_eq!(g.active_voxel_count(), 1_452_218);
     assert_eq!(g.active_bbox(), Some(([-112; 3], [112; 3])));

@@ -162,22 +162,11 @@ pub fn write_vol(
 #[cfg(test)]
 mod vol_test {
     use super::*;
-
-    fn shared(name: &str) -> Option<std::path::PathBuf> {
-        let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../../shared/data")
-            .join(name);
-        if p.exists() {
-            Some(p)
-        } else {
-            eprintln!("skipping: {} not found", p.display());
-            None
-        }
-    }
+    use fogbank_math::testdata::shared_data;
 
     #[test]
     fn reads_mitsuba_test_grids() {
-        let Some(p) = shared("sigmat.vol") else {
+        let Some(p) = shared_data("sigmat.vol") else {
             return;
         };
         let v = read_vol(&p).unwrap();
@@ -185,7 +174,7 @@ mod vol_test {
         assert_eq!((v.bbox_min, v.bbox_max), ([0.0; 3], [1.0; 3]));
         let max = v.data.iter().cloned().fold(f32::MIN, f32::max);
         assert!(max <= 5.0 && max > 1.0);
-        let Some(p) = shared("albedo.vol") else {
+        let Some(p) = shared_data("albedo.vol") else {
             return;
         };
         let a = read_vol(&p).unwrap();

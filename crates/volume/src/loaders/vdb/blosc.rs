@@ -256,12 +256,16 @@ fn bitunshuffle(typesize: usize, src: &[u8], dest: &mut [u8]) {
     dest[whole..].copy_from_slice(&src[whole..]);
 }
 
-fn zlib_decompress(input: &[u8], out: &mut [u8]) -> Result<usize, BloscError> {
+/// Inflates one zlib stream into `out`; returns the number of bytes written.
+/// Shared with the reader's Zip chunks, which word their errors themselves.
+pub(super) fn inflate(input: &[u8], out: &mut [u8]) -> Result<usize, flate2::DecompressError> {
     let mut z = flate2::Decompress::new(true);
-    match z.decompress(input, out, flate2::FlushDecompress::Finish) {
-        Ok(_) => Ok(z.total_out() as usize),
-        Err(e) => err(format!("zlib data is corrupt: {e}")),
-    }
+    z.decompress(input, out, flate2::FlushDecompress::Finish)?;
+    Ok(z.total_out() as usize)
+}
+
+fn zlib_decompress(input: &[u8], out: &mut [u8]) -> Result<usize, BloscError> {
+    inflate(input, out).map_err(|e| BloscError(format!("zlib data is corrupt: {e}")))
 }
 
 /// BloscLZ, a FastLZ derivative. Control bytes below 32 announce a literal

@@ -1,0 +1,223 @@
+//! Small plotting helpers on top of `plotters`: line plots (linear or log
+//! axes), histograms with overlays, heat maps with a colour bar, arranged in
+//! a grid of panels and written as SVG and PNG.
+//!
+//! plotters is built without fonts, so its bitmap backend cannot draw text.
+//! Every piece of text (titles, tick labels, axis descriptions, legends) is
+//! therefore placed by this module itself, at the same pixel positions in
+//! both outputs: as `<text>` elements in the SVG and with a built-in 5×7
+//! bitmap font in the PNG. plotters draws only lines, marks and fills.
+
+mod axes;
+mod bitmap_font;
+mod heat_map;
+mod histogram;
+mod line;
+mod text;
+
+use plotters::coord::types::RangedCoordf64;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, VPos};
+use std::path::{Path, PathBuf};
+
+use heat_map::draw_heat_map;
+pub use heat_map::{ColourMap, HeatMap};
+use histogram::draw_histogram;
+pub use histogram::Histogram;
+use line::draw_line_plot;
+pub use line::LinePlot;
+use text::{Ink, Target};
+
+/// An sRGB colour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Rgb(pub u8, pub u8, pub u8);
+
+impl Rgb {
+    pub const BLACK: Rgb = Rgb(0, 0, 0);
+    pub const GREY: Rgb = Rgb(120, 120, 120);
+
+    fn to_plotters(self) -> RGBColor {
+        RGBColor(self.0, self.1, self.2)
+    }
+}
+
+/// Colour-blind-safe categorical colours (Okabe–Ito).
+pub fn palette(i: usize) -> Rgb {
+    const P: [Rgb; 8] = [
+        Rgb(0, 114, 178),
+        Rgb(213, 94, 0),
+        Rgb(0, 158, 115),
+        Rgb(204, 121, 167),
+        Rgb(230, 159, 0),
+        Rgb(86, 180, 233),
+        Rgb(0, 0, 0),
+        Rgb(240, 228, 66),
+    ];
+    P[i % P.len()]
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Axis {
+    #[default]
+    Linear,
+    /// Base-10 logarithmic; non-positive values are dropped.
+    Log,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mark {
+    Line,
+    Dashed,
+    Points,
+    LinePoints,
+}
+
+/// One data series of a line plot or an overlay.
+#[derive(Clone, Debug)]
+pub struct Series {
+    /// Legend entry; `None` keeps the series out of the legend.
+    pub label: Option<String>,
+    pub points: Vec<(f64, f64)>,
+    pub color: Rgb,
+    pub mark: Mark,
+}
+
+impl Series {
+    pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>, color: Rgb, mark: Mark) -> Self {
+        let label = label.into();
+        Series {
+            label: (!label.is_empty()).then_some(label),
+            points,
+            color,
+            mark,
+        }
+    }
+    pub fn line(label: impl Into<String>, points: Vec<(f64, f64)>, color: Rgb) -> Self {
+        Self::new(label, points, color, Mark::Line)
+    }
+    pub fn dashed(label: impl Into<String>, points: Vec<(f64, f64)>, color: Rgb) -> Self {
+        Self::new(label, points, color, Mark::Dashed)
+    }
+    pub fn points(label: impl Into<String>, points: Vec<(f64, f64)>, color: Rgb) -> Self {
+        Self::new(label, points, color, Mark::Points)
+    }
+}
+
+/// Corner of the plotting area holding the legend.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Corner {
+    #[default]
+    UpperRight,
+    UpperLeft,
+    LowerRight,
+    LowerLeft,
+}
+pub enum Panel {
+    Line(LinePlot),
+    Histogram(Histogram),
+    HeatMap(HeatMap),
+}
+
+impl From<LinePlot> for Panel {
+    fn from(p: LinePlot) -> Self {
+        Panel::Line(p)
+    }
+}
+impl From<Histogram> for Panel {
+    fn from(p: Histogram) -> Self {
+        Panel::Histogram(p)
+    }
+}
+impl From<HeatMap> for Panel {
+    fn from(p: HeatMap) -> Self {
+        Panel::HeatMap(p)
+    }
+}
+
+/// Panels in a grid, `columns` wide, each `panel_size` pixels.
+pub struct Figure {
+    pub title: Option<String>,
+    pub panels: Vec<Panel>,
+    pub columns: usize,
+    pub panel_size: (u32, u32),
+}
+
+impl Figure {
+    pub fn new(columns: usize) -> Self {
+        Figure {
+            title: None,
+            panels: Vec::new(),
+            columns: columns.max(1),
+            panel_size: (560, 420),
+        }
+    }
+    pub fn title(mut self, t: impl Into<String>) -> Self {
+        self.title = Some(t.into());
+        self
+    }
+    pub fn panel_size(mut self, w: u32, h: u32) -> Self {
+        self.panel_size = (w, h);
+        self
+    }
+    pub fn with(mut self, p: impl Into<Panel>) -> Self {
+        self.panels.push(p.into());
+        self
+    }
+
+    fn size(&self) -> (u32, u32) {
+        let rows = self.panels.len().div_ceil(self.columns).max(1) as u32;
+        let cols = self.columns.min(self.panels.len().max(1)) as u32;
+        (
+            cols * self.panel_size.0,
+            rows * self.panel_size.1 + if self.title.is_some() { TITLE_H } else { 0 },
+        )
+    }
+
+    /// Writes `<stem>.svg` and `<stem>.png`; returns both paths.
+    pub fn save(&self, stem: &Path) -> Result<Vec<PathBuf>, String> {
+        let svg = stem.with_extension("svg");
+        let png = stem.with_extension("png");
+        {
+            let root = SVGBackend::new(&svg, self.size()).into_drawing_area();
+            self.render(&root, Target::Svg)?;
+            root.present().map_err(err)?;
+        }
+        {
+            let root = BitMapBackend::new(&png, self.size()).into_drawing_area();
+            self.render(&root, Target::Png)?;
+            root.present().map_err(err)?;
+        }
+        Ok(vec![svg, png])
+    }
+
+    fn render<DB: DrawingBackend>(&self, root: &Area<DB>, target: Target) -> Result<(), String> {
+        root.fill(&WHITE).map_err(err)?;
+        let ink = Ink { root, target };
+        let body = if let Some(t) = &self.title {
+            let (w, _) = self.size();
+            ink.text(t, ((w / 2) as i32, 8), 2, HPos::Center, VPos::Top, false)?;
+            root.split_vertically(TITLE_H).1
+        } else {
+            root.clone()
+        };
+        let rows = self.panels.len().div_ceil(self.columns).max(1);
+        let areas = body.split_evenly((rows, self.columns));
+        for (panel, area) in self.panels.iter().zip(areas.iter()) {
+            match panel {
+                Panel::Line(p) => draw_line_plot(&ink, area, p)?,
+                Panel::Histogram(h) => draw_histogram(&ink, area, h)?,
+                Panel::HeatMap(h) => draw_heat_map(&ink, area, h)?,
+            }
+        }
+        Ok(())
+    }
+}
+
+const TITLE_H: u32 = 34;
+
+type Area<DB> = DrawingArea<DB, plotters::coord::Shift>;
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+fn err(e: impl std::fmt::Display) -> String {
+    format!("plot: {e}")
+}

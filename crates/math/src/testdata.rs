@@ -1,0 +1,47 @@
+//! For tests: the optional real-world data in `../shared/data`, beside the
+//! repository root. Tests that need it skip with a visible message when it
+//! is missing, unless `FOGBANK_REQUIRE_DATA=1` (set by `.ci/run`) makes a
+//! missing folder or file a failure, so that CI cannot pass by skipping.
+
+use std::path::{Path, PathBuf};
+
+/// The variable that turns missing shared data into a test failure.
+pub const REQUIRE_DATA_VAR: &str = "FOGBANK_REQUIRE_DATA";
+
+/// `../shared/data` seen from the repository root, whether or not it exists.
+fn shared_data_path() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data")
+}
+
+/// The shared data folder, or `None` after printing
+/// `SKIPPED (no ../shared/data)`. Panics instead when `FOGBANK_REQUIRE_DATA=1`.
+pub fn shared_data_dir() -> Option<PathBuf> {
+    let dir = shared_data_path();
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        missing("no ../shared/data", &dir)
+    }
+}
+
+/// The file `name` of the shared data folder, with the same rules as
+/// [`shared_data_dir`] for a missing folder or file.
+pub fn shared_data(name: &str) -> Option<PathBuf> {
+    let path = shared_data_dir()?.join(name);
+    if path.exists() {
+        Some(path)
+    } else {
+        missing(&format!("no ../shared/data/{name}"), &path)
+    }
+}
+
+fn missing<T>(what: &str, path: &Path) -> Option<T> {
+    if std::env::var(REQUIRE_DATA_VAR).as_deref() == Ok("1") {
+        panic!(
+            "{REQUIRE_DATA_VAR}=1 but {what}: {} not found",
+            path.display()
+        );
+    }
+    eprintln!("SKIPPED ({what})");
+    None
+}

@@ -1,0 +1,267 @@
+//! Public entry points, and reading large files piecewise (header,
+//! descriptors, then only the chosen grid's bytes).
+
+use std::path::Path;
+
+use super::grid::{VdbGrid, VdbGridDescriptor};
+use super::header::{check_offsets, parse_descriptor, parse_header, parse_preamble};
+use super::header::{FileHeader, GridDesc, FLOAT_TREE, NAME_SEP};
+use super::metadata::read_grid_head;
+use super::reader::{grid_context, Reader};
+use super::tree::read_float_grid;
+use crate::error::{Result, VolumeError};
+
+/// Lists the grids of a file with their types, without reading any tree.
+pub fn list_grids(path: &Path) -> Result<Vec<VdbGridDescriptor>> {
+    list_grids_limit(path, WHOLE_FILE_LIMIT)
+}
+
+/// [`list_grids`] on bytes already in memory; `path` only names the source
+/// in error messages.
+pub fn list_grids_from_bytes(path: &Path, bytes: &[u8]) -> Result<Vec<VdbGridDescriptor>> {
+    let file = parse_header(path, bytes)?;
+    file.descs
+        .iter()
+        .map(|d| {
+            let mut r = Reader::new(path, bytes, grid_context(&d.display_name));
+            r.seek(d.grid_pos, "grid")?;
+            describe(d, &mut r)
+        })
+        .collect()
+}
+
+/// Reads one float grid. `name = None` picks `density`, else the first float
+/// scalar grid.
+pub fn read_grid(path: &Path, name: Option<&str>) -> Result<VdbGrid> {
+    read_grid_limit(path, name, WHOLE_FILE_LIMIT)
+}
+
+/// Same as [`read_grid`] from bytes already in memory (used by the fuzz
+/// target). `path` is only used in messages.
+pub fn parse_grid(path: &Path, bytes: &[u8], name: Option<&str>) -> Result<VdbGrid> {
+    let file = parse_header(path, bytes)?;
+    let desc = select_grid(path, &file, name)?;
+    let mut r = Reader::new(path, bytes, grid_context(&desc.display_name));
+    let (grid, _end) = read_float_grid(&mut r, &file, desc)?;
+    Ok(grid)
+}
+
+fn describe(d: &GridDesc, r: &mut Reader) -> Result<VdbGridDescriptor> {
+    let head = read_grid_head(r)?;
+    Ok(VdbGridDescriptor {
+        name: d.display_name.clone(),
+        value_type: d.value_type.clone(),
+        grid_class: head.class,
+        stored_as_half: d.half,
+        supported: d.supported,
+    })
+}
+
+/// Files up to this size are read whole. Larger ones are read piecewise
+/// (header, descriptors, then only the chosen grid's bytes), so picking one
+/// grid out of a big multi-grid file costs that grid, not the file.
+const WHOLE_FILE_LIMIT: u64 = 64 << 20;
+/// Descriptors and grid metadata are read in windows of this size; a
+/// larger one (absurdly long names or metadata) falls back to a whole read.
+const WINDOW: usize = 1 << 20;
+
+fn read_at(path: &Path, file: &mut std::fs::File, pos: usize, len: usize) -> Result<Vec<u8>> {
+    use std::io::{Read, Seek, SeekFrom};
+    file.seek(SeekFrom::Start(pos as u64))
+        .map_err(|e| VolumeError::io(path, e))?;
+    // `len` never exceeds what the file holds past `pos`.
+    let mut buf = vec![0u8; len];
+    file.read_exact(&mut buf)
+        .map_err(|e| VolumeError::io(path, e))?;
+    Ok(buf)
+}
+
+/// Opens `path`; returns the file and its header when the file is larger
+/// than `limit` and has grid offsets, else the whole file's bytes.
+enum Opened {
+    Piecewise(std::fs::File, FileHeader),
+    Whole(Vec<u8>),
+}
+
+fn open(path: &Path, limit: u64) -> Result<Opened> {
+    let mut file = std::fs::File::open(path).map_err(|e| VolumeError::io(path, e))?;
+    let len = file.metadata().map_err(|e| VolumeError::io(path, e))?.len();
+    if len > limit {
+        if let Ok(len) = usize::try_from(len) {
+            if let Some(header) = header_from_file(path, &mut file, len)? {
+                return Ok(Opened::Piecewise(file, header));
+            }
+        }
+    }
+    let bytes = std::fs::read(path).map_err(|e| VolumeError::io(path, e))?;
+    Ok(Opened::Whole(bytes))
+}
+
+/// Parses header and descriptors from windows of the file; `None` when the
+/// file has to be read whole (no grid offsets, or oversized header parts).
+fn header_from_file(
+    path: &Path,
+    file: &mut std::fs::File,
+    len: usize,
+) -> Result<Option<FileHeader>> {
+    let head = read_at(path, file, 0, len.min(WINDOW))?;
+    let mut r = Reader::new(path, &head, "in file header".to_string());
+    let pre = match parse_preamble(&mut r, len) {
+        Ok(p) => p,
+        Err(_) if head.len() < len => return Ok(None),
+        Err(e) => return Err(e),
+    };
+    if !pre.has_offsets {
+        return Ok(None);
+    }
+    let mut pos = pre.pos;
+    let mut descs = Vec::new();
+    for i in 0..pre.count {
+        let win = read_at(path, file, pos, (len - pos).min(WINDOW))?;
+        let mut r = Reader::window(path, &win, pos, String::new());
+        let (desc, end) = match parse_descriptor(&mut r, i) {
+            Ok(v) => v,
+            Err(_) if win.len() < len - pos => return Ok(None),
+            Err(e) => return Err(e),
+        };
+        check_offsets(&r, &desc, end, len)?;
+        pos = desc.end_pos;
+        descs.push(desc);
+    }
+    Ok(Some(FileHeader {
+        version: pre.version,
+        descs,
+    }))
+}
+
+fn list_grids_limit(path: &Path, limit: u64) -> Result<Vec<VdbGridDescriptor>> {
+    let (mut file, header) = match open(path, limit)? {
+        Opened::Whole(bytes) => return list_grids_from_bytes(path, &bytes),
+        Opened::Piecewise(file, header) => (file, header),
+    };
+    let mut out = Vec::new();
+    for d in &header.descs {
+        let span = d.end_pos - d.grid_pos;
+        let mut win = read_at(path, &mut file, d.grid_pos, span.min(WINDOW))?;
+        let mut r = Reader::window(path, &win, d.grid_pos, grid_context(&d.display_name));
+        let described = match describe(d, &mut r) {
+            Err(_) if span > WINDOW => {
+                win = read_at(path, &mut file, d.grid_pos, span)?;
+                let mut r = Reader::window(path, &win, d.grid_pos, grid_context(&d.display_name));
+                describe(d, &mut r)?
+            }
+            other => other?,
+        };
+        out.push(described);
+    }
+    Ok(out)
+}
+
+fn read_grid_limit(path: &Path, name: Option<&str>, limit: u64) -> Result<VdbGrid> {
+    let (mut file, header) = match open(path, limit)? {
+        Opened::Whole(bytes) => return parse_grid(path, &bytes, name),
+        Opened::Piecewise(file, header) => (file, header),
+    };
+    let desc = select_grid(path, &header, name)?;
+    if !desc.instance_parent.is_empty() {
+        // The tree lives with the parent grid, elsewhere in the file.
+        let bytes = std::fs::read(path).map_err(|e| VolumeError::io(path, e))?;
+        return parse_grid(path, &bytes, name);
+    }
+    let bytes = read_at(path, &mut file, desc.grid_pos, desc.end_pos - desc.grid_pos)?;
+    let mut r = Reader::window(
+        path,
+        &bytes,
+        desc.grid_pos,
+        grid_context(&desc.display_name),
+    );
+    Ok(read_float_grid(&mut r, &header, desc)?.0)
+}
+
+fn select_grid<'f>(path: &Path, file: &'f FileHeader, name: Option<&str>) -> Result<&'f GridDesc> {
+    let Some(name) = name else {
+        let pick = file
+            .descs
+            .iter()
+            .find(|d| d.supported && d.name == "density")
+            .or_else(|| file.descs.iter().find(|d| d.supported));
+        return pick.ok_or_else(|| {
+            let listed: Vec<String> = file
+                .descs
+                .iter()
+                .map(|d| format!("`{}` ({})", d.display_name, d.value_type))
+                .collect();
+            VolumeError::format(
+                path,
+                format!(
+                    "no float grid to read (grids in file: {})",
+                    if listed.is_empty() {
+                        "none".to_string()
+                    } else {
+                        listed.join(", ")
+                    }
+                ),
+            )
+        });
+    };
+    let unique = match (name.find('['), name.strip_suffix(']')) {
+        (Some(open), Some(body)) => format!("{}{}{}", &body[..open], NAME_SEP, &body[open + 1..]),
+        _ => name.to_string(),
+    };
+    let found = file
+        .descs
+        .iter()
+        .find(|d| d.unique_name == name || d.unique_name == unique)
+        .or_else(|| file.descs.iter().find(|d| d.name == name));
+    match found {
+        Some(d) if d.supported => Ok(d),
+        Some(d) => Err(VolumeError::format(
+            path,
+            format!(
+                "grid `{}` has value type `{}` ({}); only float grids ({}) can be read",
+                d.display_name, d.value_type, d.type_name, FLOAT_TREE
+            ),
+        )),
+        None => Err(VolumeError::GridNotFound {
+            path: path.to_path_buf(),
+            grid: name.to_string(),
+            available: file.descs.iter().map(|d| d.display_name.clone()).collect(),
+        }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn piecewise_reading_matches_whole_file() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/vdb");
+        for file in [
+            "multi.vdb",
+            "tiles_f32_zip.vdb",
+            "stream_tiles.vdb",
+            "fog_half_blosc.vdb",
+        ] {
+            let path = dir.join(file);
+            let bytes = std::fs::read(&path).unwrap();
+            assert_eq!(
+                list_grids_limit(&path, 0).unwrap(),
+                list_grids_from_bytes(&path, &bytes).unwrap()
+            );
+            for d in list_grids_from_bytes(&path, &bytes)
+                .unwrap()
+                .iter()
+                .filter(|d| d.supported)
+            {
+                let whole = parse_grid(&path, &bytes, Some(&d.name)).unwrap();
+                let piecewise = read_grid_limit(&path, Some(&d.name), 0).unwrap();
+                assert_eq!(whole, piecewise, "{file} / {}", d.name);
+            }
+            assert!(
+                matches!(open(&path, 0).unwrap(), Opened::Piecewise(..))
+                    != file.starts_with("stream")
+            );
+        }
+    }
+}
