@@ -6,7 +6,7 @@
 //! `analytic_trilinear` over `--stats-frames` frames at `--stats-size`²
 //! through pixel centres (bias needs many frames, so this runs smaller).
 
-use crate::{thread_pool, CliResult};
+use crate::common::{thread_pool, CliResult};
 use clap::Args;
 use fogbank_estimators::Estimator;
 use fogbank_eval::transmittance_stats;

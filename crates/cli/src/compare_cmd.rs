@@ -34,7 +34,7 @@ pub struct CompareArgs {
     pub alpha: f64,
 }
 
-pub fn run(a: CompareArgs) -> crate::CliResult {
+pub fn run(a: CompareArgs) -> crate::common::CliResult {
     let mut wanted: Vec<Metric> = Vec::new();
     let mut explicit_ztest = false;
     for name in &a.metric {

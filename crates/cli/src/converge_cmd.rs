@@ -1,7 +1,7 @@
 //! `fogbank converge`: equal-time MSE-versus-time curves of several
 //! estimators on one scene, measured in one run, as CSV (and plots).
 
-use crate::{thread_pool, CliResult};
+use crate::common::{thread_pool, CliResult};
 use clap::Args;
 use fogbank_estimators::Estimator;
 use fogbank_eval::converge::{convergence, time_to_reach, write_csv, Curve};

@@ -15,7 +15,7 @@ pub struct ExperimentArgs {
     pub trials: Option<u64>,
 }
 
-pub fn run(a: ExperimentArgs) -> crate::CliResult {
+pub fn run(a: ExperimentArgs) -> crate::common::CliResult {
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("experiments").join(&a.name));

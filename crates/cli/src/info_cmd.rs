@@ -1,7 +1,7 @@
 //! `fogbank info FILE`: what a volume file holds and what fogbank would make
 //! of it.
 
-use crate::CliResult;
+use crate::common::CliResult;
 use clap::Args;
 use fogbank_math::DAffine3;
 use fogbank_volume::loaders::{raw, vdb, vdb_grid, vol};

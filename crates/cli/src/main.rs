@@ -1,6 +1,7 @@
 //! `fogbank`: the one binary. Subcommands live one per file.
 
 mod bench_cmd;
+mod common;
 mod compare_cmd;
 mod converge_cmd;
 mod experiment_cmd;
@@ -34,7 +35,7 @@ enum Command {
     Estimators,
     /// Primary-ray transmittance throughput per estimator.
     Bench(bench_cmd::BenchArgs),
-    /// Run one of seed 000's 1D experiments (fig2 ... fig14, table1).
+    /// Run one of seed 000's experiments (fig1 … fig14, table1).
     Experiment(experiment_cmd::ExperimentArgs),
     /// Compare two images (rmse, relmse, smape, flip, ztest).
     Compare(compare_cmd::CompareArgs),
@@ -75,35 +76,4 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
-}
-
-pub type CliResult = Result<(), Box<dyn std::error::Error>>;
-
-/// Peak resident set size of this process (Linux `VmHWM`), 0 elsewhere.
-pub fn peak_memory_bytes() -> u64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| {
-                l.split_whitespace()
-                    .nth(1)
-                    .and_then(|kb| kb.parse::<u64>().ok())
-                    .map(|kb| kb * 1024)
-            })
-        })
-        .unwrap_or(0)
-}
-
-pub fn thread_pool(
-    threads: Option<usize>,
-) -> Result<rayon::ThreadPool, Box<dyn std::error::Error>> {
-    let n = threads.unwrap_or_else(|| {
-        std::thread::available_parallelism()
-            .map(|n| n.get())
-            .unwrap_or(1)
-    });
-    if n == 0 {
-        return Err("--threads must be at least 1".into());
-    }
-    Ok(rayon::ThreadPoolBuilder::new().num_threads(n).build()?)
 }

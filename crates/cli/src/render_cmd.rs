@@ -2,7 +2,7 @@
 //! keeps what was accumulated, EXR/PNG output and a JSON statistics file.
 
 use crate::output::{write_exr, write_png};
-use crate::{peak_memory_bytes, thread_pool, CliResult};
+use crate::common::{peak_memory_bytes, thread_pool, CliResult};
 use clap::Args;
 use fogbank_render::{load_scene, render, Progress, RenderOptions};
 use indicatif::{ProgressBar, ProgressStyle};

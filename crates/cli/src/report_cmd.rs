@@ -1,6 +1,6 @@
 //! `fogbank report DIR`: one offline HTML page for a folder of runs.
 
-use crate::CliResult;
+use crate::common::CliResult;
 use clap::Args;
 use std::path::PathBuf;
 

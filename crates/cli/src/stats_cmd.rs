@@ -3,7 +3,7 @@
 //! grow with K), as EXR, false-colour maps and `summary.json`.
 
 use crate::output::write_exr_channels;
-use crate::{peak_memory_bytes, thread_pool, CliResult};
+use crate::common::{peak_memory_bytes, thread_pool, CliResult};
 use clap::Args;
 use fogbank_estimators::Estimator;
 use fogbank_eval::{exact_reference, frame_stats};
