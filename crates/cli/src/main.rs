@@ -5,7 +5,6 @@ mod compare_cmd;
 mod converge_cmd;
 mod experiment_cmd;
 mod info_cmd;
-mod output;
 mod render_cmd;
 mod report_cmd;
 mod stats_cmd;

@@ -2,11 +2,11 @@
 //! estimator over K independent 1-spp frames (streamed: memory does not
 //! grow with K), as EXR, false-colour maps and `summary.json`.
 
-use crate::output::write_exr_channels;
 use crate::{peak_memory_bytes, thread_pool, CliResult};
 use clap::Args;
 use fogbank_estimators::Estimator;
 use fogbank_eval::{exact_reference, frame_stats};
+use fogbank_image::image_io::{read_image, write_exr_channels};
 use fogbank_render::load_scene;
 use std::path::PathBuf;
 
@@ -84,7 +84,7 @@ pub fn run(a: StatsArgs) -> CliResult {
         st.reference = Some(pool.install(|| exact_reference(&scene, r)));
     }
     if let Some(path) = &a.reference {
-        let img = fogbank_eval::image_io::read_image(path)?;
+        let img = read_image(path)?;
         if (img.width, img.height) != (st.width as usize, st.height as usize) {
             return Err(format!(
                 "{}: reference is {}×{}, the scene renders {}×{}",
