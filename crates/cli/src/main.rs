@@ -7,6 +7,7 @@ mod experiment_cmd;
 mod info_cmd;
 mod render_cmd;
 mod report_cmd;
+mod run_args;
 mod stats_cmd;
 
 use clap::{Parser, Subcommand};
