@@ -6,9 +6,9 @@
     python3 tools/check_flip.py              # compare `fogbank compare --metric flip` with them
 
 `--generate` makes small procedural image pairs (LDR PNG and HDR EXR, both
-float and half), writes them to crates/eval/tests/fixtures/metrics/, asks
+float and half), writes them to crates/image/tests/fixtures/metrics/, asks
 `flip_evaluator` for the mean FLIP of each pair, and stores the values in
-flip_reference.json there; crates/eval/tests/metrics_flip.rs asserts that
+flip_reference.json there; crates/image/tests/metrics_flip.rs asserts that
 ours agrees to 1e-3. Without `--generate` the script runs our implementation
 (the fogbank binary, built with cargo unless --fogbank is given) on every
 pair and prints both values side by side; it also recomputes the reference
@@ -29,7 +29,7 @@ import zlib
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-FIXTURES = os.path.join(ROOT, "crates", "eval", "tests", "fixtures", "metrics")
+FIXTURES = os.path.join(ROOT, "crates", "image", "tests", "fixtures", "metrics")
 REFERENCE_JSON = os.path.join(FIXTURES, "flip_reference.json")
 
 

@@ -9,8 +9,8 @@
 use crate::common::{thread_pool, CliResult};
 use clap::Args;
 use fogbank_estimators::Estimator;
-use fogbank_eval::transmittance_stats;
-use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
+use fogbank_eval::{transmittance_stats, Backend};
+use fogbank_render::{parse_scene, Progress, RenderOptions, Scene};
 use std::path::Path;
 
 #[derive(Args)]
@@ -135,15 +135,16 @@ pub fn run(a: BenchArgs) -> CliResult {
     );
     println!("|---|---:|---:|---:|---:|---:|---:|");
     let mut rows = Vec::new();
-    let mut runs: Vec<Option<usize>> = Vec::new();
+    // (backend, threads): the CPU at each thread count, then the GPU.
+    let mut runs: Vec<(Backend, usize)> = Vec::new();
     if a.device.iter().any(|d| d == "cpu") {
-        runs.extend(a.threads.iter().map(|&t| Some(t)));
+        runs.extend(a.threads.iter().map(|&t| (Backend::Cpu, t)));
     }
-    if gpu.is_some() {
-        runs.push(None);
+    if let Some(g) = &gpu {
+        runs.push((Backend::Gpu(g), 1));
     }
-    for threads in runs {
-        let pool = thread_pool(Some(threads.unwrap_or(1)))?;
+    for (backend, threads) in runs {
+        let pool = thread_pool(Some(threads))?;
         for (i, e) in estimators.iter().copied().enumerate() {
             scene.integrator = fogbank_render::integrators::IntegratorKind::Transmittance {
                 estimator: e,
@@ -154,22 +155,16 @@ pub fn run(a: BenchArgs) -> CliResult {
                 seed: 1,
                 time_budget: None,
             };
-            let (film, seconds) = match (threads, &gpu) {
-                (Some(_), _) | (None, None) => {
-                    let r = pool.install(|| render(&scene, &opts, &Progress::default()));
-                    (r.film, r.seconds)
-                }
-                (None, Some(g)) => {
-                    // One untimed frame first: pipeline compilation and upload.
-                    let warm = RenderOptions {
-                        spp: 1,
-                        ..opts.clone()
-                    };
-                    fogbank_gpu::render::render(g, &scene, &warm, &Progress::default())?;
-                    let r = fogbank_gpu::render::render(g, &scene, &opts, &Progress::default())?;
-                    (r.film, r.gpu_ms.map_or(r.seconds, |ms| ms / 1000.0))
-                }
-            };
+            if let Backend::Gpu(_) = backend {
+                // One untimed frame first: pipeline compilation and upload.
+                let warm = RenderOptions {
+                    spp: 1,
+                    ..opts.clone()
+                };
+                backend.render(&scene, &warm, &Progress::default())?;
+            }
+            let r = pool.install(|| backend.render(&scene, &opts, &Progress::default()))?;
+            let (film, seconds) = (r.film, r.seconds);
             let ms = seconds * 1000.0 / a.frames as f64;
             let mrays = rays / seconds / 1e6;
             let lpr = film.lookups as f64 / rays;
@@ -177,7 +172,10 @@ pub fn run(a: BenchArgs) -> CliResult {
                 .map_or(("–".to_string(), "–".to_string()), |(b, s)| {
                     (format!("{b:.5}"), format!("{s:.4}"))
                 });
-            let device = threads.map_or("gpu".to_string(), |t| t.to_string());
+            let device = match backend {
+                Backend::Cpu => threads.to_string(),
+                Backend::Gpu(_) => backend.name().to_string(),
+            };
             println!(
                 "| {} | {} | {:.1} | {:.2} | {:.1} | {} | {} |",
                 e.name(),

@@ -1,11 +1,12 @@
 //! `fogbank converge`: equal-time MSE-versus-time curves of several
 //! estimators on one scene, measured in one run, as CSV (and plots).
 
-use crate::common::{thread_pool, CliResult};
+use crate::common::CliResult;
+use crate::run_args::RunArgs;
 use clap::Args;
 use fogbank_estimators::Estimator;
 use fogbank_eval::converge::{convergence, time_to_reach, write_csv, Curve};
-use fogbank_eval::exact_reference;
+use fogbank_eval::{exact_reference, Backend};
 use fogbank_render::load_scene;
 use std::path::PathBuf;
 
@@ -25,25 +26,17 @@ pub struct ConvergeArgs {
     /// Output folder.
     #[arg(long, default_value = "converge")]
     pub out: PathBuf,
-    #[arg(long, default_value_t = 1)]
-    pub seed: u32,
-    #[arg(long)]
-    pub threads: Option<usize>,
-    /// Override a scene key, as in `render`.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
-    /// `cpu` (reference) or `gpu`.
-    #[arg(long, value_enum, default_value_t = crate::render_cmd::Device::Cpu)]
-    pub device: crate::render_cmd::Device,
+    #[command(flatten)]
+    pub run: RunArgs,
 }
 
 pub fn run(a: ConvergeArgs) -> CliResult {
     if !(a.seconds > 0.0 && a.seconds.is_finite()) {
         return Err("--seconds must be positive".into());
     }
-    let mut overrides = a.set.clone();
+    let mut overrides = a.run.set.clone();
     overrides.push("render.pixel_jitter=false".into());
-    let pool = thread_pool(a.threads)?;
+    let pool = a.run.pool()?;
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
     let reference_estimator = Estimator::parse(&a.reference_estimator)
         .filter(|e| matches!(e, Estimator::AnalyticTrilinear | Estimator::RegularTracking))
@@ -53,12 +46,8 @@ pub fn run(a: ConvergeArgs) -> CliResult {
                 a.reference_estimator
             )
         })?;
-    let gpu = match a.device {
-        crate::render_cmd::Device::Cpu => None,
-        crate::render_cmd::Device::Gpu => {
-            Some(fogbank_gpu::Gpu::new().map_err(|e| format!("--device gpu: {e}"))?)
-        }
-    };
+    let gpu = a.run.gpu()?;
+    let backend = Backend::from(gpu.as_ref());
     let base = load_scene(a.scene.as_deref(), &overrides)?;
     let reference = pool.install(|| exact_reference(&base, reference_estimator));
     let mut curves = Vec::new();
@@ -67,13 +56,9 @@ pub fn run(a: ConvergeArgs) -> CliResult {
         o.push(format!("integrator.estimator={name}"));
         let scene = load_scene(a.scene.as_deref(), &o)?;
         eprintln!("{name}: {} s ...", a.seconds);
-        let points = match &gpu {
-            None => pool.install(|| convergence(&scene, a.seconds, &reference, a.seed)),
-            Some(g) => {
-                fogbank_eval::converge::convergence_gpu(g, &scene, a.seconds, &reference, a.seed)
-                    .map_err(|e| format!("--device gpu: {e}"))?
-            }
-        };
+        let points = pool
+            .install(|| convergence(backend, &scene, a.seconds, &reference, a.run.seed))
+            .map_err(|e| format!("--device {}: {e}", backend.name()))?;
         curves.push(Curve {
             label: name.clone(),
             points,

@@ -6,9 +6,9 @@ mod compare_cmd;
 mod converge_cmd;
 mod experiment_cmd;
 mod info_cmd;
-mod output;
 mod render_cmd;
 mod report_cmd;
+mod run_args;
 mod stats_cmd;
 
 use clap::{Parser, Subcommand};

@@ -1,9 +1,9 @@
 //! `fogbank render`: progressive rendering with a progress bar, Ctrl-C that
 //! keeps what was accumulated, EXR/PNG output and a JSON statistics file.
 
-use crate::output::{write_exr, write_png};
 use crate::common::{peak_memory_bytes, thread_pool, CliResult};
 use clap::Args;
+use fogbank_image::image_io::{write_exr, write_png};
 use fogbank_render::{load_scene, render, Progress, RenderOptions};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};

@@ -2,11 +2,12 @@
 //! estimator over K independent 1-spp frames (streamed: memory does not
 //! grow with K), as EXR, false-colour maps and `summary.json`.
 
-use crate::output::write_exr_channels;
-use crate::common::{peak_memory_bytes, thread_pool, CliResult};
+use crate::common::{peak_memory_bytes, CliResult};
+use crate::run_args::RunArgs;
 use clap::Args;
 use fogbank_estimators::Estimator;
-use fogbank_eval::{exact_reference, frame_stats};
+use fogbank_eval::{exact_reference, frame_stats, Backend};
+use fogbank_image::image_io::{read_image, write_exr_channels};
 use fogbank_render::load_scene;
 use std::path::PathBuf;
 
@@ -30,23 +31,15 @@ pub struct StatsArgs {
     /// Output folder.
     #[arg(long, default_value = "stats")]
     pub out: PathBuf,
-    #[arg(long, default_value_t = 1)]
-    pub seed: u32,
-    #[arg(long)]
-    pub threads: Option<usize>,
-    /// Override a scene key, as in `render`.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
-    /// `cpu` (reference) or `gpu` (the frames accumulated on the device).
-    #[arg(long, value_enum, default_value_t = crate::render_cmd::Device::Cpu)]
-    pub device: crate::render_cmd::Device,
+    #[command(flatten)]
+    pub run: RunArgs,
 }
 
 pub fn run(a: StatsArgs) -> CliResult {
     if a.runs == 0 {
         return Err("--runs must be at least 1".into());
     }
-    let mut overrides = a.set.clone();
+    let mut overrides = a.run.set.clone();
     if let Some(e) = &a.estimator {
         overrides.push(format!("integrator.estimator={e}"));
     }
@@ -63,7 +56,7 @@ pub fn run(a: StatsArgs) -> CliResult {
         }
         None => None,
     };
-    let pool = thread_pool(a.threads)?;
+    let pool = a.run.pool()?;
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
     eprintln!(
         "{} frames of {} at {}×{} ...",
@@ -72,19 +65,16 @@ pub fn run(a: StatsArgs) -> CliResult {
         scene.camera.width,
         scene.camera.height
     );
-    let mut st = match a.device {
-        crate::render_cmd::Device::Cpu => pool.install(|| frame_stats(&scene, a.runs, a.seed)),
-        crate::render_cmd::Device::Gpu => {
-            let gpu = fogbank_gpu::Gpu::new().map_err(|e| format!("--device gpu: {e}"))?;
-            fogbank_eval::frame_stats::frame_stats_gpu(&gpu, &scene, a.runs, a.seed)
-                .map_err(|e| format!("--device gpu: {e}"))?
-        }
-    };
+    let gpu = a.run.gpu()?;
+    let backend = Backend::from(gpu.as_ref());
+    let mut st = pool
+        .install(|| frame_stats(backend, &scene, a.runs, a.run.seed))
+        .map_err(|e| format!("--device {}: {e}", backend.name()))?;
     if let Some(r) = reference {
         st.reference = Some(pool.install(|| exact_reference(&scene, r)));
     }
     if let Some(path) = &a.reference {
-        let img = fogbank_eval::image_io::read_image(path)?;
+        let img = read_image(path)?;
         if (img.width, img.height) != (st.width as usize, st.height as usize) {
             return Err(format!(
                 "{}: reference is {}×{}, the scene renders {}×{}",
@@ -124,7 +114,7 @@ pub fn run(a: StatsArgs) -> CliResult {
         "width": st.width,
         "height": st.height,
         "runs": s.runs,
-        "seed": a.seed,
+        "seed": a.run.seed,
         "threads": pool.current_num_threads(),
         "covered_pixels": s.pixels,
         "mean_abs_bias": if st.reference.is_some() { serde_json::json!(s.mean_abs_bias) } else { serde_json::Value::Null },
@@ -136,7 +126,7 @@ pub fn run(a: StatsArgs) -> CliResult {
         "lookups_per_pixel": s.lookups_per_pixel,
         "nonfinite_samples": st.nonfinite,
         "stats_seconds": st.seconds,
-        "device": format!("{:?}", a.device).to_lowercase(),
+        "device": backend.name(),
         "peak_memory_bytes": peak_memory_bytes(),
     });
     fogbank_eval::maps::write_maps(&st, scene.integrator.estimator_name(), &a.out.join("maps"))?;

@@ -1,7 +1,8 @@
 //! Equal-time convergence: MSE against a reference as a function of render
 //! time, one curve per configuration, measured in one run.
 
-use fogbank_render::{render_observed, Progress, RenderOptions, Scene};
+use crate::Backend;
+use fogbank_render::{Film, Progress, RenderOptions, Scene};
 use std::io::Write;
 use std::path::Path;
 use std::time::Duration;
@@ -29,35 +30,11 @@ pub fn mse(mean: &[[f32; 3]], reference: &[[f64; 3]]) -> f64 {
         / n
 }
 
-/// Renders progressively for `seconds` (at least one pass), recording the
-/// MSE of the running mean after every pass. Time spent measuring is not
-/// counted.
+/// Renders progressively on `backend` for `seconds` (at least one pass),
+/// recording the MSE of the running mean after every pass (CPU) or dispatch
+/// (GPU, the film read back). Time spent measuring is not counted.
 pub fn convergence(
-    scene: &Scene,
-    seconds: f64,
-    reference: &[[f64; 3]],
-    seed: u32,
-) -> Vec<CurvePoint> {
-    let opts = RenderOptions {
-        spp: u32::MAX,
-        seed,
-        time_budget: Some(Duration::from_secs_f64(seconds)),
-    };
-    let mut points = Vec::new();
-    render_observed(scene, &opts, &Progress::default(), &mut |film, t| {
-        points.push(CurvePoint {
-            spp: film.min_spp(),
-            seconds: t,
-            mse: mse(&film.mean(), reference),
-        });
-    });
-    points
-}
-
-/// [`convergence`] on the GPU (the film is read back after every dispatch;
-/// read-back time is not counted).
-pub fn convergence_gpu(
-    gpu: &fogbank_gpu::Gpu,
+    backend: Backend,
     scene: &Scene,
     seconds: f64,
     reference: &[[f64; 3]],
@@ -69,21 +46,18 @@ pub fn convergence_gpu(
         time_budget: Some(Duration::from_secs_f64(seconds)),
     };
     let mut points = Vec::new();
-    let mut observe = |film: &fogbank_render::Film, t: f64| {
-        points.push(CurvePoint {
-            spp: film.min_spp(),
-            seconds: t,
-            mse: mse(&film.mean(), reference),
-        });
-    };
-    fogbank_gpu::render::render_observed(
-        gpu,
+    backend.render_observed(
         scene,
         &opts,
         &Progress::default(),
-        Some(&mut observe),
-    )
-    .map_err(|e| e.0)?;
+        Some(&mut |film: &Film, t: f64| {
+            points.push(CurvePoint {
+                spp: film.min_spp(),
+                seconds: t,
+                mse: mse(&film.mean(), reference),
+            });
+        }),
+    )?;
     Ok(points)
 }
 
@@ -116,6 +90,25 @@ pub fn write_csv(path: &Path, curves: &[Curve]) -> std::io::Result<()> {
     Ok(())
 }
 
+/// Log-log plot of MSE against seconds, one line per curve (`<stem>.svg`,
+/// `<stem>.png`).
+pub fn plot(curves: &[Curve], title: &str, stem: &Path) -> Result<Vec<std::path::PathBuf>, String> {
+    use crate::plot::{palette, Figure, LinePlot, Series};
+    let mut p = LinePlot::new(title, "render time (s)", "MSE")
+        .log_x()
+        .log_y();
+    for (i, c) in curves.iter().enumerate() {
+        let pts: Vec<(f64, f64)> = c
+            .points
+            .iter()
+            .filter(|q| q.seconds > 0.0 && q.mse > 0.0)
+            .map(|q| (q.seconds, q.mse))
+            .collect();
+        p = p.with(Series::line(c.label.clone(), pts, palette(i)));
+    }
+    Figure::new(1).with(p).save(stem)
+}
+
 #[cfg(test)]
 mod converge_test {
     use super::*;
@@ -139,23 +132,4 @@ mod converge_test {
         assert_eq!(time_to_reach(&c, 0.1), None);
         assert_eq!(time_to_reach(&c, 2.0), Some(1.0));
     }
-}
-
-/// Log-log plot of MSE against seconds, one line per curve (`<stem>.svg`,
-/// `<stem>.png`).
-pub fn plot(curves: &[Curve], title: &str, stem: &Path) -> Result<Vec<std::path::PathBuf>, String> {
-    use crate::plot::{palette, Figure, LinePlot, Series};
-    let mut p = LinePlot::new(title, "render time (s)", "MSE")
-        .log_x()
-        .log_y();
-    for (i, c) in curves.iter().enumerate() {
-        let pts: Vec<(f64, f64)> = c
-            .points
-            .iter()
-            .filter(|q| q.seconds > 0.0 && q.mse > 0.0)
-            .map(|q| (q.seconds, q.mse))
-            .collect();
-        p = p.with(Series::line(c.label.clone(), pts, palette(i)));
-    }
-    Figure::new(1).with(p).save(stem)
 }

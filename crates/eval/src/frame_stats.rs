@@ -7,6 +7,7 @@
 //! random streams. Each pixel runs its K frames in a row with Welford's
 //! update, so memory is independent of K and the result of the thread count.
 
+use crate::Backend;
 use fogbank_estimators::Estimator;
 use fogbank_math::SampleKey;
 use fogbank_render::integrators::IntegratorKind;
@@ -57,9 +58,27 @@ fn centred(scene: &Scene) -> Scene {
     s
 }
 
-/// Runs `runs` frames of the scene's integrator through pixel centres.
-pub fn frame_stats(scene: &Scene, runs: u32, seed: u32) -> FrameStats {
+/// Runs `runs` frames of the scene's integrator through pixel centres on
+/// `backend`. The GPU runs the same frames (sample indices, streams),
+/// accumulated on the device; its sums are f32 there, so the variance of
+/// nearly constant pixels carries a relative error of about
+/// 1e-5 · runs · mean²/var.
+pub fn frame_stats(
+    backend: Backend,
+    scene: &Scene,
+    runs: u32,
+    seed: u32,
+) -> Result<FrameStats, String> {
     let scene = centred(scene);
+    match backend {
+        Backend::Cpu => Ok(pixel_frames(&scene, runs, seed)),
+        Backend::Gpu(_) => film_frames(backend, &scene, runs, seed),
+    }
+}
+
+/// The CPU's frames of a centred scene: each pixel runs its frames in a row
+/// with Welford's update.
+fn pixel_frames(scene: &Scene, runs: u32, seed: u32) -> FrameStats {
     let (w, h) = (scene.camera.width, scene.camera.height);
     let start = Instant::now();
     // Per pixel: mean, variance, finite samples, lookups, non-finite samples.
@@ -103,7 +122,7 @@ pub fn frame_stats(scene: &Scene, runs: u32, seed: u32) -> FrameStats {
         })
         .collect();
     let seconds = start.elapsed().as_secs_f64();
-    let covered = covered_pixels(&scene);
+    let covered = covered_pixels(scene);
     FrameStats {
         width: w,
         height: h,
@@ -133,23 +152,20 @@ fn covered_pixels(scene: &Scene) -> Vec<bool> {
         .collect()
 }
 
-/// [`frame_stats`] on the GPU: the same frames (sample indices, streams),
-/// accumulated on the device. Sums are f32 there, so the variance of nearly
-/// constant pixels carries a relative error of about 1e-5 · runs · mean²/var.
-pub fn frame_stats_gpu(
-    gpu: &fogbank_gpu::Gpu,
+/// The frames of a centred scene as one render of `runs` spp on `backend`,
+/// the statistics from the film's per-pixel sums.
+fn film_frames(
+    backend: Backend,
     scene: &Scene,
     runs: u32,
     seed: u32,
 ) -> Result<FrameStats, String> {
-    let scene = centred(scene);
     let opts = fogbank_render::RenderOptions {
         spp: runs,
         seed,
         time_budget: None,
     };
-    let r = fogbank_gpu::render::render(gpu, &scene, &opts, &fogbank_render::Progress::default())
-        .map_err(|e| e.0)?;
+    let r = backend.render(scene, &opts, &fogbank_render::Progress::default())?;
     let f = &r.film;
     let variance = (0..f.sum.len())
         .map(|i| {
@@ -172,10 +188,10 @@ pub fn frame_stats_gpu(
         variance,
         count: f.count.clone(),
         reference: None,
-        covered: covered_pixels(&scene),
+        covered: covered_pixels(scene),
         lookups: f.lookups,
         nonfinite: f.nan_samples + f.inf_samples,
-        seconds: r.gpu_ms.map_or(r.seconds, |ms| ms / 1000.0),
+        seconds: r.seconds,
     })
 }
 
@@ -185,7 +201,7 @@ pub fn frame_stats_gpu(
 pub fn exact_reference(scene: &Scene, exact: Estimator) -> Vec<[f64; 3]> {
     let mut s = centred(scene);
     s.integrator = with_estimator(&s.integrator, exact);
-    frame_stats(&s, 1, 0).mean
+    pixel_frames(&s, 1, 0).mean
 }
 
 /// The integrator with its transmittance estimator swapped.
@@ -193,8 +209,8 @@ pub fn with_estimator(i: &IntegratorKind, e: Estimator) -> IntegratorKind {
     i.with_estimator(e)
 }
 
-/// Frame statistics of the transmittance view with `estimator`, against an
-/// exact `reference` estimator when given.
+/// Frame statistics (on the CPU) of the transmittance view with
+/// `estimator`, against an exact `reference` estimator when given.
 pub fn transmittance_stats(
     scene: &Scene,
     estimator: Estimator,
@@ -204,7 +220,7 @@ pub fn transmittance_stats(
 ) -> FrameStats {
     let mut s = scene.clone();
     s.integrator = with_estimator(&s.integrator, estimator);
-    let mut st = frame_stats(&s, runs, seed);
+    let mut st = pixel_frames(&centred(&s), runs, seed);
     st.reference = reference.map(|r| exact_reference(&s, r));
     st
 }

@@ -16,14 +16,21 @@ fn plane(st: &FrameStats, v: &[[f64; 3]], f: impl Fn(f64) -> f64) -> Vec<f64> {
         .collect()
 }
 
+/// One panel; the colour limits are the `q`-quantile of |values| (at least
+/// 1e-6), symmetric about 0 for a diverging map, from 0 otherwise.
 fn map(
     st: &FrameStats,
     title: &str,
     values: Vec<f64>,
     cmap: ColourMap,
-    limits: (f64, f64),
+    q: f64,
     bar: &str,
 ) -> HeatMap {
+    let lim = quantile_abs(&values, q).max(1e-6);
+    let limits = match cmap {
+        ColourMap::Diverging => (-lim, lim),
+        ColourMap::Sequential => (0.0, lim),
+    };
     HeatMap {
         title: title.into(),
         x_label: "x (pixels)".into(),
@@ -58,39 +65,33 @@ fn quantile_abs(values: &[f64], q: f64) -> f64 {
 /// Writes `<stem>.svg` and `<stem>.png` with the mean image, the bias (when a
 /// reference exists) and the single-frame standard deviation.
 pub fn write_maps(st: &FrameStats, label: &str, stem: &Path) -> Result<Vec<PathBuf>, String> {
-    let mean = plane(st, &st.mean, |c| c);
-    let hi = quantile_abs(&mean, 0.999).max(1e-6);
     let mut fig = Figure::new(3)
         .title(format!("{label}: {} frames", st.runs))
         .panel_size(420, 380);
     fig = fig.with(map(
         st,
         "mean",
-        mean,
+        plane(st, &st.mean, |c| c),
         ColourMap::Sequential,
-        (0.0, hi),
+        0.999,
         "value",
     ));
     if let Some(b) = st.bias() {
-        let bias = plane(st, &b, |c| c);
-        let lim = quantile_abs(&bias, 0.99).max(1e-6);
         fig = fig.with(map(
             st,
             "bias",
-            bias,
+            plane(st, &b, |c| c),
             ColourMap::Diverging,
-            (-lim, lim),
+            0.99,
             "mean − reference",
         ));
     }
-    let std = plane(st, &st.variance, f64::sqrt);
-    let lim = quantile_abs(&std, 0.99).max(1e-6);
     fig = fig.with(map(
         st,
         "std (one frame)",
-        std,
+        plane(st, &st.variance, f64::sqrt),
         ColourMap::Sequential,
-        (0.0, lim),
+        0.99,
         "standard deviation",
     ));
     fig.save(stem)

@@ -2,8 +2,8 @@
 //! at equal spp and matching lookup counts, for every distance sampler,
 //! several NEE estimators and every light type (lavapipe in CI).
 
-use fogbank_eval::metrics::ztest::ztest;
 use fogbank_gpu::{render as gpu_render, test_gpu};
+use fogbank_image::metrics::ztest;
 use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::Path;
 

@@ -4,8 +4,8 @@
 //! adapter (lavapipe in CI); skips with a message when there is none,
 //! unless FOGBANK_REQUIRE_GPU=1.
 
-use fogbank_eval::metrics::ztest::ztest;
 use fogbank_gpu::{diagnostics, render as gpu_render, test_gpu};
+use fogbank_image::metrics::ztest;
 use fogbank_math::SampleKey;
 use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::Path;

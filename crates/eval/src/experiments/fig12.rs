@@ -120,8 +120,9 @@ fn render_strategy(s: &Scene, spp: u32, seed: u32) -> (Vec<[f32; 3]>, f64, Film)
 }
 
 /// Per-pixel mean RGB value and a conservative variance of it (the
-/// standard deviation of a channel mean is at most the mean of the three).
-fn rgb_mean_and_var(f: &Film) -> (Vec<f64>, Vec<f64>) {
+/// standard deviation of a channel mean is at most the mean of the three);
+/// fig13 uses it too.
+pub(super) fn rgb_mean_and_var(f: &Film) -> (Vec<f64>, Vec<f64>) {
     let (m, v) = (f.mean(), f.variance_of_mean());
     let mean = m
         .iter()

@@ -28,12 +28,13 @@
 //! 2 and 10 and compared with the exact-weight reference (plain, noisier
 //! difference of means).
 
+use super::fig12::rgb_mean_and_var;
 use super::Writer;
 use crate::image_io::linear_to_srgb;
 use fogbank_math::{SampleKey, Vec3};
 use fogbank_render::integrators::point_mis::PointMis;
 use fogbank_render::integrators::IntegratorKind;
-use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene};
+use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use rayon::prelude::*;
 use std::path::Path;
 use std::time::Instant;
@@ -138,10 +139,10 @@ fn shortcut(s: &Scene, pm: &PointMis, spp: u32) -> Result<Vec<PixelStats>, Strin
                     st.reference_rgb[c] += l.to_array()[c] as f64;
                 }
                 st.reference.add(mean_rgb(l));
-                for k in 0..K {
-                    st.err[k][0].add(e[k][0]);
-                    st.err[k][1].add(e[k][1]);
-                    st.err[k][2].add(e[k][0] - e[k][1]);
+                for (acc, e) in st.err.iter_mut().zip(&e) {
+                    acc[0].add(e[0]);
+                    acc[1].add(e[1]);
+                    acc[2].add(e[0] - e[1]);
                 }
             }
             st.reference_rgb.iter_mut().for_each(|c| *c /= spp as f64);
@@ -219,23 +220,6 @@ fn point_mis(s: &Scene) -> Result<&PointMis, String> {
     }
 }
 
-fn film_mean_var(f: &Film) -> (Vec<f64>, Vec<f64>) {
-    let (m, v) = (f.mean(), f.variance_of_mean());
-    let mean = m
-        .iter()
-        .map(|p| p.iter().map(|&c| c as f64).sum::<f64>() / 3.0)
-        .collect();
-    // Conservative across channels, as in fig12.
-    let var = v
-        .iter()
-        .map(|p| {
-            let sd = p.iter().map(|&c| (c as f64).sqrt()).sum::<f64>() / 3.0;
-            sd * sd
-        })
-        .collect();
-    (mean, var)
-}
-
 pub fn compute(spp: u32, direct_spp: u32) -> Result<Results, String> {
     let s = scene(&["integrator.strategy=mis_jackknife_biased".into()])?;
     let pm = point_mis(&s)?;
@@ -293,7 +277,8 @@ pub fn compute(spp: u32, direct_spp: u32) -> Result<Results, String> {
                 if f.nan_samples + f.inf_samples > 0 {
                     return Err(format!("fig13: {strategy}: non-finite samples"));
                 }
-                let (m, v) = film_mean_var(&f);
+                // Conservative across channels, as in fig12.
+                let (m, v) = rgb_mean_and_var(&f);
                 let d: Vec<f64> = m.iter().zip(&ref_means).map(|(a, b)| a - b).collect();
                 let var: Vec<f64> = v.iter().zip(&ref_vars).map(|(a, b)| a + b).collect();
                 direct.push(DirectRow {

@@ -14,7 +14,7 @@ use super::profile::Profile1D;
 use super::trials::run_chunked;
 use super::Writer;
 use crate::plot::{palette, Figure, Histogram, LinePlot, Rgb, Series};
-use fogbank_estimators::optical_depth::{estimates, prepare, Importance, Jitter};
+use fogbank_estimators::optical_depth::Jitter;
 
 pub const DEFAULT_TRIALS: u64 = 1_000_000;
 pub const SAMPLE_COUNTS: [u32; 3] = [5, 10, 20];
@@ -69,21 +69,14 @@ pub struct Case {
 /// sampling); returns the cases and the exact optical depth.
 pub fn compute(trials: u64, variant: Variant, counts: &[u32]) -> (Vec<Case>, f64) {
     let profile = variant.profile();
-    let ray = profile.ray();
-    let prep = prepare(
-        &profile,
-        &ray,
-        0.0,
-        profile.len() as f32,
-        Importance::VarianceAware,
-    );
+    let marching = profile.marching();
     let mut cases = Vec::new();
     for (ji, jitter) in [Jitter::Stratified, Jitter::Uniform]
         .into_iter()
         .enumerate()
     {
         for &n in counts {
-            let f_delta = prep.total / n as f64;
+            let f_delta = marching.prep.total / n as f64;
             let mut sorted = run_chunked(
                 trials,
                 SEED ^ (variant as u32) << 8,
@@ -92,17 +85,7 @@ pub fn compute(trials: u64, variant: Variant, counts: &[u32]) -> (Vec<Case>, f64
                 |rng, acc: &mut Vec<f64>, count| {
                     let (mut x, mut lookups) = ([0.0f64], 0u32);
                     for _ in 0..count {
-                        estimates(
-                            &profile,
-                            &ray,
-                            &prep,
-                            f_delta,
-                            Importance::VarianceAware,
-                            jitter,
-                            rng,
-                            &mut lookups,
-                            &mut x,
-                        );
+                        marching.estimates(f_delta, jitter, rng, &mut lookups, &mut x);
                         acc.push(x[0]);
                     }
                 },

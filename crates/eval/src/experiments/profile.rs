@@ -8,6 +8,7 @@
 //! effect seed 000 §4.1 attributes to equidistant sampling in Fig. 5, and its
 //! exact optical depth is simply the sum of the voxel values.
 
+use fogbank_estimators::optical_depth::{estimates, prepare, Importance, Jitter, Prepared};
 use fogbank_math::{Pcg32, Ray, Vec3};
 use fogbank_volume::{SuperVoxelGrid, VolumeAccess};
 
@@ -132,6 +133,59 @@ impl Profile1D {
     /// t ∈ [0, L].
     pub fn ray(&self) -> Ray {
         Ray::new(Vec3::new(0.0, 0.5, 0.5), Vec3::new(1.0, 0.0, 0.0))
+    }
+
+    /// The profile prepared for the project's Alg. 1 along [`Profile1D::ray`]
+    /// over its whole length, with the variance-aware importance.
+    pub fn marching(&self) -> Marching<'_> {
+        let ray = self.ray();
+        let prep = prepare(
+            self,
+            &ray,
+            0.0,
+            self.len() as f32,
+            Importance::VarianceAware,
+        );
+        Marching {
+            profile: self,
+            ray,
+            prep,
+        }
+    }
+}
+
+/// A profile, its ray and Alg. 2's traversal of it: what every optical-depth
+/// estimate along the profile needs.
+pub struct Marching<'a> {
+    profile: &'a Profile1D,
+    ray: Ray,
+    /// Alg. 2's result; `prep.total / N` is the importance step of N samples.
+    pub prep: Prepared,
+}
+
+impl Marching<'_> {
+    /// Alg. 1: `out.len()` interleaved optical-depth estimates with
+    /// importance step `f_delta` (variance-aware importance).
+    #[inline]
+    pub fn estimates(
+        &self,
+        f_delta: f64,
+        jitter: Jitter,
+        rng: &mut Pcg32,
+        lookups: &mut u32,
+        out: &mut [f64],
+    ) {
+        estimates(
+            self.profile,
+            &self.ray,
+            &self.prep,
+            f_delta,
+            Importance::VarianceAware,
+            jitter,
+            rng,
+            lookups,
+            out,
+        );
     }
 }
 

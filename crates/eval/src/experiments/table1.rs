@@ -13,7 +13,7 @@ use super::trials::{run_chunked, Moments};
 use super::Writer;
 use fogbank_estimators::jackknife::jackknife_transmittance;
 use fogbank_estimators::jackknife_function::umvu_transmittance;
-use fogbank_estimators::optical_depth::{estimates, prepare, Importance, Jitter};
+use fogbank_estimators::optical_depth::Jitter;
 
 pub const DEFAULT_TRIALS: u64 = 10_000_000;
 pub const BUDGET: u32 = 24;
@@ -48,19 +48,12 @@ impl Row {
 pub fn compute(trials: u64) -> (Vec<Row>, f64) {
     let profile = Profile1D::smooth();
     let exact = (-profile.optical_depth()).exp();
-    let ray = profile.ray();
-    let prep = prepare(
-        &profile,
-        &ray,
-        0.0,
-        profile.len() as f32,
-        Importance::VarianceAware,
-    );
+    let marching = profile.marching();
     let rows = ESTIMATE_COUNTS
         .iter()
         .map(|&m| {
             let n = BUDGET / m;
-            let f_delta = prep.total / n as f64;
+            let f_delta = marching.prep.total / n as f64;
             let stats = run_chunked(
                 trials,
                 SEED,
@@ -71,17 +64,7 @@ pub fn compute(trials: u64) -> (Vec<Row>, f64) {
                     let mut lookups = 0u32;
                     for _ in 0..count {
                         let xs = &mut x[..m as usize];
-                        estimates(
-                            &profile,
-                            &ray,
-                            &prep,
-                            f_delta,
-                            Importance::VarianceAware,
-                            Jitter::Stratified,
-                            rng,
-                            &mut lookups,
-                            xs,
-                        );
+                        marching.estimates(f_delta, Jitter::Stratified, rng, &mut lookups, xs);
                         acc.push(match m {
                             1 => (-xs[0]).exp(),
                             2 => jackknife_transmittance(xs[0], xs[1]),

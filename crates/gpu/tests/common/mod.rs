@@ -1,6 +1,6 @@
 //! Shared by the GPU test binaries.
 
-use fogbank_eval::image_io::Image;
+use fogbank_image::Image;
 use fogbank_render::Film;
 
 /// The film as an image for the z-test. The variance gets a floor of

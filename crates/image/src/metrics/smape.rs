@@ -1,6 +1,6 @@
 //! Symmetric mean absolute percentage error, as seed 000 reports it.
 
-use super::{check_same_size, Image};
+use super::{pixel_mean, Image};
 
 /// ε added to the mean linear RGB value in the denominator of [`smape`].
 pub const SMAPE_EPSILON: f64 = 0.01;
@@ -24,21 +24,13 @@ pub const SMAPE_EPSILON: f64 = 0.01;
 /// equals the scalar |t − r| / ((|t| + |r|)/2 + ε). The result is a
 /// fraction (0.05 = 5 %), bounded by 2.
 pub fn smape(reference: &Image, test: &Image) -> Result<f64, String> {
-    check_same_size(reference, test)?;
-    let sum: f64 = reference
-        .rgb
-        .iter()
-        .zip(&test.rgb)
-        .map(|(r, t)| {
-            let mut num = 0.0;
-            let mut den = 0.0;
-            for c in 0..3 {
-                let (r, t) = (r[c] as f64, t[c] as f64);
-                num += (t - r).abs();
-                den += t.abs() + r.abs();
-            }
-            (num / 3.0) / (den / 6.0 + SMAPE_EPSILON)
-        })
-        .sum();
-    Ok(sum / reference.len() as f64)
+    pixel_mean(reference, test, |r, t| {
+        let mut num = 0.0;
+        let mut den = 0.0;
+        for c in 0..3 {
+            num += (t[c] - r[c]).abs();
+            den += t[c].abs() + r[c].abs();
+        }
+        (num / 3.0) / (den / 6.0 + SMAPE_EPSILON)
+    })
 }

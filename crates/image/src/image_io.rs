@@ -1,5 +1,7 @@
-//! Reading images for comparison: fogbank's EXR (colour plus a `variance`
-//! layer), EXR from other tools, and 8-bit sRGB PNG.
+//! Image files. Reading for comparison: fogbank's EXR (colour plus a
+//! `variance` layer), EXR from other tools, and 8-bit sRGB PNG. Writing:
+//! linear float EXR (colour, a `variance` layer holding the per-pixel
+//! variance of the mean, or any named layers) and tone-mapped sRGB PNG.
 //!
 //! Every error names the file, and no malformed file can panic the caller:
 //! decoder panics are caught and turned into errors, because a comparison
@@ -145,6 +147,16 @@ fn read_png(path: &Path) -> Result<Image, String> {
     })
 }
 
+/// The names of an EXR layer's channels, in the file's (sorted) order.
+pub fn channel_names<S>(layer: &exr::prelude::Layer<exr::prelude::AnyChannels<S>>) -> Vec<String> {
+    layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect()
+}
+
 fn read_exr(path: &Path) -> Result<Image, String> {
     use exr::prelude::{read, ReadChannels, ReadLayers};
     // Pedantic: a truncated or corrupt file must be an error, not an image
@@ -162,12 +174,7 @@ fn read_exr(path: &Path) -> Result<Image, String> {
     // The first layer (part) holding colour; single-layer files are the norm.
     let mut seen: Vec<String> = Vec::new();
     for layer in &image.layer_data {
-        let names: Vec<String> = layer
-            .channel_data
-            .list
-            .iter()
-            .map(|c| c.name.to_string())
-            .collect();
+        let names = channel_names(layer);
         let (width, height) = (layer.size.x(), layer.size.y());
         let find = |n: &str| names.iter().position(|x| x == n);
         let plane = |i: usize| -> Result<Vec<f32>, String> {
@@ -253,4 +260,87 @@ pub fn read_pair(
         return Err(format!("{}: the image has no pixels", rp.display()));
     }
     Ok((r, t))
+}
+
+/// Writes R, G, B and, if given, `variance.R/G/B` as 32-bit float channels
+/// of one part; OpenEXR tools and tev read the `variance.` prefix as a layer.
+pub fn write_exr(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgb: &[[f32; 3]],
+    variance: Option<&[[f32; 3]]>,
+) -> Result<(), String> {
+    let mut layers = vec![("", rgb.to_vec())];
+    if let Some(v) = variance {
+        layers.push(("variance", v.to_vec()));
+    }
+    write_exr_channels(path, width, height, &layers, None)
+}
+
+/// sRGB encoding of a linear value clamped to [0, 1] (non-finite values to
+/// 0), as an 8-bit value.
+fn srgb8(v: f32) -> u8 {
+    let v = if v.is_finite() {
+        v.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (linear_to_srgb(v) * 255.0 + 0.5) as u8
+}
+
+/// Writes an 8-bit sRGB PNG of the linear values scaled by 2^`exposure`.
+pub fn write_png(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgb: &[[f32; 3]],
+    exposure: f32,
+) -> Result<(), String> {
+    let k = 2f32.powf(exposure);
+    let bytes: Vec<u8> = rgb.iter().flat_map(|p| p.map(|c| srgb8(c * k))).collect();
+    image::save_buffer(path, &bytes, width, height, image::ColorType::Rgb8)
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Writes named RGB layers (`NAME.R/G/B`; plain `R/G/B` for an empty name)
+/// and an optional scalar channel (`NAME.Y`) into one EXR part.
+pub fn write_exr_channels(
+    path: &Path,
+    width: u32,
+    height: u32,
+    layers: &[(&str, Vec<[f32; 3]>)],
+    scalar: Option<(&str, &[f32])>,
+) -> Result<(), String> {
+    use exr::prelude::{
+        AnyChannel, AnyChannels, Encoding, FlatSamples, Layer, LayerAttributes, WritableImage,
+    };
+    let mut channels: Vec<AnyChannel<FlatSamples>> = Vec::new();
+    for (name, data) in layers {
+        for (c, suffix) in ["R", "G", "B"].iter().enumerate() {
+            let plane = FlatSamples::F32(data.iter().map(|p| p[c]).collect());
+            let full = if name.is_empty() {
+                suffix.to_string()
+            } else {
+                format!("{name}.{suffix}")
+            };
+            channels.push(AnyChannel::new(full.as_str(), plane));
+        }
+    }
+    if let Some((name, data)) = scalar {
+        channels.push(AnyChannel::new(
+            format!("{name}.Y").as_str(),
+            FlatSamples::F32(data.to_vec()),
+        ));
+    }
+    let layer = Layer::new(
+        (width as usize, height as usize),
+        LayerAttributes::default(),
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(channels.into()),
+    );
+    exr::prelude::Image::from_layer(layer)
+        .write()
+        .to_file(path)
+        .map_err(|e| format!("{}: {e}", path.display()))
 }

@@ -1,7 +1,7 @@
 //! rmse, relmse, smape and the normal quantile on hand-computed cases.
 
-use fogbank_eval::metrics::normal::{erfc, normal_quantile};
-use fogbank_eval::metrics::{relmse, rmse, smape, Image, Metric};
+use fogbank_image::metrics::normal::{erfc, normal_quantile};
+use fogbank_image::metrics::{relmse, rmse, smape, Image, Metric};
 
 fn img(px: &[[f32; 3]]) -> Image {
     Image::new(px.len(), 1, px.to_vec())
@@ -66,7 +66,7 @@ fn size_mismatch_is_an_error() {
         rmse(&a, &b).unwrap_err(),
         relmse(&a, &b).unwrap_err(),
         smape(&a, &b).unwrap_err(),
-        fogbank_eval::metrics::flip(&a, &b).unwrap_err(),
+        fogbank_image::metrics::flip(&a, &b).unwrap_err(),
     ] {
         assert!(e.contains("4×3") && e.contains("3×4"), "{e}");
     }

@@ -1,7 +1,7 @@
 //! The per-pixel z-test on synthetic mean/variance images: unbiased renders
 //! pass, biased ones are flagged, exact pixels are handled apart.
 
-use fogbank_eval::metrics::{ztest, ztest_with, Image};
+use fogbank_image::metrics::{ztest, ztest_with, Image};
 
 /// SplitMix64 plus Box–Muller: enough randomness for synthetic renders.
 struct Rng(u64);

@@ -2,7 +2,7 @@
 //! PyPI): the fixture pairs and reference means come from
 //! `tools/check_flip.py --generate`.
 
-use fogbank_eval::metrics::{flip, flip_with, read_pair, FlipMode, FlipOptions, Image};
+use fogbank_image::metrics::{flip, flip_with, read_pair, FlipMode, FlipOptions, Image};
 use std::path::{Path, PathBuf};
 
 fn fixtures() -> PathBuf {

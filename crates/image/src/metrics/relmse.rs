@@ -1,6 +1,6 @@
 //! Relative mean squared error.
 
-use super::{check_same_size, Image};
+use super::{channel_mean, Image};
 
 /// ε in the denominator of [`relmse`], in linear units (1 % of white).
 pub const RELMSE_EPSILON: f64 = 0.01;
@@ -13,19 +13,7 @@ pub const RELMSE_EPSILON: f64 = 0.01;
 /// reference pixels from dominating. ε is added to ref², not to ref (the
 /// form used by e.g. Rousselle et al. 2011 and most denoising papers).
 pub fn relmse(reference: &Image, test: &Image) -> Result<f64, String> {
-    check_same_size(reference, test)?;
-    let sum: f64 = reference
-        .rgb
-        .iter()
-        .zip(&test.rgb)
-        .map(|(r, t)| {
-            (0..3)
-                .map(|c| {
-                    let (r, t) = (r[c] as f64, t[c] as f64);
-                    (t - r) * (t - r) / (r * r + RELMSE_EPSILON)
-                })
-                .sum::<f64>()
-        })
-        .sum();
-    Ok(sum / (3 * reference.len()) as f64)
+    channel_mean(reference, test, |r, t| {
+        (t - r) * (t - r) / (r * r + RELMSE_EPSILON)
+    })
 }

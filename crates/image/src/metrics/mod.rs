@@ -109,3 +109,41 @@ pub fn check_same_size(reference: &Image, test: &Image) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// Sum over pixels of `f(reference pixel, test pixel)` on f64 values, after
+/// [`check_same_size`]: the reduction under the pixel-wise metrics, in f64
+/// so that large images do not lose the small errors of converged renders.
+fn pixel_sum(
+    reference: &Image,
+    test: &Image,
+    f: impl Fn([f64; 3], [f64; 3]) -> f64,
+) -> Result<f64, String> {
+    check_same_size(reference, test)?;
+    Ok(reference
+        .rgb
+        .iter()
+        .zip(&test.rgb)
+        .map(|(r, t)| f(r.map(f64::from), t.map(f64::from)))
+        .sum())
+}
+
+/// Mean over pixels of `f(reference pixel, test pixel)`.
+fn pixel_mean(
+    reference: &Image,
+    test: &Image,
+    f: impl Fn([f64; 3], [f64; 3]) -> f64,
+) -> Result<f64, String> {
+    Ok(pixel_sum(reference, test, f)? / reference.len() as f64)
+}
+
+/// Mean over pixels and channels of `f(reference value, test value)`.
+fn channel_mean(
+    reference: &Image,
+    test: &Image,
+    f: impl Fn(f64, f64) -> f64,
+) -> Result<f64, String> {
+    let sum = pixel_sum(reference, test, |r, t| {
+        (0..3).map(|c| f(r[c], t[c])).sum::<f64>()
+    })?;
+    Ok(sum / (3 * reference.len()) as f64)
+}

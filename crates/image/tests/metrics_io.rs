@@ -4,8 +4,8 @@
 use exr::prelude::{
     f16, AnyChannel, AnyChannels, Encoding, FlatSamples, LayerAttributes, WritableImage,
 };
-use fogbank_eval::image_io::srgb_to_linear;
-use fogbank_eval::metrics::{read_image, read_pair, rmse};
+use fogbank_image::image_io::srgb_to_linear;
+use fogbank_image::metrics::{read_image, read_pair, rmse};
 use std::path::{Path, PathBuf};
 
 fn dir(name: &str) -> PathBuf {
@@ -192,4 +192,30 @@ fn size_mismatch_names_both_files() {
     image::save_buffer(&png, &[0u8; 3 * 48], 8, 6, image::ColorType::Rgb8).unwrap();
     let (r, t) = read_pair(&png, &a).unwrap();
     assert!(rmse(&r, &t).unwrap() > 0.0);
+}
+
+#[test]
+fn written_exr_and_png_read_back() {
+    use fogbank_image::image_io::{write_exr, write_png};
+    let d = dir("roundtrip");
+    let rgb: Vec<[f32; 3]> = (0..6).map(|i| [i as f32 * 0.1, 0.5, 2.0]).collect();
+    let var: Vec<[f32; 3]> = (0..6).map(|i| [i as f32 * 0.01, 0.02, 0.03]).collect();
+    write_exr(&d.join("a.exr"), 3, 2, &rgb, Some(&var)).unwrap();
+    let img = read_image(d.join("a.exr")).unwrap();
+    assert_eq!((img.width, img.height), (3, 2));
+    assert!(!img.is_srgb8);
+    assert_eq!(img.rgb, rgb);
+    assert_eq!(img.variance.as_deref(), Some(&var[..]));
+    write_exr(&d.join("b.exr"), 3, 2, &rgb, None).unwrap();
+    assert!(read_image(d.join("b.exr")).unwrap().variance.is_none());
+
+    // 8-bit sRGB, clamped to [0, 1]: back within a quantisation step.
+    write_png(&d.join("a.png"), 3, 2, &rgb, 0.0).unwrap();
+    let png = read_image(d.join("a.png")).unwrap();
+    assert!(png.is_srgb8);
+    for (p, q) in png.rgb.iter().zip(&rgb) {
+        for c in 0..3 {
+            assert!((p[c] - q[c].min(1.0)).abs() < 0.005, "{p:?} vs {q:?}");
+        }
+    }
 }
