@@ -241,8 +241,8 @@ pub fn run(a: RenderArgs) -> CliResult {
             "interrupted": result.interrupted,
             "mean": m,
             "lookups_per_pixel": lookups_per_pixel,
-            "nan_pixels": film.nan_samples,
-            "inf_pixels": film.inf_samples,
+            "nan_samples": film.nan_samples,
+            "inf_samples": film.inf_samples,
             "nonfinite_output_pixels": bad_pixels,
             "peak_memory_bytes": peak_memory_bytes(),
             "media": scene.media.iter().map(|m| serde_json::json!({

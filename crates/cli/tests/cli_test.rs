@@ -94,8 +94,8 @@ fn default_render_writes_exr_with_variance_png_and_stats() {
         "render_seconds",
         "mean",
         "lookups_per_pixel",
-        "nan_pixels",
-        "inf_pixels",
+        "nan_samples",
+        "inf_samples",
         "peak_memory_bytes",
     ] {
         assert!(stats.get(key).is_some(), "stats.json lacks `{key}`");

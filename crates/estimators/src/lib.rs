@@ -5,6 +5,27 @@
 //! storage type and has no dynamic dispatch; [`transmittance`] matches the
 //! medium's storage once per ray. All estimators count full-resolution
 //! lookups (filtered evaluations of σ_t) in [`Estimate::lookups`].
+//!
+//! # Glossary
+//!
+//! One name per quantity in Rust and WGSL alike; the seeds write some of
+//! them differently.
+//!
+//! | name | quantity | seed 000 | seed 002 | seed 004 | pbrt-v4 |
+//! |---|---|---|---|---|---|
+//! | `sigma_t` | extinction coefficient (per world unit; per index unit inside estimators) | μ(t) | σ_t | σ_t, μ | `sigma_t` |
+//! | `sigma_t_at` | σ_t at a point: one filtered lookup, counted | μ(x) | | | `SampleT_maj` callback |
+//! | `sigma_maj` | majorant, per super-voxel the maximum of σ_t | μ̄ | σ̄ | μ̄ | `sigma_maj` |
+//! | `sigma_min` | minorant, per super-voxel the minimum of σ_t | μ_min | | | |
+//! | `sigma_c` | control extinction (residual ratio tracking, the Eq. 5 control variate) | μ_c | σ_c | | |
+//! | `sigma_r` | majorant of the residual σ_t − σ_c | | | | |
+//! | `tau` | optical depth ∫ σ_t dt | τ, X (its estimate) | τ | τ | |
+//! | `transmittance`, `tr` | T = exp(−τ) | T | T | T | `T_maj` ratio |
+//! | `importance` | seed 000 Eq. 5 sampling density of the lookups | p(t) | | | |
+//! | `albedo` | σ_s / σ_t | α | ρ | α | |
+//!
+//! In seed 000's 1D experiments (`fogbank-eval`), `Profile1D::sigma_t_at`
+//! is μ(t) of the paper's figures (their axis labels keep the paper's μ).
 
 pub mod analytic_trilinear;
 pub mod distance;

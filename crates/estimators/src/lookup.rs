@@ -8,7 +8,7 @@ use fogbank_volume::VolumeAccess;
 /// for stochastic trilinear filtering is one PCG32 draw spread to three
 /// dimensions by PCG3D (the GPU does the same).
 #[inline(always)]
-pub fn sigma_t<V: VolumeAccess>(v: &V, p: Vec3, rng: &mut Pcg32, lookups: &mut u32) -> f32 {
+pub fn sigma_t_at<V: VolumeAccess>(v: &V, p: Vec3, rng: &mut Pcg32, lookups: &mut u32) -> f32 {
     *lookups += 1;
     let u = if v.needs_jitter() {
         let h = pcg3d([rng.next_u32(), *lookups, 0x9e37_79b9]);

@@ -3,7 +3,7 @@
 //! each super-voxel (its majorant), restarted per super-voxel since the
 //! exponential is memoryless. Each collision reads σ_t once.
 
-use crate::lookup::{sample_exponential, sigma_t};
+use crate::lookup::{sample_exponential, sigma_t_at};
 use fogbank_math::{Pcg32, Ray};
 use fogbank_volume::{Dda, SuperVoxel, VolumeAccess};
 
@@ -25,18 +25,18 @@ pub fn walk<V: VolumeAccess>(
 ) -> bool {
     let sv = v.supervoxels();
     for s in Dda::new(ray, sv.size as f32, sv.dims, t0, t1) {
-        let (sigma_bar, value) = rate(sv.get(s.cell), s.t1 - s.t0);
-        if sigma_bar <= 0.0 {
+        let (sigma_maj, value) = rate(sv.get(s.cell), s.t1 - s.t0);
+        if sigma_maj <= 0.0 {
             continue;
         }
         let mut t = s.t0;
         loop {
-            t += sample_exponential(rng, sigma_bar);
+            t += sample_exponential(rng, sigma_maj);
             if t >= s.t1 {
                 break;
             }
-            let mu = sigma_t(v, ray.at(t), rng, lookups);
-            if !collide(t, mu, sigma_bar, value, rng) {
+            let sigma_t = sigma_t_at(v, ray.at(t), rng, lookups);
+            if !collide(t, sigma_t, sigma_maj, value, rng) {
                 return false;
             }
         }

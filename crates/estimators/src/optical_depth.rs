@@ -4,7 +4,7 @@
 //! jitter patterns so that jackknife, its ablations and Kettunen et al.'s
 //! ray marching share one implementation.
 
-use crate::lookup::sigma_t;
+use crate::lookup::sigma_t_at;
 use fogbank_math::{Pcg32, Ray};
 use fogbank_volume::{Dda, SuperVoxel, VolumeAccess};
 
@@ -107,9 +107,9 @@ pub fn estimates<V: VolumeAccess>(
     let mut j = argmin(&cursor);
     let (mut f, mut tau_c) = (0.0f64, 0.0f64);
     for s in Dda::new(ray, sv.size as f32, sv.dims, prep.t_min, prep.t_max) {
-        let (p, mu_c) = importance.of(sv.get(s.cell));
+        let (p, sigma_c) = importance.of(sv.get(s.cell));
         let len = (s.t1 - s.t0) as f64;
-        tau_c += len * mu_c;
+        tau_c += len * sigma_c;
         if p <= 0.0 {
             continue;
         }
@@ -117,8 +117,8 @@ pub fn estimates<V: VolumeAccess>(
         while f_delta * cursor[j] < f {
             // Rewind from the super-voxel's exit to the sample's CDF value.
             let t = (s.t1 as f64 - (f - f_delta * cursor[j]) / p).clamp(s.t0 as f64, s.t1 as f64);
-            let mu = sigma_t(v, ray.at(t as f32), rng, lookups) as f64;
-            out[j] += (mu - mu_c) / p;
+            let sigma_t = sigma_t_at(v, ray.at(t as f32), rng, lookups) as f64;
+            out[j] += (sigma_t - sigma_c) / p;
             cursor[j] = match jitter {
                 // floor + 1 (not ceil) so a jitter of exactly 0 still moves on.
                 Jitter::Stratified => floor_f64(cursor[j]) + 1.0 + rng.next_f32() as f64,

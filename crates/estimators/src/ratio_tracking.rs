@@ -24,8 +24,8 @@ pub fn transmittance<V: VolumeAccess>(
         rng,
         &mut lookups,
         |s, _| (s.max, 0.0),
-        |_, mu, sigma_maj, _, _| {
-            tr *= 1.0 - mu / sigma_maj;
+        |_, sigma_t, sigma_maj, _, _| {
+            tr *= 1.0 - sigma_t / sigma_maj;
             tr != 0.0
         },
     );

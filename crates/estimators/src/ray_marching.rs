@@ -2,7 +2,7 @@
 //! segment, T = exp(−X). Biased (Jensen: it overestimates T). With `clip`,
 //! the segment is first shrunk to the non-empty super-voxels.
 
-use crate::lookup::sigma_t;
+use crate::lookup::sigma_t_at;
 use crate::optical_depth::{prepare, Importance};
 use crate::Estimate;
 use fogbank_math::{Pcg32, Ray};
@@ -33,7 +33,7 @@ pub fn transmittance<V: VolumeAccess>(
     let mut sum = 0.0f64;
     for i in 0..n {
         let t = a as f64 + (i as f64 + u) * dt;
-        sum += sigma_t(v, ray.at(t as f32), rng, &mut lookups) as f64;
+        sum += sigma_t_at(v, ray.at(t as f32), rng, &mut lookups) as f64;
     }
     Estimate {
         transmittance: (-(sum * dt)).exp() as f32,

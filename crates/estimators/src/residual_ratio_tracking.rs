@@ -40,9 +40,9 @@ pub fn transmittance<V: VolumeAccess>(
         if s.max <= 0.0 {
             return (0.0, 0.0);
         }
-        let mu_c = control_extinction(s, diagonal);
-        tau_c += len as f64 * mu_c as f64;
-        ((s.max - mu_c).max(mu_c - s.min), mu_c)
+        let sigma_c = control_extinction(s, diagonal);
+        tau_c += len as f64 * sigma_c as f64;
+        ((s.max - sigma_c).max(sigma_c - s.min), sigma_c)
     };
     walk(
         v,
@@ -52,8 +52,8 @@ pub fn transmittance<V: VolumeAccess>(
         rng,
         &mut lookups,
         rate,
-        |_, mu, sigma_r, mu_c, _| {
-            ratio *= 1.0 - (mu - mu_c) / sigma_r;
+        |_, sigma_t, sigma_r, sigma_c, _| {
+            ratio *= 1.0 - (sigma_t - sigma_c) / sigma_r;
             true
         },
     );

@@ -24,7 +24,7 @@ pub fn transmittance<V: VolumeAccess>(
         rng,
         &mut lookups,
         |s, _| (s.max, 0.0),
-        |_, mu, sigma_maj, _, rng| rng.next_f32() * sigma_maj >= mu,
+        |_, sigma_t, sigma_maj, _, rng| rng.next_f32() * sigma_maj >= sigma_t,
     );
     Estimate {
         transmittance: if escaped { 1.0 } else { 0.0 },

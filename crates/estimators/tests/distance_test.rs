@@ -154,7 +154,7 @@ fn free_flight_samplers_pass_chi_square() {
             return 0.0;
         }
         let p = r.at(t);
-        let mu = v.scale as f64 * v.grid.nearest(p) as f64;
+        let sigma_t = v.scale as f64 * v.grid.nearest(p) as f64;
         let tr = transmittance(
             Estimator::RegularTracking,
             &m,
@@ -163,7 +163,7 @@ fn free_flight_samplers_pass_chi_square() {
             &mut Pcg32::new(0, 0),
         )
         .transmittance as f64;
-        mu * tr
+        sigma_t * tr
     };
     let escape = transmittance(
         Estimator::RegularTracking,

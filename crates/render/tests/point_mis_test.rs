@@ -78,14 +78,14 @@ fn quadrature(s: &Scene, steps: usize) -> Vec<f64> {
             let (mut tau, mut sum) = (0.0f64, 0.0f64);
             for k in 0..steps {
                 let t = a + ((k as f64 + 0.5) * dt) as f32;
-                let mu = match m.medium.view() {
+                let sigma_t = match m.medium.view() {
                     MediumView::F16(v) => sigma(&v, r.at(t)),
                     MediumView::F32(v) => sigma(&v, r.at(t)),
                     MediumView::Analytic(v) => sigma(&v, r.at(t)),
                 } as f64;
-                let tr = (-(tau + 0.5 * mu * dt)).exp();
-                tau += mu * dt;
-                if mu <= 0.0 {
+                let tr = (-(tau + 0.5 * sigma_t * dt)).exp();
+                tau += sigma_t * dt;
+                if sigma_t <= 0.0 {
                     continue;
                 }
                 let p = ray.at(t);
@@ -109,7 +109,7 @@ fn quadrature(s: &Scene, steps: usize) -> Vec<f64> {
                     );
                     let ls = m.albedo[1] * intensity.y * hg.eval(ray.d.dot(wi)) * e.transmittance
                         / (dist * dist);
-                    sum += tr * mu * ls as f64 * dt;
+                    sum += tr * sigma_t * ls as f64 * dt;
                 }
             }
             out.push(sum);

@@ -6,7 +6,7 @@
 //! the volume.
 
 use super::FreeFlight;
-use crate::lookup::{sample_exponential, sigma_t};
+use crate::lookup::{sample_exponential, sigma_t_at};
 use fogbank_math::{Pcg32, Ray};
 use fogbank_volume::{Dda, VolumeAccess};
 
@@ -33,8 +33,8 @@ pub fn sample<V: VolumeAccess>(v: &V, ray: &Ray, t0: f32, t1: f32, rng: &mut Pcg
                 if t >= limit {
                     break;
                 }
-                let mu = sigma_t(v, ray.at(t), rng, &mut lookups);
-                if rng.next_f32() * sigma_r < mu - cell.min {
+                let sigma_t = sigma_t_at(v, ray.at(t), rng, &mut lookups);
+                if rng.next_f32() * sigma_r < sigma_t - cell.min {
                     return FreeFlight {
                         t: Some(t),
                         lookups,

@@ -17,8 +17,8 @@ pub fn sample<V: VolumeAccess>(v: &V, ray: &Ray, t0: f32, t1: f32, rng: &mut Pcg
         rng,
         &mut lookups,
         |s, _| (s.max, 0.0),
-        |t, mu, sigma_maj, _, rng| {
-            if rng.next_f32() * sigma_maj < mu {
+        |t, sigma_t, sigma_maj, _, rng| {
+            if rng.next_f32() * sigma_maj < sigma_t {
                 hit = Some(t);
                 false
             } else {

@@ -19,7 +19,7 @@ pub struct TrackedFreeFlight {
     /// Real collision, `None` when the walk left `[t0, t1]`.
     pub t: Option<f32>,
     /// σ_t read at the real collision (0 on escape).
-    pub mu: f32,
+    pub sigma_t: f32,
     /// Π (1 − μ/μ̂) over the null collisions before `t` (over all of them
     /// on escape): the ratio-tracking estimate T_rt(t).
     pub ratio: f32,
@@ -35,7 +35,7 @@ pub fn sample<V: VolumeAccess>(
 ) -> TrackedFreeFlight {
     let mut out = TrackedFreeFlight {
         t: None,
-        mu: 0.0,
+        sigma_t: 0.0,
         ratio: 1.0,
         lookups: 0,
     };
@@ -48,14 +48,14 @@ pub fn sample<V: VolumeAccess>(
         rng,
         &mut lookups,
         |s, _| (s.max, 0.0),
-        |t, mu, sigma_maj, _, rng| {
+        |t, sigma_t, sigma_maj, _, rng| {
             // Same acceptance test and draw order as `delta_tracking::sample`.
-            if rng.next_f32() * sigma_maj < mu {
+            if rng.next_f32() * sigma_maj < sigma_t {
                 out.t = Some(t);
-                out.mu = mu;
+                out.sigma_t = sigma_t;
                 false
             } else {
-                out.ratio *= 1.0 - mu / sigma_maj;
+                out.ratio *= 1.0 - sigma_t / sigma_maj;
                 true
             }
         },

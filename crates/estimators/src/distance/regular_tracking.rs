@@ -20,10 +20,10 @@ pub fn sample<T: Voxel>(
     let mut lookups = 0;
     for s in Dda::new(ray, 1.0, v.grid.dims(), t0, t1) {
         lookups += 1;
-        let mu = v.scale as f64 * v.grid.fetch(s.cell[0], s.cell[1], s.cell[2]) as f64;
-        let d = mu * (s.t1 - s.t0) as f64;
-        if tau + d >= target && mu > 0.0 {
-            let t = s.t0 as f64 + (target - tau) / mu;
+        let sigma_t = v.scale as f64 * v.grid.fetch(s.cell[0], s.cell[1], s.cell[2]) as f64;
+        let d = sigma_t * (s.t1 - s.t0) as f64;
+        if tau + d >= target && sigma_t > 0.0 {
+            let t = s.t0 as f64 + (target - tau) / sigma_t;
             return FreeFlight {
                 t: Some((t as f32).clamp(s.t0, s.t1)),
                 lookups,

@@ -44,15 +44,15 @@ impl Sampler {
         let l = p.len();
         let h = l / n as f64;
         let sum: f64 = match self {
-            Sampler::Midpoint => (0..n).map(|j| p.mu((j as f64 + 0.5) * h)).sum(),
+            Sampler::Midpoint => (0..n).map(|j| p.sigma_t_at((j as f64 + 0.5) * h)).sum(),
             Sampler::UniformJittered => {
                 let xi = rng.next_f64();
-                (0..n).map(|j| p.mu((j as f64 + xi) * h)).sum()
+                (0..n).map(|j| p.sigma_t_at((j as f64 + xi) * h)).sum()
             }
             Sampler::StratifiedJittered => {
-                (0..n).map(|j| p.mu((j as f64 + rng.next_f64()) * h)).sum()
+                (0..n).map(|j| p.sigma_t_at((j as f64 + rng.next_f64()) * h)).sum()
             }
-            Sampler::Iid => (0..n).map(|_| p.mu(rng.next_f64() * l)).sum(),
+            Sampler::Iid => (0..n).map(|_| p.sigma_t_at(rng.next_f64() * l)).sum(),
         };
         h * sum
     }

@@ -112,7 +112,7 @@ impl Profile1D {
 
     /// μ(t), linear between voxel centres, constant in the outer half voxels.
     #[inline]
-    pub fn mu(&self, t: f64) -> f64 {
+    pub fn sigma_t_at(&self, t: f64) -> f64 {
         let n = self.values.len();
         let q = (t - 0.5).clamp(0.0, (n - 1) as f64);
         let i = (q.floor() as usize).min(n.saturating_sub(2));
@@ -192,7 +192,7 @@ impl Marching<'_> {
 impl VolumeAccess for Profile1D {
     #[inline]
     fn sigma_t(&self, p: Vec3, _u: Vec3) -> f32 {
-        self.mu(p.x as f64) as f32
+        self.sigma_t_at(p.x as f64) as f32
     }
     fn needs_jitter(&self) -> bool {
         false

@@ -9,18 +9,18 @@ fn delta_tracking_sample(m: MediumGpu, r: Ray, t0: f32, t1: f32,
     var dda = dda_new(r, m.sv_size, m.sv_dims, t0, t1);
     var s: DdaStep;
     while (dda_next(&dda, &s)) {
-        let sigma_bar = supervoxel(m, s.cell).y;
-        if (sigma_bar <= 0.0) {
+        let sigma_maj = supervoxel(m, s.cell).y;
+        if (sigma_maj <= 0.0) {
             continue;
         }
         var t = s.t0;
         loop {
-            t += -log(1.0 - pcg32_next_f32(rng)) / sigma_bar;
+            t += -log(1.0 - pcg32_next_f32(rng)) / sigma_maj;
             if (t >= s.t1) {
                 break;
             }
-            let mu = sigma_t(m, ray_at(r, t), rng, lookups);
-            if (pcg32_next_f32(rng) * sigma_bar < mu) {
+            let sigma_t = sigma_t_at(m, ray_at(r, t), rng, lookups);
+            if (pcg32_next_f32(rng) * sigma_maj < sigma_t) {
                 return t;
             }
         }
@@ -52,8 +52,8 @@ fn decomposition_tracking_sample(m: MediumGpu, r: Ray, t0: f32, t1: f32,
                 if (t >= limit) {
                     break;
                 }
-                let mu = sigma_t(m, ray_at(r, t), rng, lookups);
-                if (pcg32_next_f32(rng) * sigma_r < mu - sv.x) {
+                let sigma_t = sigma_t_at(m, ray_at(r, t), rng, lookups);
+                if (pcg32_next_f32(rng) * sigma_r < sigma_t - sv.x) {
                     return t;
                 }
             }
@@ -75,10 +75,10 @@ fn regular_tracking_sample(m: MediumGpu, r: Ray, t0: f32, t1: f32,
     var s: DdaStep;
     while (dda_next(&dda, &s)) {
         *lookups += 1u;
-        let mu = m.scale * fetch(m, s.cell.x, s.cell.y, s.cell.z);
-        let d = mu * (s.t1 - s.t0);
-        if (tau + d >= tau_target && mu > 0.0) {
-            return clamp(s.t0 + (tau_target - tau) / mu, s.t0, s.t1);
+        let sigma_t = m.scale * fetch(m, s.cell.x, s.cell.y, s.cell.z);
+        let d = sigma_t * (s.t1 - s.t0);
+        if (tau + d >= tau_target && sigma_t > 0.0) {
+            return clamp(s.t0 + (tau_target - tau) / sigma_t, s.t0, s.t1);
         }
         tau += d;
     }

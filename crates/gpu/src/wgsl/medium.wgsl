@@ -78,9 +78,9 @@ fn trilinear(m: MediumGpu, p: vec3<f32>) -> f32 {
     return c0 + w.z * (c1 - c0);
 }
 
-// fogbank_estimators::lookup::sigma_t: counts the lookup first, then draws
+// fogbank_estimators::lookup::sigma_t_at: counts the lookup first, then draws
 // the stochastic-filter jitter from the lookup count and one random word.
-fn sigma_t(m: MediumGpu, p: vec3<f32>, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+fn sigma_t_at(m: MediumGpu, p: vec3<f32>, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
     *lookups += 1u;
     if (m.filter_mode == 2u) {
         let h = pcg3d(vec3<u32>(pcg32_next_u32(rng), *lookups, 0x9e3779b9u));

@@ -18,34 +18,34 @@ fn null_collision_walk(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32,
     var s: DdaStep;
     while (dda_next(&dda, &s)) {
         let sv = supervoxel(m, s.cell);
-        var sigma_bar = sv.y;
-        var mu_c = 0.0;
+        var sigma_maj = sv.y;
+        var sigma_c = 0.0;
         if (mode == WALK_RESIDUAL) {
             if (sv.y <= 0.0) {
                 continue;
             }
-            mu_c = control_extinction(sv, diagonal);
-            tau_c += (s.t1 - s.t0) * mu_c;
-            sigma_bar = max(sv.y - mu_c, mu_c - sv.x);
+            sigma_c = control_extinction(sv, diagonal);
+            tau_c += (s.t1 - s.t0) * sigma_c;
+            sigma_maj = max(sv.y - sigma_c, sigma_c - sv.x);
         }
-        if (sigma_bar <= 0.0) {
+        if (sigma_maj <= 0.0) {
             continue;
         }
         var t = s.t0;
         loop {
-            t += -log(1.0 - pcg32_next_f32(rng)) / sigma_bar;
+            t += -log(1.0 - pcg32_next_f32(rng)) / sigma_maj;
             if (t >= s.t1) {
                 break;
             }
-            let mu = sigma_t(m, ray_at(r, t), rng, lookups);
+            let sigma_t = sigma_t_at(m, ray_at(r, t), rng, lookups);
             if (mode == WALK_TRACK_LENGTH) {
-                if (!(pcg32_next_f32(rng) * sigma_bar >= mu)) {
+                if (!(pcg32_next_f32(rng) * sigma_maj >= sigma_t)) {
                     return 0.0;
                 }
             } else if (mode == WALK_RESIDUAL) {
-                tr *= 1.0 - (mu - mu_c) / sigma_bar;
+                tr *= 1.0 - (sigma_t - sigma_c) / sigma_maj;
             } else {
-                tr *= 1.0 - mu / sigma_bar;
+                tr *= 1.0 - sigma_t / sigma_maj;
                 if (tr == 0.0) {
                     return 0.0;
                 }

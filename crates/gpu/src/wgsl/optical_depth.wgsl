@@ -80,8 +80,8 @@ fn od_estimates(m: MediumGpu, r: Ray, prep: Prepared, f_delta: f32, mean_importa
         f += len * p;
         while (f_delta * cursor[j] < f) {
             let t = clamp(s.t1 - (f - f_delta * cursor[j]) / p, s.t0, s.t1);
-            let mu = sigma_t(m, ray_at(r, t), rng, lookups);
-            (*out)[j] += (mu - pc.y) / p;
+            let sigma_t = sigma_t_at(m, ray_at(r, t), rng, lookups);
+            (*out)[j] += (sigma_t - pc.y) / p;
             if (uniform_jitter) {
                 cursor[j] = cursor[j] + 1.0;
             } else {

@@ -21,7 +21,7 @@ fn balance_guarded(q: f32, p: f32) -> f32 {
 // read at the collision and the ratio-tracking product of its null events.
 struct TrackedFlight {
     t: f32,
-    mu: f32,
+    sigma_t: f32,
     ratio: f32,
 }
 
@@ -31,23 +31,23 @@ fn delta_tracking_ratio(m: MediumGpu, r: Ray, t0: f32, t1: f32,
     var dda = dda_new(r, m.sv_size, m.sv_dims, t0, t1);
     var s: DdaStep;
     while (dda_next(&dda, &s)) {
-        let sigma_bar = supervoxel(m, s.cell).y;
-        if (sigma_bar <= 0.0) {
+        let sigma_maj = supervoxel(m, s.cell).y;
+        if (sigma_maj <= 0.0) {
             continue;
         }
         var t = s.t0;
         loop {
-            t += -log(1.0 - pcg32_next_f32(rng)) / sigma_bar;
+            t += -log(1.0 - pcg32_next_f32(rng)) / sigma_maj;
             if (t >= s.t1) {
                 break;
             }
-            let mu = sigma_t(m, ray_at(r, t), rng, lookups);
-            if (pcg32_next_f32(rng) * sigma_bar < mu) {
+            let sigma_t = sigma_t_at(m, ray_at(r, t), rng, lookups);
+            if (pcg32_next_f32(rng) * sigma_maj < sigma_t) {
                 out.t = t;
-                out.mu = mu;
+                out.sigma_t = sigma_t;
                 return out;
             }
-            out.ratio *= 1.0 - mu / sigma_bar;
+            out.ratio *= 1.0 - sigma_t / sigma_maj;
         }
     }
     return out;
@@ -153,8 +153,8 @@ fn depths(m: MediumGpu, s: Segment, t: f32, naive: bool, rng: ptr<function, Pcg3
     return vec2<f32>(x[0], x[1]);
 }
 
-fn mu_at(m: MediumGpu, s: Segment, t: f32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
-    return sigma_t(m, ray_at(s.index, t), rng, lookups);
+fn segment_sigma_t(m: MediumGpu, s: Segment, t: f32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    return sigma_t_at(m, ray_at(s.index, t), rng, lookups);
 }
 
 fn finite(x: f32) -> bool {
@@ -198,21 +198,21 @@ fn point_mis_radiance(m: MediumGpu, s: Segment, rng: ptr<function, Pcg32>,
             if (STRATEGY == STRATEGY_FREE_FLIGHT) {
                 c = 1.0;
             } else if (STRATEGY == STRATEGY_MIS_MILLER) {
-                c = balance_guarded(f.mu * f.ratio, equiangular_pdf(s.world, s.light, s.a, s.b, t));
+                c = balance_guarded(f.sigma_t * f.ratio, equiangular_pdf(s.world, s.light, s.a, s.b, t));
                 if (!(c > 0.0)) {
                     continue;
                 }
             } else {
-                var mu = f.mu;
+                var sigma_t = f.sigma_t;
                 if (jitter) {
-                    mu = mu_at(m, s, t, rng, lookups);
+                    sigma_t = segment_sigma_t(m, s, t, rng, lookups);
                 }
-                if (eq10 && mu <= 0.0) {
+                if (eq10 && sigma_t <= 0.0) {
                     continue;
                 }
                 let x = depths(m, s, t, naive, rng, lookups);
                 let p = equiangular_pdf(s.world, s.light, s.a, s.b, t);
-                c = mis_weight(mu, 0.0, mu, p, x.x, x.y);
+                c = mis_weight(sigma_t, 0.0, sigma_t, p, x.x, x.y);
                 if (c == 0.0 || !finite(c)) {
                     continue;
                 }
@@ -228,33 +228,33 @@ fn point_mis_radiance(m: MediumGpu, s: Segment, rng: ptr<function, Pcg32>,
                 continue;
             }
             t = e.x;
-            let mu_w = mu_at(m, s, t, rng, lookups);
-            var mu = mu_w;
+            let sigma_t_w = segment_sigma_t(m, s, t, rng, lookups);
+            var sigma_t = sigma_t_w;
             if (STRATEGY == STRATEGY_MIS_JACKKNIFE && jitter) {
-                mu = mu_at(m, s, t, rng, lookups);
+                sigma_t = segment_sigma_t(m, s, t, rng, lookups);
             }
-            if (mu <= 0.0) {
+            if (sigma_t <= 0.0) {
                 continue;
             }
             if (STRATEGY == STRATEGY_EQUIANGULAR) {
-                c = ratio_tracking(m, s.index, s.a, t, rng, lookups) * mu / e.y;
+                c = ratio_tracking(m, s.index, s.a, t, rng, lookups) * sigma_t / e.y;
             } else if (STRATEGY == STRATEGY_MIS_MILLER) {
                 let tr = ratio_tracking(m, s.index, s.a, t, rng, lookups);
-                c = balance_guarded(mu * tr, e.y);
+                c = balance_guarded(sigma_t * tr, e.y);
                 if (c == 0.0) {
                     continue;
                 }
             } else if (STRATEGY == STRATEGY_MIS_JACKKNIFE) {
                 let x = depths(m, s, t, false, rng, lookups);
-                let w0 = mis_weight(0.0, e.y, mu_w, e.y, x.x, x.y);
+                let w0 = mis_weight(0.0, e.y, sigma_t_w, e.y, x.x, x.y);
                 let tr = ratio_tracking(m, s.index, s.a, t, rng, lookups);
-                c = w0 * tr * mu / e.y;
+                c = w0 * tr * sigma_t / e.y;
                 if (c == 0.0 || !finite(c)) {
                     continue;
                 }
             } else {
                 let x = depths(m, s, t, naive, rng, lookups);
-                c = mis_weight(mu, 0.0, mu, e.y, x.x, x.y);
+                c = mis_weight(sigma_t, 0.0, sigma_t, e.y, x.x, x.y);
                 if (c == 0.0 || !finite(c)) {
                     continue;
                 }

@@ -18,7 +18,7 @@ fn ray_marching(m: MediumGpu, r: Ray, t0: f32, t1: f32, samples: u32, clip: bool
     let u = pcg32_next_f32(rng);
     var sum = 0.0;
     for (var i = 0u; i < n; i++) {
-        sum += sigma_t(m, ray_at(r, a + (f32(i) + u) * dt), rng, lookups);
+        sum += sigma_t_at(m, ray_at(r, a + (f32(i) + u) * dt), rng, lookups);
     }
     return exp(-(sum * dt));
 }

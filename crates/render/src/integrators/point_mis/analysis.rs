@@ -104,18 +104,18 @@ impl PointMis {
         let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
         let mut ts = [None, None];
         if let Some(t1) = f.t {
-            ts[0] = Some((t1, p0(t1), Some(f.mu)));
+            ts[0] = Some((t1, p0(t1), Some(f.sigma_t)));
         }
         if pdf0 > 0.0 && pdf0.is_finite() {
             ts[1] = Some((t0, pdf0, None));
         }
         let mut total = Vec3::ZERO;
         for (t, p, known_mu) in ts.into_iter().flatten() {
-            let mu = match known_mu {
+            let sigma_t = match known_mu {
                 Some(m) if !v.needs_jitter() => m,
-                _ => Self::mu(v, s, t, rng, &mut lookups),
+                _ => Self::segment_sigma_t(v, s, t, rng, &mut lookups),
             };
-            if mu <= 0.0 {
+            if sigma_t <= 0.0 {
                 continue;
             }
             let ls = self.in_scattered(s, t, rng, &mut lookups);
@@ -127,7 +127,7 @@ impl PointMis {
                 rng,
             )
             .transmittance as f64;
-            let (m, p) = (mu as f64, p as f64);
+            let (m, p) = (sigma_t as f64, p as f64);
             let g = balance(m * tr, p);
             total += ls * g as f32;
             for (&n, e) in mis_samples.iter().zip(errors.iter_mut()) {
@@ -193,11 +193,11 @@ fn weights_pair<V: VolumeAccess>(
     lookups: &mut u32,
 ) -> (f64, f64) {
     let p = p0 as f64;
-    let mu0 = PointMis::mu(v, s, t, rng, lookups) as f64;
+    let sigma_t0 = PointMis::segment_sigma_t(v, s, t, rng, lookups) as f64;
     let (a0, a1) = pm.depths(v, s, t, false, rng, lookups);
-    let w0 = mis_weight(0.0, p, mu0, p, a0, a1);
-    let mu1 = PointMis::mu(v, s, t, rng, lookups) as f64;
+    let w0 = mis_weight(0.0, p, sigma_t0, p, a0, a1);
+    let sigma_t1 = PointMis::segment_sigma_t(v, s, t, rng, lookups) as f64;
     let (b0, b1) = pm.depths(v, s, t, false, rng, lookups);
-    let w1 = mis_weight(mu1, 0.0, mu1, p, b0, b1);
+    let w1 = mis_weight(sigma_t1, 0.0, sigma_t1, p, b0, b1);
     (w0, w1)
 }

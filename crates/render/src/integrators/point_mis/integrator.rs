@@ -14,7 +14,7 @@ use crate::world::World;
 use fogbank_estimators::distance::{delta_tracking_ratio, equiangular};
 use fogbank_estimators::jackknife::{optical_depths, StepMode};
 use fogbank_estimators::jackknife_function::mis_weight;
-use fogbank_estimators::lookup::sigma_t;
+use fogbank_estimators::lookup::sigma_t_at;
 use fogbank_estimators::optical_depth::{Importance, Jitter};
 use fogbank_estimators::{ratio_tracking, transmittance, Estimator};
 use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
@@ -163,8 +163,8 @@ impl PointMis {
     }
 
     /// σ_t at parameter t (one lookup).
-    pub(super) fn mu<V: VolumeAccess>(v: &V, s: &Segment, t: f32, rng: &mut Pcg32, lookups: &mut u32) -> f32 {
-        sigma_t(v, s.index.at(t), rng, lookups)
+    pub(super) fn segment_sigma_t<V: VolumeAccess>(v: &V, s: &Segment, t: f32, rng: &mut Pcg32, lookups: &mut u32) -> f32 {
+        sigma_t_at(v, s.index.at(t), rng, lookups)
     }
 
     fn radiance<V: VolumeAccess>(
@@ -187,12 +187,12 @@ impl PointMis {
             Strategy::Equiangular => {
                 let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
                 if pdf0 > 0.0 && pdf0.is_finite() {
-                    let mu = Self::mu(v, s, t0, rng, lookups);
-                    if mu > 0.0 {
+                    let sigma_t = Self::segment_sigma_t(v, s, t0, rng, lookups);
+                    if sigma_t > 0.0 {
                         let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng);
                         *lookups += tr.lookups;
                         let l = self.in_scattered(s, t0, rng, lookups);
-                        total += l * (tr.transmittance * mu / pdf0);
+                        total += l * (tr.transmittance * sigma_t / pdf0);
                     }
                 }
             }
@@ -202,7 +202,7 @@ impl PointMis {
                 let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
                 *lookups += f.lookups;
                 if let Some(t1) = f.t {
-                    let w1 = balance(f.mu * f.ratio, p0(t1));
+                    let w1 = balance(f.sigma_t * f.ratio, p0(t1));
                     if w1 > 0.0 {
                         total += self.in_scattered(s, t1, rng, lookups) * w1;
                     }
@@ -211,11 +211,11 @@ impl PointMis {
                 // gives both T(t0) and the weight; w0 T μ / p0 = q/(p0 + q).
                 let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
                 if pdf0 > 0.0 && pdf0.is_finite() {
-                    let mu = Self::mu(v, s, t0, rng, lookups);
-                    if mu > 0.0 {
+                    let sigma_t = Self::segment_sigma_t(v, s, t0, rng, lookups);
+                    if sigma_t > 0.0 {
                         let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng);
                         *lookups += tr.lookups;
-                        let c = balance(mu * tr.transmittance, pdf0);
+                        let c = balance(sigma_t * tr.transmittance, pdf0);
                         if c != 0.0 {
                             total += self.in_scattered(s, t0, rng, lookups) * c;
                         }
@@ -231,33 +231,33 @@ impl PointMis {
                 if let Some(t1) = f.t {
                     // The value read by delta tracking is correlated with the
                     // acceptance under stochastic filtering; read afresh.
-                    let mu = if v.needs_jitter() {
-                        Self::mu(v, s, t1, rng, lookups)
+                    let sigma_t = if v.needs_jitter() {
+                        Self::segment_sigma_t(v, s, t1, rng, lookups)
                     } else {
-                        f.mu
+                        f.sigma_t
                     };
                     let (x0, x1) = self.depths(v, s, t1, false, rng, lookups);
-                    let (mu, p) = (mu as f64, p0(t1) as f64);
-                    let w1 = mis_weight(mu, 0.0, mu, p, x0, x1) as f32;
+                    let (sigma_t, p) = (sigma_t as f64, p0(t1) as f64);
+                    let w1 = mis_weight(sigma_t, 0.0, sigma_t, p, x0, x1) as f32;
                     if w1 != 0.0 && w1.is_finite() {
                         total += self.in_scattered(s, t1, rng, lookups) * w1;
                     }
                 }
                 let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
                 if pdf0 > 0.0 && pdf0.is_finite() {
-                    let mu_w = Self::mu(v, s, t0, rng, lookups);
-                    let mu = if v.needs_jitter() {
-                        Self::mu(v, s, t0, rng, lookups)
+                    let sigma_t_w = Self::segment_sigma_t(v, s, t0, rng, lookups);
+                    let sigma_t = if v.needs_jitter() {
+                        Self::segment_sigma_t(v, s, t0, rng, lookups)
                     } else {
-                        mu_w
+                        sigma_t_w
                     };
-                    if mu > 0.0 {
+                    if sigma_t > 0.0 {
                         let (x0, x1) = self.depths(v, s, t0, false, rng, lookups);
-                        let (mw, p) = (mu_w as f64, pdf0 as f64);
+                        let (mw, p) = (sigma_t_w as f64, pdf0 as f64);
                         let w0 = mis_weight(0.0, p, mw, p, x0, x1) as f32;
                         let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng);
                         *lookups += tr.lookups;
-                        let c = w0 * tr.transmittance * mu / pdf0;
+                        let c = w0 * tr.transmittance * sigma_t / pdf0;
                         if c != 0.0 && c.is_finite() {
                             total += self.in_scattered(s, t0, rng, lookups) * c;
                         }
@@ -274,21 +274,21 @@ impl PointMis {
                 let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
                 let mut ts = [None, None];
                 if let Some(t1) = f.t {
-                    ts[0] = Some((t1, p0(t1), Some(f.mu)));
+                    ts[0] = Some((t1, p0(t1), Some(f.sigma_t)));
                 }
                 if pdf0 > 0.0 && pdf0.is_finite() {
                     ts[1] = Some((t0, pdf0, None));
                 }
                 for (t, p, known_mu) in ts.into_iter().flatten() {
-                    let mu = match known_mu {
+                    let sigma_t = match known_mu {
                         Some(m) if !v.needs_jitter() => m,
-                        _ => Self::mu(v, s, t, rng, lookups),
+                        _ => Self::segment_sigma_t(v, s, t, rng, lookups),
                     };
-                    if mu <= 0.0 {
+                    if sigma_t <= 0.0 {
                         continue;
                     }
                     let (x0, x1) = self.depths(v, s, t, naive, rng, lookups);
-                    let m = mu as f64;
+                    let m = sigma_t as f64;
                     let g = mis_weight(m, 0.0, m, p as f64, x0, x1) as f32;
                     if g != 0.0 && g.is_finite() {
                         total += self.in_scattered(s, t, rng, lookups) * g;
