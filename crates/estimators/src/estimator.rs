@@ -190,16 +190,15 @@ impl Estimator {
 
     /// The option keys estimator `name` takes (`None`: no such estimator).
     pub fn option_keys(name: &str) -> Option<&'static [&'static str]> {
-        INFO.iter().any(|i| i.name == name).then(|| -> &'static [&'static str] {
-            match name {
-                "ray_marching" => &["samples", "clip"],
-                "biased_ray_marching" => &["doubled"],
-                "unbiased_ray_marching" => &["mult"],
-                "jackknife" => &["samples", "mode", "step", "jitter"],
-                "jackknife_naive" | "jackknife_mean_importance" => &["samples", "jitter"],
-                _ => &[],
-            }
-        })
+        let keys: &'static [&'static str] = match name {
+            "ray_marching" => &["samples", "clip"],
+            "biased_ray_marching" => &["doubled"],
+            "unbiased_ray_marching" => &["mult"],
+            "jackknife" => &["samples", "mode", "step", "jitter"],
+            "jackknife_naive" | "jackknife_mean_importance" => &["samples", "jitter"],
+            _ => &[],
+        };
+        INFO.iter().any(|i| i.name == name).then_some(keys)
     }
 
     /// The options that give this estimator back through

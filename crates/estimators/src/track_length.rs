@@ -2,7 +2,7 @@
 //! super-voxel majorant grid, returning 1 if no real collision happens before
 //! the end of the segment and 0 otherwise. Unbiased, variance (1 − T)T.
 
-use crate::null_collisions::walk;
+use crate::distance::delta_tracking;
 use crate::Estimate;
 use fogbank_math::{Pcg32, Ray};
 use fogbank_volume::VolumeAccess;
@@ -14,20 +14,9 @@ pub fn transmittance<V: VolumeAccess>(
     t1: f32,
     rng: &mut Pcg32,
 ) -> Estimate {
-    let mut lookups = 0;
-    // A collision is real with probability σ_t/σ̄; the first one ends the walk.
-    let escaped = walk(
-        v,
-        ray,
-        t0,
-        t1,
-        rng,
-        &mut lookups,
-        |s, _| (s.max, 0.0),
-        |_, sigma_t, sigma_maj, _, rng| rng.next_f32() * sigma_maj >= sigma_t,
-    );
+    let f = delta_tracking::sample(v, ray, t0, t1, rng);
     Estimate {
-        transmittance: if escaped { 1.0 } else { 0.0 },
-        lookups,
+        transmittance: if f.t.is_none() { 1.0 } else { 0.0 },
+        lookups: f.lookups,
     }
 }

@@ -118,9 +118,9 @@ fn regular_tracking_matches_exact_voxel_sums() {
             continue;
         };
         let mut ts = vec![t0 as f64, t1 as f64];
-        for a in 0..3 {
+        for (a, &na) in n.iter().enumerate() {
             if ray.d[a] != 0.0 {
-                for c in 0..=n[a] {
+                for c in 0..=na {
                     let t = (c as f64 - ray.o[a] as f64) / ray.d[a] as f64;
                     if t > t0 as f64 && t < t1 as f64 {
                         ts.push(t);

@@ -212,18 +212,7 @@ impl LightBuffers {
             &ext_buf,
             &bb_buf,
         ];
-        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("lights"),
-            layout: &bind_group_layout,
-            entries: &bufs
-                .iter()
-                .enumerate()
-                .map(|(i, b)| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: b.as_entire_binding(),
-                })
-                .collect::<Vec<_>>(),
-        });
+        let bind_group = gpu.bind_group_of("lights", &bind_group_layout, &bufs);
         Ok(LightBuffers {
             bind_group_layout,
             bind_group,

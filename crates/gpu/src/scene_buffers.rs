@@ -142,18 +142,7 @@ impl SceneBuffers {
                     label: Some("media"),
                     entries: &entries,
                 });
-        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("media"),
-            layout: &bind_group_layout,
-            entries: &bufs
-                .iter()
-                .enumerate()
-                .map(|(i, b)| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: b.as_entire_binding(),
-                })
-                .collect::<Vec<_>>(),
-        });
+        let bind_group = gpu.bind_group_of("media", &bind_group_layout, &bufs.each_ref());
         Ok(SceneBuffers {
             media,
             properties,
@@ -164,20 +153,33 @@ impl SceneBuffers {
     }
 }
 
-fn pack_medium(m: &Medium, camera: glam::Vec3, p: &mut Packed) -> Result<MediumGpu, GpuError> {
-    let (offsets, precision, dims) = match &m.data {
-        DensityData::F16(g) => (pack_grid(g, p, pack_f16), 0, g.dims()),
-        DensityData::F32(g) => (
+/// (table, constants, data offsets), storage, dimensions.
+type PackedData = ((u32, u32, u32), u32, [u32; 3]);
+
+/// Packs a grid's bricks: (table, constants, data offsets), storage (0 f16,
+/// 1 f32) and dimensions; analytic data is refused with `analytic_error`.
+fn pack_data(
+    data: &DensityData,
+    p: &mut Packed,
+    analytic_error: &str,
+) -> Result<PackedData, GpuError> {
+    match data {
+        DensityData::F16(g) => Ok((pack_grid(g, p, pack_f16), 0, g.dims())),
+        DensityData::F32(g) => Ok((
             pack_grid(g, p, |d| d.iter().map(|v| v.to_bits()).collect()),
             1,
             g.dims(),
-        ),
-        DensityData::Analytic(_) => {
-            return Err(GpuError(
-                "analytic media are CPU-only; use a voxel grid (cloud, vdb, vol, raw)".into(),
-            ))
-        }
-    };
+        )),
+        DensityData::Analytic(_) => Err(GpuError(analytic_error.into())),
+    }
+}
+
+fn pack_medium(m: &Medium, camera: glam::Vec3, p: &mut Packed) -> Result<MediumGpu, GpuError> {
+    let (offsets, precision, dims) = pack_data(
+        &m.data,
+        p,
+        "analytic media are CPU-only; use a voxel grid (cloud, vdb, vol, raw)",
+    )?;
     let sv_offset = p.supervoxels.len() as u32;
     p.supervoxels.extend(
         m.supervoxels
@@ -218,19 +220,11 @@ fn pack_property(
     w2i: fogbank_math::DAffine3,
     p: &mut Packed,
 ) -> Result<MediumGpu, GpuError> {
-    let (offsets, storage, dims) = match data {
-        DensityData::F16(g) => (pack_grid(g, p, pack_f16), 0, g.dims()),
-        DensityData::F32(g) => (
-            pack_grid(g, p, |d| d.iter().map(|v| v.to_bits()).collect()),
-            1,
-            g.dims(),
-        ),
-        DensityData::Analytic(_) => {
-            return Err(GpuError(
-                "analytic property grids are CPU-only; use a voxel grid".into(),
-            ))
-        }
-    };
+    let (offsets, storage, dims) = pack_data(
+        data,
+        p,
+        "analytic property grids are CPU-only; use a voxel grid",
+    )?;
     let sv_offset = p.supervoxels.len() as u32;
     p.supervoxels.push([0.0; 4]);
     Ok(MediumGpu {

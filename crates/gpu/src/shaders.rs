@@ -18,6 +18,7 @@ pub const KETTUNEN: &str = include_str!("wgsl/kettunen.wgsl");
 pub const RNG_STREAMS_KERNEL: &str = include_str!("wgsl/rng_streams_kernel.wgsl");
 pub const FRAME: &str = include_str!("wgsl/frame.wgsl");
 pub const DISTANCE: &str = include_str!("wgsl/distance.wgsl");
+pub const MIS: &str = include_str!("wgsl/mis.wgsl");
 pub const PHASE: &str = include_str!("wgsl/phase.wgsl");
 pub const LIGHTS: &str = include_str!("wgsl/lights.wgsl");
 pub const PROPERTIES: &str = include_str!("wgsl/properties.wgsl");
@@ -36,6 +37,7 @@ pub fn estimators() -> String {
         DDA,
         REGULAR_TRACKING,
         NULL_COLLISIONS,
+        DISTANCE,
         TRACK_LENGTH,
         RATIO_TRACKING,
         RESIDUAL_RATIO_TRACKING,
@@ -52,32 +54,28 @@ pub fn transmittance_kernel() -> String {
     [&estimators(), FRAME, TRANSMITTANCE_KERNEL, ACCUMULATE].join("\n")
 }
 
-/// `direct` and `volpath`.
-pub fn scatter_kernel() -> String {
+/// A scattering integrator's kernel: the estimators, the frame, MIS, phase,
+/// lights and medium properties, then `kernel`'s own source.
+fn scattering_kernel(kernel: &str) -> String {
     [
         &estimators(),
         FRAME,
-        DISTANCE,
+        MIS,
         PHASE,
         LIGHTS,
         PROPERTIES,
-        SCATTER_KERNEL,
+        kernel,
         ACCUMULATE,
     ]
     .join("\n")
 }
 
+/// `direct` and `volpath`.
+pub fn scatter_kernel() -> String {
+    scattering_kernel(SCATTER_KERNEL)
+}
+
 /// `point_mis`.
 pub fn point_mis_kernel() -> String {
-    [
-        &estimators(),
-        FRAME,
-        DISTANCE,
-        PHASE,
-        LIGHTS,
-        PROPERTIES,
-        POINT_MIS_KERNEL,
-        ACCUMULATE,
-    ]
-    .join("\n")
+    scattering_kernel(POINT_MIS_KERNEL)
 }

@@ -227,7 +227,7 @@ fn bad_medium_properties_are_named() {
         let extra: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
         match parse_scene(text, "t", &extra) {
             Err(e) => e.0,
-            Ok(d) => Scene::build(d, Path::new(".")).err().expect("must fail").0,
+            Ok(d) => Scene::build(d, Path::new(".")).expect_err("must fail").0,
         }
     };
     assert!(err(&["media.0.albedo=[1.5, 0.5, 0.5]"]).contains("media.0.albedo"));

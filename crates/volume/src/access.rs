@@ -322,7 +322,7 @@ mod access_test {
                 };
                 if t % 4 >= 2 {
                     for a in 0..3 {
-                        if rng.next_u32() % 2 == 0 {
+                        if rng.next_u32().is_multiple_of(2) {
                             p[a] = special(a, rng);
                         }
                     }

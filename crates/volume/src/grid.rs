@@ -413,7 +413,7 @@ mod grid_test {
                     } else {
                         (i + 100 * j + 10_000 * k) as f32
                     };
-                    assert_eq!(g.fetch(i as i32, j as i32, k as i32), e);
+                    assert_eq!(g.fetch(i, j, k), e);
                 }
             }
         }

@@ -3,13 +3,13 @@
 //! reduces it: "For free-flight sampling, T_rt(t1) reuses the null-scattering
 //! events of delta tracking", T_rt(t) = Π_{j<k} (1 − μ(t'_j)/μ̂(t'_j)).
 //!
-//! The tentative collisions are those of [`crate::null_collisions::walk`]
-//! with the super-voxel maximum as rate, exactly the process of
-//! [`super::delta_tracking`] and [`crate::ratio_tracking`], so ratio tracking
+//! The tentative collisions are those of [`super::delta_tracking::track`]
+//! (the super-voxel maximum as rate), the process of [`crate::ratio_tracking`]
+//! too, so ratio tracking
 //! along `[t0, t]` for another distance sample describes the same null path
 //! space (Miller et al.'s pdfs then share every factor but the last).
 
-use crate::null_collisions::walk;
+use super::delta_tracking::track;
 use fogbank_math::{Pcg32, Ray};
 use fogbank_volume::VolumeAccess;
 
@@ -33,33 +33,15 @@ pub fn sample<V: VolumeAccess>(
     t1: f32,
     rng: &mut Pcg32,
 ) -> TrackedFreeFlight {
-    let mut out = TrackedFreeFlight {
-        t: None,
-        sigma_t: 0.0,
-        ratio: 1.0,
-        lookups: 0,
-    };
     let mut lookups = 0;
-    walk(
-        v,
-        ray,
-        t0,
-        t1,
-        rng,
-        &mut lookups,
-        |s, _| (s.max, 0.0),
-        |t, sigma_t, sigma_maj, _, rng| {
-            // Same acceptance test and draw order as `delta_tracking::sample`.
-            if rng.next_f32() * sigma_maj < sigma_t {
-                out.t = Some(t);
-                out.sigma_t = sigma_t;
-                false
-            } else {
-                out.ratio *= 1.0 - sigma_t / sigma_maj;
-                true
-            }
-        },
-    );
-    out.lookups = lookups;
-    out
+    let mut ratio = 1.0;
+    let hit = track(v, ray, t0, t1, rng, &mut lookups, |sigma_t, sigma_maj| {
+        ratio *= 1.0 - sigma_t / sigma_maj;
+    });
+    TrackedFreeFlight {
+        t: hit.map(|(t, _)| t),
+        sigma_t: hit.map_or(0.0, |(_, s)| s),
+        ratio,
+        lookups,
+    }
 }

@@ -3,9 +3,19 @@
 
 const NO_HIT: f32 = -1.0;
 
-// Delta tracking over super-voxel majorants.
-fn delta_tracking_sample(m: MediumGpu, r: Ray, t0: f32, t1: f32,
-                         rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+// distance::delta_tracking::track and delta_tracking_ratio::sample: delta
+// tracking over super-voxel majorants that also returns the σ_t read at the
+// collision and the ratio-tracking product of its null events. The one
+// delta-tracking loop: free-flight sampling, track-length and point_mis use it.
+struct TrackedFlight {
+    t: f32,
+    sigma_t: f32,
+    ratio: f32,
+}
+
+fn delta_tracking_ratio(m: MediumGpu, r: Ray, t0: f32, t1: f32,
+                        rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> TrackedFlight {
+    var out = TrackedFlight(NO_HIT, 0.0, 1.0);
     var dda = dda_new(r, m.sv_size, m.sv_dims, t0, t1);
     var s: DdaStep;
     while (dda_next(&dda, &s)) {
@@ -21,11 +31,20 @@ fn delta_tracking_sample(m: MediumGpu, r: Ray, t0: f32, t1: f32,
             }
             let sigma_t = sigma_t_at(m, ray_at(r, t), rng, lookups);
             if (pcg32_next_f32(rng) * sigma_maj < sigma_t) {
-                return t;
+                out.t = t;
+                out.sigma_t = sigma_t;
+                return out;
             }
+            out.ratio *= 1.0 - sigma_t / sigma_maj;
         }
     }
-    return NO_HIT;
+    return out;
+}
+
+// distance::delta_tracking::sample.
+fn delta_tracking_sample(m: MediumGpu, r: Ray, t0: f32, t1: f32,
+                         rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    return delta_tracking_ratio(m, r, t0, t1, rng, lookups).t;
 }
 
 // Decomposition tracking (Kutz et al. 2017): the super-voxel minimum as a

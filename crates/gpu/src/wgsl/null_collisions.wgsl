@@ -4,9 +4,8 @@
 // residual ratio tracking (control μ_c per super-voxel, ratio tracking of
 // the residual with majorant max(μ_max − μ_c, μ_c − μ_min)).
 
-const WALK_TRACK_LENGTH: u32 = 0u;
-const WALK_RATIO: u32 = 1u;
-const WALK_RESIDUAL: u32 = 2u;
+const WALK_RATIO: u32 = 0u;
+const WALK_RESIDUAL: u32 = 1u;
 
 fn null_collision_walk(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32,
                        rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
@@ -38,11 +37,7 @@ fn null_collision_walk(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32,
                 break;
             }
             let sigma_t = sigma_t_at(m, ray_at(r, t), rng, lookups);
-            if (mode == WALK_TRACK_LENGTH) {
-                if (!(pcg32_next_f32(rng) * sigma_maj >= sigma_t)) {
-                    return 0.0;
-                }
-            } else if (mode == WALK_RESIDUAL) {
+            if (mode == WALK_RESIDUAL) {
                 tr *= 1.0 - (sigma_t - sigma_c) / sigma_maj;
             } else {
                 tr *= 1.0 - sigma_t / sigma_maj;

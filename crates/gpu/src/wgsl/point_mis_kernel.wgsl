@@ -9,50 +9,6 @@
 // inlined make one kernel that takes lavapipe half a minute to compile).
 override STRATEGY: u32 = 0u;
 
-fn balance_guarded(q: f32, p: f32) -> f32 {
-    let d = q + p;
-    if (d > 0.0 && d < F32_INF) {
-        return q / d;
-    }
-    return 0.0;
-}
-
-// delta_tracking_ratio::sample: delta tracking that also returns the σ_t
-// read at the collision and the ratio-tracking product of its null events.
-struct TrackedFlight {
-    t: f32,
-    sigma_t: f32,
-    ratio: f32,
-}
-
-fn delta_tracking_ratio(m: MediumGpu, r: Ray, t0: f32, t1: f32,
-                        rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> TrackedFlight {
-    var out = TrackedFlight(NO_HIT, 0.0, 1.0);
-    var dda = dda_new(r, m.sv_size, m.sv_dims, t0, t1);
-    var s: DdaStep;
-    while (dda_next(&dda, &s)) {
-        let sigma_maj = supervoxel(m, s.cell).y;
-        if (sigma_maj <= 0.0) {
-            continue;
-        }
-        var t = s.t0;
-        loop {
-            t += -log(1.0 - pcg32_next_f32(rng)) / sigma_maj;
-            if (t >= s.t1) {
-                break;
-            }
-            let sigma_t = sigma_t_at(m, ray_at(r, t), rng, lookups);
-            if (pcg32_next_f32(rng) * sigma_maj < sigma_t) {
-                out.t = t;
-                out.sigma_t = sigma_t;
-                return out;
-            }
-            out.ratio *= 1.0 - sigma_t / sigma_maj;
-        }
-    }
-    return out;
-}
-
 // distance::equiangular (Kulla & Fajardo 2012) on the world ray.
 fn equiangular_frame(r: Ray, light: vec3<f32>) -> vec2<f32> {
     let delta = dot(light - r.o, r.d);
@@ -198,7 +154,7 @@ fn point_mis_radiance(m: MediumGpu, s: Segment, rng: ptr<function, Pcg32>,
             if (STRATEGY == STRATEGY_FREE_FLIGHT) {
                 c = 1.0;
             } else if (STRATEGY == STRATEGY_MIS_MILLER) {
-                c = balance_guarded(f.sigma_t * f.ratio, equiangular_pdf(s.world, s.light, s.a, s.b, t));
+                c = balance(f.sigma_t * f.ratio, equiangular_pdf(s.world, s.light, s.a, s.b, t));
                 if (!(c > 0.0)) {
                     continue;
                 }
@@ -240,7 +196,7 @@ fn point_mis_radiance(m: MediumGpu, s: Segment, rng: ptr<function, Pcg32>,
                 c = ratio_tracking(m, s.index, s.a, t, rng, lookups) * sigma_t / e.y;
             } else if (STRATEGY == STRATEGY_MIS_MILLER) {
                 let tr = ratio_tracking(m, s.index, s.a, t, rng, lookups);
-                c = balance_guarded(sigma_t * tr, e.y);
+                c = balance(sigma_t * tr, e.y);
                 if (c == 0.0) {
                     continue;
                 }

@@ -7,13 +7,6 @@
 // Russian roulette on the throughput after rr_depth bounces.
 
 
-fn balance(a: f32, b: f32) -> f32 {
-    if (a + b > 0.0) {
-        return a / (a + b);
-    }
-    return 0.0;
-}
-
 fn free_flight(m: MediumGpu, r: Ray, t0: f32, t1: f32,
                rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
     switch frame.sampler {

@@ -5,9 +5,8 @@
 
 use super::integrator::{depths_n, PointMis, Segment};
 use super::strategy::Strategy;
-use crate::integrators::shared::{balance, estimator_rng, primary_ray};
+use crate::integrators::shared::{balance, estimator_rng};
 use crate::lights::sample::LightSampler;
-use crate::lights::Light;
 use crate::world::medium::SceneMedium;
 use crate::world::phase::HenyeyGreenstein;
 use crate::world::World;
@@ -51,32 +50,8 @@ impl PointMis {
             return None;
         }
         let mut rng = estimator_rng(key);
-        let ray = primary_ray(world, x, y, key);
-        let Some((index, a, b)) = medium.medium.to_index(&ray, 0.0, f32::INFINITY) else {
+        let Some((seg, pmf)) = self.begin(world, x, y, key, &mut rng) else {
             return Some(Vec3::ZERO);
-        };
-        let Some((li, pmf)) = self.lights.pick(rng.next_f32()) else {
-            return Some(Vec3::ZERO);
-        };
-        let Light::Point {
-            position,
-            intensity,
-        } = world.lights[li]
-        else {
-            return Some(Vec3::ZERO);
-        };
-        if pmf <= 0.0 {
-            return Some(Vec3::ZERO);
-        }
-        let seg = Segment {
-            medium,
-            world: ray,
-            index,
-            a,
-            b,
-            light: position,
-            intensity,
-            hg: HenyeyGreenstein { g: medium.phase_g },
         };
         let l = match view {
             MediumView::F16(v) => self.eq10_errors_in(&v, &seg, mis_samples, errors, &mut rng),

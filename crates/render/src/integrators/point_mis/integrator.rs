@@ -82,27 +82,46 @@ pub(super) struct Segment<'a> {
 impl PointMis {
     pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
         let mut rng = estimator_rng(key);
-        let ray = primary_ray(world, x, y, key);
         let mut lookups = 0u32;
-        let zero = PixelSample::default();
-        let Some(medium) = world.media.first() else {
-            return zero;
+        let Some((seg, pmf)) = self.begin(world, x, y, key, &mut rng) else {
+            return PixelSample::default();
         };
-        let Some((index, a, b)) = medium.medium.to_index(&ray, 0.0, f32::INFINITY) else {
-            return zero;
+        let medium = seg.medium;
+        let l = match medium.medium.view() {
+            MediumView::F16(v) => self.radiance(&v, &seg, &mut rng, &mut lookups),
+            MediumView::F32(v) => self.radiance(&v, &seg, &mut rng, &mut lookups),
+            MediumView::Analytic(v) => self.radiance(&v, &seg, &mut rng, &mut lookups),
         };
-        let Some((li, pmf)) = self.lights.pick(rng.next_f32()) else {
-            return zero;
-        };
+        PixelSample {
+            radiance: l / pmf,
+            lookups,
+        }
+    }
+
+    /// The camera ray of a pixel sample inside the medium and the point
+    /// light chosen for it (one draw of `rng`): the segment and the light's
+    /// selection probability, or `None` when the sample adds nothing.
+    pub(super) fn begin<'a>(
+        &self,
+        world: &'a World,
+        x: u32,
+        y: u32,
+        key: SampleKey,
+        rng: &mut Pcg32,
+    ) -> Option<(Segment<'a>, f32)> {
+        let medium = world.media.first()?;
+        let ray = primary_ray(world, x, y, key);
+        let (index, a, b) = medium.medium.to_index(&ray, 0.0, f32::INFINITY)?;
+        let (li, pmf) = self.lights.pick(rng.next_f32())?;
         let Light::Point {
             position,
             intensity,
         } = world.lights[li]
         else {
-            return zero;
+            return None;
         };
         if pmf <= 0.0 {
-            return zero;
+            return None;
         }
         let seg = Segment {
             medium,
@@ -114,15 +133,7 @@ impl PointMis {
             intensity,
             hg: HenyeyGreenstein { g: medium.phase_g },
         };
-        let l = match medium.medium.view() {
-            MediumView::F16(v) => self.radiance(&v, &seg, &mut rng, &mut lookups),
-            MediumView::F32(v) => self.radiance(&v, &seg, &mut rng, &mut lookups),
-            MediumView::Analytic(v) => self.radiance(&v, &seg, &mut rng, &mut lookups),
-        };
-        PixelSample {
-            radiance: l / pmf,
-            lookups,
-        }
+        Some((seg, pmf))
     }
 
     /// L_s(t): single-scattered radiance towards the camera at parameter `t`
