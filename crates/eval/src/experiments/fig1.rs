@@ -12,7 +12,7 @@
 //! 4 × `trials` spp. Bias is the mean signed difference over the pixels the
 //! cloud covers, with its standard error from both renders' variances.
 
-use super::Writer;
+use super::writer::Writer;
 use fogbank_estimators::Estimator;
 use fogbank_render::{load_scene, render, Film, Progress, RenderOptions, Scene};
 use std::path::Path;

@@ -15,7 +15,7 @@
 //! The Disney cloud is not redistributable here; fogbank's procedural cloud
 //! (`procedural::cloud_grid`) stands in for it.
 
-use super::Writer;
+use super::writer::Writer;
 use crate::image_io::{linear_to_srgb, Image};
 use crate::metrics::smape::smape;
 use fogbank_render::integrators::point_mis::Strategy;

@@ -29,7 +29,7 @@
 //! difference of means).
 
 use super::fig12::rgb_mean_and_var;
-use super::Writer;
+use super::writer::Writer;
 use crate::image_io::linear_to_srgb;
 use fogbank_math::{SampleKey, Vec3};
 use fogbank_render::integrators::point_mis::PointMis;

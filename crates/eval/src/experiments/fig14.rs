@@ -13,7 +13,7 @@
 //! compression), `SuperVoxelGrid::build`, and Alg. 2/Alg. 1 with N = 10.
 
 use super::trials::{run_chunked, Moments};
-use super::Writer;
+use super::writer::Writer;
 use crate::plot::{palette, ColourMap, Figure, HeatMap, LinePlot, Mark, Rgb, Series};
 use fogbank_estimators::jackknife::jackknife_transmittance;
 use fogbank_estimators::optical_depth::{estimates, prepare, Importance, Jitter};

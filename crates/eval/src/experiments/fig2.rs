@@ -9,7 +9,7 @@
 
 use super::distributions::{Distribution, Family, FAMILIES};
 use super::trials::{run_chunked, Moments};
-use super::Writer;
+use super::writer::Writer;
 use crate::plot::{palette, Corner, Figure, LinePlot, Series};
 use fogbank_estimators::jackknife::jackknife_transmittance;
 

@@ -10,7 +10,7 @@
 
 use super::distributions::standard_normal;
 use super::trials::run_chunked;
-use super::Writer;
+use super::writer::Writer;
 use crate::plot::{palette, Corner, Figure, LinePlot, Rgb, Series};
 use fogbank_estimators::jackknife::jackknife_transmittance;
 

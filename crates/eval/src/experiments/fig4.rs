@@ -12,7 +12,7 @@
 use super::distributions::{anderson_darling_normal, ks_normal, normal_pdf};
 use super::profile::Profile1D;
 use super::trials::run_chunked;
-use super::Writer;
+use super::writer::Writer;
 use crate::plot::{palette, Figure, Histogram, LinePlot, Rgb, Series};
 use fogbank_estimators::optical_depth::Jitter;
 

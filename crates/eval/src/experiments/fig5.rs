@@ -4,9 +4,10 @@
 //! stratified jittered and i.i.d. uniform sampling, with fitted slopes.
 //! The samplers are the few lines of §4.1 written out directly.
 
+use super::fit::log_log_fit;
 use super::profile::Profile1D;
 use super::trials::run_chunked;
-use super::{log_log_fit, Writer};
+use super::writer::Writer;
 use crate::plot::{palette, Corner, Figure, LinePlot, Series};
 use fogbank_math::Pcg32;
 

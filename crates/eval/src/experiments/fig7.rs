@@ -9,7 +9,7 @@
 
 use super::distributions::standard_normal;
 use super::trials::{run_chunked, Moments};
-use super::Writer;
+use super::writer::Writer;
 use crate::plot::{ColourMap, Figure, HeatMap, Rgb, Series};
 use fogbank_estimators::jackknife_function::mis_weight;
 

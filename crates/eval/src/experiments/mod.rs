@@ -14,12 +14,17 @@ pub mod fig3;
 pub mod fig4;
 pub mod fig5;
 pub mod fig7;
+mod fit;
 pub mod profile;
 pub mod table1;
 pub mod trials;
+mod writer;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+pub use fit::log_log_fit;
+pub use writer::Writer;
 
 /// What a run produced.
 #[derive(Clone, Debug)]
@@ -83,63 +88,4 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         summary,
         seconds,
     })
-}
-
-/// Writes an experiment's files into its output directory and records them.
-pub struct Writer {
-    out: PathBuf,
-    files: Vec<PathBuf>,
-}
-
-impl Writer {
-    pub fn text(&mut self, file: &str, text: &str) -> Result<(), String> {
-        let p = self.out.join(file);
-        std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;
-        self.files.push(p);
-        Ok(())
-    }
-
-    /// A CSV file from a header and rows of already formatted fields.
-    pub fn csv(&mut self, file: &str, header: &[&str], rows: &[Vec<String>]) -> Result<(), String> {
-        let mut s = header.join(",");
-        s.push('\n');
-        for r in rows {
-            s.push_str(&r.join(","));
-            s.push('\n');
-        }
-        self.text(file, &s)
-    }
-
-    /// Where `file` goes, for writers outside this type; `record` it after.
-    pub fn path(&self, file: &str) -> PathBuf {
-        self.out.join(file)
-    }
-
-    pub fn record(&mut self, path: PathBuf) {
-        self.files.push(path);
-    }
-
-    pub fn figure(&mut self, stem: &str, fig: &crate::plot::Figure) -> Result<(), String> {
-        let files = fig.save(&self.out.join(stem))?;
-        self.files.extend(files);
-        Ok(())
-    }
-}
-
-/// Least-squares slope and intercept of log10 y against log10 x.
-pub fn log_log_fit(points: &[(f64, f64)]) -> (f64, f64) {
-    let pts: Vec<(f64, f64)> = points
-        .iter()
-        .filter(|(x, y)| *x > 0.0 && *y > 0.0)
-        .map(|(x, y)| (x.log10(), y.log10()))
-        .collect();
-    let n = pts.len() as f64;
-    let (mx, my) = (
-        pts.iter().map(|p| p.0).sum::<f64>() / n,
-        pts.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let slope = sxy / sxx;
-    (slope, my - slope * mx)
 }

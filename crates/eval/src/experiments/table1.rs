@@ -10,7 +10,7 @@
 
 use super::profile::Profile1D;
 use super::trials::{run_chunked, Moments};
-use super::Writer;
+use super::writer::Writer;
 use fogbank_estimators::jackknife::jackknife_transmittance;
 use fogbank_estimators::jackknife_function::umvu_transmittance;
 use fogbank_estimators::optical_depth::Jitter;

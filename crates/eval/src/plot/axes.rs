@@ -4,8 +4,9 @@
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
+use super::area::{err, Area, Chart};
+use super::style::{Axis, Corner, Mark, Series};
 use super::text::Ink;
-use super::{err, Area, Axis, Chart, Corner, Mark, Series};
 
 /// Axis ticks: positions in plot coordinates (log10 for log axes) and labels.
 pub(super) struct Ticks {

@@ -3,9 +3,10 @@
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
+use super::area::{err, Area};
 use super::axes::{axes, draw_series, legend_and_notes, ticks};
+use super::style::{Axis, Corner, Series};
 use super::text::Ink;
-use super::{err, Area, Axis, Corner, Series};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ColourMap {

@@ -2,9 +2,10 @@
 
 use plotters::prelude::*;
 
+use super::area::{err, Area};
 use super::axes::{auto_range, axes, draw_series, legend_and_notes};
+use super::style::{Axis, Corner, Rgb, Series};
 use super::text::Ink;
-use super::{err, Area, Axis, Corner, Rgb, Series};
 
 /// A histogram (bars of `heights` between consecutive `edges`) with line
 /// overlays such as a fitted density.

@@ -2,9 +2,10 @@
 
 use plotters::prelude::*;
 
+use super::area::Area;
 use super::axes::{auto_range, axes, draw_series, legend_and_notes};
+use super::style::{Axis, Corner, Series};
 use super::text::Ink;
-use super::{Area, Axis, Corner, Series};
 
 #[derive(Clone, Debug, Default)]
 pub struct LinePlot {

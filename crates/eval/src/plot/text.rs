@@ -4,7 +4,8 @@
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::{bitmap_font, err, Area};
+use super::area::{err, Area};
+use super::bitmap_font;
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(super) enum Target {

@@ -10,7 +10,8 @@
 //! agree on the thresholded parts of the pipeline (clamps, the colour
 //! difference's two-segment remap).
 
-use super::{check_same_size, Image};
+use super::pixels::check_same_size;
+use crate::image_io::Image;
 use rayon::prelude::*;
 use serde::Serialize;
 

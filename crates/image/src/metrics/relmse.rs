@@ -1,6 +1,7 @@
 //! Relative mean squared error.
 
-use super::{channel_mean, Image};
+use super::pixels::channel_mean;
+use crate::image_io::Image;
 
 /// ε in the denominator of [`relmse`], in linear units (1 % of white).
 pub const RELMSE_EPSILON: f64 = 0.01;

@@ -1,6 +1,7 @@
 //! Root-mean-square error.
 
-use super::{channel_mean, Image};
+use super::pixels::channel_mean;
+use crate::image_io::Image;
 
 /// RMSE = sqrt(mean over pixels p and channels c of (test − ref)²), on
 /// linear values.

@@ -1,6 +1,7 @@
 //! Symmetric mean absolute percentage error, as seed 000 reports it.
 
-use super::{pixel_mean, Image};
+use super::pixels::pixel_mean;
+use crate::image_io::Image;
 
 /// ε added to the mean linear RGB value in the denominator of [`smape`].
 pub const SMAPE_EPSILON: f64 = 0.01;

@@ -2,7 +2,8 @@
 //! reference explained by their Monte Carlo noise?
 
 use super::normal::normal_quantile;
-use super::{check_same_size, Image};
+use super::pixels::check_same_size;
+use crate::image_io::Image;
 use serde::Serialize;
 
 /// Default family-wise significance level of [`ztest`].

@@ -1,5 +1,6 @@
 //! The grid types the reader returns: descriptors, leaves, tiles and the
-//! flattened float grid with its summaries.
+//! flattened float grid with its summaries; and the parsed file header and
+//! grid descriptors that the header parser and the tree reader share.
 
 /// How OpenVDB classifies a grid; renderers treat fog volumes as density and
 /// level sets as signed distance.
@@ -34,6 +35,30 @@ pub struct VdbGridDescriptor {
     pub stored_as_half: bool,
     /// True for float scalar grids with the standard tree layout.
     pub supported: bool,
+}
+
+/// The parsed file header: format version and every grid's descriptor.
+pub(super) struct FileHeader {
+    pub(super) version: u32,
+    pub(super) descs: Vec<GridDesc>,
+}
+
+/// One grid descriptor as the file header stores it.
+pub(super) struct GridDesc {
+    /// As stored, possibly with a `\x1e N` suffix.
+    pub(super) unique_name: String,
+    /// Without the suffix.
+    pub(super) name: String,
+    /// `name[N]` when there was a suffix; what users see and may pass back.
+    pub(super) display_name: String,
+    /// Tree type without the `_HalfFloat` suffix, e.g. `Tree_float_5_4_3`.
+    pub(super) type_name: String,
+    pub(super) value_type: String,
+    pub(super) half: bool,
+    pub(super) supported: bool,
+    pub(super) instance_parent: String,
+    pub(super) grid_pos: usize,
+    pub(super) end_pos: usize,
 }
 
 /// An 8³ leaf node. `values` and `active` use OpenVDB's layout: voxel

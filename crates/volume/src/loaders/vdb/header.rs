@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use super::grid::{FileHeader, GridDesc};
 use super::metadata::{read_grid_head, read_metamap};
 use super::reader::{grid_context, Reader};
 use super::transform::read_transform;
@@ -20,28 +21,6 @@ const MAGIC: [u8; 8] = [0x20, 0x42, 0x44, 0x56, 0, 0, 0, 0];
 const HALF_SUFFIX: &str = "_HalfFloat";
 pub(super) const NAME_SEP: char = '\x1e';
 pub(super) const FLOAT_TREE: &str = "Tree_float_5_4_3";
-
-pub(super) struct FileHeader {
-    pub(super) version: u32,
-    pub(super) descs: Vec<GridDesc>,
-}
-
-pub(super) struct GridDesc {
-    /// As stored, possibly with a `\x1e N` suffix.
-    pub(super) unique_name: String,
-    /// Without the suffix.
-    pub(super) name: String,
-    /// `name[N]` when there was a suffix; what users see and may pass back.
-    pub(super) display_name: String,
-    /// Tree type without the `_HalfFloat` suffix, e.g. `Tree_float_5_4_3`.
-    pub(super) type_name: String,
-    pub(super) value_type: String,
-    pub(super) half: bool,
-    pub(super) supported: bool,
-    pub(super) instance_parent: String,
-    pub(super) grid_pos: usize,
-    pub(super) end_pos: usize,
-}
 
 /// What precedes the grid descriptors.
 pub(super) struct Preamble {

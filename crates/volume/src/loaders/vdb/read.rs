@@ -3,9 +3,9 @@
 
 use std::path::Path;
 
-use super::grid::{VdbGrid, VdbGridDescriptor};
+use super::grid::{FileHeader, GridDesc, VdbGrid, VdbGridDescriptor};
 use super::header::{check_offsets, parse_descriptor, parse_header, parse_preamble};
-use super::header::{FileHeader, GridDesc, FLOAT_TREE, NAME_SEP};
+use super::header::{FLOAT_TREE, NAME_SEP};
 use super::metadata::read_grid_head;
 use super::reader::{grid_context, Reader};
 use super::tree::read_float_grid;

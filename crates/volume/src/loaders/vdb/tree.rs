@@ -1,21 +1,12 @@
 //! Tree topology: root, internal and leaf nodes, flattened into leaves and
 //! tiles.
 
-use super::grid::{bit_on, for_each_active, VdbGrid, VdbLeaf, VdbTile};
-use super::header::{FileHeader, GridDesc};
+use super::grid::{bit_on, for_each_active, FileHeader, GridDesc, VdbGrid, VdbLeaf, VdbTile};
 use super::metadata::{compression_name, read_grid_head};
 use super::reader::{grid_context, Reader};
 use super::transform::read_transform;
-use super::values::read_compressed_values;
+use super::values::{read_compressed_values, Codec};
 use crate::error::Result;
-
-/// What node buffers need to know to decode: the stream settings OpenVDB
-/// keeps on its `istream`.
-pub(super) struct Codec {
-    pub(super) compression: u32,
-    pub(super) half: bool,
-    pub(super) background: f32,
-}
 
 struct LeafTopo {
     origin: [i32; 3],

@@ -5,8 +5,15 @@ use super::blosc;
 use super::grid::bit_on;
 use super::metadata::{COMPRESS_ACTIVE_MASK, COMPRESS_BLOSC, COMPRESS_ZIP};
 use super::reader::Reader;
-use super::tree::Codec;
 use crate::error::Result;
+
+/// What node buffers need to know to decode: the stream settings OpenVDB
+/// keeps on its `istream`.
+pub(super) struct Codec {
+    pub(super) compression: u32,
+    pub(super) half: bool,
+    pub(super) background: f32,
+}
 
 /// Per-node indicator of how inactive values were stored (OpenVDB's
 /// `io::Compression.h` enum, in file order).
