@@ -39,7 +39,10 @@ fn split_inline(code: &str) -> Vec<(Vec<String>, String)> {
     let mut depth = 0i32;
     for line in code.lines() {
         let l = line.trim();
-        let l2 = l.strip_prefix("pub(crate) ").or_else(|| l.strip_prefix("pub ")).unwrap_or(l);
+        let l2 = l
+            .strip_prefix("pub(crate) ")
+            .or_else(|| l.strip_prefix("pub "))
+            .unwrap_or(l);
         let opened = l2
             .strip_prefix("mod ")
             .and_then(|r| r.strip_suffix('{'))
@@ -135,8 +138,7 @@ fn expand_use(tree: &str, prefix: &[String], out: &mut Vec<(String, Vec<String>)
 
 /// Turns a path as written in module `here` into an absolute one
 /// (`crate`-relative, without `crate`), or `None` for another crate's.
-fn absolute(here: &[String], is_dir_module: bool, path: &[String], children: &BTreeSet<String>) -> Option<Vec<String>> {
-    let _ = is_dir_module;
+fn absolute(here: &[String], path: &[String], children: &BTreeSet<String>) -> Option<Vec<String>> {
     let mut base: Vec<String> = here.to_vec();
     let mut rest = path;
     match rest.first().map(String::as_str) {
@@ -172,7 +174,7 @@ fn load(src: &Path) -> Vec<Module> {
         }
     }
     files.sort();
-    let decl = regex_lite_mod();
+    let decl = child_declarations();
     files
         .into_iter()
         .map(|file| {
@@ -184,16 +186,20 @@ fn load(src: &Path) -> Vec<Module> {
             for (inline, code) in split_inline(&code) {
                 let mut here = path.clone();
                 here.extend(inline.iter().cloned());
-                let kids = if inline.is_empty() { children.clone() } else { BTreeSet::new() };
+                let kids = if inline.is_empty() {
+                    children.clone()
+                } else {
+                    BTreeSet::new()
+                };
                 let mut imports = Vec::new();
                 let mut globs = Vec::new();
                 for stmt in use_statements(&code) {
                     let public = stmt.starts_with("pub");
-                    let tree = stmt.splitn(2, "use ").nth(1).unwrap_or("");
+                    let tree = stmt.split_once("use ").map_or("", |x| x.1);
                     let mut pairs = Vec::new();
                     expand_use(tree, &[], &mut pairs);
                     for (alias, p) in pairs {
-                        let Some(abs) = absolute(&here, false, &p, &kids) else {
+                        let Some(abs) = absolute(&here, &p, &kids) else {
                             continue;
                         };
                         if alias == "*" {
@@ -225,12 +231,15 @@ fn load(src: &Path) -> Vec<Module> {
 }
 
 /// `mod x;` / `pub mod x;` declarations of child files (not inline modules).
-fn regex_lite_mod() -> impl Fn(&str) -> BTreeSet<String> {
+fn child_declarations() -> impl Fn(&str) -> BTreeSet<String> {
     |code: &str| {
         code.lines()
             .filter_map(|l| {
                 let l = l.trim();
-                let l = l.strip_prefix("pub(crate) ").or_else(|| l.strip_prefix("pub ")).unwrap_or(l);
+                let l = l
+                    .strip_prefix("pub(crate) ")
+                    .or_else(|| l.strip_prefix("pub "))
+                    .unwrap_or(l);
                 let name = l.strip_prefix("mod ")?.strip_suffix(';')?;
                 Some(name.trim().to_string())
             })
@@ -245,7 +254,12 @@ fn use_statements(code: &str) -> Vec<String> {
     while let Some(i) = find_use(rest) {
         let after = &rest[i..];
         let end = after.find(';').unwrap_or(after.len());
-        out.push(after[..end].split_whitespace().collect::<Vec<_>>().join(" "));
+        out.push(
+            after[..end]
+                .split_whitespace()
+                .collect::<Vec<_>>()
+                .join(" "),
+        );
         rest = &after[end.min(after.len())..];
         if rest.is_empty() {
             break;
@@ -264,7 +278,10 @@ fn find_use(s: &str) -> Option<usize> {
         if line_start {
             return Some(i);
         }
-        if before.ends_with("pub") || before.ends_with("pub(crate)") || before.ends_with("pub(super)") {
+        if before.ends_with("pub")
+            || before.ends_with("pub(crate)")
+            || before.ends_with("pub(super)")
+        {
             let k = before.rfind("pub").unwrap();
             let b2 = s[..k].trim_end_matches(' ');
             if b2.is_empty() || b2.ends_with('\n') || b2.ends_with('{') {
@@ -313,7 +330,12 @@ fn inline_paths(code: &str) -> Vec<Vec<String>> {
 
 /// The module file an absolute path lands in: its longest prefix that is a
 /// module, following re-exports of the next segment.
-fn resolve(mods: &BTreeMap<Vec<String>, usize>, all: &[Module], path: &[String], depth: u32) -> Option<usize> {
+fn resolve(
+    mods: &BTreeMap<Vec<String>, usize>,
+    all: &[Module],
+    path: &[String],
+    depth: u32,
+) -> Option<usize> {
     let mut best = None;
     for n in (0..=path.len()).rev() {
         if let Some(&m) = mods.get(&path[..n].to_vec()) {
@@ -354,7 +376,11 @@ fn edges(all: &[Module]) -> Vec<BTreeSet<usize>> {
                 }
             };
             for s in &m.scopes {
-                let kids = if s.here == m.path { m.children.clone() } else { BTreeSet::new() };
+                let kids = if s.here == m.path {
+                    m.children.clone()
+                } else {
+                    BTreeSet::new()
+                };
                 let mut scope: BTreeMap<&str, &Vec<String>> = BTreeMap::new();
                 for (alias, abs) in &s.imports {
                     add(abs);
@@ -363,7 +389,7 @@ fn edges(all: &[Module]) -> Vec<BTreeSet<usize>> {
                 for p in inline_paths(&s.code) {
                     let first = p[0].as_str();
                     if matches!(first, "crate" | "super" | "self") || kids.contains(first) {
-                        if let Some(abs) = absolute(&s.here, false, &p, &kids) {
+                        if let Some(abs) = absolute(&s.here, &p, &kids) {
                             add(&abs);
                         }
                     } else if let Some(base) = scope.get(first) {
@@ -374,7 +400,7 @@ fn edges(all: &[Module]) -> Vec<BTreeSet<usize>> {
                         for g in &s.globs {
                             let mut abs = g.clone();
                             abs.extend(p.iter().cloned());
-                            if mods.contains_key(&abs[..g.len() + 1].to_vec()) {
+                            if mods.contains_key(&abs[..g.len() + 1]) {
                                 add(&abs);
                             }
                         }
@@ -501,10 +527,16 @@ fn the_checker_finds_a_planted_cycle() {
     std::fs::create_dir_all(src.join("a")).unwrap();
     let write = |p: &str, t: &str| std::fs::write(src.join(p), t).unwrap();
     write("lib.rs", "pub mod a;\npub mod b;\npub use b::Thing;\n");
-    write("a/mod.rs", "pub mod c;\n// use crate::b; (a comment, not an import)\n");
+    write(
+        "a/mod.rs",
+        "pub mod c;\n// use crate::b; (a comment, not an import)\n",
+    );
     write("a/c.rs", "use crate::Thing;\npub fn f() {}\n");
-    write("b.rs", "pub struct Thing;\npub fn g() { crate::a::c::f() }\n");
-    assert!(report(&src).is_empty() == false, "a/c.rs ↔ b.rs is a cycle");
+    write(
+        "b.rs",
+        "pub struct Thing;\npub fn g() { crate::a::c::f() }\n",
+    );
+    assert!(!report(&src).is_empty(), "a/c.rs ↔ b.rs is a cycle");
     write("b.rs", "pub struct Thing;\n");
     assert!(report(&src).is_empty(), "{:?}", report(&src));
     write("a/mod.rs", "pub mod c;\nuse super::b::Thing;\n");

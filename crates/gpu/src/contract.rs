@@ -136,7 +136,10 @@ pub fn gpu_estimator(e: Estimator) -> Option<GpuEstimator> {
 /// One group of WGSL constants, `PREFIX_NAME = index` (and `PREFIX_COUNT`).
 fn enumeration(out: &mut String, prefix: &str, names: &[&str]) {
     for (i, n) in names.iter().enumerate() {
-        out.push_str(&format!("const {prefix}_{}: u32 = {i}u;\n", n.to_uppercase()));
+        out.push_str(&format!(
+            "const {prefix}_{}: u32 = {i}u;\n",
+            n.to_uppercase()
+        ));
     }
     out.push_str(&format!("const {prefix}_COUNT: u32 = {}u;\n", names.len()));
 }
@@ -148,7 +151,11 @@ pub fn wgsl_prelude() -> String {
          // shaders are assembled: ids and flag bits shared with the CPU.\n",
     );
     enumeration(&mut s, "EST", &Estimator::names());
-    enumeration(&mut s, "SAMPLER", &DistanceSampler::ALL.map(DistanceSampler::name));
+    enumeration(
+        &mut s,
+        "SAMPLER",
+        &DistanceSampler::ALL.map(DistanceSampler::name),
+    );
     enumeration(&mut s, "STRATEGY", &Strategy::ALL.map(Strategy::name));
     enumeration(&mut s, "LIGHT", &Light::KINDS);
     enumeration(&mut s, "EMISSION", &EMISSION_KINDS);

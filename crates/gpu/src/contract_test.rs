@@ -159,8 +159,14 @@ fn every_rust_variant_has_its_own_wgsl_branch() {
     };
     for (i, name) in Estimator::names().iter().enumerate() {
         let id = format!("EST_{}", name.to_uppercase());
-        assert!(prelude.contains(&format!("const {id}: u32 = {i}u;")), "{id}");
-        assert!(has_case(&transmittance, &id), "no `case {id}` in estimate()");
+        assert!(
+            prelude.contains(&format!("const {id}: u32 = {i}u;")),
+            "{id}"
+        );
+        assert!(
+            has_case(&transmittance, &id),
+            "no `case {id}` in estimate()"
+        );
     }
     for s in DistanceSampler::ALL {
         let id = format!("SAMPLER_{}", s.name().to_uppercase());
@@ -168,7 +174,10 @@ fn every_rust_variant_has_its_own_wgsl_branch() {
     }
     for kind in Light::KINDS {
         let id = format!("LIGHT_{}", kind.to_uppercase());
-        assert!(has_case(&scatter, &id), "no `case {id}` in light_sample_li()");
+        assert!(
+            has_case(&scatter, &id),
+            "no `case {id}` in light_sample_li()"
+        );
     }
     for kind in EMISSION_KINDS {
         let id = format!("EMISSION_{}", kind.to_uppercase());
@@ -185,7 +194,15 @@ fn every_rust_variant_has_its_own_wgsl_branch() {
     // No hand-typed ids are left in the WGSL files.
     for src in [&transmittance, &scatter, &point_mis] {
         let body = src.replacen(&prelude, "", 1);
-        for prefix in ["EST_", "SAMPLER_", "STRATEGY_", "LIGHT_", "EMISSION_", "FLAG_", "DIM_"] {
+        for prefix in [
+            "EST_",
+            "SAMPLER_",
+            "STRATEGY_",
+            "LIGHT_",
+            "EMISSION_",
+            "FLAG_",
+            "DIM_",
+        ] {
             assert!(
                 !body.contains(&format!("const {prefix}")),
                 "a `const {prefix}…` is typed in WGSL instead of generated"
@@ -248,9 +265,16 @@ fn cpu_film(s: &Scene) -> Film {
 /// (within 2 %) and, as both draw the same random streams, the same values
 /// in most pixels (f32 ray transforms let some paths diverge: two thirds).
 fn assert_same_method(what: &str, gpu: &Film, cpu: &Film) {
-    assert_eq!(gpu.nan_samples + gpu.inf_samples, 0, "{what}: invalid samples");
+    assert_eq!(
+        gpu.nan_samples + gpu.inf_samples,
+        0,
+        "{what}: invalid samples"
+    );
     let (g, c) = (gpu.lookups as f64, cpu.lookups as f64);
-    assert!((g - c).abs() <= 0.02 * c.max(1.0), "{what}: lookups {g} vs {c}");
+    assert!(
+        (g - c).abs() <= 0.02 * c.max(1.0),
+        "{what}: lookups {g} vs {c}"
+    );
     let (gm, cm) = (gpu.mean(), cpu.mean());
     let close = gm
         .iter()
@@ -323,7 +347,10 @@ fn every_variant_reaches_its_own_branch_on_the_gpu() {
         .map(|st| {
             let s = scene(
                 SCENE,
-                &["integrator.type=point_mis", &format!("integrator.strategy={}", st.name())],
+                &[
+                    "integrator.type=point_mis",
+                    &format!("integrator.strategy={}", st.name()),
+                ],
             );
             (st.name().to_string(), s)
         })
@@ -339,7 +366,10 @@ fn an_id_without_a_branch_marks_every_sample_invalid() {
     let samples = 12 * 10 * 8;
     let all_invalid = |what: &str, film: Film| {
         assert_eq!(film.nan_samples + film.inf_samples, samples, "{what}");
-        assert!(film.count.iter().all(|&n| n == 0), "{what}: a sample was kept");
+        assert!(
+            film.count.iter().all(|&n| n == 0),
+            "{what}: a sample was kept"
+        );
     };
     let s = scene(SCENE, &[]);
     let mut k = Kernel::of(&s).unwrap();

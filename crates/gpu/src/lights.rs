@@ -112,11 +112,23 @@ impl LightBuffers {
                 Light::Point {
                     position,
                     intensity,
-                } => rec(kind, v4(*position, 1.0), v4(*intensity, 0.0), zero, [0.0; 2]),
+                } => rec(
+                    kind,
+                    v4(*position, 1.0),
+                    v4(*intensity, 0.0),
+                    zero,
+                    [0.0; 2],
+                ),
                 Light::Directional {
                     direction,
                     irradiance,
-                } => rec(kind, v4(*direction, 0.0), v4(*irradiance, 0.0), zero, [0.0; 2]),
+                } => rec(
+                    kind,
+                    v4(*direction, 0.0),
+                    v4(*irradiance, 0.0),
+                    zero,
+                    [0.0; 2],
+                ),
                 Light::Spot {
                     position,
                     direction,

@@ -64,7 +64,10 @@ impl Kernel {
     pub(crate) fn of(scene: &Scene) -> Result<Kernel, GpuError> {
         let estimator = scene.integrator.estimator();
         let est = gpu_estimator(estimator).ok_or_else(|| {
-            GpuError(format!("estimator `{}` has no GPU kernel", estimator.name()))
+            GpuError(format!(
+                "estimator `{}` has no GPU kernel",
+                estimator.name()
+            ))
         })?;
         let k = match &scene.integrator {
             IntegratorKind::Transmittance { background, .. } => Kernel {

@@ -4,8 +4,8 @@
 //! index order, so the image is bit-identical for any thread count or
 //! scheduling.
 
-use crate::world::film::Film;
 use crate::scene::Scene;
+use crate::world::film::Film;
 use fogbank_math::SampleKey;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};

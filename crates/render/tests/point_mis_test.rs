@@ -6,9 +6,9 @@
 use fogbank_estimators::{transmittance, Estimator};
 use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
 use fogbank_render::integrators::point_mis::{jackknife_weights, Strategy};
-use fogbank_render::world::phase::HenyeyGreenstein;
 use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::lights::Light;
+use fogbank_render::world::phase::HenyeyGreenstein;
 use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene};
 use fogbank_volume::{MediumView, VolumeAccess};
 use std::path::Path;

@@ -178,9 +178,22 @@ fn estimators_take_their_options_flat_or_as_a_table() {
     // Every integrator round-trips through its table, options included.
     for o in [
         &["integrator.estimator={ type = \"ray_marching\", samples = 3, clip = true }"][..],
-        &["integrator.type=volpath", "integrator.preset=baseline", "integrator.max_depth=7"],
-        &["integrator.type=direct", "integrator.distance_sampler=regular_tracking"],
-        &["integrator.type=point_mis", "integrator.strategy=equiangular", "integrator.estimator=jackknife", "integrator.mode=fixed_step", "integrator.step=0.5"],
+        &[
+            "integrator.type=volpath",
+            "integrator.preset=baseline",
+            "integrator.max_depth=7",
+        ],
+        &[
+            "integrator.type=direct",
+            "integrator.distance_sampler=regular_tracking",
+        ],
+        &[
+            "integrator.type=point_mis",
+            "integrator.strategy=equiangular",
+            "integrator.estimator=jackknife",
+            "integrator.mode=fixed_step",
+            "integrator.step=0.5",
+        ],
     ] {
         let d = parse(o);
         let again = parse_scene(&toml::to_string(&d).unwrap(), "round trip", &[]).unwrap();

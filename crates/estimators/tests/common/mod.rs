@@ -74,7 +74,11 @@ pub fn test_rays(n: [u32; 3], count: usize, seed: u64) -> Vec<Ray> {
             3 => {
                 let a = (rng.next_u32() % 3) as usize;
                 let mut d = Vec3::ZERO;
-                d[a] = if rng.next_u32().is_multiple_of(2) { 1.0 } else { -1.0 };
+                d[a] = if rng.next_u32().is_multiple_of(2) {
+                    1.0
+                } else {
+                    -1.0
+                };
                 let mut o = inside;
                 o[a] = if d[a] > 0.0 { -1.0 } else { nf[a] + 1.0 };
                 Ray::new(o, d)

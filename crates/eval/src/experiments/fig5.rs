@@ -50,9 +50,9 @@ impl Sampler {
                 let xi = rng.next_f64();
                 (0..n).map(|j| p.sigma_t_at((j as f64 + xi) * h)).sum()
             }
-            Sampler::StratifiedJittered => {
-                (0..n).map(|j| p.sigma_t_at((j as f64 + rng.next_f64()) * h)).sum()
-            }
+            Sampler::StratifiedJittered => (0..n)
+                .map(|j| p.sigma_t_at((j as f64 + rng.next_f64()) * h))
+                .sum(),
             Sampler::Iid => (0..n).map(|_| p.sigma_t_at(rng.next_f64() * l)).sum(),
         };
         h * sum

@@ -89,20 +89,22 @@ impl IntegratorDesc {
         let estimator = desc.estimator();
         takes.extend_from_slice(Estimator::option_keys(estimator.name()).unwrap_or(&[]));
         let leftover = r.first_key();
-        r.with_owner(&desc.owner()).finish(&takes).map_err(|SceneError(e)| {
-            let owners: Vec<&str> = REGISTRY
-                .iter()
-                .filter(|(_, ps)| ps.iter().any(|p| Some(p.key) == leftover.as_deref()))
-                .map(|(n, _)| *n)
-                .collect();
-            match (leftover, owners.is_empty()) {
-                (Some(k), false) => SceneError(format!(
-                    "{e} (`{k}` is a parameter of {})",
-                    owners.join(", ")
-                )),
-                _ => SceneError(e),
-            }
-        })?;
+        r.with_owner(&desc.owner())
+            .finish(&takes)
+            .map_err(|SceneError(e)| {
+                let owners: Vec<&str> = REGISTRY
+                    .iter()
+                    .filter(|(_, ps)| ps.iter().any(|p| Some(p.key) == leftover.as_deref()))
+                    .map(|(n, _)| *n)
+                    .collect();
+                match (leftover, owners.is_empty()) {
+                    (Some(k), false) => SceneError(format!(
+                        "{e} (`{k}` is a parameter of {})",
+                        owners.join(", ")
+                    )),
+                    _ => SceneError(e),
+                }
+            })?;
         Ok(desc)
     }
 

@@ -117,9 +117,9 @@ impl LightDesc {
                 let path = base.join(file);
                 let rotation = match rotate {
                     Some([x, y, z, deg]) => glam::Mat3::from_axis_angle(
-                        Vec3::new(*x, *y, *z).try_normalize().ok_or_else(|| {
-                            SceneError(format!("lights.{i}.rotate: zero axis"))
-                        })?,
+                        Vec3::new(*x, *y, *z)
+                            .try_normalize()
+                            .ok_or_else(|| SceneError(format!("lights.{i}.rotate: zero axis")))?,
                         deg.to_radians(),
                     ),
                     None => glam::Mat3::IDENTITY,
@@ -139,13 +139,23 @@ impl LightDesc {
                 direction,
                 irradiance,
             } => Light::Directional {
-                direction: Vec3::from(*direction).try_normalize().ok_or_else(|| {
-                    SceneError(format!("lights.{i}.direction: zero vector"))
-                })?,
+                direction: Vec3::from(*direction)
+                    .try_normalize()
+                    .ok_or_else(|| SceneError(format!("lights.{i}.direction: zero vector")))?,
                 irradiance: Vec3::from(*irradiance),
             },
-            LightDesc::Spot { position, direction, intensity, cone_angle, falloff_start } => {
-                if !(*cone_angle > 0.0 && *cone_angle <= 180.0 && *falloff_start >= 0.0 && falloff_start <= cone_angle) {
+            LightDesc::Spot {
+                position,
+                direction,
+                intensity,
+                cone_angle,
+                falloff_start,
+            } => {
+                if !(*cone_angle > 0.0
+                    && *cone_angle <= 180.0
+                    && *falloff_start >= 0.0
+                    && falloff_start <= cone_angle)
+                {
                     return Err(SceneError(format!(
                         "lights.{i}: need 0 ≤ falloff_start ≤ cone_angle ≤ 180 degrees, cone_angle > 0"
                     )));

@@ -49,8 +49,6 @@ pub struct FieldDesc {
     pub radius: Option<f32>,
 }
 
-
-
 #[derive(Clone, Debug)]
 pub struct Field {
     /// One channel (a scalar, splatted to RGB) or three (RGB).

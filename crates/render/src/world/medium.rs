@@ -122,80 +122,81 @@ impl MediumDesc {
     /// The medium `media.{i}`, its files resolved against `base`.
     pub fn build(&self, i: usize, base: &Path) -> Result<SceneMedium, SceneError> {
         let m = self;
-    let key = format!("media.{i}");
-    let filter = Filter::parse(&m.filter).ok_or_else(|| {
-        SceneError(format!(
-            "{key}.filter: `{}` is not nearest, trilinear or stochastic_trilinear",
-            m.filter
-        ))
-    })?;
-    let precision = match m.precision.as_str() {
-        "f16" => Precision::F16,
-        "f32" => Precision::F32,
-        other => {
+        let key = format!("media.{i}");
+        let filter = Filter::parse(&m.filter).ok_or_else(|| {
+            SceneError(format!(
+                "{key}.filter: `{}` is not nearest, trilinear or stochastic_trilinear",
+                m.filter
+            ))
+        })?;
+        let precision = match m.precision.as_str() {
+            "f16" => Precision::F16,
+            "f32" => Precision::F32,
+            other => {
+                return Err(SceneError(format!(
+                    "{key}.precision: `{other}` is not f16 or f32"
+                )))
+            }
+        };
+        if m.supervoxel == 0 || m.supervoxel > 256 {
             return Err(SceneError(format!(
-                "{key}.precision: `{other}` is not f16 or f32"
-            )))
+                "{key}.supervoxel: {} is outside 1..=256",
+                m.supervoxel
+            )));
         }
-    };
-    if m.supervoxel == 0 || m.supervoxel > 256 {
-        return Err(SceneError(format!(
-            "{key}.supervoxel: {} is outside 1..=256",
-            m.supervoxel
-        )));
+        if !(m.sigma_t_scale >= 0.0 && m.sigma_t_scale.is_finite()) {
+            return Err(SceneError(format!(
+                "{key}.sigma_t_scale: must be a finite value ≥ 0"
+            )));
+        }
+        if m.phase.ty != "hg" && m.phase.ty != "isotropic" {
+            return Err(SceneError(format!(
+                "{key}.phase.type: `{}` is not hg or isotropic",
+                m.phase.ty
+            )));
+        }
+        if !(m.phase.g > -1.0 && m.phase.g < 1.0) {
+            return Err(SceneError(format!(
+                "{key}.phase.g: {} is outside (−1, 1)",
+                m.phase.g
+            )));
+        }
+        let (data, file_xf, source) =
+            field_data(&m.density, &format!("{key}.density"), base, precision)?;
+        let placement = transform(&m.to_world);
+        let xf = placement * file_xf;
+        if xf.matrix3.determinant().abs() < 1e-30 {
+            return Err(SceneError(format!("{key}.to_world: transform is singular")));
+        }
+        if !m.albedo.iter().all(|a| (0.0..=1.0).contains(a)) {
+            return Err(SceneError(format!(
+                "{key}.albedo: each channel must be in [0, 1], got {:?}",
+                m.albedo
+            )));
+        }
+        let albedo_grid = m
+            .albedo_grid
+            .as_ref()
+            .map(|g| Field::load(g, &format!("{key}.albedo_grid"), base, placement))
+            .transpose()?;
+        let emission = m
+            .emission
+            .as_ref()
+            .map(|e| Emission::build(e, &format!("{key}.emission"), base, placement))
+            .transpose()?;
+        Ok(SceneMedium {
+            medium: Medium::new(data, m.sigma_t_scale, filter, xf, m.supervoxel),
+            albedo: m.albedo,
+            albedo_grid,
+            emission,
+            phase_g: if m.phase.ty == "isotropic" {
+                0.0
+            } else {
+                m.phase.g
+            },
+            source,
+        })
     }
-    if !(m.sigma_t_scale >= 0.0 && m.sigma_t_scale.is_finite()) {
-        return Err(SceneError(format!(
-            "{key}.sigma_t_scale: must be a finite value ≥ 0"
-        )));
-    }
-    if m.phase.ty != "hg" && m.phase.ty != "isotropic" {
-        return Err(SceneError(format!(
-            "{key}.phase.type: `{}` is not hg or isotropic",
-            m.phase.ty
-        )));
-    }
-    if !(m.phase.g > -1.0 && m.phase.g < 1.0) {
-        return Err(SceneError(format!(
-            "{key}.phase.g: {} is outside (−1, 1)",
-            m.phase.g
-        )));
-    }
-    let (data, file_xf, source) = field_data(&m.density, &format!("{key}.density"), base, precision)?;
-    let placement = transform(&m.to_world);
-    let xf = placement * file_xf;
-    if xf.matrix3.determinant().abs() < 1e-30 {
-        return Err(SceneError(format!("{key}.to_world: transform is singular")));
-    }
-    if !m.albedo.iter().all(|a| (0.0..=1.0).contains(a)) {
-        return Err(SceneError(format!(
-            "{key}.albedo: each channel must be in [0, 1], got {:?}",
-            m.albedo
-        )));
-    }
-    let albedo_grid = m
-        .albedo_grid
-        .as_ref()
-        .map(|g| Field::load(g, &format!("{key}.albedo_grid"), base, placement))
-        .transpose()?;
-    let emission = m
-        .emission
-        .as_ref()
-        .map(|e| Emission::build(e, &format!("{key}.emission"), base, placement))
-        .transpose()?;
-    Ok(SceneMedium {
-        medium: Medium::new(data, m.sigma_t_scale, filter, xf, m.supervoxel),
-        albedo: m.albedo,
-        albedo_grid,
-        emission,
-        phase_g: if m.phase.ty == "isotropic" {
-            0.0
-        } else {
-            m.phase.g
-        },
-        source,
-    })
-}
 }
 
 pub fn transform(t: &TransformDesc) -> DAffine3 {
@@ -218,4 +219,3 @@ pub fn transform(t: &TransformDesc) -> DAffine3 {
     let tr = DVec3::from(t.translate.unwrap_or([0.0; 3]).map(f64::from));
     DAffine3::from_scale_rotation_translation(s, r, tr)
 }
-

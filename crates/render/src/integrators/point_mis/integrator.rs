@@ -139,7 +139,13 @@ impl PointMis {
     /// L_s(t): single-scattered radiance towards the camera at parameter `t`
     /// from the chosen light (albedo · phase · I/d² · T_l), with the light
     /// ray's transmittance T_l estimated by `self.nee`.
-    pub(super) fn in_scattered(&self, s: &Segment, t: f32, rng: &mut Pcg32, lookups: &mut u32) -> Vec3 {
+    pub(super) fn in_scattered(
+        &self,
+        s: &Segment,
+        t: f32,
+        rng: &mut Pcg32,
+        lookups: &mut u32,
+    ) -> Vec3 {
         let p = s.world.at(t);
         let to_light = s.light - p;
         let dist2 = to_light.length_squared();
@@ -174,7 +180,13 @@ impl PointMis {
     }
 
     /// σ_t at parameter t (one lookup).
-    pub(super) fn segment_sigma_t<V: VolumeAccess>(v: &V, s: &Segment, t: f32, rng: &mut Pcg32, lookups: &mut u32) -> f32 {
+    pub(super) fn segment_sigma_t<V: VolumeAccess>(
+        v: &V,
+        s: &Segment,
+        t: f32,
+        rng: &mut Pcg32,
+        lookups: &mut u32,
+    ) -> f32 {
         sigma_t_at(v, s.index.at(t), rng, lookups)
     }
 

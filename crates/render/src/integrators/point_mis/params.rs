@@ -13,7 +13,8 @@ pub const PARAMS: [Param; 3] = [
     Param {
         key: "strategy",
         default: "mis_jackknife",
-        meaning: "free_flight, equiangular, mis_miller, mis_naive, mis_jackknife, mis_jackknife_biased",
+        meaning:
+            "free_flight, equiangular, mis_miller, mis_naive, mis_jackknife, mis_jackknife_biased",
     },
     Param {
         key: "estimator",

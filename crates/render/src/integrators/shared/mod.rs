@@ -7,9 +7,9 @@
 pub mod free_flight;
 pub mod next_event;
 
+use crate::error::SceneError;
 use crate::params::{take_estimator, Param, ParamReader};
 use crate::world::World;
-use crate::error::SceneError;
 use fogbank_estimators::Estimator;
 use fogbank_math::{Ray, SampleKey, Vec3};
 
@@ -52,7 +52,9 @@ pub fn estimator_rng(key: SampleKey) -> fogbank_math::Pcg32 {
 
 /// Floats the balance heuristic is written for (f32 in the integrators,
 /// f64 in the MIS-weight analyses).
-pub trait Real: Copy + PartialOrd + std::ops::Add<Output = Self> + std::ops::Div<Output = Self> {
+pub trait Real:
+    Copy + PartialOrd + std::ops::Add<Output = Self> + std::ops::Div<Output = Self>
+{
     const ZERO: Self;
     fn finite(self) -> bool;
 }
@@ -189,7 +191,10 @@ impl ScatterParams {
         if let Some(d) = self.distance_sampler {
             t.insert("distance_sampler".into(), d.name().into());
         }
-        t.insert("estimator".into(), crate::params::estimator_value(self.estimator));
+        t.insert(
+            "estimator".into(),
+            crate::params::estimator_value(self.estimator),
+        );
         if self.baseline {
             t.insert("preset".into(), "baseline".into());
         }
@@ -205,7 +210,8 @@ impl ScatterParams {
             )
         } else {
             (
-                self.distance_sampler.unwrap_or(DistanceSampler::DeltaTracking),
+                self.distance_sampler
+                    .unwrap_or(DistanceSampler::DeltaTracking),
                 self.estimator,
             )
         }
