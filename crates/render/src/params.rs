@@ -105,9 +105,11 @@ pub fn take_estimator(r: &mut ParamReader) -> Result<Estimator, SceneError> {
         Some(toml::Value::String(s)) => (s, None),
         Some(toml::Value::Table(mut t)) => match t.remove("type") {
             Some(toml::Value::String(s)) => (s.clone(), Some(ParamReader::new(&key, &s, t))),
-            _ => return Err(SceneError(format!(
+            _ => {
+                return Err(SceneError(format!(
                 "{key}: a table needs `type = \"<estimator>\"` (`fogbank estimators` lists them)"
-            ))),
+            )))
+            }
         },
         Some(other) => {
             return Err(SceneError(format!(

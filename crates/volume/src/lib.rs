@@ -8,6 +8,7 @@ pub mod error;
 pub mod grid;
 pub mod loaders;
 pub mod medium;
+pub mod mip;
 pub mod procedural;
 pub mod supervoxel;
 

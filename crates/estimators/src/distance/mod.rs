@@ -6,6 +6,7 @@
 //! equiangular sampler draws t with a known closed-form density that does not
 //! depend on the medium.
 
+pub mod analytic_trilinear;
 pub mod decomposition_tracking;
 pub mod delta_tracking;
 pub mod delta_tracking_ratio;
