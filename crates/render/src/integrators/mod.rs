@@ -8,6 +8,7 @@
 
 pub mod direct;
 pub mod point_mis;
+pub mod restir;
 pub mod shared;
 pub mod transmittance;
 pub mod volpath;
