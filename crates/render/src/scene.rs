@@ -3,7 +3,7 @@
 //! file's folder.
 
 use crate::error::SceneError;
-use crate::integrators::{IntegratorDesc, IntegratorKind};
+use crate::integrators::{IntegratorDesc, IntegratorKind, REGISTRY};
 use crate::lights::LightDesc;
 use crate::overrides::{apply_override, parse_value};
 use crate::world::camera::CameraDesc;
@@ -156,15 +156,59 @@ pub fn parse_scene(
     }
     let mut doc: toml::Table =
         toml::from_str(text).map_err(|e| SceneError(format!("{origin}: {e}")))?;
+    let file_type = integrator_type(&doc);
+    let mut set_keys = Vec::new();
     for o in overrides {
         let (key, value) = o
             .split_once('=')
             .ok_or_else(|| SceneError(format!("--set {o}: expected KEY=VALUE")))?;
         apply_override(&mut doc, key.trim(), parse_value(value.trim()))?;
+        set_keys.push(key.trim().to_string());
     }
+    drop_keys_of_the_replaced_integrator(&mut doc, &file_type, &set_keys);
     // Round-trip through text so error messages carry toml's key paths.
     let text = toml::to_string(&doc).map_err(|e| SceneError(format!("{origin}: {e}")))?;
     toml::from_str(&text).map_err(|e| SceneError(format!("{origin} (after --set overrides): {e}")))
+}
+
+/// `[integrator] type` of a parsed document (`transmittance` when absent).
+fn integrator_type(doc: &toml::Table) -> String {
+    doc.get("integrator")
+        .and_then(|i| i.get("type"))
+        .and_then(|t| t.as_str())
+        .unwrap_or("transmittance")
+        .to_string()
+}
+
+/// `--set integrator.type=direct` on a scene written for `volpath`: the
+/// file's parameters of the replaced integrator that the new one does not
+/// take (`max_depth`) are dropped, so switching integrators from the
+/// command line works on any scene. A key given with `--set` is never
+/// dropped: a misplaced one is still refused.
+fn drop_keys_of_the_replaced_integrator(
+    doc: &mut toml::Table,
+    file_type: &str,
+    set_keys: &[String],
+) {
+    let new_type = integrator_type(doc);
+    if new_type == file_type {
+        return;
+    }
+    let params_of = |ty: &str| {
+        REGISTRY
+            .iter()
+            .find(|(n, _)| *n == ty)
+            .map(|(_, p)| p.iter().map(|p| p.key).collect::<Vec<_>>())
+            .unwrap_or_default()
+    };
+    let (old, new) = (params_of(file_type), params_of(&new_type));
+    if let Some(toml::Value::Table(t)) = doc.get_mut("integrator") {
+        t.retain(|k, _| {
+            !old.contains(&k)
+                || new.contains(&k)
+                || set_keys.iter().any(|s| s == &format!("integrator.{k}"))
+        });
+    }
 }
 
 impl SceneDesc {

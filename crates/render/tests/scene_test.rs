@@ -200,3 +200,33 @@ fn estimators_take_their_options_flat_or_as_a_table() {
         assert_eq!(d, again, "{o:?}");
     }
 }
+
+#[test]
+fn switching_the_integrator_with_set_drops_the_old_integrators_keys() {
+    let volpath = DEFAULT_SCENE.replace(
+        "[integrator]\ntype = \"transmittance\"\nestimator = \"ratio_tracking\"\n",
+        "[integrator]\ntype = \"volpath\"\nmax_depth = 5\nrr_depth = 2\nestimator = \"jackknife\"\nsamples = 4\n",
+    );
+    let o = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+    // The file's volpath keys go; the estimator and its options stay.
+    let d = parse_scene(&volpath, "scene", &o(&["integrator.type=direct"])).unwrap();
+    assert_eq!(d.integrator.name(), "direct");
+    assert_eq!(d.integrator.estimator().name(), "jackknife");
+    let d = parse_scene(&volpath, "scene", &o(&["integrator.type=transmittance"])).unwrap();
+    assert_eq!(d.integrator.name(), "transmittance");
+    // A key given with --set is not dropped: misplaced, it is refused.
+    let e = parse_scene(
+        &volpath,
+        "scene",
+        &o(&["integrator.type=direct", "integrator.max_depth=3"]),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("integrator.max_depth is not a parameter of \"direct\""),
+        "{e}"
+    );
+    // In the file itself a misplaced key is refused as before.
+    let bad = volpath.replace("type = \"volpath\"", "type = \"direct\"");
+    assert!(parse_scene(&bad, "scene", &[]).is_err());
+}
