@@ -28,6 +28,7 @@
 //! is μ(t) of the paper's figures (their axis labels keep the paper's μ).
 
 pub mod analytic_trilinear;
+pub mod deterministic_marching;
 pub mod distance;
 pub mod estimate;
 pub mod estimator;

@@ -1,0 +1,39 @@
+//! Deterministic ray marching of the trilinear field (seed 002 §4.3, §5.1):
+//! the T̃ inside the reuse target p̂, which must return the same value every
+//! time a path is evaluated (p̂_new/p̂_old ratios, Talbot sums), so it draws
+//! no random numbers and never filters stochastically. Midpoints of steps
+//! of a fixed length on a grid anchored at the segment's start (the
+//! authors' code anchors at the ray's entry into the volume); the last step
+//! is cut at the segment's end. On mip 1 with a step of one mip-1 voxel
+//! diagonal this is the paper's reuse T̃.
+
+use fogbank_math::{Ray, Vec3};
+use fogbank_volume::{Filter, GridView, Voxel};
+
+/// (τ̃, lookups) over `[t0, t1]` of the index-space `ray`, with steps of
+/// `step` index-space units (voxels) along the ray; the field is read
+/// trilinearly whatever the view's own filter.
+pub fn optical_depth<T: Voxel>(
+    v: &GridView<'_, T>,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    step: f32,
+) -> (f64, u32) {
+    let speed = ray.d.length() as f64;
+    if !(t1 > t0) || !(step > 0.0) || speed <= 0.0 {
+        return (0.0, 0);
+    }
+    let dt = step as f64 / speed;
+    let (a, b) = (t0 as f64, t1 as f64);
+    let n = ((b - a) / dt).ceil().max(1.0) as u64;
+    let mut tau = 0.0f64;
+    for i in 0..n {
+        let lo = a + i as f64 * dt;
+        let hi = (lo + dt).min(b);
+        let mid = 0.5 * (lo + hi);
+        let p = ray.at(mid as f32);
+        tau += v.grid.filtered(Filter::Trilinear, p, Vec3::ZERO) as f64 * (hi - lo);
+    }
+    (tau * v.scale as f64, n.min(u32::MAX as u64) as u32)
+}
