@@ -21,7 +21,9 @@ pub fn optical_depth<T: Voxel>(
     step: f32,
 ) -> (f64, u32) {
     let speed = ray.d.length() as f64;
-    if !(t1 > t0) || !(step > 0.0) || speed <= 0.0 {
+    // Also refuses NaN bounds or steps: every comparison with NaN is false.
+    let valid = t1 > t0 && step > 0.0 && speed > 0.0;
+    if !valid {
         return (0.0, 0);
     }
     let dt = step as f64 / speed;
