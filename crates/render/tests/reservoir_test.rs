@@ -149,3 +149,35 @@ fn cap_and_retarget_keep_the_contribution_weight_consistent() {
     assert_eq!(r.contribution_weight(), 0.0);
     assert_eq!(Reservoir::<f32>::default().contribution_weight(), 0.0);
 }
+
+/// Spatial neighbours: inside the radius, never the pixel itself, and
+/// uniform over the disk (radial CDF r²/R², angle uniform) across pixels.
+#[test]
+fn spatial_neighbours_are_uniform_in_the_disk() {
+    use fogbank_render::integrators::restir::neighbours::{neighbour_offset, r2};
+    let radius = 10.0f32;
+    let (mut inner, mut right, mut n) = (0u32, 0u32, 0u32);
+    for pixel in 0..20_000u32 {
+        for k in 0..3 {
+            let [dx, dy] = neighbour_offset(pixel, 7, k, radius);
+            assert_ne!([dx, dy], [0, 0]);
+            let r2d = (dx * dx + dy * dy) as f32;
+            assert!(r2d.sqrt() <= radius + 0.75, "{dx} {dy}");
+            n += 1;
+            // Rounded to pixels, so compare coarse statistics: half the
+            // area lies within R/√2, half the angles on the right.
+            if r2d < 0.5 * radius * radius {
+                inner += 1;
+            }
+            if dx > 0 {
+                right += 1;
+            }
+        }
+    }
+    let frac = |c: u32| c as f64 / n as f64;
+    assert!((frac(inner) - 0.5).abs() < 0.03, "inner {}", frac(inner));
+    assert!((frac(right) - 0.5).abs() < 0.03, "right {}", frac(right));
+    // R2 is well spread: its first points differ.
+    assert_ne!(r2(0), r2(1));
+    assert!(r2(5).iter().all(|x| (0.0..1.0).contains(x)));
+}

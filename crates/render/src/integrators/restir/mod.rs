@@ -3,4 +3,5 @@
 //! its combination rules; the candidate, temporal, spatial and shading
 //! passes and the `restir` integrator come next, one file per pass.
 
+pub mod neighbours;
 pub mod reservoir;
