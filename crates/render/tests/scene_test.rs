@@ -230,3 +230,40 @@ fn switching_the_integrator_with_set_drops_the_old_integrators_keys() {
     let bad = volpath.replace("type = \"volpath\"", "type = \"direct\"");
     assert!(parse_scene(&bad, "scene", &[]).is_err());
 }
+
+#[test]
+fn the_explosion_scene_glows_and_quantity_is_checked() {
+    use fogbank_render::{render, Progress, RenderOptions};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/explosion.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mean = |extra: &[&str]| {
+        let mut o: Vec<String> = [
+            "camera.width=16",
+            "camera.height=12",
+            "media.0.density.resolution=32",
+        ]
+        .iter()
+        .chain(extra)
+        .map(|s| s.to_string())
+        .collect();
+        o.push("media.0.emission.temperature.resolution=32".into());
+        let scene =
+            Scene::build(parse_scene(&text, "explosion", &o).unwrap(), Path::new(".")).unwrap();
+        let opts = RenderOptions {
+            spp: 4,
+            seed: 1,
+            time_budget: None,
+        };
+        let m = render(&scene, &opts, &Progress::default()).film.mean();
+        m.iter().map(|p| p[0] as f64).sum::<f64>() / m.len() as f64
+    };
+    let (glow, dark) = (mean(&[]), mean(&["media.0.emission.scale=0"]));
+    assert!(glow > 3.0 * dark, "emission {glow} vs none {dark}");
+    let e = err(&["media.0.density={ procedural = \"cloud\", quantity = \"temperature\" }"]);
+    assert!(e.contains("media.0.density.quantity"), "{e}");
+    let e = err(&["media.0.density={ procedural = \"explosion\", quantity = \"heat\" }"]);
+    assert!(
+        e.contains("media.0.density.quantity") && e.contains("heat"),
+        "{e}"
+    );
+}

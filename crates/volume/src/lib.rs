@@ -5,6 +5,7 @@ pub mod access;
 pub mod analytic;
 pub mod dda;
 pub mod error;
+pub mod explosion;
 pub mod grid;
 pub mod loaders;
 pub mod medium;

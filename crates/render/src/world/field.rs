@@ -6,8 +6,8 @@ use crate::error::SceneError;
 use fogbank_math::{DAffine3, Vec3};
 use fogbank_volume::loaders::{raw, vdb, vdb_grid, vol};
 use fogbank_volume::{
-    medium::unit_box_transform, procedural, AnalyticField, AnalyticKind, BrickGrid, DensityData,
-    Precision,
+    explosion, medium::unit_box_transform, procedural, AnalyticField, AnalyticKind, BrickGrid,
+    DensityData, Precision,
 };
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -21,6 +21,7 @@ use std::path::Path;
 /// | `vol = "f.vol"` | `channel` (default 0) |
 /// | `raw = "f.raw"` | `dims = [x, y, z]`, `type = "u8"/"u16"/"f32"` (or from a `name_XxYxZ_uint8.raw` file name) |
 /// | `procedural = "cloud"` | `resolution` (128), `seed` (7) |
+/// | `procedural = "explosion"` | `resolution` (128), `seed` (7), `quantity` = `"density"` (default) or `"temperature"` (kelvin, for blackbody emission) |
 /// | `procedural = "constant"/"ramp"/"sinusoid"/"slabs"/"sphere"/"empty"` | `resolution`, `value`, `gradient`, `amplitude`, `frequency`, `phase`, `count`, `width`, `axis`, `radius` |
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -47,6 +48,9 @@ pub struct FieldDesc {
     pub axis: Option<usize>,
     /// `procedural = "sphere"`: ball radius in units of the cube (≤ ½).
     pub radius: Option<f32>,
+    /// `procedural = "explosion"`: `density` (default) or `temperature` (kelvin).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub quantity: Option<String>,
 }
 
 #[derive(Clone, Debug)]
@@ -158,7 +162,7 @@ fn analytic_kind(name: &str, d: &FieldDesc, key: &str) -> Result<AnalyticKind, S
         },
         other => {
             return Err(SceneError(format!(
-                "{key}.procedural: unknown procedural medium `{other}` (cloud, constant, ramp, sinusoid, slabs, sphere, empty)"
+                "{key}.procedural: unknown procedural medium `{other}` (cloud, explosion, constant, ramp, sinusoid, slabs, sphere, empty)"
             )))
         }
     })
@@ -181,6 +185,11 @@ pub fn field_data(
     if sources.iter().filter(|&&s| s).count() != 1 {
         return Err(SceneError(format!(
             "{key}: give exactly one of `vdb`, `vol`, `raw`, `procedural`"
+        )));
+    }
+    if d.quantity.is_some() && d.procedural.as_deref() != Some("explosion") {
+        return Err(SceneError(format!(
+            "{key}.quantity: only used with procedural = \"explosion\""
         )));
     }
     let err = |e: fogbank_volume::VolumeError| SceneError(format!("{key}: {e}"));
@@ -247,6 +256,21 @@ pub fn field_data(
             DensityData::from_f32(grid, precision),
             unit_box_transform([res; 3]),
             format!("procedural cloud {res}³"),
+        ));
+    }
+    if name == "explosion" {
+        let q = d.quantity.as_deref().unwrap_or("density");
+        let quantity = explosion::Quantity::parse(q).ok_or_else(|| {
+            SceneError(format!(
+                "{key}.quantity: `{q}` is not density or temperature"
+            ))
+        })?;
+        let grid: BrickGrid<f32> =
+            explosion::explosion_grid(res, d.seed.unwrap_or(7), quantity).map_err(err)?;
+        return Ok((
+            DensityData::from_f32(grid, precision),
+            unit_box_transform([res; 3]),
+            format!("procedural explosion {q} {res}³"),
         ));
     }
     let field = AnalyticField::new(analytic_kind(name, d, key)?, res).map_err(err)?;
