@@ -7,6 +7,7 @@ pub mod bbox;
 pub mod chi2;
 pub mod ray;
 pub mod rng;
+pub mod special;
 pub mod testdata;
 
 pub use bbox::Aabb;

@@ -3,14 +3,13 @@
 //! (seed 000 Fig. 13) and the jackknife weights of Eq. 9 at one point
 //! (App. D).
 
-use super::integrator::{depths_n, PointMis, Segment};
+use super::integrator::{depths_n, eq10_distances, PointMis, Segment};
 use super::strategy::Strategy;
 use crate::integrators::shared::{balance, estimator_rng};
 use crate::lights::sample::LightSampler;
 use crate::world::medium::SceneMedium;
 use crate::world::phase::HenyeyGreenstein;
 use crate::world::World;
-use fogbank_estimators::distance::{delta_tracking_ratio, equiangular};
 use fogbank_estimators::jackknife_function::mis_weight;
 use fogbank_estimators::{transmittance, Estimator};
 use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
@@ -73,17 +72,8 @@ impl PointMis {
         rng: &mut Pcg32,
     ) -> Vec3 {
         let mut lookups = 0u32;
-        let p0 = |t: f32| equiangular::pdf(&s.world, s.light, s.a, s.b, t);
         // The same draws, in the same order, as the Eq. 10 strategies.
-        let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
-        let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
-        let mut ts = [None, None];
-        if let Some(t1) = f.t {
-            ts[0] = Some((t1, p0(t1), Some(f.sigma_t)));
-        }
-        if pdf0 > 0.0 && pdf0.is_finite() {
-            ts[1] = Some((t0, pdf0, None));
-        }
+        let ts = eq10_distances(v, s, rng, &mut 0);
         let mut total = Vec3::ZERO;
         for (t, p, known_mu) in ts.into_iter().flatten() {
             let sigma_t = match known_mu {

@@ -292,16 +292,7 @@ impl PointMis {
                 // with g(τ) = μ e^{−τ}/(p0 + μ e^{−τ}) (Eq. 11), estimated by
                 // Eq. 12 (jackknife) or g(X) (naive, m = 1).
                 let naive = self.strategy == Strategy::MisNaive;
-                let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
-                *lookups += f.lookups;
-                let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
-                let mut ts = [None, None];
-                if let Some(t1) = f.t {
-                    ts[0] = Some((t1, p0(t1), Some(f.sigma_t)));
-                }
-                if pdf0 > 0.0 && pdf0.is_finite() {
-                    ts[1] = Some((t0, pdf0, None));
-                }
+                let ts = eq10_distances(v, s, rng, lookups);
                 for (t, p, known_mu) in ts.into_iter().flatten() {
                     let sigma_t = match known_mu {
                         Some(m) if !v.needs_jitter() => m,
@@ -357,4 +348,30 @@ pub(super) fn depths_n<V: VolumeAccess>(
     } else {
         (x[0], x[1])
     }
+}
+
+/// Seed 000 Eq. 10's two distance samples, drawn in this order: the
+/// free-flight one (t, p0(t), σ_t read by delta tracking) and the
+/// equiangular one (t, its pdf); `None` where a strategy produced nothing.
+pub(super) fn eq10_distances<V: VolumeAccess>(
+    v: &V,
+    s: &Segment,
+    rng: &mut Pcg32,
+    lookups: &mut u32,
+) -> [Option<(f32, f32, Option<f32>)>; 2] {
+    let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
+    *lookups += f.lookups;
+    let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
+    let mut ts = [None, None];
+    if let Some(t1) = f.t {
+        ts[0] = Some((
+            t1,
+            equiangular::pdf(&s.world, s.light, s.a, s.b, t1),
+            Some(f.sigma_t),
+        ));
+    }
+    if pdf0 > 0.0 && pdf0.is_finite() {
+        ts[1] = Some((t0, pdf0, None));
+    }
+    ts
 }

@@ -143,7 +143,7 @@ pub const SCATTER_PARAMS: [Param; 3] = [
 pub struct ScatterParams {
     pub distance_sampler: Option<DistanceSampler>,
     pub estimator: Estimator,
-    /// `Some` only for the one preset there is, `baseline`.
+    /// The `baseline` preset (the only one there is).
     pub baseline: bool,
 }
 
