@@ -62,6 +62,9 @@ enum KernelSource {
 
 impl Kernel {
     pub(crate) fn of(scene: &Scene) -> Result<Kernel, GpuError> {
+        if let IntegratorKind::Restir(_) = scene.integrator {
+            return Err(no_restir());
+        }
         let estimator = scene.integrator.estimator();
         let est = gpu_estimator(estimator).ok_or_else(|| {
             GpuError(format!(
@@ -110,9 +113,16 @@ impl Kernel {
                 sampler: strategy_id(p.strategy),
                 mis_samples: p.mis_samples,
             },
+            IntegratorKind::Restir(_) => return Err(no_restir()),
         };
         Ok(k)
     }
+}
+
+fn no_restir() -> GpuError {
+    GpuError(
+        "integrator `restir` has no GPU port yet (issue 18); render it with --backend cpu".into(),
+    )
 }
 
 /// Called with the film so far and the render seconds so far.

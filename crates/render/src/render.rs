@@ -4,6 +4,7 @@
 //! index order, so the image is bit-identical for any thread count or
 //! scheduling.
 
+use crate::integrators::IntegratorKind;
 use crate::scene::Scene;
 use crate::world::film::Film;
 use fogbank_math::SampleKey;
@@ -40,6 +41,7 @@ pub struct RenderResult {
     pub interrupted: bool,
 }
 
+#[derive(Default)]
 struct RowTotals {
     lookups: u64,
     nan: u64,
@@ -74,60 +76,24 @@ pub fn render_observed(
                 break;
             }
         }
-        let totals = film
-            .sum
-            .par_chunks_mut(w as usize)
-            .zip(film.sum_sq.par_chunks_mut(w as usize))
-            .zip(film.count.par_chunks_mut(w as usize))
-            .enumerate()
-            .map(|(y, ((sum, sum_sq), count))| {
-                let mut t = RowTotals {
-                    lookups: 0,
-                    nan: 0,
-                    inf: 0,
-                };
-                if progress.cancel.load(Ordering::Relaxed) {
-                    return t;
+        let totals = match &scene.integrator {
+            IntegratorKind::Restir(r) => {
+                match r.last_frame(&scene.world, opts.seed, pass, &progress.cancel) {
+                    Some(f) => {
+                        let t = add_frame(&mut film, &f.radiance);
+                        progress
+                            .samples_done
+                            .fetch_add(f.radiance.len() as u64, Ordering::Relaxed);
+                        RowTotals {
+                            lookups: f.lookups,
+                            ..t
+                        }
+                    }
+                    None => RowTotals::default(),
                 }
-                for x in 0..w as usize {
-                    let key = SampleKey {
-                        seed: opts.seed,
-                        pixel: (y * w as usize + x) as u32,
-                        sample: pass,
-                        dimension: 0,
-                    };
-                    let s = scene.sample_pixel(x as u32, y as u32, key);
-                    t.lookups += s.lookups as u64;
-                    let v = s.radiance.to_array();
-                    if v.iter().any(|c| c.is_nan()) {
-                        t.nan += 1;
-                        continue;
-                    }
-                    if v.iter().any(|c| c.is_infinite()) {
-                        t.inf += 1;
-                        continue;
-                    }
-                    for c in 0..3 {
-                        sum[x][c] += v[c] as f64;
-                        sum_sq[x][c] += (v[c] as f64) * (v[c] as f64);
-                    }
-                    count[x] += 1;
-                }
-                progress.samples_done.fetch_add(w as u64, Ordering::Relaxed);
-                t
-            })
-            .reduce(
-                || RowTotals {
-                    lookups: 0,
-                    nan: 0,
-                    inf: 0,
-                },
-                |a, b| RowTotals {
-                    lookups: a.lookups + b.lookups,
-                    nan: a.nan + b.nan,
-                    inf: a.inf + b.inf,
-                },
-            );
+            }
+            _ => pixel_pass(scene, opts.seed, pass, &mut film, progress),
+        };
         film.lookups += totals.lookups;
         film.nan_samples += totals.nan;
         film.inf_samples += totals.inf;
@@ -145,4 +111,97 @@ pub fn render_observed(
         seconds: start.elapsed().as_secs_f64(),
         interrupted,
     }
+}
+
+/// One pass of a per-pixel integrator: sample index `pass` of every pixel.
+fn pixel_pass(
+    scene: &Scene,
+    seed: u32,
+    pass: u32,
+    film: &mut Film,
+    progress: &Progress,
+) -> RowTotals {
+    let w = film.width;
+    film.sum
+        .par_chunks_mut(w as usize)
+        .zip(film.sum_sq.par_chunks_mut(w as usize))
+        .zip(film.count.par_chunks_mut(w as usize))
+        .enumerate()
+        .map(|(y, ((sum, sum_sq), count))| {
+            let mut t = RowTotals::default();
+            if progress.cancel.load(Ordering::Relaxed) {
+                return t;
+            }
+            for x in 0..w as usize {
+                let key = SampleKey {
+                    seed,
+                    pixel: (y * w as usize + x) as u32,
+                    sample: pass,
+                    dimension: 0,
+                };
+                let s = scene.sample_pixel(x as u32, y as u32, key);
+                t.lookups += s.lookups as u64;
+                accumulate(
+                    &mut sum[x],
+                    &mut sum_sq[x],
+                    &mut count[x],
+                    s.radiance,
+                    &mut t,
+                );
+            }
+            progress.samples_done.fetch_add(w as u64, Ordering::Relaxed);
+            t
+        })
+        .reduce(
+            || RowTotals {
+                lookups: 0,
+                nan: 0,
+                inf: 0,
+            },
+            |a, b| RowTotals {
+                lookups: a.lookups + b.lookups,
+                nan: a.nan + b.nan,
+                inf: a.inf + b.inf,
+            },
+        )
+}
+
+/// Adds one sample per pixel (a frame of a frame-based integrator).
+fn add_frame(film: &mut Film, radiance: &[fogbank_math::Vec3]) -> RowTotals {
+    let mut t = RowTotals::default();
+    for (i, l) in radiance.iter().enumerate() {
+        accumulate(
+            &mut film.sum[i],
+            &mut film.sum_sq[i],
+            &mut film.count[i],
+            *l,
+            &mut t,
+        );
+    }
+    t
+}
+
+/// Adds one sample to a pixel's sums; a non-finite one is counted, not added.
+#[inline]
+fn accumulate(
+    sum: &mut [f64; 3],
+    sum_sq: &mut [f64; 3],
+    count: &mut u32,
+    l: fogbank_math::Vec3,
+    t: &mut RowTotals,
+) {
+    let v = l.to_array();
+    if v.iter().any(|c| c.is_nan()) {
+        t.nan += 1;
+        return;
+    }
+    if v.iter().any(|c| c.is_infinite()) {
+        t.inf += 1;
+        return;
+    }
+    for c in 0..3 {
+        sum[c] += v[c] as f64;
+        sum_sq[c] += (v[c] as f64) * (v[c] as f64);
+    }
+    *count += 1;
 }

@@ -7,7 +7,7 @@
 //! same field `analytic_trilinear` integrates; stochastic trilinear media
 //! have this field as their mean.
 
-use super::FreeFlight;
+use super::{FreeFlight, TrackedFlight};
 use crate::analytic_trilinear::{shifted, DualCell};
 use fogbank_math::{Pcg32, Ray};
 use fogbank_volume::{Dda, GridView, Voxel};
@@ -23,8 +23,22 @@ pub fn sample<T: Voxel>(
     t1: f32,
     rng: &mut Pcg32,
 ) -> FreeFlight {
+    sample_tracked(v, ray, t0, t1, rng).free_flight()
+}
+
+/// [`sample`] with σ_t at the collision and the optical depth up to it:
+/// the closed-form density σ_t(t)·exp(−τ(t)) of the trilinear field.
+pub fn sample_tracked<T: Voxel>(
+    v: &GridView<'_, T>,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    rng: &mut Pcg32,
+) -> TrackedFlight {
     // The target in units of the unscaled field (∞ for a zero scale).
-    let target = -(1.0 - rng.next_f32() as f64).ln() / v.scale as f64;
+    let u = -(1.0 - rng.next_f32() as f64).ln();
+    let scale = v.scale as f64;
+    let target = u / scale;
     let (shifted, n) = shifted(ray, v.grid.dims());
     let (o, d) = (shifted.o.as_dvec3(), shifted.d.as_dvec3());
     let mut tau = 0.0f64;
@@ -39,14 +53,22 @@ pub fn sample<T: Voxel>(
         let d_tau = cell.integral(o, d, a, b);
         if tau + d_tau >= target && d_tau > 0.0 {
             let t = invert(&cell, o, d, a, b, target - tau, d_tau);
-            return FreeFlight {
-                t: Some((t as f32).clamp(s.t0, s.t1)),
+            let t32 = (t as f32).clamp(s.t0, s.t1);
+            return TrackedFlight {
+                t: Some(t32),
+                sigma_t: scale * cell.value(o, d, t32 as f64),
+                tau: u,
                 lookups,
             };
         }
         tau += d_tau;
     }
-    FreeFlight { t: None, lookups }
+    TrackedFlight {
+        t: None,
+        sigma_t: 0.0,
+        tau: tau * scale,
+        lookups,
+    }
 }
 
 /// x in [a, b] with ∫_a^x σ = rest, given ∫_a^b σ = total ≥ rest.

@@ -20,3 +20,26 @@ pub struct FreeFlight {
     pub t: Option<f32>,
     pub lookups: u32,
 }
+
+/// A free flight with what its density is made of, for samplers whose pdf
+/// has a closed form (regular tracking through a piecewise-constant grid,
+/// exact trilinear free flight): p(t) = σ_t(t)·exp(−τ(t)), and the escape
+/// probability exp(−τ) over the whole range when `t` is `None`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrackedFlight {
+    pub t: Option<f32>,
+    /// σ_t at `t` (0 on escape), per unit of the ray parameter.
+    pub sigma_t: f64,
+    /// Optical depth from the start to `t`, or over the whole range on escape.
+    pub tau: f64,
+    pub lookups: u32,
+}
+
+impl TrackedFlight {
+    pub fn free_flight(&self) -> FreeFlight {
+        FreeFlight {
+            t: self.t,
+            lookups: self.lookups,
+        }
+    }
+}

@@ -4,7 +4,7 @@
 //! voxel. Exact for `Filter::Nearest`; for trilinear media it samples the
 //! nearest-filtered field.
 
-use super::FreeFlight;
+use super::{FreeFlight, TrackedFlight};
 use fogbank_math::{Pcg32, Ray};
 use fogbank_volume::{Dda, GridView, Voxel};
 
@@ -15,6 +15,18 @@ pub fn sample<T: Voxel>(
     t1: f32,
     rng: &mut Pcg32,
 ) -> FreeFlight {
+    sample_tracked(v, ray, t0, t1, rng).free_flight()
+}
+
+/// [`sample`] with σ_t at the collision and the optical depth up to it
+/// (seed 002 Eq. 27–28: p(t) = T*(t)·σ_t*(t) in closed form).
+pub fn sample_tracked<T: Voxel>(
+    v: &GridView<'_, T>,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    rng: &mut Pcg32,
+) -> TrackedFlight {
     let target = -(1.0 - rng.next_f32() as f64).ln();
     let mut tau = 0.0f64;
     let mut lookups = 0;
@@ -24,12 +36,19 @@ pub fn sample<T: Voxel>(
         let d = sigma_t * (s.t1 - s.t0) as f64;
         if tau + d >= target && sigma_t > 0.0 {
             let t = s.t0 as f64 + (target - tau) / sigma_t;
-            return FreeFlight {
+            return TrackedFlight {
                 t: Some((t as f32).clamp(s.t0, s.t1)),
+                sigma_t,
+                tau: target,
                 lookups,
             };
         }
         tau += d;
     }
-    FreeFlight { t: None, lookups }
+    TrackedFlight {
+        t: None,
+        sigma_t: 0.0,
+        tau,
+        lookups,
+    }
 }

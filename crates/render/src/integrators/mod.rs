@@ -20,6 +20,7 @@ use direct::{Direct, DirectParams};
 use fogbank_estimators::Estimator;
 use fogbank_math::{SampleKey, Vec3};
 use point_mis::{PointMis, PointMisParams};
+use restir::{Restir, RestirParams};
 use shared::PixelSample;
 use transmittance::TransmittanceParams;
 use volpath::{VolPath, VolPathParams};
@@ -32,6 +33,7 @@ pub enum IntegratorDesc {
     Direct(DirectParams),
     VolPath(VolPathParams),
     PointMis(PointMisParams),
+    Restir(RestirParams),
 }
 
 impl Default for IntegratorDesc {
@@ -41,11 +43,12 @@ impl Default for IntegratorDesc {
 }
 
 /// Every integrator's `type` and parameter table, in one place.
-pub const REGISTRY: [(&str, &[Param]); 4] = [
+pub const REGISTRY: [(&str, &[Param]); 5] = [
     ("transmittance", &transmittance::PARAMS),
     ("direct", &direct::PARAMS),
     ("volpath", &volpath::PARAMS),
     ("point_mis", &point_mis::PARAMS),
+    ("restir", &restir::PARAMS),
 ];
 
 impl IntegratorDesc {
@@ -55,6 +58,7 @@ impl IntegratorDesc {
             IntegratorDesc::Direct(_) => "direct",
             IntegratorDesc::VolPath(_) => "volpath",
             IntegratorDesc::PointMis(_) => "point_mis",
+            IntegratorDesc::Restir(_) => "restir",
         }
     }
 
@@ -83,6 +87,7 @@ impl IntegratorDesc {
             "direct" => IntegratorDesc::Direct(DirectParams::read(&mut r)?),
             "volpath" => IntegratorDesc::VolPath(VolPathParams::read(&mut r)?),
             "point_mis" => IntegratorDesc::PointMis(PointMisParams::read(&mut r)?),
+            "restir" => IntegratorDesc::Restir(RestirParams::read(&mut r)?),
             _ => unreachable!("every registered integrator is read"),
         };
         // The estimator's options may stand flat in the table.
@@ -129,6 +134,7 @@ impl IntegratorDesc {
             IntegratorDesc::Direct(p) => p.write(&mut t),
             IntegratorDesc::VolPath(p) => p.write(&mut t),
             IntegratorDesc::PointMis(p) => p.write(&mut t),
+            IntegratorDesc::Restir(p) => p.write(&mut t),
         }
         t
     }
@@ -140,6 +146,7 @@ impl IntegratorDesc {
             IntegratorDesc::Direct(p) => p.estimator,
             IntegratorDesc::VolPath(p) => p.scatter.estimator,
             IntegratorDesc::PointMis(p) => p.estimator,
+            IntegratorDesc::Restir(p) => p.estimator,
         }
     }
 
@@ -153,6 +160,7 @@ impl IntegratorDesc {
             IntegratorDesc::Direct(p) => IntegratorKind::Direct(Direct::new(p, world)),
             IntegratorDesc::VolPath(p) => IntegratorKind::VolPath(VolPath::new(p, world)),
             IntegratorDesc::PointMis(p) => IntegratorKind::PointMis(PointMis::new(p, world)?),
+            IntegratorDesc::Restir(p) => IntegratorKind::Restir(Restir::new(p, world)?),
         })
     }
 }
@@ -180,6 +188,7 @@ pub enum IntegratorKind {
     Direct(Direct),
     VolPath(VolPath),
     PointMis(PointMis),
+    Restir(Restir),
 }
 
 impl IntegratorKind {
@@ -189,6 +198,7 @@ impl IntegratorKind {
             IntegratorKind::Direct(_) => "direct",
             IntegratorKind::VolPath(_) => "volpath",
             IntegratorKind::PointMis(_) => "point_mis",
+            IntegratorKind::Restir(_) => "restir",
         }
     }
 
@@ -199,6 +209,7 @@ impl IntegratorKind {
             IntegratorKind::Direct(d) => d.nee,
             IntegratorKind::VolPath(v) => v.nee,
             IntegratorKind::PointMis(p) => p.nee,
+            IntegratorKind::Restir(r) => r.params.estimator,
         }
     }
 
@@ -214,6 +225,7 @@ impl IntegratorKind {
             IntegratorKind::Direct(d) => d.nee = e,
             IntegratorKind::VolPath(v) => v.nee = e,
             IntegratorKind::PointMis(p) => p.nee = e,
+            IntegratorKind::Restir(r) => r.params.estimator = e,
         }
         k
     }
@@ -228,6 +240,7 @@ impl IntegratorKind {
             IntegratorKind::Direct(d) => d.sample(world, x, y, key),
             IntegratorKind::VolPath(v) => v.sample(world, x, y, key),
             IntegratorKind::PointMis(p) => p.sample(world, x, y, key),
+            IntegratorKind::Restir(r) => r.sample(world, x, y, key),
         }
     }
 }

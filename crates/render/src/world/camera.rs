@@ -71,6 +71,23 @@ impl Camera {
             (self.forward + sx * self.right + sy * self.up).normalize(),
         )
     }
+
+    /// Film position (in pixels) where world point `p` appears: the inverse
+    /// of [`Camera::ray`]; `None` behind the camera.
+    pub fn project(&self, p: Vec3) -> Option<(f32, f32)> {
+        let v = p - self.origin;
+        let z = v.dot(self.forward);
+        if z.is_nan() || z <= 0.0 {
+            return None;
+        }
+        let sx = v.dot(self.right) / (z * self.tan_half[0]);
+        let sy = v.dot(self.up) / (z * self.tan_half[1]);
+        let (x, y) = (
+            0.5 * (sx + 1.0) * self.width as f32,
+            0.5 * (1.0 - sy) * self.height as f32,
+        );
+        (x.is_finite() && y.is_finite()).then_some((x, y))
+    }
 }
 
 /// | key | default | meaning |

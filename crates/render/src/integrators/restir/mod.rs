@@ -1,7 +1,49 @@
-//! Volumetric ReSTIR (seed 002): spatiotemporal reservoir resampling of
-//! volumetric paths. Work in progress (issue 18): so far the reservoir and
-//! its combination rules; the candidate, temporal, spatial and shading
-//! passes and the `restir` integrator come next, one file per pass.
+//! `restir`: volumetric ReSTIR (seed 002, Lin, Wyman & Yuksel 2021),
+//! spatiotemporal reservoir resampling of volumetric paths. Each frame runs
+//! the passes of §5 over every pixel ([`frame`]): M candidate random walks
+//! per pixel through conservative mips ([`candidates`]), temporal reuse of
+//! the previous frame's reservoir ([`temporal`]), one round of spatial
+//! reuse ([`spatial`]), both combined with Talbot MIS ([`combine`]), and
+//! final shading of the selected path with unbiased transmittance.
+//!
+//! Rendering a static scene with `fogbank render`, each of the `spp` passes
+//! renders an independent sequence of `frames` frames and keeps its last
+//! frame, so the image is the mean of independent last frames and its
+//! variance layer is their variance (what the z-test against `volpath`
+//! needs). Primary rays go through pixel centres (`render.pixel_jitter` is
+//! ignored): reuse compares targets of fixed pixel rays.
+//!
+//! | key | default | meaning |
+//! |---|---|---|
+//! | `max_depth` | 3 | K, the longest path in medium vertices (1..=8) |
+//! | `candidates` | 4 | M, random walks per pixel and frame |
+//! | `reuse` | `spatiotemporal` | `none` (plain RIS), `spatial`, `temporal`, `spatiotemporal` |
+//! | `mis` | `talbot` | combination MIS: `talbot` (Eq. 11), `stochastic` (Eq. 10), `uniform` (1/M, Eq. 9, biased) |
+//! | `temporal_cap` | 4 | Q: the previous reservoir's M is capped at Q·M |
+//! | `neighbours` | 3 | spatial neighbours besides the pixel itself (0..=32) |
+//! | `radius` | 10 | spatial reuse radius in pixels |
+//! | `frames` | 8 | frames per sequence of a static render (the last one is kept) |
+//! | `primary_mip` | 1 | mip of candidate regular tracking on the primary segment (0: exact trilinear free flight at full resolution) |
+//! | `indirect_mip` | 2 | the same after the first vertex |
+//! | `nee_mip` | 2 | mip of the ray-marched T̃ on candidate NEE segments |
+//! | `nee_transmittance` | true | false: candidates ignore NEE transmittance (Fig. 11) |
+//! | `reuse_mip` | 1 | mip of the ray-marched T̃ in the reuse target p̂ (0: full resolution) |
+//! | `reuse_step` | 1 | marching step of T̃ in p̂, in voxel diagonals of `reuse_mip` |
+//! | `estimator` | `analytic_trilinear` | transmittance of final shading: exact, or any unbiased estimator |
+//! | `rr_depth` | 3 | Russian roulette by albedo after vertex x_rr_depth (only when K > rr_depth, §6.1) |
 
+pub mod candidates;
+pub mod combine;
+pub mod frame;
+pub mod integrator;
 pub mod neighbours;
+pub mod params;
+pub mod path;
 pub mod reservoir;
+pub mod spatial;
+pub mod target;
+pub mod temporal;
+pub mod volume;
+
+pub use integrator::{FrameData, Restir};
+pub use params::{RestirParams, Reuse, ReuseMis, PARAMS};

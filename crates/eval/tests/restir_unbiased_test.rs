@@ -1,0 +1,176 @@
+//! Seed 002's claim, tested as issue 18 asks: volumetric ReSTIR with Talbot
+//! MIS is unbiased for a static scene. The mean of the last frame of
+//! independent sequences (each pass of `fogbank render` is one sequence of
+//! `frames` frames) agrees per pixel with `volpath` at the same depth under
+//! the z-test of `fogbank compare`, with pixel-centre rays in both; and the
+//! test has the power to reject plain 1/M weights (Eq. 9), which darken
+//! where a neighbour cannot produce a pixel's paths.
+
+use fogbank_eval::image_io::Image;
+use fogbank_eval::metrics::ztest::{ztest, ZTest};
+use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
+use std::path::Path;
+
+/// A test volume without faint fringes, so that every pixel's estimate
+/// rests on many events in both renderers (the z-test needs the CLT; a
+/// pixel whose rays graze a wisp sees rare events only, and a reference
+/// that happens to see none reads as exact): a 24³ grid whose far half is
+/// dense everywhere (so every primary ray meets it) and whose near half is a
+/// checkerboard of 3-voxel columns and holes (so a neighbour's shifted
+/// first vertex often lands at zero density, where 1/M weights darken).
+/// Written once as a raw f32 file; the camera sees only the front face.
+fn volume_file() -> String {
+    let path = std::env::temp_dir().join(format!("fogbank_restir_test_{}.raw", std::process::id()));
+    let n = 24usize;
+    let mut bytes = Vec::with_capacity(n * n * n * 4);
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let d: f32 = if k < n / 2 {
+                    0.5 + 0.5 * (((i * 7 + j * 13 + k * 5) % 11) as f32 / 10.0)
+                } else if (i / 3 + j / 3) % 2 == 0 {
+                    1.0
+                } else {
+                    0.0
+                };
+                bytes.extend_from_slice(&d.to_le_bytes());
+            }
+        }
+    }
+    std::fs::write(&path, bytes).unwrap();
+    path.display().to_string().replace('\\', "/")
+}
+
+fn scene_text(lights: &str, medium_extra: &str) -> String {
+    let raw = volume_file();
+    format!(
+        "[camera]\nfrom = [0.0, 0.0, 1.4]\nwidth = 16\nheight = 12\nfov = 25.0\n\
+         [[media]]\ndensity = {{ raw = \"{raw}\", dims = [24, 24, 24], type = \"f32\" }}\n\
+         sigma_t_scale = 8.0\nalbedo = [0.9, 0.85, 0.8]\n{medium_extra}\n\
+         {lights}\n\
+         [render]\npixel_jitter = false\n"
+    )
+}
+
+/// Independent sequences per test image: ≥ 64 as issue 18 asks, and enough
+/// that a pixel whose walks all escape a faint fringe (a rare, large
+/// weight) is unlikely to look exact.
+const SEQUENCES: u32 = 256;
+
+const ENV: &str = "[[lights]]\ntype = \"constant\"\nradiance = [0.8, 0.9, 1.0]\n";
+
+const EXPLOSION: &str = "[camera]\nfrom = [0.0, 0.1, 1.9]\nto = [0.0, -0.02, 0.0]\nwidth = 16\nheight = 12\nfov = 40.0\n\
+        [[media]]\ndensity = { procedural = \"explosion\", resolution = 32, seed = 3 }\n\
+        sigma_t_scale = 10.0\nalbedo = [0.55, 0.55, 0.55]\nphase = { type = \"hg\", g = 0.3 }\n\
+        emission = { temperature = { procedural = \"explosion\", quantity = \"temperature\", resolution = 32, seed = 3 }, scale = 40.0 }\n\
+        [[lights]]\ntype = \"constant\"\nradiance = [0.02, 0.025, 0.03]\n\
+        [render]\npixel_jitter = false\n";
+
+fn image(text: &str, set: &[String], spp: u32, seed: u32) -> Image {
+    let scene = Scene::build(parse_scene(text, "test", set).unwrap(), Path::new(".")).unwrap();
+    let opts = RenderOptions {
+        spp,
+        seed,
+        time_budget: None,
+    };
+    let film = render(&scene, &opts, &Progress::default()).film;
+    assert_eq!(film.nan_samples + film.inf_samples, 0, "{set:?}");
+    Image {
+        width: film.width as usize,
+        height: film.height as usize,
+        rgb: film.mean(),
+        variance: Some(film.variance_of_mean()),
+        is_srgb8: false,
+    }
+}
+
+fn mean(img: &Image) -> [f64; 3] {
+    let mut m = [0.0; 3];
+    for p in &img.rgb {
+        for c in 0..3 {
+            m[c] += p[c] as f64 / img.rgb.len() as f64;
+        }
+    }
+    m
+}
+
+fn sets(v: &[&str]) -> Vec<String> {
+    v.iter().map(|s| s.to_string()).collect()
+}
+
+fn compare(text: &str, k: u32, restir: &[&str]) -> ZTest {
+    compare_with(text, k, restir, SEQUENCES)
+}
+
+/// [`compare`] with `sequences` independent sequences.
+fn compare_with(text: &str, k: u32, restir: &[&str], sequences: u32) -> ZTest {
+    let depth = format!("integrator.max_depth={k}");
+    let reference = image(text, &sets(&["integrator.type=volpath", &depth]), 2048, 1);
+    let mut set = sets(&["integrator.type=restir", &depth]);
+    set.extend(sets(restir));
+    let test = image(text, &set, sequences, 2);
+    let z = ztest(&reference, &test).unwrap();
+    eprintln!(
+        "K={k} {restir:?}: pass {} failing {} max|z| {:.2} at {:?} (threshold {:.2}) mean z {:.3?}, ref mean {:.5?} test mean {:.5?}",
+        z.pass, z.failing_pixels, z.max_abs_z, z.max_abs_z_pixel, z.threshold, z.mean_z,
+        mean(&reference), mean(&test)
+    );
+    if let Some((x, y)) = z.max_abs_z_pixel {
+        let i = y * test.width + x;
+        eprintln!(
+            "   at ({x}, {y}): ref {:.6?} ± {:.2e} | test {:.6?} ± {:.2e}",
+            reference.rgb[i],
+            reference.variance.as_ref().unwrap()[i][1].sqrt(),
+            test.rgb[i],
+            test.variance.as_ref().unwrap()[i][1].sqrt()
+        );
+    }
+    z
+}
+
+#[test]
+fn restir_env_cloud_is_unbiased() {
+    let text = scene_text(ENV, "");
+    for k in [1, 3] {
+        let z = compare(&text, k, &[]);
+        assert!(z.pass, "K = {k}");
+    }
+}
+
+#[test]
+fn restir_point_lit_forward_scattering_cloud_is_unbiased() {
+    let point =
+        "[[lights]]\ntype = \"point\"\nposition = [0.6, 0.7, 0.5]\nintensity = [1.5, 1.4, 1.2]\n";
+    let text = scene_text(point, "phase = { type = \"hg\", g = 0.7 }");
+    for k in [1, 3] {
+        let z = compare(&text, k, &[]);
+        assert!(z.pass, "K = {k}");
+    }
+}
+
+#[test]
+fn restir_emissive_explosion_is_unbiased() {
+    // The scalar (luminance) target makes the environment's share of a
+    // pixel dominated by emission a rare, large event (seed 002's colour
+    // noise, §6.2): 256 sequences under-sample it (|z| ≈ 4.5 in green and
+    // blue at one pixel, falling to 3.4 with 2048 sequences — skew, not
+    // bias, which would grow with the sample count), so this scene gets 1024.
+    for k in [1, 3] {
+        let z = compare_with(EXPLOSION, k, &[], 1024);
+        assert!(z.pass, "K = {k}");
+    }
+}
+
+#[test]
+fn restir_without_reuse_is_unbiased() {
+    let text = scene_text(ENV, "");
+    let z = compare(&text, 3, &["integrator.reuse=none"]);
+    assert!(z.pass);
+}
+
+#[test]
+fn restir_uniform_weights_are_rejected() {
+    let text = scene_text(ENV, "");
+    let z = compare(&text, 1, &["integrator.mis=uniform"]);
+    assert!(!z.pass);
+}

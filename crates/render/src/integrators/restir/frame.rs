@@ -1,0 +1,183 @@
+//! One frame of volumetric ReSTIR (seed 002 §5, Fig. 5): candidates →
+//! temporal reuse → spatial reuse → final shading, each a pass over every
+//! pixel (rows in parallel; each pixel's random numbers are keyed by seed,
+//! pixel, sequence, frame and pass, so a frame does not depend on the
+//! thread count). The post-spatial reservoirs go to the next frame (§2.5).
+//! Primary rays go through pixel centres in every pass (the authors' code):
+//! reuse compares targets of fixed pixel rays.
+
+use super::integrator::{FrameData, Restir};
+use super::path::PathSample;
+use super::reservoir::Reservoir;
+use super::temporal::Previous;
+use crate::world::camera::Camera;
+use crate::world::World;
+use fogbank_math::{SampleKey, Vec3};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+/// Random-stream dimensions of a frame's passes (after the integrators'
+/// camera and estimator streams).
+const DIM_BASE: u32 = 2;
+const PASSES: u32 = 4;
+
+/// Seconds spent in each pass of a frame.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PassTimes {
+    pub candidates: f64,
+    pub temporal: f64,
+    pub spatial: f64,
+    pub shading: f64,
+}
+
+pub struct FrameOutput {
+    pub radiance: Vec<Vec3>,
+    pub lookups: u64,
+    pub times: PassTimes,
+}
+
+/// A sequence of frames: what one frame leaves the next.
+pub struct Sequence<'r> {
+    restir: &'r Restir,
+    seed: u32,
+    sequence: u32,
+    frame: u32,
+    prev: Option<(Vec<Reservoir<PathSample>>, Camera)>,
+}
+
+impl<'r> Sequence<'r> {
+    /// Sequence `sequence` (independent sequences have independent random
+    /// numbers) of the scene rendered with `seed`.
+    pub fn new(restir: &'r Restir, seed: u32, sequence: u32) -> Self {
+        Sequence {
+            restir,
+            seed,
+            sequence,
+            frame: 0,
+            prev: None,
+        }
+    }
+
+    /// Renders the next frame with the current frame's data `cur` and the
+    /// previous frame's `prev` (the same for a static scene).
+    pub fn frame(&mut self, cur: &FrameData, prev: &FrameData) -> FrameOutput {
+        let r = self.restir;
+        let cam = &cur.world.camera;
+        let (w, n) = (cam.width, (cam.width * cam.height) as usize);
+        let (seed, sequence, frame) = (self.seed, self.sequence, self.frame);
+        let rng = move |pixel: usize, pass: u32| {
+            SampleKey {
+                seed,
+                pixel: pixel as u32,
+                sample: sequence,
+                dimension: DIM_BASE + PASSES * frame + pass,
+            }
+            .rng()
+        };
+        let pixel = |i: usize| ((i as u32) % w, (i as u32) / w);
+        let ray = |i: usize| {
+            let (x, y) = pixel(i);
+            cam.ray(x as f32 + 0.5, y as f32 + 0.5)
+        };
+        let mut times = PassTimes::default();
+        let mut lookups = 0u64;
+
+        let clock = Instant::now();
+        let (mut res, l) = collect(n, |i, lk| r.candidates(cur, &ray(i), &mut rng(i, 0), lk));
+        lookups += l;
+        times.candidates = clock.elapsed().as_secs_f64();
+
+        let same_size = |c: &Camera| c.width == cam.width && c.height == cam.height;
+        if let (true, Some((old, old_cam))) = (r.params.reuse.temporal, &self.prev) {
+            if same_size(old_cam) {
+                let clock = Instant::now();
+                let before = Previous {
+                    reservoirs: old,
+                    camera: old_cam,
+                    data: prev,
+                };
+                let (t, l) = collect(n, |i, lk| {
+                    r.temporal(cur, &before, pixel(i), &ray(i), res[i], &mut rng(i, 1), lk)
+                });
+                res = t;
+                lookups += l;
+                times.temporal = clock.elapsed().as_secs_f64();
+            }
+        }
+        if r.params.reuse.spatial {
+            let clock = Instant::now();
+            let (s, l) = collect(n, |i, lk| {
+                r.spatial(cur, &res, pixel(i), frame, &mut rng(i, 2), lk)
+            });
+            res = s;
+            lookups += l;
+            times.spatial = clock.elapsed().as_secs_f64();
+        }
+
+        let clock = Instant::now();
+        let shaded: Vec<(Vec3, u32)> = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let mut lk = 0;
+                let l = r.shade(cur, &ray(i), &res[i], &mut rng(i, 3), &mut lk);
+                (l, lk)
+            })
+            .collect();
+        times.shading = clock.elapsed().as_secs_f64();
+        lookups += shaded.iter().map(|s| s.1 as u64).sum::<u64>();
+
+        self.prev = Some((res, cam.clone()));
+        self.frame += 1;
+        FrameOutput {
+            radiance: shaded.into_iter().map(|s| s.0).collect(),
+            lookups,
+            times,
+        }
+    }
+}
+
+/// Runs `f(pixel, &mut lookups)` for every pixel in parallel.
+fn collect<F>(n: usize, f: F) -> (Vec<Reservoir<PathSample>>, u64)
+where
+    F: Fn(usize, &mut u32) -> Reservoir<PathSample> + Sync,
+{
+    let v: Vec<(Reservoir<PathSample>, u32)> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let mut lk = 0;
+            (f(i, &mut lk), lk)
+        })
+        .collect();
+    let lookups = v.iter().map(|x| x.1 as u64).sum();
+    (v.into_iter().map(|x| x.0).collect(), lookups)
+}
+
+impl Restir {
+    /// The last frame of sequence `sequence` of the static scene (`frames`
+    /// frames); `None` when `cancel` is set between frames.
+    pub fn last_frame(
+        &self,
+        world: &World,
+        seed: u32,
+        sequence: u32,
+        cancel: &AtomicBool,
+    ) -> Option<FrameOutput> {
+        let data = self.data(world);
+        let mut seq = Sequence::new(self, seed, sequence);
+        let mut out = None;
+        let mut lookups = 0;
+        for _ in 0..self.params.frames {
+            if cancel.load(Ordering::Relaxed) {
+                return None;
+            }
+            let f = seq.frame(&data, &data);
+            lookups += f.lookups;
+            out = Some(f);
+        }
+        out.map(|mut f| {
+            f.lookups = lookups;
+            f
+        })
+    }
+}

@@ -1,0 +1,109 @@
+//! The built `restir` integrator: its parameters with the scene's mips and
+//! light selection, the reuse target p̂ and final shading. The passes are
+//! `impl Restir` blocks in their own files.
+
+use super::params::RestirParams;
+use super::path::PathSample;
+use super::reservoir::Reservoir;
+use super::target::{evaluate, luminance};
+use super::volume::{Mips, SegmentT};
+use crate::error::SceneError;
+use crate::integrators::shared::{estimator_rng, PixelSample};
+use crate::lights::sample::LightSampler;
+use crate::world::World;
+use fogbank_estimators::Estimator;
+use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
+use fogbank_volume::DensityData;
+
+/// What a frame's passes read: the world of that frame, its medium's mips
+/// and its light selection.
+pub struct FrameData<'a> {
+    pub world: &'a World,
+    pub mips: &'a Mips,
+    pub lights: &'a LightSampler,
+}
+
+/// The built integrator (for the scene's world as built).
+#[derive(Clone, Debug)]
+pub struct Restir {
+    pub params: RestirParams,
+    pub mips: Mips,
+    pub lights: LightSampler,
+}
+
+impl Restir {
+    pub fn new(p: &RestirParams, world: &World) -> Result<Restir, SceneError> {
+        if world.media.len() != 1 {
+            return Err(SceneError(format!(
+                "integrator \"restir\" renders scenes with exactly one medium (this one has {})",
+                world.media.len()
+            )));
+        }
+        let m = &world.media[0].medium;
+        if matches!(m.data, DensityData::Analytic(_)) {
+            return Err(SceneError(
+                "integrator \"restir\" needs a voxel grid (its mips); procedural \"cloud\" and \"explosion\" and files are grids, analytic media are not".into(),
+            ));
+        }
+        Ok(Restir {
+            params: p.clone(),
+            mips: Mips::build(m)?,
+            lights: LightSampler::new(&world.lights, world.radius()),
+        })
+    }
+
+    /// The frame data of the scene's own (static) world.
+    pub fn data<'a>(&'a self, world: &'a World) -> FrameData<'a> {
+        FrameData {
+            world,
+            mips: &self.mips,
+            lights: &self.lights,
+        }
+    }
+
+    /// The reuse target p̂ of the pixel with primary ray `ray` at path `y`:
+    /// luminance of the path with T̃ marched on mip `reuse_mip` (§4.3, §5.1).
+    pub fn p_hat(&self, data: &FrameData, ray: &Ray, y: &PathSample, lookups: &mut u32) -> f32 {
+        let full = &data.world.media[0].medium;
+        let mut tr = SegmentT::Marched {
+            medium: data.mips.level(full, self.params.reuse_mip),
+            step: self.params.reuse_step,
+        };
+        luminance(evaluate(data.world, ray, y, &mut tr, lookups)).max(0.0)
+    }
+
+    /// Final shading (Eq. 21): F(y)·W with unbiased transmittance on every
+    /// segment at full resolution.
+    pub fn shade(
+        &self,
+        data: &FrameData,
+        ray: &Ray,
+        res: &Reservoir<PathSample>,
+        rng: &mut Pcg32,
+        lookups: &mut u32,
+    ) -> Vec3 {
+        let (Some(y), w) = (res.y, res.contribution_weight()) else {
+            return Vec3::ZERO;
+        };
+        if w <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let mut tr = match self.params.estimator {
+            Estimator::AnalyticTrilinear => SegmentT::Exact,
+            estimator => SegmentT::Estimated { estimator, rng },
+        };
+        evaluate(data.world, ray, &y, &mut tr, lookups) * w
+    }
+
+    /// One pixel without reuse (plain RIS over M walks, then shading): what
+    /// a per-pixel caller gets; reuse needs whole frames ([`super::frame::Sequence`]).
+    pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+        let data = self.data(world);
+        let mut rng = estimator_rng(key);
+        let ray = world.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
+        let mut lookups = 0;
+        let res = self.candidates(&data, &ray, &mut rng, &mut lookups);
+        let radiance = self.shade(&data, &ray, &res, &mut rng, &mut lookups);
+        PixelSample { radiance, lookups }
+    }
+}

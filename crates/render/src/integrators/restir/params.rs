@@ -1,0 +1,301 @@
+//! The parameters of `restir` (the table is in the module docs of
+//! [`super`]) and their validation.
+
+use super::path::MAX_K;
+use super::volume::MAX_MIP;
+use crate::error::SceneError;
+use crate::params::{take_estimator, Param, ParamReader};
+use fogbank_estimators::Estimator;
+
+pub const PARAMS: [Param; 16] = [
+    Param {
+        key: "max_depth",
+        default: "3",
+        meaning: "K, the longest path in medium vertices (1..=8)",
+    },
+    Param {
+        key: "candidates",
+        default: "4",
+        meaning: "M, random walks per pixel and frame",
+    },
+    Param {
+        key: "reuse",
+        default: "spatiotemporal",
+        meaning: "none, spatial, temporal or spatiotemporal",
+    },
+    Param {
+        key: "mis",
+        default: "talbot",
+        meaning: "combination MIS: talbot, stochastic, uniform (biased)",
+    },
+    Param {
+        key: "temporal_cap",
+        default: "4",
+        meaning: "Q: the previous reservoir's M is capped at Q·M",
+    },
+    Param {
+        key: "neighbours",
+        default: "3",
+        meaning: "spatial neighbours besides the pixel (0..=32)",
+    },
+    Param {
+        key: "radius",
+        default: "10",
+        meaning: "spatial reuse radius in pixels",
+    },
+    Param {
+        key: "frames",
+        default: "8",
+        meaning: "frames per sequence of a static render (the last is kept)",
+    },
+    Param {
+        key: "primary_mip",
+        default: "1",
+        meaning: "mip of candidate tracking on the primary segment (0: full resolution)",
+    },
+    Param {
+        key: "indirect_mip",
+        default: "2",
+        meaning: "mip of candidate tracking after the first vertex",
+    },
+    Param {
+        key: "nee_mip",
+        default: "2",
+        meaning: "mip of the marched T̃ on candidate NEE segments",
+    },
+    Param {
+        key: "nee_transmittance",
+        default: "true",
+        meaning: "false: candidates ignore NEE transmittance",
+    },
+    Param {
+        key: "reuse_mip",
+        default: "1",
+        meaning: "mip of the marched T̃ in the reuse target",
+    },
+    Param {
+        key: "reuse_step",
+        default: "1",
+        meaning: "marching step of the reuse T̃, in voxel diagonals",
+    },
+    Param {
+        key: "estimator",
+        default: "analytic_trilinear",
+        meaning: "transmittance of final shading",
+    },
+    Param {
+        key: "rr_depth",
+        default: "3",
+        meaning: "Russian roulette by albedo after this vertex when K is larger",
+    },
+];
+
+/// Which reuse passes run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Reuse {
+    pub temporal: bool,
+    pub spatial: bool,
+}
+
+impl Reuse {
+    pub fn parse(s: &str) -> Option<Reuse> {
+        let (temporal, spatial) = match s {
+            "none" => (false, false),
+            "spatial" => (false, true),
+            "temporal" => (true, false),
+            "spatiotemporal" => (true, true),
+            _ => return None,
+        };
+        Some(Reuse { temporal, spatial })
+    }
+    pub fn name(self) -> &'static str {
+        match (self.temporal, self.spatial) {
+            (false, false) => "none",
+            (false, true) => "spatial",
+            (true, false) => "temporal",
+            (true, true) => "spatiotemporal",
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct RestirParams {
+    pub max_depth: u32,
+    pub candidates: u32,
+    pub reuse: Reuse,
+    pub mis: ReuseMis,
+    pub temporal_cap: f32,
+    pub neighbours: u32,
+    pub radius: f32,
+    pub frames: u32,
+    pub primary_mip: u32,
+    pub indirect_mip: u32,
+    pub nee_mip: u32,
+    pub nee_transmittance: bool,
+    pub reuse_mip: u32,
+    pub reuse_step: f32,
+    pub estimator: Estimator,
+    pub rr_depth: u32,
+}
+
+impl Default for RestirParams {
+    fn default() -> Self {
+        RestirParams {
+            max_depth: 3,
+            candidates: 4,
+            reuse: Reuse {
+                temporal: true,
+                spatial: true,
+            },
+            mis: ReuseMis::Talbot,
+            temporal_cap: 4.0,
+            neighbours: 3,
+            radius: 10.0,
+            frames: 8,
+            primary_mip: 1,
+            indirect_mip: 2,
+            nee_mip: 2,
+            nee_transmittance: true,
+            reuse_mip: 1,
+            reuse_step: 1.0,
+            estimator: Estimator::AnalyticTrilinear,
+            rr_depth: 3,
+        }
+    }
+}
+
+fn in_range<T: PartialOrd + std::fmt::Display + Copy>(
+    r: &ParamReader,
+    key: &str,
+    v: T,
+    lo: T,
+    hi: T,
+) -> Result<T, SceneError> {
+    if v >= lo && v <= hi {
+        Ok(v)
+    } else {
+        Err(SceneError(format!(
+            "{}: {v} is outside {lo}..={hi}",
+            r.key_path(key)
+        )))
+    }
+}
+
+impl RestirParams {
+    pub fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
+        let d = RestirParams::default();
+        let max_depth = r.take("max_depth")?.unwrap_or(d.max_depth);
+        let candidates = r.take("candidates")?.unwrap_or(d.candidates);
+        let reuse = match r.take::<String>("reuse")? {
+            None => d.reuse,
+            Some(s) => Reuse::parse(&s).ok_or_else(|| {
+                SceneError(format!(
+                    "{}: `{s}` is not none, spatial, temporal or spatiotemporal",
+                    r.key_path("reuse")
+                ))
+            })?,
+        };
+        let mis = match r.take::<String>("mis")? {
+            None => d.mis,
+            Some(s) => ReuseMis::parse(&s).ok_or_else(|| {
+                SceneError(format!(
+                    "{}: `{s}` is not {}",
+                    r.key_path("mis"),
+                    ReuseMis::NAMES
+                ))
+            })?,
+        };
+        let temporal_cap: f32 = r.take("temporal_cap")?.unwrap_or(d.temporal_cap);
+        let neighbours = r.take("neighbours")?.unwrap_or(d.neighbours);
+        let radius: f32 = r.take("radius")?.unwrap_or(d.radius);
+        let frames = r.take("frames")?.unwrap_or(d.frames);
+        let mips = ["primary_mip", "indirect_mip", "nee_mip", "reuse_mip"];
+        let mut levels = [d.primary_mip, d.indirect_mip, d.nee_mip, d.reuse_mip];
+        for (key, level) in mips.iter().zip(levels.iter_mut()) {
+            let v = r.take(key)?.unwrap_or(*level);
+            *level = in_range(r, key, v, 0, MAX_MIP)?;
+        }
+        let nee_transmittance = r.take("nee_transmittance")?.unwrap_or(true);
+        let reuse_step: f32 = r.take("reuse_step")?.unwrap_or(d.reuse_step);
+        let estimator = if r.has("estimator") {
+            take_estimator(r)?
+        } else {
+            d.estimator
+        };
+        if estimator.biased() || estimator == Estimator::RegularTracking {
+            return Err(SceneError(format!(
+                "{}: `{}` is not an unbiased transmittance of the trilinear field, which final shading needs",
+                r.key_path("estimator"),
+                estimator.name()
+            )));
+        }
+        let rr_depth = r.take("rr_depth")?.unwrap_or(d.rr_depth);
+        Ok(RestirParams {
+            max_depth: in_range(r, "max_depth", max_depth, 1, MAX_K as u32)?,
+            candidates: in_range(r, "candidates", candidates, 1, 1024)?,
+            reuse,
+            mis,
+            temporal_cap: in_range(r, "temporal_cap", temporal_cap, 0.01, 1e6)?,
+            neighbours: in_range(r, "neighbours", neighbours, 0, 32)?,
+            radius: in_range(r, "radius", radius, 1.0, 1e4)?,
+            frames: in_range(r, "frames", frames, 1, 1_000_000)?,
+            primary_mip: levels[0],
+            indirect_mip: levels[1],
+            nee_mip: levels[2],
+            nee_transmittance,
+            reuse_mip: levels[3],
+            reuse_step: in_range(r, "reuse_step", reuse_step, 0.01, 100.0)?,
+            estimator,
+            rr_depth: in_range(r, "rr_depth", rr_depth, 1, 1000)?,
+        })
+    }
+
+    pub fn write(&self, t: &mut toml::Table) {
+        t.insert("max_depth".into(), i64::from(self.max_depth).into());
+        t.insert("candidates".into(), i64::from(self.candidates).into());
+        t.insert("reuse".into(), self.reuse.name().into());
+        t.insert("mis".into(), self.mis.name().into());
+        t.insert("temporal_cap".into(), f64::from(self.temporal_cap).into());
+        t.insert("neighbours".into(), i64::from(self.neighbours).into());
+        t.insert("radius".into(), f64::from(self.radius).into());
+        t.insert("frames".into(), i64::from(self.frames).into());
+        t.insert("primary_mip".into(), i64::from(self.primary_mip).into());
+        t.insert("indirect_mip".into(), i64::from(self.indirect_mip).into());
+        t.insert("nee_mip".into(), i64::from(self.nee_mip).into());
+        t.insert("nee_transmittance".into(), self.nee_transmittance.into());
+        t.insert("reuse_mip".into(), i64::from(self.reuse_mip).into());
+        t.insert("reuse_step".into(), f64::from(self.reuse_step).into());
+        t.insert(
+            "estimator".into(),
+            crate::params::estimator_value(self.estimator),
+        );
+        t.insert("rr_depth".into(), i64::from(self.rr_depth).into());
+    }
+}
+
+/// MIS of a combination (`mis = "talbot" | "stochastic" | "uniform"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReuseMis {
+    Talbot,
+    Stochastic,
+    Uniform,
+}
+
+impl ReuseMis {
+    pub const NAMES: &'static str = "talbot, stochastic or uniform";
+    pub fn parse(s: &str) -> Option<ReuseMis> {
+        match s {
+            "talbot" => Some(ReuseMis::Talbot),
+            "stochastic" => Some(ReuseMis::Stochastic),
+            "uniform" => Some(ReuseMis::Uniform),
+            _ => None,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            ReuseMis::Talbot => "talbot",
+            ReuseMis::Stochastic => "stochastic",
+            ReuseMis::Uniform => "uniform",
+        }
+    }
+}

@@ -1,0 +1,118 @@
+//! The path integrand F and the target p̂ (seed 002 Eq. 12–15, 22–23): one
+//! evaluation of a stored path along a pixel's primary ray, parameterised by
+//! how segments are attenuated. With T̃ (deterministic marching of mip 1)
+//! its luminance is the reuse target p̂ (§4.3), a deterministic function of
+//! the path and the pixel; with the exact T it is F, used once per pixel in
+//! final shading (§4.1, §5.1).
+//!
+//! Vertex σ_s and σ_a are the full-resolution trilinear values F uses, so
+//! p̂ = 0 exactly where F = 0 (checklist, open choices). A shifted vertex
+//! outside the medium or at zero density makes the path worth nothing.
+
+use super::path::{PathEnd, PathSample};
+use super::volume::{sigma_t, SegmentT};
+use crate::lights::Light;
+use crate::world::phase::HenyeyGreenstein;
+use crate::world::World;
+use fogbank_math::{Ray, Vec3};
+
+/// Rec. 709 luminance: the scalar target of §6.2.
+#[inline]
+pub fn luminance(c: Vec3) -> f32 {
+    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
+}
+
+/// Where light `l` is seen from `x`: (direction, radiance arriving at x
+/// before attenuation, distance). Environment and directional lights keep
+/// the stored direction `dir` (§4.2), positional lights their position.
+pub fn light_towards(l: &Light, x: Vec3, dir: Vec3) -> Option<(Vec3, Vec3, f32)> {
+    if l.is_environment() {
+        return Some((dir, l.le(dir), f32::INFINITY));
+    }
+    // Positional and directional lights ignore the random numbers.
+    l.sample_li(x, [0.5, 0.5])
+        .map(|s| (s.wi, s.radiance, s.distance))
+}
+
+/// Radiance of every environment light along `d`.
+pub fn environment(world: &World, d: Vec3) -> Vec3 {
+    world
+        .lights
+        .iter()
+        .filter(|l| l.is_environment())
+        .map(|l| l.le(d))
+        .sum()
+}
+
+/// The path's contribution along `ray0` (a pixel's primary ray, unit
+/// direction) in `world`, each segment attenuated by `tr`: F with the exact
+/// T, the reuse target's RGB with T̃.
+pub fn evaluate(
+    world: &World,
+    ray0: &Ray,
+    y: &PathSample,
+    tr: &mut SegmentT,
+    lookups: &mut u32,
+) -> Vec3 {
+    let m = &world.media[0];
+    let full = &m.medium;
+    if y.end == PathEnd::Background {
+        let le = environment(world, ray0.d);
+        if le == Vec3::ZERO {
+            return Vec3::ZERO;
+        }
+        return le * tr.eval(full, ray0, f32::INFINITY, lookups);
+    }
+    let hg = HenyeyGreenstein { g: m.phase_g };
+    let k = y.k as usize;
+    let (mut x, mut d) = (ray0.o, ray0.d);
+    let mut f = Vec3::ONE;
+    for i in 0..k {
+        let last = i + 1 == k;
+        // Segment i: from x_i along ω_i to x_{i+1}.
+        let (next_d, z, g) = if last && y.fixed_emitter() {
+            let v = y.emitter - x;
+            let z = v.length();
+            if z.is_nan() || z <= 0.0 {
+                return Vec3::ZERO;
+            }
+            (v / z, z, 1.0 / (z * z))
+        } else {
+            (if i == 0 { d } else { y.dir[i - 1] }, y.z[i], 1.0)
+        };
+        if i > 0 {
+            f *= hg.pdf(-d, next_d);
+        }
+        d = next_d;
+        let seg = Ray::new(x, d);
+        x = seg.at(z);
+        let sigma = sigma_t(full, x);
+        if sigma <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let albedo = m.albedo_at(x);
+        f *= g * tr.eval(full, &seg, z, lookups);
+        if last && y.end == PathEnd::Emission {
+            f *= m.emitted(x, albedo) * sigma;
+        } else {
+            f *= albedo * sigma;
+        }
+        if f == Vec3::ZERO {
+            return Vec3::ZERO;
+        }
+    }
+    if y.end == PathEnd::Light {
+        let Some(l) = world.lights.get(y.light as usize) else {
+            return Vec3::ZERO;
+        };
+        let Some((wi, li, dist)) = light_towards(l, x, y.light_dir) else {
+            return Vec3::ZERO;
+        };
+        let fp = hg.pdf(-d, wi);
+        if fp <= 0.0 || li == Vec3::ZERO {
+            return Vec3::ZERO;
+        }
+        f *= li * fp * tr.eval(full, &Ray::new(x, wi), dist, lookups);
+    }
+    f
+}

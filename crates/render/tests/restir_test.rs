@@ -1,0 +1,126 @@
+//! The `restir` integrator's plumbing: its parameters and errors, the
+//! camera projection temporal reuse relies on, and reproducibility. Its
+//! unbiasedness against `volpath` is tested in
+//! `crates/eval/tests/restir_unbiased_test.rs`.
+
+use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
+use std::path::Path;
+
+const CLOUD: &str = r#"
+[camera]
+width = 20
+height = 14
+[[media]]
+density = { procedural = "cloud", resolution = 24, seed = 3 }
+sigma_t_scale = 20.0
+[[lights]]
+type = "constant"
+radiance = [0.5, 0.6, 0.7]
+[[lights]]
+type = "point"
+position = [0.6, 0.7, 0.5]
+intensity = [1.0, 1.0, 1.0]
+[integrator]
+type = "restir"
+frames = 3
+"#;
+
+fn build(text: &str, set: &[&str]) -> Result<Scene, String> {
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    parse_scene(text, "test", &set)
+        .and_then(|d| Scene::build(d, Path::new(".")))
+        .map_err(|e| e.0)
+}
+
+#[test]
+fn camera_project_inverts_ray() {
+    let s = build(CLOUD, &[]).unwrap();
+    let cam = &s.camera;
+    for (x, y) in [(0.5, 0.5), (10.25, 3.75), (19.5, 13.5)] {
+        let r = cam.ray(x, y);
+        let (px, py) = cam.project(r.at(1.7)).unwrap();
+        assert!(
+            (px - x).abs() < 1e-3 && (py - y).abs() < 1e-3,
+            "{x},{y} → {px},{py}"
+        );
+    }
+    assert!(cam.project(cam.origin - cam.ray(10.0, 7.0).d).is_none());
+}
+
+#[test]
+fn restir_parameters_read_back_and_refuse_bad_values() {
+    let s = build(
+        CLOUD,
+        &["integrator.max_depth=5", "integrator.mis=stochastic"],
+    )
+    .unwrap();
+    let t = s.desc.integrator.to_table();
+    assert_eq!(t["max_depth"].as_integer(), Some(5));
+    assert_eq!(t["mis"].as_str(), Some("stochastic"));
+    assert_eq!(t["estimator"].as_str(), Some("analytic_trilinear"));
+    for (set, expect) in [
+        (
+            "integrator.max_depth=9",
+            "integrator.max_depth: 9 is outside 1..=8",
+        ),
+        (
+            "integrator.reuse=both",
+            "is not none, spatial, temporal or spatiotemporal",
+        ),
+        (
+            "integrator.mis=balance",
+            "is not talbot, stochastic or uniform",
+        ),
+        (
+            "integrator.reuse_mip=4",
+            "integrator.reuse_mip: 4 is outside 0..=3",
+        ),
+        ("integrator.estimator=track_length", ""),
+        ("integrator.estimator=biased_ray_marching", "final shading"),
+        ("integrator.rr_depth=0", "integrator.rr_depth"),
+    ] {
+        let r = build(CLOUD, &[set]);
+        if expect.is_empty() {
+            assert!(r.is_ok(), "{set}: {r:?}");
+        } else {
+            let e = r.err().unwrap_or_else(|| panic!("{set} accepted"));
+            assert!(e.contains(expect), "{set}: {e}");
+        }
+    }
+}
+
+#[test]
+fn restir_refuses_scenes_it_cannot_render() {
+    let two =
+        format!("{CLOUD}\n[[media]]\ndensity = {{ procedural = \"cloud\", resolution = 8 }}\n");
+    let e = build(&two, &[]).err().unwrap();
+    assert!(e.contains("exactly one medium (this one has 2)"), "{e}");
+    let analytic = CLOUD.replace(
+        "{ procedural = \"cloud\", resolution = 24, seed = 3 }",
+        "{ procedural = \"sphere\", resolution = 16 }",
+    );
+    let e = build(&analytic, &[]).err().unwrap();
+    assert!(e.contains("needs a voxel grid"), "{e}");
+}
+
+#[test]
+fn restir_is_independent_of_the_thread_count() {
+    let s = build(CLOUD, &[]).unwrap();
+    let film = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let opts = RenderOptions {
+            spp: 2,
+            seed: 5,
+            time_budget: None,
+        };
+        pool.install(|| render(&s, &opts, &Progress::default()))
+            .film
+    };
+    let (a, b) = (film(1), film(2));
+    assert_eq!(a.sum, b.sum);
+    assert_eq!(a.nan_samples + a.inf_samples, 0);
+    assert!(a.image_mean()[0] > 0.0);
+}
