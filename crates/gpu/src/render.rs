@@ -65,6 +65,13 @@ impl Kernel {
         if let IntegratorKind::Restir(_) = scene.integrator {
             return Err(no_restir());
         }
+        if let IntegratorKind::VolPath(v) = &scene.integrator {
+            if v.light_only {
+                return Err(GpuError(
+                    "volpath preset `restir_baseline` has no GPU port yet (issue 18); render it with --backend cpu".into(),
+                ));
+            }
+        }
         let estimator = scene.integrator.estimator();
         let est = gpu_estimator(estimator).ok_or_else(|| {
             GpuError(format!(

@@ -17,13 +17,15 @@
 //! |---|---|---|
 //! | `distance_sampler` | `delta_tracking` | free-flight sampler: `delta_tracking`, `decomposition_tracking`, `regular_tracking` |
 //! | `estimator` | `ratio_tracking` | NEE transmittance estimator (`fogbank estimators`), with its options |
-//! | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE, seed 002's baseline |
+//! | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only (no phase-sampled escape MIS) and roulette by albedo, seed 002's baseline exactly (§6; give the medium `supervoxel = 8`) |
 //! | `max_depth` | 64 | longest path, in scattering vertices (1..=100000) |
 //! | `rr_depth` | 3 | first bounce with Russian roulette on the throughput |
 
 use super::shared::free_flight::next_collision;
-use super::shared::next_event::{escaped, light_sample, phase_sample_to_environment};
-use super::shared::{estimator_rng, primary_ray, PixelSample, ScatterParams, SCATTER_PARAMS};
+use super::shared::next_event::{escaped, light_sample_weighted, phase_sample_to_environment};
+use super::shared::{
+    estimator_rng, primary_ray, PixelSample, Preset, ScatterParams, SCATTER_PARAMS,
+};
 use crate::error::SceneError;
 use crate::lights::sample::LightSampler;
 use crate::params::{Param, ParamReader};
@@ -98,6 +100,9 @@ pub struct VolPath {
     pub max_depth: u32,
     pub rr_depth: u32,
     pub lights: LightSampler,
+    /// Seed 002's baseline: light sampling is the only strategy toward the
+    /// lights, and roulette continues with the vertex albedo.
+    pub light_only: bool,
 }
 
 impl VolPath {
@@ -109,6 +114,7 @@ impl VolPath {
             max_depth: p.max_depth,
             rr_depth: p.rr_depth,
             lights: LightSampler::new(&world.lights, world.radius()),
+            light_only: p.scatter.preset == Some(Preset::RestirBaseline),
         }
     }
 
@@ -120,7 +126,9 @@ impl VolPath {
         for depth in 0..self.max_depth {
             let Some((t, mi)) = next_collision(self.distance, world, &ray, &mut rng, &mut lookups)
             else {
-                radiance += beta * escaped(world, &self.lights, ray.d, phase_pdf);
+                if !(self.light_only && phase_pdf.is_some()) {
+                    radiance += beta * escaped(world, &self.lights, ray.d, phase_pdf);
+                }
                 break;
             };
             let m = &world.media[mi];
@@ -133,18 +141,22 @@ impl VolPath {
             }
             let hg = HenyeyGreenstein { g: m.phase_g };
             radiance += beta
-                * light_sample(
+                * light_sample_weighted(
                     world,
                     &self.lights,
                     self.nee,
                     p,
                     ray.d,
                     &hg,
+                    !self.light_only,
                     &mut rng,
                     &mut lookups,
                 );
             let (wi, pdf) = hg.sample(-ray.d, [rng.next_f32(), rng.next_f32()]);
             if depth + 1 == self.max_depth {
+                if self.light_only {
+                    break;
+                }
                 radiance += beta
                     * phase_sample_to_environment(
                         world,
@@ -161,7 +173,12 @@ impl VolPath {
             phase_pdf = Some(pdf);
             ray = Ray::new(p, wi);
             if depth + 1 >= self.rr_depth {
-                let q = beta.max_element().min(1.0);
+                let q = if self.light_only {
+                    albedo.max_element()
+                } else {
+                    beta.max_element()
+                }
+                .min(1.0);
                 if rng.next_f32() >= q {
                     break;
                 }

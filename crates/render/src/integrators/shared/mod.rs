@@ -120,7 +120,7 @@ impl DistanceSampler {
 /// |---|---|---|
 /// | `distance_sampler` | `delta_tracking` | free-flight sampler: `delta_tracking`, `decomposition_tracking`, `regular_tracking` |
 /// | `estimator` | `ratio_tracking` | NEE transmittance estimator (`fogbank estimators`), with its options |
-/// | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE, seed 002's baseline |
+/// | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only and Russian roulette by albedo, seed 002's baseline exactly (§6, §6.1) |
 pub const SCATTER_PARAMS: [Param; 3] = [
     Param {
         key: "distance_sampler",
@@ -135,16 +135,37 @@ pub const SCATTER_PARAMS: [Param; 3] = [
     Param {
         key: "preset",
         default: "none",
-        meaning: "baseline = decomposition tracking + residual ratio tracking (seed 002)",
+        meaning: "baseline = decomposition tracking + residual ratio tracking; restir_baseline = the same, light sampling only, roulette by albedo (seed 002 §6)",
     },
 ];
+
+/// A named configuration of the scattering integrators.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Preset {
+    /// Decomposition tracking and residual ratio tracking NEE.
+    Baseline,
+    /// Seed 002's baseline exactly (§6, §6.1): `Baseline`, with light
+    /// sampling only (no phase-sampled escape to the environment; a camera
+    /// ray that escapes still sees it, Eq. 1) and Russian roulette with the
+    /// vertex albedo as continue probability. The paper's super-voxels of
+    /// 8³ are the medium's `supervoxel = 8`.
+    RestirBaseline,
+}
+
+impl Preset {
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::Baseline => "baseline",
+            Preset::RestirBaseline => "restir_baseline",
+        }
+    }
+}
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScatterParams {
     pub distance_sampler: Option<DistanceSampler>,
     pub estimator: Estimator,
-    /// The `baseline` preset (the only one there is).
-    pub baseline: bool,
+    pub preset: Option<Preset>,
 }
 
 impl Default for ScatterParams {
@@ -152,7 +173,7 @@ impl Default for ScatterParams {
         ScatterParams {
             distance_sampler: None,
             estimator: Estimator::RatioTracking,
-            baseline: false,
+            preset: None,
         }
     }
 }
@@ -170,12 +191,13 @@ impl ScatterParams {
             })?),
         };
         let estimator = take_estimator(r)?;
-        let baseline = match r.take::<String>("preset")?.as_deref() {
-            None => false,
-            Some("baseline") => true,
+        let preset = match r.take::<String>("preset")?.as_deref() {
+            None => None,
+            Some("baseline") => Some(Preset::Baseline),
+            Some("restir_baseline") => Some(Preset::RestirBaseline),
             Some(other) => {
                 return Err(SceneError(format!(
-                    "{}: unknown preset `{other}` (available: baseline)",
+                    "{}: unknown preset `{other}` (available: baseline, restir_baseline)",
                     r.key_path("preset")
                 )))
             }
@@ -183,7 +205,7 @@ impl ScatterParams {
         Ok(ScatterParams {
             distance_sampler,
             estimator,
-            baseline,
+            preset,
         })
     }
 
@@ -195,14 +217,14 @@ impl ScatterParams {
             "estimator".into(),
             crate::params::estimator_value(self.estimator),
         );
-        if self.baseline {
-            t.insert("preset".into(), "baseline".into());
+        if let Some(p) = self.preset {
+            t.insert("preset".into(), p.name().into());
         }
     }
 
     /// The distance sampler and NEE estimator after the preset.
     pub fn resolved(&self) -> (DistanceSampler, Estimator) {
-        if self.baseline {
+        if self.preset.is_some() {
             (
                 self.distance_sampler
                     .unwrap_or(DistanceSampler::DecompositionTracking),

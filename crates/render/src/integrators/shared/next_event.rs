@@ -25,6 +25,23 @@ pub fn light_sample(
     rng: &mut Pcg32,
     lookups: &mut u32,
 ) -> Vec3 {
+    light_sample_weighted(world, lights, nee, p, d, hg, true, rng, lookups)
+}
+
+/// [`light_sample`], MIS-weighted against phase sampling when `mis` is set
+/// and with full weight otherwise (light sampling as the only strategy).
+#[allow(clippy::too_many_arguments)]
+pub fn light_sample_weighted(
+    world: &World,
+    lights: &LightSampler,
+    nee: Estimator,
+    p: Vec3,
+    d: Vec3,
+    hg: &HenyeyGreenstein,
+    mis: bool,
+    rng: &mut Pcg32,
+    lookups: &mut u32,
+) -> Vec3 {
     let Some((li, pmf)) = lights.pick(rng.next_f32()) else {
         return Vec3::ZERO;
     };
@@ -36,8 +53,8 @@ pub fn light_sample(
         return Vec3::ZERO;
     }
     let tr = shadow_transmittance(nee, world, &Ray::new(p, ls.wi), ls.distance, rng, lookups);
-    if ls.is_delta {
-        ls.radiance * (f * tr / pmf)
+    if ls.is_delta || !mis {
+        ls.radiance * (f * tr / (pmf * if ls.is_delta { 1.0 } else { ls.pdf }))
     } else {
         let light_pdf = pmf * ls.pdf;
         ls.radiance * (f * tr * balance(light_pdf, f) / light_pdf)
