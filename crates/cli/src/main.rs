@@ -5,6 +5,7 @@ mod common;
 mod compare_cmd;
 mod converge_cmd;
 mod experiment_cmd;
+mod frames_cmd;
 mod info_cmd;
 mod render_cmd;
 mod report_cmd;

@@ -46,6 +46,12 @@ pub struct RenderArgs {
     /// with a clear message when no adapter exists).
     #[arg(long, value_enum, default_value_t = Device::Cpu)]
     pub device: Device,
+    /// Render frames of the scene's `[animation]`: `A..B` (end excluded),
+    /// `A..=B` or `N`; one file per frame (`-o out_{frame:04}.exr`, or
+    /// `_0042` inserted before the extension). `restir` carries its
+    /// reservoirs from frame to frame.
+    #[arg(long, value_name = "A..B")]
+    pub frames: Option<String>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -63,6 +69,7 @@ pub fn run(a: RenderArgs) -> CliResult {
         overrides.push(format!("render.seed={s}"));
     }
     let outputs: Vec<PathBuf> = match &a.output {
+        None if a.frames.is_some() => vec![PathBuf::from("fogbank_{frame:04}.exr")],
         Some(p) => {
             match p.extension().and_then(|e| e.to_str()) {
                 Some("exr") | Some("png") => {}
@@ -92,6 +99,34 @@ pub fn run(a: RenderArgs) -> CliResult {
     };
     let pool = thread_pool(a.threads)?;
     let threads = pool.current_num_threads();
+    if let Some(frames) = &a.frames {
+        if a.device == Device::Gpu {
+            return Err("--frames renders on the CPU for now (issue 18)".into());
+        }
+        if a.time_budget.is_some() {
+            return Err("--frames takes --spp, not --time-budget".into());
+        }
+        let progress = Arc::new(Progress::default());
+        let p = progress.clone();
+        let _ = ctrlc::set_handler(move || {
+            if p.cancel.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+        });
+        return crate::frames_cmd::run(
+            crate::frames_cmd::FramesArgs {
+                frames,
+                outputs,
+                spp,
+                seed: opts.seed,
+                exposure: a.exposure,
+                quiet: a.quiet,
+            },
+            scene,
+            &pool,
+            &progress,
+        );
+    }
     let gpu = match a.device {
         Device::Cpu => None,
         Device::Gpu => Some(fogbank_gpu::Gpu::new().map_err(|e| format!("--device gpu: {e}"))?),

@@ -354,3 +354,56 @@ fn experiment_help_lists_every_experiment() {
         assert!(words.contains(name), "`{name}` missing from:\n{help}");
     }
 }
+
+/// `--frames`: one file per frame; restir carries reservoirs across frames;
+/// a missing per-frame file stops the sequence with the frames before it
+/// written; a scene without animation is refused.
+#[test]
+fn frames_render_a_sequence_and_stop_at_a_missing_frame() {
+    let dir = tmp_dir("frames");
+    for f in [0u32, 1, 3] {
+        let bytes: Vec<u8> = (0..512)
+            .map(|i| ((i * 7 + f as usize * 13) % 200) as u8)
+            .collect();
+        std::fs::write(dir.join(format!("d_{f}.raw")), bytes).unwrap();
+    }
+    let scene = dir.join("anim.toml");
+    std::fs::write(
+        &scene,
+        "[camera]\nwidth = 12\nheight = 8\n[[media]]\ndensity = { raw = \"d_{frame}.raw\", dims = [8, 8, 8], type = \"u8\" }\n\
+         sigma_t_scale = 0.05\n[[lights]]\ntype = \"constant\"\nradiance = [1.0, 1.0, 1.0]\n\
+         [integrator]\ntype = \"restir\"\nmax_depth = 2\n[animation]\nframes = 4\n",
+    )
+    .unwrap();
+    let out = dir.join("out_{frame:02}.exr");
+    let o = fogbank()
+        .args([
+            "render",
+            scene.to_str().unwrap(),
+            "--frames",
+            "0..4",
+            "-q",
+            "-o",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("frame 2") && err.contains("d_2.raw"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    for f in 0..2 {
+        let img =
+            fogbank_image::image_io::read_image(&dir.join(format!("out_{f:02}.exr"))).unwrap();
+        assert_eq!((img.width, img.height), (12, 8));
+    }
+    assert!(!dir.join("out_02.exr").exists());
+    run_fails_naming(
+        fogbank().args(["render", "--frames", "0..2", "-q"]),
+        "no [animation]",
+    );
+    run_fails_naming(
+        fogbank().args(["render", scene.to_str().unwrap(), "--frames", "2..9", "-q"]),
+        "frames 0..=3",
+    );
+}

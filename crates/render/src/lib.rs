@@ -4,9 +4,10 @@
 //! `error`, `params`, `overrides` → `world` (camera, film, media and their
 //! fields, emission, phase) and `lights` → `integrators` (the shared pieces
 //! in `integrators::shared`, one file or folder per integrator, registered in
-//! `integrators/mod.rs`) → `scene` (description + world + integrator) →
+//! `integrators/mod.rs`) → `animation` (keyframes, per-frame files) → `scene` (description + world + integrator) →
 //! `render` (the progressive loop); `desc` re-exports every description.
 
+pub mod animation;
 pub mod desc;
 pub mod error;
 pub mod integrators;

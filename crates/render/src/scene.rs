@@ -2,6 +2,7 @@
 //! the integrator that renders it. Relative paths resolve against the scene
 //! file's folder.
 
+use crate::animation::AnimationDesc;
 use crate::error::SceneError;
 use crate::integrators::{IntegratorDesc, IntegratorKind, REGISTRY};
 use crate::lights::LightDesc;
@@ -29,6 +30,10 @@ pub struct SceneDesc {
     pub integrator: IntegratorDesc,
     #[serde(default)]
     pub render: RenderDesc,
+    /// A frame sequence (see [`crate::animation`]); without it the scene is
+    /// one static frame.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub animation: Option<AnimationDesc>,
 }
 
 /// | key | default | meaning |
@@ -99,6 +104,10 @@ pub struct Scene {
     pub desc: SceneDesc,
     pub world: World,
     pub integrator: IntegratorKind,
+    /// The frame the world shows (0 for a static scene).
+    pub frame: u32,
+    /// The folder relative file names resolve against.
+    pub base: PathBuf,
 }
 
 /// A scene reads as its world (`scene.media`, `scene.camera`, …).
@@ -116,20 +125,64 @@ impl std::ops::DerefMut for Scene {
 }
 
 impl Scene {
+    /// The scene (frame 0 of an animation).
     pub fn build(desc: SceneDesc, base: &Path) -> Result<Scene, SceneError> {
-        let world = World::build(
-            &desc.camera,
-            &desc.media,
-            &desc.lights,
-            desc.render.pixel_jitter,
-            base,
-        )?;
+        Scene::build_frame(desc, base, 0)
+    }
+
+    /// Frame `frame` of the scene's animation (a static scene has frame 0
+    /// only); `desc` stays the whole description.
+    pub fn build_frame(desc: SceneDesc, base: &Path, frame: u32) -> Result<Scene, SceneError> {
+        let world = match &desc.animation {
+            None if frame > 0 => {
+                return Err(SceneError(format!(
+                    "frame {frame}: the scene has no [animation]"
+                )))
+            }
+            None => World::build(
+                &desc.camera,
+                &desc.media,
+                &desc.lights,
+                desc.render.pixel_jitter,
+                base,
+            )?,
+            Some(a) => {
+                a.check(&desc.media, &desc.lights)?;
+                if frame >= a.frames {
+                    return Err(SceneError(format!(
+                        "frame {frame}: the animation has frames 0..={}",
+                        a.frames - 1
+                    )));
+                }
+                let media: Vec<MediumDesc> = (desc.media.iter().enumerate())
+                    .map(|(i, m)| a.medium(m, i, frame))
+                    .collect();
+                let lights: Vec<LightDesc> = (desc.lights.iter().enumerate())
+                    .map(|(i, l)| a.light(l, i, frame))
+                    .collect();
+                World::build(
+                    &a.camera(&desc.camera, frame),
+                    &media,
+                    &lights,
+                    desc.render.pixel_jitter,
+                    base,
+                )
+                .map_err(|SceneError(e)| SceneError(format!("frame {frame}: {e}")))?
+            }
+        };
         let integrator = desc.integrator.build(&world)?;
         Ok(Scene {
             desc,
             world,
             integrator,
+            frame,
+            base: base.to_path_buf(),
         })
+    }
+
+    /// Another frame of this scene's animation.
+    pub fn at_frame(&self, frame: u32) -> Result<Scene, SceneError> {
+        Scene::build_frame(self.desc.clone(), &self.base, frame)
     }
 
     /// One sample of pixel `(x, y)` with sample index `key.sample`.

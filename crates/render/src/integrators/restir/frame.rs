@@ -10,7 +10,6 @@ use super::integrator::{FrameData, Restir};
 use super::path::PathSample;
 use super::reservoir::Reservoir;
 use super::temporal::Previous;
-use crate::world::camera::Camera;
 use crate::world::World;
 use fogbank_math::{SampleKey, Vec3};
 use rayon::prelude::*;
@@ -43,7 +42,7 @@ pub struct Sequence<'r> {
     seed: u32,
     sequence: u32,
     frame: u32,
-    prev: Option<(Vec<Reservoir<PathSample>>, Camera)>,
+    prev: Option<Vec<Reservoir<PathSample>>>,
 }
 
 impl<'r> Sequence<'r> {
@@ -60,7 +59,8 @@ impl<'r> Sequence<'r> {
     }
 
     /// Renders the next frame with the current frame's data `cur` and the
-    /// previous frame's `prev` (the same for a static scene).
+    /// previous frame's `prev` (the same for a static scene). The restir
+    /// parameters are the sequence's; the mips and lights are each frame's.
     pub fn frame(&mut self, cur: &FrameData, prev: &FrameData) -> FrameOutput {
         let r = self.restir;
         let cam = &cur.world.camera;
@@ -88,13 +88,13 @@ impl<'r> Sequence<'r> {
         lookups += l;
         times.candidates = clock.elapsed().as_secs_f64();
 
-        let same_size = |c: &Camera| c.width == cam.width && c.height == cam.height;
-        if let (true, Some((old, old_cam))) = (r.params.reuse.temporal, &self.prev) {
-            if same_size(old_cam) {
+        let old_cam = &prev.world.camera;
+        let same_size = old_cam.width == cam.width && old_cam.height == cam.height;
+        if let (true, Some(old)) = (r.params.reuse.temporal, &self.prev) {
+            if same_size {
                 let clock = Instant::now();
                 let before = Previous {
                     reservoirs: old,
-                    camera: old_cam,
                     data: prev,
                 };
                 let (t, l) = collect(n, |i, lk| {
@@ -127,7 +127,7 @@ impl<'r> Sequence<'r> {
         times.shading = clock.elapsed().as_secs_f64();
         lookups += shaded.iter().map(|s| s.1 as u64).sum::<u64>();
 
-        self.prev = Some((res, cam.clone()));
+        self.prev = Some(res);
         self.frame += 1;
         FrameOutput {
             radiance: shaded.into_iter().map(|s| s.0).collect(),

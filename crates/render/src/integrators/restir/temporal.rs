@@ -4,7 +4,9 @@
 //! projected with the previous camera and one of the four nearest pixels
 //! is picked with bilinear probability (stochastic reprojection); a sample
 //! without x_1, or one off the previous screen, reuses the same pixel (the
-//! authors' code). The previous reservoir's M is capped at Q·M (§2.5), and
+//! authors' code). A medium moved by its placement keys maps x_1 back with
+//! the previous frame's transform first (the checklist's choice for rigidly
+//! animated volumes). The previous reservoir's M is capped at Q·M (§2.5), and
 //! its target p̂_prev is evaluated with the previous frame's camera, volume
 //! and lights (Talbot, as the authors' code).
 
@@ -12,14 +14,21 @@ use super::combine::Input;
 use super::integrator::{FrameData, Restir};
 use super::path::PathSample;
 use super::reservoir::Reservoir;
-use crate::world::camera::Camera;
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, Ray, Vec3};
 
-/// The previous frame: its final reservoirs, camera and data.
+/// The previous frame: its final reservoirs and its data (camera, volume,
+/// lights).
 pub struct Previous<'a> {
     pub reservoirs: &'a [Reservoir<PathSample>],
-    pub camera: &'a Camera,
     pub data: &'a FrameData<'a>,
+}
+
+/// Where the medium point `x` (current frame) was in the previous frame:
+/// through the current placement into index space, out through the old one.
+fn map_back(cur: &FrameData, prev: &FrameData, x: Vec3) -> Vec3 {
+    let (c, p) = (&cur.world.media[0].medium, &prev.world.media[0].medium);
+    let q = c.world_to_index.transform_point3(x.as_dvec3());
+    p.index_to_world.transform_point3(q).as_vec3()
 }
 
 impl Restir {
@@ -34,13 +43,13 @@ impl Restir {
         rng: &mut Pcg32,
         lookups: &mut u32,
     ) -> Reservoir<PathSample> {
-        let cam = prev.camera;
+        let cam = &prev.data.world.camera;
         let (w, h) = (cam.width, cam.height);
         let u = [rng.next_f32(), rng.next_f32()];
         let from = cand
             .y
             .filter(|y| y.k >= 1)
-            .and_then(|y| cam.project(ray.at(y.z[0])))
+            .and_then(|y| cam.project(map_back(cur, prev.data, ray.at(y.z[0]))))
             .and_then(|(px, py)| {
                 let (x, y) = ((px - 0.5 + u[0]).floor(), (py - 0.5 + u[1]).floor());
                 (x >= 0.0 && y >= 0.0 && x < w as f32 && y < h as f32)

@@ -1,0 +1,135 @@
+//! `[animation]`: keyframe interpolation, per-frame file names and the
+//! errors for bad keys or missing frames.
+
+use fogbank_render::animation::frame_path;
+use fogbank_render::{parse_scene, Scene};
+use std::path::Path;
+
+const BASE: &str = r#"
+[camera]
+width = 8
+height = 6
+from = [0.0, 0.0, 2.0]
+[[media]]
+density = { procedural = "cloud", resolution = 16, seed = 3 }
+[[lights]]
+type = "point"
+position = [1.0, 0.0, 0.0]
+intensity = [1.0, 1.0, 1.0]
+[[lights]]
+type = "constant"
+radiance = [0.1, 0.1, 0.1]
+[animation]
+frames = 11
+[[animation.camera]]
+frame = 0
+from = [0.0, 0.0, 2.0]
+[[animation.camera]]
+frame = 10
+from = [1.0, 0.0, 2.0]
+fov = 30.0
+[[animation.lights]]
+light = 0
+frame = 5
+position = [0.0, 1.0, 0.0]
+[[animation.media]]
+medium = 0
+frame = 0
+translate = [0.0, 0.0, 0.0]
+[[animation.media]]
+medium = 0
+frame = 10
+translate = [0.0, 0.5, 0.0]
+"#;
+
+fn frame(text: &str, f: u32) -> Result<Scene, String> {
+    parse_scene(text, "test", &[])
+        .and_then(|d| Scene::build_frame(d, Path::new("."), f))
+        .map_err(|e| e.0)
+}
+
+#[test]
+fn keys_interpolate_linearly_and_hold_outside() {
+    let s = frame(BASE, 5).unwrap();
+    assert!((s.camera.origin.x - 0.5).abs() < 1e-6);
+    let b = s.media[0].medium.world_bounds();
+    let b0 = frame(BASE, 0).unwrap().media[0].medium.world_bounds();
+    assert!(((b.min.y - b0.min.y) - 0.25).abs() < 1e-5);
+    // One key: held at every frame.
+    for f in [0, 5, 10] {
+        let s = frame(BASE, f).unwrap();
+        match &s.lights[0] {
+            fogbank_render::lights::Light::Point { position, .. } => {
+                assert_eq!(position.to_array(), [0.0, 1.0, 0.0])
+            }
+            _ => unreachable!(),
+        }
+    }
+}
+
+#[test]
+fn frame_paths_substitute_the_frame_number() {
+    assert_eq!(frame_path("plume_{frame:04}.vdb", 42), "plume_0042.vdb");
+    assert_eq!(frame_path("a{frame}b", 7), "a7b");
+    assert_eq!(frame_path("still.vdb", 7), "still.vdb");
+}
+
+#[test]
+fn bad_animation_keys_are_named() {
+    for (from, to, expect) in [
+        (
+            "frame = 10\nfrom",
+            "frame = 12\nfrom",
+            "animation.camera.1.frame: 12 is outside 0..=10",
+        ),
+        (
+            "light = 0\nframe = 5",
+            "light = 3\nframe = 5",
+            "animation.lights.0.light: 3 is not a light index",
+        ),
+        (
+            "position = [0.0, 1.0, 0.0]",
+            "rotate = [0.0, 1.0, 0.0, 3.0]",
+            "animation.lights.0.rotate: light 0 is a point light",
+        ),
+        (
+            "frames = 11",
+            "frames = 0",
+            "animation.frames: 0 is outside",
+        ),
+        (
+            "medium = 0\nframe = 10",
+            "medium = 0\nframe = 0",
+            "keys must be in increasing frame order",
+        ),
+    ] {
+        let text = BASE.replacen(from, to, 1);
+        let e = frame(&text, 0)
+            .err()
+            .unwrap_or_else(|| panic!("{to} accepted"));
+        assert!(e.contains(expect), "{to}: {e}");
+    }
+    let e = frame(BASE, 11).err().unwrap();
+    assert!(
+        e.contains("frame 11: the animation has frames 0..=10"),
+        "{e}"
+    );
+    let still = BASE.split("[animation]").next().unwrap();
+    let e = frame(still, 1).err().unwrap();
+    assert!(e.contains("no [animation]"), "{e}");
+}
+
+#[test]
+fn a_missing_frame_file_names_the_frame_and_file() {
+    let dir = std::env::temp_dir().join(format!("fogbank_anim_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let raw = |f: u32| dir.join(format!("d_{f:02}.raw"));
+    std::fs::write(raw(0), vec![0u8; 8]).unwrap();
+    let text = format!(
+        "[camera]\nwidth = 4\nheight = 4\n[[media]]\ndensity = {{ raw = \"{}\", dims = [2, 2, 2], type = \"u8\" }}\n[animation]\nframes = 3\n",
+        dir.join("d_{frame:02}.raw").display()
+    );
+    assert!(frame(&text, 0).is_ok());
+    let e = frame(&text, 1).err().unwrap();
+    assert!(e.starts_with("frame 1: ") && e.contains("d_01.raw"), "{e}");
+}
