@@ -393,8 +393,7 @@ fn frames_render_a_sequence_and_stop_at_a_missing_frame() {
     assert!(err.contains("frame 2") && err.contains("d_2.raw"), "{err}");
     assert!(!err.contains("panicked"), "{err}");
     for f in 0..2 {
-        let img =
-            fogbank_image::image_io::read_image(&dir.join(format!("out_{f:02}.exr"))).unwrap();
+        let img = fogbank_image::image_io::read_image(dir.join(format!("out_{f:02}.exr"))).unwrap();
         assert_eq!((img.width, img.height), (12, 8));
     }
     assert!(!dir.join("out_02.exr").exists());
