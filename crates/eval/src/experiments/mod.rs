@@ -1,4 +1,5 @@
-//! Seed 000's one-dimensional experiments: each reproduces one figure or
+//! The seeds' experiments (seed 000's one-dimensional studies; seed 002's
+//! `restir-*` studies on rendered frames): each reproduces one figure or
 //! table of the paper on synthetic data with the project's own estimators,
 //! writes CSV, plots (SVG + PNG) and a `summary.md` stating the finding with
 //! numbers. Every run is deterministic (fixed seeds, chunked parallel
@@ -16,6 +17,9 @@ pub mod fig5;
 pub mod fig7;
 mod fit;
 pub mod profile;
+pub mod restir_ablation;
+pub mod restir_equal_time;
+pub mod restir_protocol;
 pub mod table1;
 pub mod trials;
 mod writer;
@@ -40,7 +44,19 @@ pub struct ExperimentReport {
 /// The experiment names `run` accepts.
 pub fn names() -> &'static [&'static str] {
     &[
-        "fig1", "fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig12", "fig13", "table1", "fig14",
+        "fig1",
+        "fig2",
+        "fig3",
+        "fig4",
+        "fig5",
+        "fig6",
+        "fig7",
+        "fig12",
+        "fig13",
+        "table1",
+        "fig14",
+        "restir-equal-time",
+        "restir-ablation",
     ]
 }
 
@@ -68,6 +84,8 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "fig13" => fig13::run(&mut w, trials),
         "table1" => table1::run(&mut w, trials),
         "fig14" => fig14::run(&mut w, trials),
+        "restir-equal-time" => restir_equal_time::run(&mut w, trials),
+        "restir-ablation" => restir_ablation::run(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",

@@ -1,0 +1,190 @@
+//! The measurement protocol of seed 002's experiments (§6), shared by the
+//! `restir-*` experiments: an offline `volpath` reference with pixel-centre
+//! rays, ReSTIR frames of one sequence after a warm-up, and independent
+//! frames of a per-pixel integrator; MSE of every frame and of the running
+//! mean, with the reference's own variance subtracted.
+
+use fogbank_render::integrators::restir::frame::{PassTimes, Sequence};
+use fogbank_render::integrators::IntegratorKind;
+use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The repository's `scenes/` folder (probes, scene files).
+pub fn scenes_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
+}
+
+pub fn build(text: &str, set: &[String]) -> Result<Scene, String> {
+    let desc = parse_scene(text, "restir-equal-time", set).map_err(|e| e.0)?;
+    Scene::build(desc, &scenes_dir()).map_err(|e| e.0)
+}
+
+/// Mean squared error over pixels and channels.
+pub fn mse(a: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
+    let n = (a.len() * 3) as f64;
+    a.iter()
+        .zip(reference)
+        .map(|(p, r)| {
+            (0..3)
+                .map(|c| (p[c] as f64 - r[c] as f64).powi(2))
+                .sum::<f64>()
+        })
+        .sum::<f64>()
+        / n
+}
+
+pub fn film_rgb(f: &Film) -> Vec<[f32; 3]> {
+    f.mean()
+}
+
+/// A reference image and its noise floor (mean variance of its pixels).
+pub struct Reference {
+    pub rgb: Vec<[f32; 3]>,
+    pub floor: f64,
+}
+
+impl Reference {
+    pub fn render(scene: &Scene, spp: u32, seed: u32) -> Reference {
+        let opts = RenderOptions {
+            spp,
+            seed,
+            time_budget: None,
+        };
+        let film = render(scene, &opts, &Progress::default()).film;
+        let rgb = film_rgb(&film);
+        let floor = film
+            .variance_of_mean()
+            .iter()
+            .map(|v| v.iter().map(|&x| x as f64).sum::<f64>())
+            .sum::<f64>()
+            / (rgb.len() * 3) as f64;
+        Reference { rgb, floor }
+    }
+
+    /// MSE of `img` with the reference's own variance subtracted.
+    pub fn mse(&self, img: &[[f32; 3]]) -> f64 {
+        (mse(img, &self.rgb) - self.floor).max(0.0)
+    }
+}
+
+/// What a run of frames measured.
+pub struct Frames {
+    /// Mean wall-clock milliseconds per frame.
+    pub ms: f64,
+    /// Mean per-frame MSE.
+    pub mse: f64,
+    /// (seconds so far, MSE of the running mean) after each frame.
+    pub curve: Vec<(f64, f64)>,
+    /// Mean seconds per pass (ReSTIR only).
+    pub passes: PassTimes,
+    /// The last frame.
+    pub last: Vec<[f32; 3]>,
+}
+
+struct Accumulator<'a> {
+    reference: &'a Reference,
+    acc: Vec<[f64; 3]>,
+    n: u32,
+    seconds: f64,
+    mse_sum: f64,
+    curve: Vec<(f64, f64)>,
+}
+
+impl<'a> Accumulator<'a> {
+    fn new(reference: &'a Reference) -> Self {
+        Accumulator {
+            reference,
+            acc: vec![[0.0; 3]; reference.rgb.len()],
+            n: 0,
+            seconds: 0.0,
+            mse_sum: 0.0,
+            curve: Vec::new(),
+        }
+    }
+
+    fn add(&mut self, rgb: &[[f32; 3]], seconds: f64) {
+        self.n += 1;
+        self.seconds += seconds;
+        self.mse_sum += self.reference.mse(rgb);
+        for (a, p) in self.acc.iter_mut().zip(rgb) {
+            for c in 0..3 {
+                a[c] += p[c] as f64;
+            }
+        }
+        let n = self.n as f64;
+        let mean: Vec<[f32; 3]> = self.acc.iter().map(|a| a.map(|x| (x / n) as f32)).collect();
+        self.curve.push((self.seconds, self.reference.mse(&mean)));
+    }
+
+    fn finish(self, passes: PassTimes, last: Vec<[f32; 3]>) -> Frames {
+        let n = self.n.max(1) as f64;
+        Frames {
+            ms: 1e3 * self.seconds / n,
+            mse: self.mse_sum / n,
+            curve: self.curve,
+            passes,
+            last,
+        }
+    }
+}
+
+/// `frames` ReSTIR frames of one sequence of the static `scene` (its
+/// integrator must be `restir`) after `warm_up` frames.
+pub fn restir_frames(
+    scene: &Scene,
+    reference: &Reference,
+    warm_up: u32,
+    frames: u32,
+    seed: u32,
+) -> Frames {
+    let IntegratorKind::Restir(r) = &scene.integrator else {
+        panic!("restir_frames needs the restir integrator");
+    };
+    let data = r.data(&scene.world);
+    let mut seq = Sequence::new(r, seed, 0);
+    for _ in 0..warm_up {
+        seq.frame(&data, &data);
+    }
+    let mut acc = Accumulator::new(reference);
+    let mut passes = PassTimes::default();
+    let mut last = Vec::new();
+    for _ in 0..frames {
+        let clock = Instant::now();
+        let out = seq.frame(&data, &data);
+        let seconds = clock.elapsed().as_secs_f64();
+        last = out.radiance.iter().map(|l| l.to_array()).collect();
+        acc.add(&last, seconds);
+        let t = out.times;
+        passes.candidates += t.candidates / frames as f64;
+        passes.temporal += t.temporal / frames as f64;
+        passes.spatial += t.spatial / frames as f64;
+        passes.shading += t.shading / frames as f64;
+    }
+    acc.finish(passes, last)
+}
+
+/// `frames` independent frames of `spp` samples of a per-pixel integrator.
+pub fn independent_frames(
+    scene: &Scene,
+    reference: &Reference,
+    spp: u32,
+    frames: u32,
+    seed: u32,
+) -> Frames {
+    let mut acc = Accumulator::new(reference);
+    let mut last = Vec::new();
+    for f in 0..frames {
+        let opts = RenderOptions {
+            spp,
+            seed: seed.wrapping_add(f),
+            time_budget: None,
+        };
+        let clock = Instant::now();
+        let film = render(scene, &opts, &Progress::default()).film;
+        let seconds = clock.elapsed().as_secs_f64();
+        last = film_rgb(&film);
+        acc.add(&last, seconds);
+    }
+    acc.finish(PassTimes::default(), last)
+}
