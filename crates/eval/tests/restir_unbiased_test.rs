@@ -164,6 +164,18 @@ fn restir_emissive_explosion_is_unbiased() {
     }
 }
 
+/// Vertex reuse (§4.2's option: x_2 … x_k kept, volume measure) and an
+/// emitter kept fixed under direction reuse are shifts like direction
+/// reuse: unbiased with Talbot MIS.
+#[test]
+fn restir_vertex_reuse_is_unbiased() {
+    let text = scene_text(ENV, "");
+    let z = compare(&text, 3, &["integrator.shift=vertex"]);
+    assert!(z.pass);
+    let z = compare_with(EXPLOSION, 3, &["integrator.shift=vertex"], 1024);
+    assert!(z.pass);
+}
+
 #[test]
 fn restir_without_reuse_is_unbiased() {
     let text = scene_text(ENV, "");

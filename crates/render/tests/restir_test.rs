@@ -78,6 +78,8 @@ fn restir_parameters_read_back_and_refuse_bad_values() {
         ("integrator.estimator=track_length", ""),
         ("integrator.estimator=biased_ray_marching", "final shading"),
         ("integrator.rr_depth=0", "integrator.rr_depth"),
+        ("integrator.shift=vertex", ""),
+        ("integrator.shift=edge", "is not direction or vertex"),
     ] {
         let r = build(CLOUD, &[set]);
         if expect.is_empty() {

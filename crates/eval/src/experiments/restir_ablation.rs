@@ -9,9 +9,8 @@
 //! Figs. 19 and 21 change the scene (density ×0.2 and ×3; phase g = 0 and
 //! 0.8) and compare at equal time with the baseline and the null-scattering
 //! tracer (`volpath` with NEE/phase MIS and residual ratio tracking).
-//! Dynamic-scene figures (8, 9, 13) need camera and volume motion and the
-//! supplementary direction-vs-vertex study needs vertex reuse; they are not
-//! here yet.
+//! The supplementary study compares direction and vertex reuse. The
+//! dynamic-scene figures (8, 9, 13) are not here yet.
 
 use super::restir_protocol::{build, independent_frames, restir_frames, Frames, Reference};
 use super::writer::Writer;
@@ -125,7 +124,11 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         ),
         ("14", "Q = 1", &["integrator.temporal_cap=1"]),
         ("14", "Q = 20", &["integrator.temporal_cap=20"]),
-        ("15", "radius 10 px (the paper's, in pixels)", &["integrator.radius=10"]),
+        (
+            "15",
+            "radius 10 px (the paper's, in pixels)",
+            &["integrator.radius=10"],
+        ),
         ("15", "radius 5 px", &["integrator.radius=5"]),
         ("15", "radius 20 px", &["integrator.radius=20"]),
         ("15", "radius 40 px", &["integrator.radius=40"]),

@@ -63,6 +63,13 @@ impl Restir {
         let full = &m.medium;
         let hg = HenyeyGreenstein { g: m.phase_g };
         let mut y = PathSample::BACKGROUND;
+        if p.vertex_reuse {
+            y.fixed_from = 1;
+        }
+        // ∏ 1/z_i² over the fixed vertices (vertex reuse): p and p̂ in the
+        // volume measure of a fixed vertex, so that the retargeting ratio
+        // compares values in the measure reuse evaluates p̂ in.
+        let mut g_fixed = 1.0f64;
         let mut ray = *ray0;
         // ∏ σ_s/σ_t* (and 1/q of roulette) up to the current vertex, RGB.
         let mut beta = Vec3::ONE;
@@ -100,15 +107,20 @@ impl Restir {
             let albedo = m.albedo_at(x);
             y.k = k as u8;
             y.z[k - 1] = t;
+            y.x[k - 1] = x;
+            if y.is_fixed(k - 1) {
+                // As `evaluate` computes it: 1/z² in f32.
+                g_fixed *= (1.0 / (t * t)) as f64;
+            }
             let inv_sigma_star = 1.0 / flight.sigma_t as f32;
             if m.emission.is_some() {
                 let mut ye = y;
                 ye.end = PathEnd::Emission;
-                let mut p_e = p_walk;
-                if k >= 2 {
-                    // Kept fixed in space under reuse: volume measure.
-                    ye.emitter = x;
-                    p_e /= (t as f64) * (t as f64);
+                let mut p_e = p_walk * g_fixed;
+                if k >= 2 && !ye.is_fixed(k - 1) {
+                    // An emitter is kept fixed in space under reuse.
+                    ye.fixed_from = (k - 1) as u8;
+                    p_e *= (1.0 / (t * t)) as f64;
                 }
                 let w = luminance(beta * m.emitted(x, albedo) * (sigma * inv_sigma_star));
                 res.stream(ye, w, w * p_e as f32, rng.next_f32());
@@ -119,7 +131,7 @@ impl Restir {
                 x,
                 ray.d,
                 beta * albedo * (sigma * inv_sigma_star),
-                p_walk,
+                p_walk * g_fixed,
                 &hg,
                 rng,
                 res,

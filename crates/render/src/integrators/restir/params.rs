@@ -7,7 +7,7 @@ use crate::error::SceneError;
 use crate::params::{take_estimator, Param, ParamReader};
 use fogbank_estimators::Estimator;
 
-pub const PARAMS: [Param; 16] = [
+pub const PARAMS: [Param; 17] = [
     Param {
         key: "max_depth",
         default: "3",
@@ -84,6 +84,11 @@ pub const PARAMS: [Param; 16] = [
         meaning: "transmittance of final shading",
     },
     Param {
+        key: "shift",
+        default: "direction",
+        meaning: "path shift of reuse: direction (ω_i, z_i copied) or vertex (x_2 … kept)",
+    },
+    Param {
         key: "rr_depth",
         default: "3",
         meaning: "Russian roulette by albedo after this vertex when K is larger",
@@ -136,6 +141,8 @@ pub struct RestirParams {
     pub reuse_step: f32,
     pub estimator: Estimator,
     pub rr_depth: u32,
+    /// Vertex reuse (§4.2's option) instead of direction reuse.
+    pub vertex_reuse: bool,
 }
 
 impl Default for RestirParams {
@@ -160,6 +167,7 @@ impl Default for RestirParams {
             reuse_step: 1.0,
             estimator: Estimator::AnalyticTrilinear,
             rr_depth: 3,
+            vertex_reuse: false,
         }
     }
 }
@@ -230,6 +238,16 @@ impl RestirParams {
             )));
         }
         let rr_depth = r.take("rr_depth")?.unwrap_or(d.rr_depth);
+        let vertex_reuse = match r.take::<String>("shift")?.as_deref() {
+            None | Some("direction") => false,
+            Some("vertex") => true,
+            Some(other) => {
+                return Err(SceneError(format!(
+                    "{}: `{other}` is not direction or vertex",
+                    r.key_path("shift")
+                )))
+            }
+        };
         Ok(RestirParams {
             max_depth: in_range(r, "max_depth", max_depth, 1, MAX_K as u32)?,
             candidates: in_range(r, "candidates", candidates, 1, 1024)?,
@@ -247,6 +265,7 @@ impl RestirParams {
             reuse_step: in_range(r, "reuse_step", reuse_step, 0.01, 100.0)?,
             estimator,
             rr_depth: in_range(r, "rr_depth", rr_depth, 1, 1000)?,
+            vertex_reuse,
         })
     }
 
@@ -270,6 +289,15 @@ impl RestirParams {
             crate::params::estimator_value(self.estimator),
         );
         t.insert("rr_depth".into(), i64::from(self.rr_depth).into());
+        t.insert(
+            "shift".into(),
+            if self.vertex_reuse {
+                "vertex"
+            } else {
+                "direction"
+            }
+            .into(),
+        );
     }
 }
 

@@ -5,8 +5,9 @@
 //! Its end is the environment seen through the medium (Eq. 1, second term),
 //! a light reached by next-event estimation from x_k, or the medium's own
 //! emission at x_k. A last vertex in emissive medium (k ≥ 2) is kept fixed
-//! in space, as the paper does for emitters; its measure is then volume,
-//! so p̂ and F carry 1/|x_k − x_{k−1}|² on the final segment.
+//! in space, as the paper does for emitters; vertex reuse (the option of
+//! §4.2) keeps every vertex from x_2 on fixed. A fixed vertex's measure is
+//! volume, so p̂ and F carry 1/|x_i − x_{i−1}|² on the segment reaching it.
 
 use fogbank_math::Vec3;
 
@@ -38,9 +39,15 @@ pub struct PathSample {
     /// A `Light` end: the direction to an environment or directional light
     /// (kept, §4.2); positional lights keep their position instead.
     pub light_dir: Vec3,
-    /// An `Emission` end with k ≥ 2: the emitting vertex x_k, kept fixed.
-    pub emitter: Vec3,
+    /// x[i] = x_{i+1}, the vertices where the path was found; those from
+    /// index `fixed_from` on (never x_1) stay there under reuse.
+    pub x: [Vec3; MAX_K],
+    /// First vertex index kept fixed in space ([`NONE_FIXED`]: none).
+    pub fixed_from: u8,
 }
+
+/// `fixed_from` of a path whose vertices all follow its directions.
+pub const NONE_FIXED: u8 = u8::MAX;
 
 impl PathSample {
     pub const BACKGROUND: PathSample = PathSample {
@@ -50,12 +57,13 @@ impl PathSample {
         z: [0.0; MAX_K],
         dir: [Vec3::ZERO; MAX_K],
         light_dir: Vec3::ZERO,
-        emitter: Vec3::ZERO,
+        x: [Vec3::ZERO; MAX_K],
+        fixed_from: NONE_FIXED,
     };
 
-    /// Whether the last vertex is a fixed point in space (volume measure).
+    /// Whether vertex index `i` (x_{i+1}) is a fixed point in space.
     #[inline]
-    pub fn fixed_emitter(&self) -> bool {
-        self.end == PathEnd::Emission && self.k >= 2
+    pub fn is_fixed(&self, i: usize) -> bool {
+        i >= 1 && i >= self.fixed_from as usize
     }
 }

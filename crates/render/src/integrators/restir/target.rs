@@ -70,8 +70,16 @@ pub fn evaluate(
     for i in 0..k {
         let last = i + 1 == k;
         // Segment i: from x_i along ω_i to x_{i+1}.
-        let (next_d, z, g) = if last && y.fixed_emitter() {
-            let v = y.emitter - x;
+        // On the path's own vertices (its own pixel, or a shift that left
+        // x_i in place) the stored ω_i and z_{i+1} rebuild x_{i+1} exactly
+        // as the candidate pass found it, so F and p̂ agree with the
+        // candidate's weights bit for bit; positions subtracted in f32 would
+        // not for tiny segments, where 1/z² amplifies the rounding.
+        let own = i >= 1 && x == y.x[i - 1];
+        let (next_d, z, g) = if y.is_fixed(i) && own {
+            (y.dir[i - 1], y.z[i], 1.0 / (y.z[i] * y.z[i]))
+        } else if y.is_fixed(i) {
+            let v = y.x[i] - x;
             let z = v.length();
             if z.is_nan() || z <= 0.0 {
                 return Vec3::ZERO;
