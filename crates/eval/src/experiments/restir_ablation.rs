@@ -100,6 +100,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             "stochastic MIS (Eq. 10)",
             &["integrator.mis=stochastic"],
         ),
+        ("suppl.", "vertex reuse", &["integrator.shift=vertex"]),
         ("10", "reuse T̃ full resolution", &["integrator.reuse_mip=0"]),
         ("10", "reuse T̃ mip 3", &["integrator.reuse_mip=3"]),
         (
