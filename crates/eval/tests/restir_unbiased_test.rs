@@ -183,6 +183,14 @@ fn restir_without_reuse_is_unbiased() {
     assert!(z.pass);
 }
 
+/// BC4 compression of the reuse T̃'s mip changes p̂ only: still unbiased.
+#[test]
+fn restir_with_a_bc4_reuse_mip_is_unbiased() {
+    let text = scene_text(ENV, "");
+    let z = compare(&text, 3, &["integrator.reuse_bc4=true"]);
+    assert!(z.pass);
+}
+
 /// Dynamic lighting adds no bias (seed 002 §4.4): the point light moves
 /// every frame of an 8-frame animation, temporal reuse evaluates p̂_prev
 /// with the previous frame's light, and the last frame's mean over

@@ -3,6 +3,7 @@
 
 pub mod access;
 pub mod analytic;
+pub mod bc4;
 pub mod dda;
 pub mod error;
 pub mod explosion;

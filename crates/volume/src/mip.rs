@@ -141,3 +141,26 @@ impl Medium {
         ))
     }
 }
+
+impl Medium {
+    /// This grid medium with its values through a BC4 encode–decode round
+    /// trip ([`crate::bc4`]), same placement, filter and super-voxel size.
+    pub fn bc4(&self, supervoxel: u32) -> Result<Medium> {
+        let grid = match &self.data {
+            DensityData::F16(g) => crate::bc4::bc4_roundtrip(g.dims(), |i, j, k| g.fetch(i, j, k))?,
+            DensityData::F32(g) => crate::bc4::bc4_roundtrip(g.dims(), |i, j, k| g.fetch(i, j, k))?,
+            DensityData::Analytic(_) => {
+                return Err(VolumeError::Invalid(
+                    "analytic media have no voxels to compress".into(),
+                ))
+            }
+        };
+        Ok(Medium::new(
+            DensityData::from_f32(grid, Precision::F32),
+            self.sigma_t_scale,
+            self.filter,
+            self.index_to_world,
+            supervoxel,
+        ))
+    }
+}

@@ -103,6 +103,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         ("suppl.", "vertex reuse", &["integrator.shift=vertex"]),
         ("10", "reuse T̃ full resolution", &["integrator.reuse_mip=0"]),
         ("10", "reuse T̃ mip 3", &["integrator.reuse_mip=3"]),
+        ("10", "reuse T̃ mip 1, BC4", &["integrator.reuse_bc4=true"]),
         (
             "11",
             "candidate NEE T̃ full resolution",

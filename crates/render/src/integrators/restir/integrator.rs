@@ -47,7 +47,7 @@ impl Restir {
         }
         Ok(Restir {
             params: p.clone(),
-            mips: Mips::build(m)?,
+            mips: Mips::build(m, p.reuse_bc4.then_some(p.reuse_mip))?,
             lights: LightSampler::new(&world.lights, world.radius()),
         })
     }
@@ -66,7 +66,7 @@ impl Restir {
     pub fn p_hat(&self, data: &FrameData, ray: &Ray, y: &PathSample, lookups: &mut u32) -> f32 {
         let full = &data.world.media[0].medium;
         let mut tr = SegmentT::Marched {
-            medium: data.mips.level(full, self.params.reuse_mip),
+            medium: data.mips.reuse(full, self.params.reuse_mip),
             step: self.params.reuse_step,
         };
         luminance(evaluate(data.world, ray, y, &mut tr, lookups)).max(0.0)

@@ -30,6 +30,7 @@
 //! | `reuse_mip` | 1 | mip of the ray-marched T̃ in the reuse target p̂ (0: full resolution) |
 //! | `reuse_step` | 1 | marching step of T̃ in p̂, in voxel diagonals of `reuse_mip` |
 //! | `estimator` | `analytic_trilinear` | transmittance of final shading: exact, or any unbiased estimator |
+//! | `reuse_bc4` | false | march the reuse T̃ through a BC4-compressed copy of its mip (4 bits a voxel, §5.1; p̂ only, so no bias) |
 //! | `shift` | `direction` | path shift of reuse: `direction` (ω_i and z_i copied, §4.2's default) or `vertex` (x_2 … x_k kept, 1/z² terms) |
 //! | `rr_depth` | 3 | Russian roulette by albedo after vertex x_rr_depth (only when K > rr_depth, §6.1) |
 

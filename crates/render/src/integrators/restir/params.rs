@@ -7,7 +7,7 @@ use crate::error::SceneError;
 use crate::params::{take_estimator, Param, ParamReader};
 use fogbank_estimators::Estimator;
 
-pub const PARAMS: [Param; 17] = [
+pub const PARAMS: [Param; 18] = [
     Param {
         key: "max_depth",
         default: "3",
@@ -84,6 +84,11 @@ pub const PARAMS: [Param; 17] = [
         meaning: "transmittance of final shading",
     },
     Param {
+        key: "reuse_bc4",
+        default: "false",
+        meaning: "the reuse T̃'s mip through BC4 compression (4 bits a voxel, §5.1)",
+    },
+    Param {
         key: "shift",
         default: "direction",
         meaning: "path shift of reuse: direction (ω_i, z_i copied) or vertex (x_2 … kept)",
@@ -143,6 +148,8 @@ pub struct RestirParams {
     pub rr_depth: u32,
     /// Vertex reuse (§4.2's option) instead of direction reuse.
     pub vertex_reuse: bool,
+    /// March the reuse target through a BC4-compressed mip (§5.1).
+    pub reuse_bc4: bool,
 }
 
 impl Default for RestirParams {
@@ -168,6 +175,7 @@ impl Default for RestirParams {
             estimator: Estimator::AnalyticTrilinear,
             rr_depth: 3,
             vertex_reuse: false,
+            reuse_bc4: false,
         }
     }
 }
@@ -238,6 +246,7 @@ impl RestirParams {
             )));
         }
         let rr_depth = r.take("rr_depth")?.unwrap_or(d.rr_depth);
+        let reuse_bc4 = r.take("reuse_bc4")?.unwrap_or(false);
         let vertex_reuse = match r.take::<String>("shift")?.as_deref() {
             None | Some("direction") => false,
             Some("vertex") => true,
@@ -266,6 +275,7 @@ impl RestirParams {
             estimator,
             rr_depth: in_range(r, "rr_depth", rr_depth, 1, 1000)?,
             vertex_reuse,
+            reuse_bc4,
         })
     }
 
@@ -289,6 +299,7 @@ impl RestirParams {
             crate::params::estimator_value(self.estimator),
         );
         t.insert("rr_depth".into(), i64::from(self.rr_depth).into());
+        t.insert("reuse_bc4".into(), self.reuse_bc4.into());
         t.insert(
             "shift".into(),
             if self.vertex_reuse {

@@ -19,20 +19,37 @@ pub const MAX_MIP: u32 = 3;
 #[derive(Clone, Debug)]
 pub struct Mips {
     levels: Arc<Vec<Medium>>,
+    /// The reuse target's mip through BC4 compression (§5.1), when asked.
+    reuse_bc4: Option<Arc<Medium>>,
 }
 
 impl Mips {
     /// Super-voxels of 8 mip voxels, as the paper's baseline uses for its
     /// majorants (the mips are walked voxel by voxel, so they only matter
     /// to other tools reading the mip).
-    pub fn build(m: &Medium) -> Result<Mips, SceneError> {
+    /// With `bc4 = Some(level)`, also mip `level` through BC4 compression.
+    pub fn build(m: &Medium, bc4: Option<u32>) -> Result<Mips, SceneError> {
+        let err = |e| SceneError(format!("restir: building the medium's mips: {e}"));
         let levels = (1..=MAX_MIP)
             .map(|l| m.mip(l, 8))
             .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| SceneError(format!("restir: building the medium's mips: {e}")))?;
-        Ok(Mips {
+            .map_err(err)?;
+        let mut mips = Mips {
             levels: Arc::new(levels),
-        })
+            reuse_bc4: None,
+        };
+        if let Some(l) = bc4 {
+            mips.reuse_bc4 = Some(Arc::new(mips.level(m, l).bc4(8).map_err(err)?));
+        }
+        Ok(mips)
+    }
+
+    /// The medium the reuse target marches: mip `level`, or its BC4 copy.
+    pub fn reuse<'a>(&'a self, full: &'a Medium, level: u32) -> &'a Medium {
+        match &self.reuse_bc4 {
+            Some(b) => b,
+            None => self.level(full, level),
+        }
     }
 
     /// Level `l` of `full` (0: `full` itself).
