@@ -10,7 +10,7 @@ fn bc4_error_is_within_half_a_palette_step() {
     let f = |i: i32, j: i32, k: i32| -> f32 {
         if i < 4 && j < 4 {
             0.0
-        } else if i >= 8 && j >= 4 && j < 8 {
+        } else if i >= 8 && (4..8).contains(&j) {
             2.5
         } else {
             ((i * 37 + j * 11 + k * 5) % 23) as f32 * 0.17
