@@ -6,7 +6,7 @@
 
 use fogbank_render::integrators::restir::frame::{PassTimes, Sequence};
 use fogbank_render::integrators::IntegratorKind;
-use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene};
+use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -34,10 +34,6 @@ pub fn mse(a: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
         / n
 }
 
-pub fn film_rgb(f: &Film) -> Vec<[f32; 3]> {
-    f.mean()
-}
-
 /// A reference image and its noise floor (mean variance of its pixels).
 pub struct Reference {
     pub rgb: Vec<[f32; 3]>,
@@ -52,7 +48,7 @@ impl Reference {
             time_budget: None,
         };
         let film = render(scene, &opts, &Progress::default()).film;
-        let rgb = film_rgb(&film);
+        let rgb = film.mean();
         let floor = film
             .variance_of_mean()
             .iter()
@@ -183,7 +179,7 @@ pub fn independent_frames(
         let clock = Instant::now();
         let film = render(scene, &opts, &Progress::default()).film;
         let seconds = clock.elapsed().as_secs_f64();
-        last = film_rgb(&film);
+        last = film.mean();
         acc.add(&last, seconds);
     }
     acc.finish(PassTimes::default(), last)

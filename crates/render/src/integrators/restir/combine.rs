@@ -18,6 +18,9 @@ use super::path::PathSample;
 use super::reservoir::{stream_input, talbot, Reservoir};
 use fogbank_math::{Pcg32, Ray};
 
+/// Most inputs of one combination: the pixel and up to 32 neighbours.
+pub const MAX_INPUTS: usize = 33;
+
 /// One input of a combination.
 pub struct Input<'a> {
     pub res: Reservoir<PathSample>,
@@ -35,7 +38,13 @@ impl Restir {
         lookups: &mut u32,
     ) -> Reservoir<PathSample> {
         let n = inputs.len();
-        let m: Vec<f32> = inputs.iter().map(|i| i.res.m).collect();
+        // Fixed-size scratch: no allocation per pixel (neighbours ≤ 32).
+        assert!(n <= MAX_INPUTS, "at most {MAX_INPUTS} reuse inputs");
+        let mut m_buf = [0.0f32; MAX_INPUTS];
+        for (b, i) in m_buf.iter_mut().zip(inputs) {
+            *b = i.res.m;
+        }
+        let m = &m_buf[..n];
         let m_total: f32 = m.iter().sum();
         // p̂_j(x_i) for the inputs j whose value mis needs.
         let p_hat_at = |i: usize, j: usize, lookups: &mut u32| -> f32 {
@@ -48,7 +57,8 @@ impl Restir {
         };
         let mut out = Reservoir::default();
         let mut chosen = None;
-        let mut row = vec![0.0f32; n];
+        let mut row_buf = [0.0f32; MAX_INPUTS];
+        let row = &mut row_buf[..n];
         for i in 0..n {
             let u = rng.next_f32();
             let Some(y) = inputs[i].res.y else { continue };
@@ -61,7 +71,7 @@ impl Restir {
                     for (j, r) in row.iter_mut().enumerate() {
                         *r = p_hat_at(i, j, lookups);
                     }
-                    (row[0], talbot(i, &m, &row))
+                    (row[0], talbot(i, m, row))
                 }
                 ReuseMis::Stochastic | ReuseMis::Uniform => {
                     (p_hat_at(i, 0, lookups), m[i] / m_total)
