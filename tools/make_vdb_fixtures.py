@@ -17,12 +17,21 @@ bounding box are cross-checked against `vdb_print -l`. They go to
 `crates/volume/tests/fixtures/vdb/manifest.json`, together with the same
 numbers for the real files in `../shared/data/` when those exist.
 
+Vector fixtures (`vec3_*`, `density_vel.vdb`, `vec3_instance.vdb`,
+`vec3_stream.vdb`) hold `vec3s` grids; their manifest entries list, under
+`vec3_reads`, one reference per component (`vel.x`, `vel.y`, `vel.z`) in the
+same form as the float entries. The uncompressed ones are stored gzipped
+(`*.vdb.gz`): an uncompressed vec3 32^3 internal node alone takes 384 KiB.
+`--only vec3` rewrites just those and merges them into the existing manifest.
+
 The script also writes `blosc_frames.json`: Blosc frames made with
 python-blosc using codecs and shuffles OpenVDB never writes (blosclz, zlib,
 lz4hc, bit shuffle), to test the frame decoder on its own.
 """
 
+import argparse
 import base64
+import gzip
 import json
 import math
 import os
@@ -197,6 +206,109 @@ def multi_grids():
     return [vel, mask, temp, dens, heat0, heat1, inst]
 
 
+def vec3_leaf(acc, x0, active, inactive):
+    """One 8^3 leaf at (x0, 0, 0): `active(n)` gives the value of voxel n or
+    None, `inactive(n)` the inactive value (None leaves the voxel alone)."""
+    for n in range(512):
+        ijk = (x0 + (n >> 6), (n >> 3) & 7, n & 7)
+        v = active(n)
+        if v is not None:
+            acc.setValueOn(ijk, v)
+        else:
+            w = inactive(n)
+            if w is not None:
+                acc.setValueOff(ijk, w)
+
+
+def swirl_source():
+    """A swirl v = (-(z-c), 0.3 + (y-c)/100, x-c) / 20 in a ball of radius 11
+    inside 32^3, with a background that is not a half float, leaves for each
+    per-node inactive-value mode and tiles at every level. Root tiles, the
+    background and stored inactive values are written at full width even in
+    half grids; root tile values are not even rounded."""
+    bg = (0.1, -0.2, 0.3)
+    neg = tuple(-v for v in bg)
+    g = vdb.Vec3SGrid(bg)
+    g.name = "vel"
+    g.gridClass = vdb.GridClass.UNKNOWN  # OpenVDB drops Zip for fog volumes
+    acc = g.getAccessor()
+    c = 16
+    for i in range(32):
+        for j in range(32):
+            for k in range(32):
+                if (i - c) ** 2 + (j - c) ** 2 + (k - c) ** 2 <= 121:
+                    acc.setValueOn((i, j, k), (-(k - c) / 20.0, 0.3 + (j - c) / 100.0, (i - c) / 20.0))
+    on = lambda step, v: (lambda n: v if n % step == 0 else None)
+    # One non-background inactive value (mode 2).
+    vec3_leaf(acc, 40, on(9, (0.9, 0.1, -0.3)), lambda n: (0.5, 0.25, -0.125))
+    # Two non-background inactive values (mode 5).
+    vec3_leaf(acc, 48, on(11, (0.8, -0.6, 0.4)), lambda n: (0.5, 0.5, 0.5) if n % 2 else (0.75, 0.0, -1.0))
+    # Background and one other inactive value (mode 4).
+    vec3_leaf(acc, 56, on(5, (0.7, 0.7, 0.7)), lambda n: (0.3, -0.3, 0.3) if n % 3 == 0 else None)
+    # +background and -background (mode 3), all -background (mode 1).
+    vec3_leaf(acc, 64, on(7, (0.6, 0.0, -0.6)), lambda n: neg if n % 2 else None)
+    vec3_leaf(acc, 72, on(13, (-0.5, 0.5, 1.5)), lambda n: neg)
+    # More than two inactive values: everything is stored (mode 6).
+    vec3_leaf(acc, 80, on(13, (0.6, 0.6, 0.6)), lambda n: (0.1 * (n % 4), 0.2, -0.1 * (n % 5)) if n % 3 == 0 else None)
+    # Tiles: active and inactive 8^3 tiles of a 16^3 node, an active 128^3
+    # tile of the 32^3 node (half in half grids), root tiles (never half).
+    g.fill((0, 64, 0), (7, 71, 7), (0.25, 0.5, -0.75), True)
+    g.fill((8, 64, 0), (15, 71, 7), (0.125, 0.1, 0.0), False)
+    g.fill((128, 0, 0), (255, 127, 127), (0.1, 0.2, -0.3), True)
+    g.fill((-4096, -4096, -4096), (-1, -1, -1), (0.7, -0.1, 0.2), True)
+    g.fill((4096, 0, 0), (8191, 4095, 4095), (-0.3, 0.6, 0.9), False)
+    g.transform = vdb.createLinearTransform(0.05)
+    g.transform.translate((-0.8, 0.0, 0.25))
+    return g
+
+
+def density_vel_grids():
+    """A float density and two vec3s grids; `vel` is not the first one, so
+    the default choice must go by name. `vel` is saved as half."""
+    dens = vdb.FloatGrid(0.0)
+    dens.name = "density"
+    dens.gridClass = vdb.GridClass.FOG_VOLUME
+    curl = vdb.Vec3SGrid()
+    curl.name = "curl"
+    vel = vdb.Vec3SGrid()
+    vel.name = "vel"
+    vel.gridClass = vdb.GridClass.STAGGERED
+    vel.saveFloatAsHalf = True
+    da, ca, va = dens.getAccessor(), curl.getAccessor(), vel.getAccessor()
+    # Non-negative coordinates: one 32^3 node (8 KiB of masks) per grid.
+    for i in range(4, 17):
+        for j in range(0, 13):
+            for k in range(2, 15):
+                r2 = (i - 10) ** 2 + (j - 6) ** 2 + (k - 8) ** 2
+                if r2 <= 30:
+                    da.setValueOn((i, j, k), 1.0 - r2 / 32.0)
+                    va.setValueOn((i, j, k), ((j - 6) * 0.3, -(i - 10) * 0.3, 0.1 * k))
+                    if r2 <= 9:
+                        ca.setValueOn((i, j, k), (0.0, 0.0, 0.6 + 0.01 * r2))
+    xf = vdb.createLinearTransform(0.2)
+    for g in (dens, curl, vel):
+        g.transform = xf
+    return [dens, curl, vel]
+
+
+def vec3_instance_grids():
+    """A half vec3s grid and an instance of it with its own transform; no
+    `vel` among them, so the default choice is the first vec3s grid."""
+    flow = vdb.Vec3SGrid((0.0, 0.0, -1.0))
+    flow.name = "flow"
+    flow.saveFloatAsHalf = True
+    acc = flow.getAccessor()
+    for n in range(300):
+        i, j, k = n % 11, (n // 11) % 9, n // 99
+        acc.setValueOn((i - 5, j, 2 * k), (0.01 * i, -0.02 * j, 1.0 / (1 + k)))
+    flow.fill((16, 16, 16), (23, 23, 23), (1.0, 1.5, -2.0), True)
+    flow.transform = vdb.createLinearTransform(0.1)
+    inst = flow.copy()  # shares the tree: written as an instance
+    inst.name = "flow_copy"
+    inst.transform = vdb.createLinearTransform([[0.3, 0, 0, 0], [0, 0.3, 0, 0], [0, 0, 0.3, 0], [1, 2, 3, 1]])
+    return [flow, inst]
+
+
 # ---------------------------------------------------------------------------
 # Writing
 
@@ -245,16 +357,20 @@ def transform_matrix(grid):
     return m
 
 
-def grid_reference(grid, seed):
+def grid_reference(grid, seed, component=None):
+    """Reference values of a float grid, or of one component of a vec3s grid
+    (named `name.x` etc.; the same sample points for every component)."""
+    val = (lambda v: v) if component is None else (lambda v: v[component])
     rng = random.Random(seed)
     count = 0
     total = 0.0
     vmin, vmax = math.inf, -math.inf
     voxels, tiles = [], []
     for it in grid.citerOnValues():
+        value = val(it.value)
         count += it.count
-        total += it.value * it.count
-        vmin, vmax = min(vmin, it.value), max(vmax, it.value)
+        total += value * it.count
+        vmin, vmax = min(vmin, value), max(vmax, value)
         if it.count == 1:
             voxels.append(it.min)
         else:
@@ -282,12 +398,12 @@ def grid_reference(grid, seed):
             pts.append(tuple(rng.randint(lo[c] - 20, hi[c] + 20) for c in range(3)))
     pts += [(1000000, 0, 0), (-7, -300000, 5), (0, 0, 0), (-1, -1, -1)]
     acc = grid.getConstAccessor()
-    samples = [[int(p[0]), int(p[1]), int(p[2]), float(acc.getValue(tuple(p)))] for p in pts]
+    samples = [[int(p[0]), int(p[1]), int(p[2]), float(val(acc.getValue(tuple(p))))] for p in pts]
     return {
-        "name": grid.name,
+        "name": grid.name if component is None else grid.name + "." + "xyz"[component],
         "grid_class": CLASS_NAMES[grid.gridClass],
         "stored_as_half": bool(grid.saveFloatAsHalf),
-        "background": float(grid.background),
+        "background": float(val(grid.background)),
         "active_voxel_count": count,
         "bbox": [list(bbox[0]), list(bbox[1])] if count else None,
         "sum": total,
@@ -297,9 +413,10 @@ def grid_reference(grid, seed):
     }
 
 
-def describe_file(path, rel, reads, compression, extra=None):
-    """Reference entry for one file; `reads` lists the grid names to check
-    (None = the reader's default choice, which must be `expect`)."""
+def describe_file(path, rel, reads, compression, extra=None, vec3_reads=()):
+    """Reference entry for one file; `reads` and `vec3_reads` list the float
+    and vec3s grid names to check as (request, expect) pairs (request None =
+    the reader's default choice, which must be `expect`)."""
     metas = vdb.readAllGridMetadata(path)
     grids = []
     for m in metas:
@@ -317,6 +434,20 @@ def describe_file(path, rel, reads, compression, extra=None):
         ref["request"] = request
         ref["compression"] = compression
         entries.append(ref)
+    vec3_entries = []
+    for request, expect in vec3_reads:
+        g = vdb.read(path, expect)
+        assert g.valueTypeName == "vec3s", (path, expect, g.valueTypeName)
+        seed = zlib.crc32((rel + expect).encode())
+        comps = [grid_reference(g, seed, c) for c in range(3)]
+        s = stats.get(expect)
+        for ref in comps:
+            if s is not None:
+                assert s["count"] == ref["active_voxel_count"], (path, s, ref["active_voxel_count"])
+                if ref["bbox"] is not None and "bbox" in s:
+                    assert s["bbox"] == ref["bbox"], (path, s["bbox"], ref["bbox"])
+            ref["compression"] = compression
+        vec3_entries.append({"request": request, "name": expect, "components": comps})
     with open(path, "rb") as f:
         head = f.read(12)
     entry = {
@@ -326,6 +457,8 @@ def describe_file(path, rel, reads, compression, extra=None):
         "grids": grids,
         "reads": entries,
     }
+    if vec3_entries:
+        entry["vec3_reads"] = vec3_entries
     if extra:
         entry.update(extra)
     return entry
@@ -368,11 +501,8 @@ def blosc_frames():
     return {"payloads": [base64.b64encode(p[1]).decode() for p in payloads], "frames": frames}
 
 
-def main():
-    os.makedirs(OUT, exist_ok=True)
-    tmp = tempfile.mkdtemp()
+def float_fixtures(tmp):
     fixtures = []
-
     # Fog source in every precision x compression; Zip needs class unknown.
     fog = fog_source()
     src_fog = os.path.join(tmp, "fog.vdb")
@@ -427,6 +557,74 @@ def main():
         (None, "density"), ("temperature", "temperature"), ("density_instance", "density_instance"),
     ], "blosc + active-mask", extra={"unsupported": ["vel", "mask"]}))
 
+    return fixtures
+
+
+def vec3_fixtures(tmp):
+    fixtures = []
+    src = os.path.join(tmp, "swirl.vdb")
+    vdb.write(src, grids=[swirl_source()])
+    for bits, prec in ((32, "f32"), (16, "half")):
+        for codec, cname in (("none", "none"), ("active", "active-mask"), ("zip", "zip + active-mask"),
+                             ("blosc", "blosc + active-mask")):
+            rel = "vec3_%s_%s.vdb" % (prec, codec)
+            if codec == "none":
+                # Uncompressed, the 32^3 node's tile values alone take 384 KiB.
+                dst = os.path.join(tmp, rel)
+                rewrite(src, dst, codec, bits)
+                entry = describe_file(dst, rel + ".gz", [], cname, vec3_reads=[(None, "vel")], extra={"gzip": True})
+                with open(dst, "rb") as f, open(os.path.join(OUT, rel + ".gz"), "wb") as out:
+                    with gzip.GzipFile(filename=rel, mode="wb", fileobj=out, mtime=0) as z:
+                        z.write(f.read())
+            else:
+                dst = os.path.join(OUT, rel)
+                rewrite(src, dst, codec, bits)
+                entry = describe_file(dst, rel, [], cname, vec3_reads=[(None, "vel")])
+            fixtures.append(entry)
+
+    # Written by pyopenvdb directly (Blosc): mixed precision, and instances.
+    dst = os.path.join(OUT, "density_vel.vdb")
+    vdb.write(dst, grids=density_vel_grids())
+    fixtures.append(describe_file(dst, "density_vel.vdb", [(None, "density")], "blosc + active-mask",
+                                  vec3_reads=[(None, "vel"), ("curl", "curl")]))
+    dst = os.path.join(OUT, "vec3_instance.vdb")
+    vdb.write(dst, grids=vec3_instance_grids())
+    fixtures.append(describe_file(dst, "vec3_instance.vdb", [], "blosc + active-mask",
+                                  vec3_reads=[("flow_copy", "flow_copy")]))
+    # A stream (no grid offsets) whose vec3s grids precede the float grid.
+    src = os.path.join(tmp, "dv.vdb")
+    grids = density_vel_grids()
+    vdb.write(src, grids=grids[1:] + grids[:1])
+    dst = os.path.join(OUT, "vec3_stream.vdb")
+    with open(dst, "wb") as f:
+        subprocess.run(["vdb_tool", "-read", src, "-write", "codec=blosc", "stdout.vdb"], check=True, stdout=f)
+    fixtures.append(describe_file(dst, "vec3_stream.vdb", [(None, "density")], "blosc + active-mask",
+                                  extra={"has_grid_offsets": False}, vec3_reads=[("curl", "curl")]))
+    return fixtures
+
+
+def write_manifest(fixtures):
+    with open(os.path.join(OUT, "manifest.json"), "w") as f:
+        json.dump({"generator": "tools/make_vdb_fixtures.py", "openvdb": list(vdb.LIBRARY_VERSION),
+                   "fixtures": fixtures}, f, indent=1)
+    total = sum(os.path.getsize(os.path.join(OUT, n)) for n in os.listdir(OUT))
+    print("wrote %d fixtures, %d bytes in %s" % (len(fixtures), total, OUT))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--only", choices=["vec3"], help="rewrite only the vec3 fixtures, keeping the other entries")
+    args = ap.parse_args()
+    os.makedirs(OUT, exist_ok=True)
+    tmp = tempfile.mkdtemp()
+    if args.only:
+        with open(os.path.join(OUT, "manifest.json")) as f:
+            keep = [e for e in json.load(f)["fixtures"] if "vec3_reads" not in e]
+        shared = [e for e in keep if e["file"].startswith("shared:")]
+        write_manifest([e for e in keep if e not in shared] + vec3_fixtures(tmp) + shared)
+        return
+    fixtures = float_fixtures(tmp) + vec3_fixtures(tmp)
+
     # Real-world files, when present.
     for name, grid, cname in (("dragon.vdb", "density", "blosc + active-mask"),
                               ("sphere.vdb", "ls_sphere", "active-mask"),
@@ -437,17 +635,13 @@ def main():
         else:
             print("skipping missing", p, file=sys.stderr)
 
-    with open(os.path.join(OUT, "manifest.json"), "w") as f:
-        json.dump({"generator": "tools/make_vdb_fixtures.py", "openvdb": list(vdb.LIBRARY_VERSION),
-                   "fixtures": fixtures}, f, indent=1)
+    write_manifest(fixtures)
     try:
         frames = blosc_frames()
         with open(os.path.join(OUT, "blosc_frames.json"), "w") as f:
             json.dump(frames, f)
     except ImportError:
         print("python3-blosc missing: blosc_frames.json not updated", file=sys.stderr)
-    total = sum(os.path.getsize(os.path.join(OUT, n)) for n in os.listdir(OUT))
-    print("wrote %d fixtures, %d bytes in %s" % (len(fixtures), total, OUT))
 
 
 if __name__ == "__main__":

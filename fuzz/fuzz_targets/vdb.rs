@@ -19,4 +19,13 @@ fuzz_target!(|data: &[u8]| {
         let _ = grid.active_value_sum();
         let _ = grid.value_at([0, 0, 0]);
     }
+    if let Ok(grids) = vdb::parse_vec3_grid(path, data, None) {
+        for grid in &grids {
+            let _ = grid.active_voxel_count();
+            let _ = grid.active_bbox();
+            let _ = grid.active_value_range();
+            let _ = grid.active_value_sum();
+            let _ = grid.value_at([0, 0, 0]);
+        }
+    }
 });

@@ -4,7 +4,7 @@
 //! scene with every keyed value interpolated linearly between the keys
 //! around the frame (held before the first and after the last) and every
 //! `{frame}` / `{frame:0N}` in a medium's file names replaced by the frame
-//! number.
+//! number; a procedural plume's `time` advances by frame/fps.
 //!
 //! | key | default | meaning |
 //! |---|---|---|
@@ -120,9 +120,14 @@ pub fn frame_path(path: &str, frame: u32) -> String {
     out
 }
 
-fn frame_field(f: &mut FieldDesc, frame: u32) {
+/// `f` at `frame`: per-frame file names; a procedural plume's `time`
+/// advances by frame/fps.
+fn frame_field(f: &mut FieldDesc, frame: u32, fps: f32) {
     for p in [&mut f.vdb, &mut f.vol, &mut f.raw].into_iter().flatten() {
         *p = frame_path(p, frame);
+    }
+    if f.procedural.as_deref() == Some("plume") {
+        f.time = Some(f.time.unwrap_or(0.0) + frame as f32 / fps);
     }
 }
 
@@ -251,14 +256,17 @@ impl AnimationDesc {
         if let Some(v) = interpolate(&keyed(&keys, fr, scale), frame) {
             m.to_world.scale = Some(ScaleDesc::PerAxis(v));
         }
-        frame_field(&mut m.density, frame);
+        frame_field(&mut m.density, frame, self.fps);
         if let Some(g) = m.albedo_grid.as_mut() {
-            frame_field(g, frame);
+            frame_field(g, frame, self.fps);
         }
         if let Some(e) = m.emission.as_mut() {
             for g in [&mut e.grid, &mut e.temperature].into_iter().flatten() {
-                frame_field(g, frame);
+                frame_field(g, frame, self.fps);
             }
+        }
+        if let Some(f) = m.velocity.as_mut().and_then(|v| v.vdb.as_mut()) {
+            *f = frame_path(f, frame);
         }
         m
     }

@@ -160,14 +160,16 @@ impl Scene {
                 let lights: Vec<LightDesc> = (desc.lights.iter().enumerate())
                     .map(|(i, l)| a.light(l, i, frame))
                     .collect();
-                World::build(
+                let mut world = World::build(
                     &a.camera(&desc.camera, frame),
                     &media,
                     &lights,
                     desc.render.pixel_jitter,
                     base,
                 )
-                .map_err(|SceneError(e)| SceneError(format!("frame {frame}: {e}")))?
+                .map_err(|SceneError(e)| SceneError(format!("frame {frame}: {e}")))?;
+                world.frame_dt = 1.0 / a.fps;
+                world
             }
         };
         let integrator = desc.integrator.build(&world)?;

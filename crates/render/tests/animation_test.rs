@@ -133,3 +133,132 @@ fn a_missing_frame_file_names_the_frame_and_file() {
     let e = frame(&text, 1).err().unwrap();
     assert!(e.starts_with("frame 1: ") && e.contains("d_01.raw"), "{e}");
 }
+
+const PLUME: &str = r#"
+[camera]
+width = 8
+height = 6
+[[media]]
+density = { procedural = "plume", resolution = 16, seed = 3 }
+[animation]
+frames = 4
+fps = 8
+"#;
+
+#[test]
+fn a_plume_advances_in_time_and_moves_with_its_velocity() {
+    let (s0, s2) = (frame(PLUME, 0).unwrap(), frame(PLUME, 2).unwrap());
+    assert_eq!(s2.frame_dt, 1.0 / 8.0);
+    assert!(
+        s2.media[0].source.contains("at 0.25 s"),
+        "{}",
+        s2.media[0].source
+    );
+    assert!(
+        s0.media[0].source.contains("at 0 s"),
+        "{}",
+        s0.media[0].source
+    );
+    // The unit box [−½, ½]³: the plume rises 0.15 box heights per second
+    // and swirls at 0.8 rad/s about the vertical axis through the centre.
+    let v = s2.media[0]
+        .velocity
+        .as_ref()
+        .expect("a plume has a velocity");
+    let at = v.at(fogbank_math::Vec3::new(0.1, 0.0, 0.0));
+    assert!(
+        (at - fogbank_math::Vec3::new(0.0, 0.15, -0.08)).length() < 1e-5,
+        "{at}"
+    );
+    assert_eq!(
+        v.at(fogbank_math::Vec3::new(0.0, 2.0, 0.0)),
+        fogbank_math::Vec3::ZERO
+    );
+    // A still scene has no frame time; a constant velocity is taken as given.
+    let still = PLUME.split("[animation]").next().unwrap().replace(
+        "seed = 3 }",
+        "seed = 3 }\nvelocity = { constant = [1.0, 2.0, 3.0] }",
+    );
+    let s = frame(&still, 0).unwrap();
+    assert_eq!(s.frame_dt, 0.0);
+    let v = s.media[0].velocity.as_ref().unwrap();
+    assert_eq!(v.at(fogbank_math::Vec3::ZERO).to_array(), [1.0, 2.0, 3.0]);
+}
+
+#[test]
+fn bad_velocities_are_named() {
+    let vdb =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../volume/tests/fixtures/vdb/fog_f32_zip.vdb");
+    for (velocity, density, expect) in [
+        (
+            "{ constant = [1.0, 0.0, 0.0], procedural = \"plume\" }",
+            "procedural = \"plume\"",
+            "media.0.velocity: give exactly one of",
+        ),
+        (
+            "{ procedural = \"plume\" }",
+            "procedural = \"cloud\"",
+            "media.0.velocity.procedural: \"plume\" needs density",
+        ),
+        (
+            "{ procedural = \"wind\" }",
+            "procedural = \"plume\"",
+            "`wind` is not a procedural velocity",
+        ),
+        (
+            "{ constant = [1.0, 0.0, 0.0], grid = \"vel\" }",
+            "procedural = \"plume\"",
+            "media.0.velocity.grid: only used with `vdb`",
+        ),
+        (
+            &format!("{{ vdb = \"{}\" }}", vdb.display()),
+            "procedural = \"plume\"",
+            "fog_f32_zip.vdb",
+        ),
+        (
+            &format!("{{ vdb = \"{}\", grid = \"density\" }}", vdb.display()),
+            "procedural = \"plume\"",
+            "density",
+        ),
+    ] {
+        let text = format!(
+            "[[media]]\ndensity = {{ {density}, resolution = 8 }}\nvelocity = {velocity}\n"
+        );
+        let e = frame(&text, 0)
+            .err()
+            .unwrap_or_else(|| panic!("{velocity} accepted"));
+        assert!(e.contains(expect), "{velocity}: {e}");
+    }
+    let e = frame(
+        "[[media]]\ndensity = { procedural = \"cloud\", resolution = 8, time = 1.0 }\n",
+        0,
+    )
+    .err()
+    .unwrap();
+    assert!(
+        e.contains("media.0.density.time: only used with procedural = \"plume\""),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_vdb_velocity_grid_loads_per_frame() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../volume/tests/fixtures/vdb");
+    let text = format!(
+        "[[media]]\ndensity = {{ vdb = \"{0}/density_vel.vdb\", grid = \"density\" }}\nvelocity = {{ vdb = \"{0}/density_vel.vdb\", grid = \"vel\" }}\n",
+        dir.display()
+    );
+    let s = frame(&text, 0).unwrap();
+    let v = s.media[0].velocity.as_ref().unwrap();
+    let b = s.media[0].medium.world_bounds();
+    let (mut moving, mut n) = (0, 0);
+    for i in 0..512 {
+        let f =
+            fogbank_math::Vec3::new((i % 8) as f32, ((i / 8) % 8) as f32, (i / 64) as f32) / 7.0;
+        let at = v.at(b.min + (b.max - b.min) * f);
+        assert!(at.is_finite());
+        moving += (at.length() > 0.0) as u32;
+        n += 1;
+    }
+    assert!(moving > 0, "no motion at {n} points");
+}

@@ -11,6 +11,7 @@ pub mod grid;
 pub mod loaders;
 pub mod medium;
 pub mod mip;
+pub mod plume;
 pub mod procedural;
 pub mod supervoxel;
 

@@ -13,6 +13,35 @@ fn fixture_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/vdb")
 }
 
+/// A fixture's bytes; `*.vdb.gz` fixtures (the uncompressed vec3 files,
+/// large but mostly background) are gunzipped.
+fn fixture_bytes(file: &str) -> Vec<u8> {
+    let raw = std::fs::read(fixture_dir().join(file)).unwrap();
+    if !file.ends_with(".gz") {
+        return raw;
+    }
+    let mut out = Vec::new();
+    std::io::Read::read_to_end(&mut flate2::read::GzDecoder::new(&raw[..]), &mut out).unwrap();
+    out
+}
+
+/// A path to read `file` from: the fixture itself, or its gunzipped copy in
+/// a temporary directory.
+fn fixture_path(file: &str) -> PathBuf {
+    let Some(plain) = file.strip_suffix(".gz") else {
+        return fixture_dir().join(file);
+    };
+    let dir = std::env::temp_dir().join("fogbank-vdb-read");
+    std::fs::create_dir_all(&dir).unwrap();
+    // Written aside and renamed, so that concurrent test runs never see a
+    // partial file.
+    let path = dir.join(plain);
+    let tmp = dir.join(format!("{plain}.{}", std::process::id()));
+    std::fs::write(&tmp, fixture_bytes(file)).unwrap();
+    std::fs::rename(&tmp, &path).unwrap();
+    path
+}
+
 fn manifest() -> Value {
     let text = std::fs::read_to_string(fixture_dir().join("manifest.json")).unwrap();
     serde_json::from_str(&text).unwrap()
@@ -137,6 +166,59 @@ fn check_entry(entry: &Value, path: &Path) {
         );
         check_grid(file, &grid, r);
     }
+    let Some(reads) = entry["vec3_reads"].as_array() else {
+        return;
+    };
+    let bytes = std::fs::read(path).unwrap();
+    for r in reads {
+        let request = r["request"].as_str();
+        let grids = vdb::read_vec3_grid(path, request).unwrap();
+        let ctx = format!("{file} / {request:?}");
+        for (c, g) in grids.iter().enumerate() {
+            assert_eq!(
+                g.file_version as u64,
+                entry["file_version"].as_u64().unwrap(),
+                "{ctx}"
+            );
+            check_grid(file, g, &r["components"][c]);
+        }
+        assert_same_topology(&grids, &ctx);
+        assert_eq!(
+            vdb::parse_vec3_grid(path, &bytes, request).unwrap(),
+            grids,
+            "{ctx}: bytes vs file"
+        );
+    }
+}
+
+/// The three components of a vec3 grid share every structural field.
+fn assert_same_topology(g: &[VdbGrid; 3], ctx: &str) {
+    let shape = |g: &VdbGrid| {
+        let leaves: Vec<_> = g.leaves.iter().map(|l| (l.origin, l.active)).collect();
+        let tiles: Vec<_> = g
+            .tiles
+            .iter()
+            .map(|t| (t.origin, t.size, t.active))
+            .collect();
+        let head = (g.grid_class, g.stored_as_half, g.compression.clone());
+        (head, g.index_to_world, leaves, tiles)
+    };
+    assert!(shape(&g[1]) == shape(&g[0]), "{ctx}: y differs from x");
+    assert!(shape(&g[2]) == shape(&g[0]), "{ctx}: z differs from x");
+    let base = g[0].name.strip_suffix(".x").expect("component name");
+    let names = g.each_ref().map(|c| c.name.as_str());
+    assert_eq!(
+        names,
+        ["x", "y", "z"].map(|a| format!("{base}.{a}")),
+        "{ctx}"
+    );
+}
+
+/// Asserts that `err` (an error's message) contains every one of `parts`.
+fn assert_mentions(err: impl std::fmt::Display, parts: &[&str]) {
+    let err = err.to_string();
+    let missing: Vec<_> = parts.iter().filter(|p| !err.contains(*p)).collect();
+    assert!(missing.is_empty(), "{err}\nlacks {missing:?}");
 }
 
 fn entry(file: &str) -> Value {
@@ -158,10 +240,17 @@ fn fixtures_match_openvdb_reference() {
         if file.starts_with("shared:") {
             continue;
         }
-        check_entry(e, &fixture_dir().join(file));
+        check_entry(e, &fixture_path(file));
         checked += 1;
     }
-    assert!(checked >= 13, "only {checked} fixtures in manifest");
+    assert!(checked >= 24, "only {checked} fixtures in manifest");
+    let vec3 = m["fixtures"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["vec3_reads"].is_array())
+        .count();
+    assert!(vec3 >= 11, "only {vec3} vec3 fixtures in manifest");
 }
 
 #[test]
@@ -186,6 +275,136 @@ fn float_and_half_in_every_compression() {
         let b = vdb::read_grid(&fixture_dir().join(format!("fog_f32_{codec}.vdb")), None).unwrap();
         assert_eq!(a.leaves, b.leaves, "{codec}");
         assert_eq!(a.tiles, b.tiles, "{codec}");
+    }
+}
+
+fn vec3_fixture(prec: &str, codec: &str) -> [VdbGrid; 3] {
+    let file = match codec {
+        "none" => format!("vec3_{prec}_none.vdb.gz"),
+        _ => format!("vec3_{prec}_{codec}.vdb"),
+    };
+    let path = fixture_dir().join(&file);
+    vdb::parse_vec3_grid(&path, &fixture_bytes(&file), None).unwrap()
+}
+
+#[test]
+fn vec3_in_every_precision_and_compression() {
+    let h = |v: f32| half::f16::from_f32(v).to_f32();
+    let mut by_prec = Vec::new();
+    for prec in ["f32", "half"] {
+        let mut first: Option<[VdbGrid; 3]> = None;
+        for codec in ["none", "active", "zip", "blosc"] {
+            let g = vec3_fixture(prec, codec);
+            let ctx = format!("{prec} {codec}");
+            assert_eq!(g[0].name, "vel.x", "{ctx}");
+            assert_eq!(g[0].stored_as_half, prec == "half", "{ctx}");
+            let want = match codec {
+                "none" => "none",
+                "active" => "active-mask",
+                "zip" => "zip + active-mask",
+                _ => "blosc + active-mask",
+            };
+            assert_eq!(g[2].compression, want, "{ctx}");
+            // The writer rounds the background to half but stores it in
+            // full width; root tiles it neither rounds nor narrows; the 32³
+            // node's 128³ tile is stored as half.
+            let round = |v: [f32; 3]| v.map(|v| if prec == "half" { h(v) } else { v });
+            let at = |ijk| g.each_ref().map(|c| c.value_at(ijk));
+            let bg = g.each_ref().map(|c| c.background);
+            assert_eq!(bg, round([0.1, -0.2, 0.3]), "{ctx}");
+            let root = [at([-5, -6, -7]), at([5000, 1, 2])];
+            assert_eq!(root, [[0.7, -0.1, 0.2], [-0.3, 0.6, 0.9]], "{ctx}");
+            assert_eq!(at([200, 5, 5]), round([0.1, 0.2, -0.3]), "{ctx}: 128³ tile");
+            // Swirl at (20, 17, 10), c = 16; an inactive -background voxel.
+            assert_eq!(at([20, 17, 10]), round([0.3, 0.31, 0.2]), "{ctx}");
+            assert_eq!(at([72, 0, 1]), bg.map(|v| -v), "{ctx}");
+            // Same data regardless of compression.
+            let first = first.get_or_insert_with(|| g.clone());
+            for c in 0..3 {
+                assert!(first[c].leaves == g[c].leaves, "{ctx}: leaves of {c}");
+                assert!(first[c].tiles == g[c].tiles, "{ctx}: tiles of {c}");
+            }
+        }
+        by_prec.push(first.unwrap());
+    }
+    // Half within half precision (2^-11 relative) of full.
+    let (full, half) = (&by_prec[0], &by_prec[1]);
+    for c in 0..3 {
+        assert_eq!(full[c].leaves.len(), half[c].leaves.len());
+        for (a, b) in full[c].leaves.iter().zip(&half[c].leaves) {
+            assert_eq!((a.origin, a.active), (b.origin, b.active));
+            for (x, y) in a.values.iter().zip(b.values.iter()) {
+                assert!((x - y).abs() <= x.abs() / 2048.0, "{x} vs {y}");
+            }
+        }
+    }
+}
+
+#[test]
+fn vec3_default_grid_selection() {
+    // `vel` is chosen by name although `curl` comes first; `read_grid`
+    // still picks `density`. (Values, also of the instance and the stream
+    // fixtures, are checked against the manifest.)
+    let dv = fixture_dir().join("density_vel.vdb");
+    let listed = vdb::list_grids(&dv).unwrap();
+    let first_vec3 = listed.iter().find(|d| d.value_type == "vec3s").unwrap();
+    assert_eq!(first_vec3.name, "curl", "{listed:?}");
+    let vel = vdb::read_vec3_grid(&dv, None).unwrap();
+    assert_eq!(vel[0].name, "vel.x");
+    assert_eq!(vel[0].grid_class, GridClass::Staggered);
+    assert!(vel[0].stored_as_half);
+    assert_eq!(vdb::read_grid(&dv, None).unwrap().name, "density");
+    assert!(!vdb::read_vec3_grid(&dv, Some("curl")).unwrap()[0].stored_as_half);
+    // No `vel`, `v` or `velocity`: the first vec3s grid.
+    let flow = vdb::read_vec3_grid(&fixture_dir().join("vec3_instance.vdb"), None).unwrap();
+    assert_eq!(flow[1].name, "flow.y");
+    let stream = vdb::read_vec3_grid(&fixture_dir().join("vec3_stream.vdb"), None).unwrap();
+    assert_eq!(stream[2].name, "vel.z");
+    // The single-voxel vec3s grid of multi.vdb.
+    let m = vdb::read_vec3_grid(&fixture_dir().join("multi.vdb"), None).unwrap();
+    assert_eq!(m.each_ref().map(|g| g.value_at([1, 2, 3])), [1.0, 2.0, 3.0]);
+    assert_eq!(m.each_ref().map(|g| g.active_voxel_count()), [1; 3]);
+    // No vec3s grid at all: the error lists what there is.
+    let err = vdb::read_vec3_grid(&fixture_dir().join("fog_f32_zip.vdb"), None).unwrap_err();
+    assert_mentions(err, &["fog_f32_zip.vdb", "no vec3s", "`density` (float)"]);
+}
+
+#[test]
+fn vec3_wrong_type_errors_name_grid_and_type() {
+    let dv = fixture_dir().join("density_vel.vdb");
+    let err = vdb::read_vec3_grid(&dv, Some("density")).unwrap_err();
+    assert!(matches!(err, VolumeError::Format { .. }), "{err:?}");
+    assert_mentions(
+        err,
+        &["density_vel.vdb", "`density`", "`float`", "must be vec3s"],
+    );
+    let err = vdb::read_grid(&dv, Some("vel")).unwrap_err();
+    let parts = [
+        "density_vel.vdb",
+        "`vel`",
+        "`vec3s`",
+        "stored as half",
+        "read_vec3_grid",
+    ];
+    assert_mentions(err, &parts);
+    let err = vdb::read_vec3_grid(&dv, Some("smoke")).unwrap_err();
+    assert!(matches!(err, VolumeError::GridNotFound { .. }), "{err:?}");
+
+    // vec3d and vec3i trees: the same file with the tree type renamed.
+    let path = fixture_dir().join("vec3_f32_zip.vdb");
+    let bytes = std::fs::read(&path).unwrap();
+    let from = b"Tree_vec3s_5_4_3";
+    let at = bytes.windows(from.len()).position(|w| w == from).unwrap();
+    for ty in ["vec3d", "vec3i"] {
+        let mut patched = bytes.clone();
+        patched[at + 5..at + 10].copy_from_slice(ty.as_bytes());
+        let err = vdb::parse_vec3_grid(&path, &patched, Some("vel")).unwrap_err();
+        let quoted = format!("`{ty}`");
+        let must = "must be vec3s (Tree_vec3s_5_4_3, float or half";
+        assert_mentions(err, &["vec3_f32_zip.vdb", "`vel`", &quoted, must]);
+        let err = vdb::parse_vec3_grid(&path, &patched, None).unwrap_err();
+        assert_mentions(err, &[&format!("`vel` ({ty})")]);
+        assert!(vdb::parse_grid(&path, &patched, Some("vel")).is_err());
     }
 }
 

@@ -1,5 +1,5 @@
-//! Malformed OpenVDB input must produce errors: never a panic, and never an
-//! allocation out of proportion to the input. Truncates and corrupts the
+//! Malformed OpenVDB input (float and vec3 grids) must produce errors: never
+//! a panic, and never an allocation out of proportion to the input. Truncates and corrupts the
 //! fixtures deterministically; a counting allocator records the largest
 //! single allocation the reader makes.
 
@@ -36,7 +36,8 @@ unsafe impl GlobalAlloc for Counting {
 static GLOBAL: Counting = Counting;
 
 /// No single allocation may exceed this (the largest legitimate one is a
-/// 32³ node's 128 KiB value buffer or the leaf list of a fixture).
+/// 32³ node's value buffer, 384 KiB for vec3 grids, or the leaf list of a
+/// fixture).
 const ALLOC_LIMIT: usize = 8 << 20;
 
 fn fixture(name: &str) -> (PathBuf, Vec<u8>) {
@@ -47,16 +48,23 @@ fn fixture(name: &str) -> (PathBuf, Vec<u8>) {
     (p, bytes)
 }
 
-/// Parses `bytes` both ways; returns a description of a panic, if any.
+/// Lists the grids and parses the default float and vec3 grids; returns a
+/// description of a panic, if any.
 fn try_parse(path: &Path, bytes: &[u8]) -> Option<String> {
     let r = catch_unwind(AssertUnwindSafe(|| {
         let _ = vdb::list_grids_from_bytes(path, bytes);
-        if let Ok(g) = vdb::parse_grid(path, bytes, None) {
+        let stats = |g: &vdb::VdbGrid| {
             let _ = (
                 g.active_voxel_count(),
                 g.active_bbox(),
                 g.active_value_sum(),
             );
+        };
+        if let Ok(g) = vdb::parse_grid(path, bytes, None) {
+            stats(&g);
+        }
+        if let Ok(v) = vdb::parse_vec3_grid(path, bytes, None) {
+            v.iter().for_each(stats);
         }
     }));
     r.err().map(|e| {
@@ -78,7 +86,7 @@ impl Rng {
     }
 }
 
-const FILES: [&str; 8] = [
+const FILES: [&str; 12] = [
     "tiles_f32_zip.vdb",
     "stream_tiles.vdb",
     "multi.vdb",
@@ -87,7 +95,16 @@ const FILES: [&str; 8] = [
     "fog_half_zip.vdb",
     "fog_f32_active.vdb",
     "affine_half_blosc.vdb",
+    "vec3_half_zip.vdb",
+    "vec3_f32_blosc.vdb",
+    "vec3_instance.vdb",
+    "vec3_stream.vdb",
 ];
+
+/// Whether the file's default grid is a vec3s one (no float grid in it).
+fn vec3_only(name: &str) -> bool {
+    name.starts_with("vec3_") && name != "vec3_stream.vdb"
+}
 
 #[test]
 fn truncated_files_give_errors() {
@@ -104,10 +121,12 @@ fn truncated_files_give_errors() {
                 continue;
             }
             // The whole grid is needed: any truncation is an error.
-            assert!(
-                vdb::parse_grid(&path, data, None).is_err(),
-                "{name} cut at {cut} parsed"
-            );
+            let parsed = if vec3_only(name) {
+                vdb::parse_vec3_grid(&path, data, None).is_ok()
+            } else {
+                vdb::parse_grid(&path, data, None).is_ok()
+            };
+            assert!(!parsed, "{name} cut at {cut} parsed");
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
@@ -162,7 +181,12 @@ fn corrupted_compressed_chunks_never_panic() {
     // Change bytes inside the leaf buffer area of compressed files: the
     // Blosc and Zip decoders see corrupt streams here, not the tree parser.
     let mut rng = Rng(12345);
-    for name in ["fog_half_blosc.vdb", "fog_f32_zip.vdb"] {
+    for name in [
+        "fog_half_blosc.vdb",
+        "fog_f32_zip.vdb",
+        "vec3_half_blosc.vdb",
+        "vec3_f32_zip.vdb",
+    ] {
         let (path, bytes) = fixture(name);
         let start = bytes.len() / 2;
         for _ in 0..300 {

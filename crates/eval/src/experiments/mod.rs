@@ -18,8 +18,11 @@ pub mod fig7;
 mod fit;
 pub mod profile;
 pub mod restir_ablation;
+pub mod restir_bias;
+pub mod restir_dynamic;
 pub mod restir_equal_time;
 pub mod restir_protocol;
+pub mod restir_scenes;
 pub mod table1;
 pub mod trials;
 mod writer;
@@ -57,6 +60,8 @@ pub fn names() -> &'static [&'static str] {
         "fig14",
         "restir-equal-time",
         "restir-ablation",
+        "restir-dynamic",
+        "restir-bias",
     ]
 }
 
@@ -86,6 +91,8 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "fig14" => fig14::run(&mut w, trials),
         "restir-equal-time" => restir_equal_time::run(&mut w, trials),
         "restir-ablation" => restir_ablation::run(&mut w, trials),
+        "restir-dynamic" => restir_dynamic::run(&mut w, trials),
+        "restir-bias" => restir_bias::run(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",

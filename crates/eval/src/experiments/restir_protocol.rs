@@ -4,7 +4,7 @@
 //! frames of a per-pixel integrator; MSE of every frame and of the running
 //! mean, with the reference's own variance subtracted.
 
-use fogbank_render::integrators::restir::frame::{PassTimes, Sequence};
+use fogbank_render::integrators::restir::frame::{FrameOutput, PassTimes, Sequence};
 use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::{Path, PathBuf};
@@ -18,6 +18,11 @@ pub fn scenes_dir() -> PathBuf {
 pub fn build(text: &str, set: &[String]) -> Result<Scene, String> {
     let desc = parse_scene(text, "restir-equal-time", set).map_err(|e| e.0)?;
     Scene::build(desc, &scenes_dir()).map_err(|e| e.0)
+}
+
+/// Luminance (Rec. 709) of an RGB pixel.
+pub fn lum(p: &[f32; 3]) -> f64 {
+    0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64
 }
 
 /// Mean squared error over pixels and channels.
@@ -34,9 +39,11 @@ pub fn mse(a: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
         / n
 }
 
-/// A reference image and its noise floor (mean variance of its pixels).
+/// A reference image, the variance of each pixel's mean and the noise
+/// floor (their average).
 pub struct Reference {
     pub rgb: Vec<[f32; 3]>,
+    pub var: Vec<[f32; 3]>,
     pub floor: f64,
 }
 
@@ -49,13 +56,13 @@ impl Reference {
         };
         let film = render(scene, &opts, &Progress::default()).film;
         let rgb = film.mean();
-        let floor = film
-            .variance_of_mean()
+        let var = film.variance_of_mean();
+        let floor = var
             .iter()
             .map(|v| v.iter().map(|&x| x as f64).sum::<f64>())
             .sum::<f64>()
             / (rgb.len() * 3) as f64;
-        Reference { rgb, floor }
+        Reference { rgb, var, floor }
     }
 
     /// MSE of `img` with the reference's own variance subtracted.
@@ -183,4 +190,63 @@ pub fn independent_frames(
         acc.add(&last, seconds);
     }
     acc.finish(PassTimes::default(), last)
+}
+
+/// Frames `0..n` of the animated scene `text` (with `set` overrides), each
+/// built once so that many sequences can replay them.
+pub fn build_frames(text: &str, set: &[String], n: u32) -> Result<Vec<Scene>, String> {
+    let first = build(text, set)?;
+    let mut frames = Vec::with_capacity(n as usize);
+    for f in 1..n {
+        frames.push(first.at_frame(f).map_err(|e| e.0)?);
+    }
+    frames.insert(0, first);
+    Ok(frames)
+}
+
+/// One ReSTIR sequence (`sequence` of seed `seed`) over the built `frames`
+/// of an animated scene, each frame reusing from the one before it;
+/// `each(frame, output)` sees every frame.
+pub fn restir_sequence(
+    frames: &[Scene],
+    seed: u32,
+    sequence: u32,
+    mut each: impl FnMut(usize, FrameOutput),
+) {
+    let restir = |s: &Scene| match &s.integrator {
+        IntegratorKind::Restir(r) => r.clone(),
+        _ => panic!("restir_sequence needs the restir integrator"),
+    };
+    let built: Vec<_> = frames.iter().map(restir).collect();
+    let mut seq = Sequence::new(&built[0], seed, sequence);
+    for (i, s) in frames.iter().enumerate() {
+        let p = i.saturating_sub(1);
+        let cur = built[i].data(&s.world);
+        let old = built[p].data(&frames[p].world);
+        each(i, seq.frame(&cur, &old));
+    }
+}
+
+/// Per-frame `volpath` references of the animated scene `text`.
+pub fn frame_references(
+    text: &str,
+    set: &[String],
+    frames: std::ops::Range<u32>,
+    spp: u32,
+    seed: u32,
+) -> Result<Vec<Reference>, String> {
+    let mut set = set.to_vec();
+    set.push("integrator.type=volpath".into());
+    let first = build(text, &set)?;
+    frames
+        .map(|f| {
+            let s = first.at_frame(f).map_err(|e| e.0)?;
+            Ok(Reference::render(&s, spp, seed.wrapping_add(f)))
+        })
+        .collect()
+}
+
+/// RGB triples of a frame's radiance.
+pub fn rgb(out: &FrameOutput) -> Vec<[f32; 3]> {
+    out.radiance.iter().map(|l| l.to_array()).collect()
 }

@@ -88,6 +88,12 @@ impl Camera {
         );
         (x.is_finite() && y.is_finite()).then_some((x, y))
     }
+
+    /// Film position where the direction `d` (a point at infinity, such as
+    /// the environment seen along `d`) appears; `None` behind the camera.
+    pub fn project_direction(&self, d: Vec3) -> Option<(f32, f32)> {
+        self.project(self.origin + d)
+    }
 }
 
 /// | key | default | meaning |

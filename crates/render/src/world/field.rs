@@ -6,8 +6,8 @@ use crate::error::SceneError;
 use fogbank_math::{DAffine3, Vec3};
 use fogbank_volume::loaders::{raw, vdb, vdb_grid, vol};
 use fogbank_volume::{
-    explosion, medium::unit_box_transform, procedural, AnalyticField, AnalyticKind, BrickGrid,
-    DensityData, Precision,
+    explosion, medium::unit_box_transform, plume, procedural, AnalyticField, AnalyticKind,
+    BrickGrid, DensityData, Precision,
 };
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -22,6 +22,7 @@ use std::path::Path;
 /// | `raw = "f.raw"` | `dims = [x, y, z]`, `type = "u8"/"u16"/"f32"` (or from a `name_XxYxZ_uint8.raw` file name) |
 /// | `procedural = "cloud"` | `resolution` (128), `seed` (7) |
 /// | `procedural = "explosion"` | `resolution` (128), `seed` (7), `quantity` = `"density"` (default) or `"temperature"` (kelvin, for blackbody emission) |
+/// | `procedural = "plume"` | `resolution` (128), `seed` (7), `time` (seconds, 0; an `[animation]` adds frame/fps); rising, swirling smoke with an analytic velocity |
 /// | `procedural = "constant"/"ramp"/"sinusoid"/"slabs"/"sphere"/"empty"` | `resolution`, `value`, `gradient`, `amplitude`, `frequency`, `phase`, `count`, `width`, `axis`, `radius` |
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -51,6 +52,9 @@ pub struct FieldDesc {
     /// `procedural = "explosion"`: `density` (default) or `temperature` (kelvin).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub quantity: Option<String>,
+    /// `procedural = "plume"`: the time shown, in seconds.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time: Option<f32>,
 }
 
 #[derive(Clone, Debug)]
@@ -101,6 +105,32 @@ impl Field {
             dims: channels[0].dims(),
             channels,
             world_to_index: xf.inverse(),
+            source,
+        })
+    }
+
+    /// A field of one or three channel grids sharing the index → world map
+    /// `index_to_world`.
+    pub fn from_channels(
+        channels: Vec<DensityData>,
+        index_to_world: DAffine3,
+        source: String,
+    ) -> Result<Field, SceneError> {
+        let dims = channels.first().map(|c| c.dims()).unwrap_or([0; 3]);
+        if !(channels.len() == 1 || channels.len() == 3)
+            || channels.iter().any(|c| c.dims() != dims)
+        {
+            return Err(SceneError(format!(
+                "{source}: a field has one or three channels of equal size"
+            )));
+        }
+        if index_to_world.matrix3.determinant().abs() < 1e-30 {
+            return Err(SceneError(format!("{source}: transform is singular")));
+        }
+        Ok(Field {
+            dims,
+            channels,
+            world_to_index: index_to_world.inverse(),
             source,
         })
     }
@@ -162,7 +192,7 @@ fn analytic_kind(name: &str, d: &FieldDesc, key: &str) -> Result<AnalyticKind, S
         },
         other => {
             return Err(SceneError(format!(
-                "{key}.procedural: unknown procedural medium `{other}` (cloud, explosion, constant, ramp, sinusoid, slabs, sphere, empty)"
+                "{key}.procedural: unknown procedural medium `{other}` (cloud, explosion, plume, constant, ramp, sinusoid, slabs, sphere, empty)"
             )))
         }
     })
@@ -190,6 +220,11 @@ pub fn field_data(
     if d.quantity.is_some() && d.procedural.as_deref() != Some("explosion") {
         return Err(SceneError(format!(
             "{key}.quantity: only used with procedural = \"explosion\""
+        )));
+    }
+    if d.time.is_some() && d.procedural.as_deref() != Some("plume") {
+        return Err(SceneError(format!(
+            "{key}.time: only used with procedural = \"plume\""
         )));
     }
     let err = |e: fogbank_volume::VolumeError| SceneError(format!("{key}: {e}"));
@@ -271,6 +306,18 @@ pub fn field_data(
             DensityData::from_f32(grid, precision),
             unit_box_transform([res; 3]),
             format!("procedural explosion {q} {res}³"),
+        ));
+    }
+    if name == "plume" {
+        let t = d.time.unwrap_or(0.0);
+        if !t.is_finite() {
+            return Err(SceneError(format!("{key}.time: must be finite")));
+        }
+        let grid: BrickGrid<f32> = plume::plume_grid(res, d.seed.unwrap_or(7), t).map_err(err)?;
+        return Ok((
+            DensityData::from_f32(grid, precision),
+            unit_box_transform([res; 3]),
+            format!("procedural plume {res}³ at {t} s"),
         ));
     }
     let field = AnalyticField::new(analytic_kind(name, d, key)?, res).map_err(err)?;

@@ -4,6 +4,7 @@
 use super::emission::{Emission, EmissionDesc};
 use super::field::{field_data, Field, FieldDesc};
 use super::phase::PhaseDesc;
+use super::velocity::{Velocity, VelocityDesc};
 use crate::error::SceneError;
 use fogbank_math::{DAffine3, DVec3, Vec3};
 use fogbank_volume::{Filter, Medium, Precision};
@@ -23,6 +24,7 @@ use std::path::Path;
 /// | `filter` | `"stochastic_trilinear"` | `nearest`, `trilinear`, `stochastic_trilinear` |
 /// | `supervoxel` | 16 | super-voxel edge in voxels |
 /// | `precision` | `"f16"` | voxel storage, `f16` or `f32` |
+/// | `velocity` | none (a plume's own) | motion for temporal reuse, see [`VelocityDesc`] |
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct MediumDesc {
@@ -45,6 +47,8 @@ pub struct MediumDesc {
     pub supervoxel: u32,
     #[serde(default = "default_precision")]
     pub precision: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<VelocityDesc>,
 }
 
 fn one() -> f32 {
@@ -93,6 +97,8 @@ pub struct SceneMedium {
     pub phase_g: f32,
     /// What the density came from, for `--stats` and messages.
     pub source: String,
+    /// How the medium's matter moves (None: it is still).
+    pub velocity: Option<Velocity>,
 }
 
 impl SceneMedium {
@@ -184,7 +190,9 @@ impl MediumDesc {
             .as_ref()
             .map(|e| Emission::build(e, &format!("{key}.emission"), base, placement))
             .transpose()?;
+        let velocity = Velocity::build(m.velocity.as_ref(), &m.density, &key, base, placement, xf)?;
         Ok(SceneMedium {
+            velocity,
             medium: Medium::new(data, m.sigma_t_scale, filter, xf, m.supervoxel),
             albedo: m.albedo,
             albedo_grid,

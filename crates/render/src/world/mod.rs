@@ -8,6 +8,7 @@ pub mod field;
 pub mod film;
 pub mod medium;
 pub mod phase;
+pub mod velocity;
 
 use crate::error::SceneError;
 use crate::lights::{Light, LightDesc};
@@ -23,6 +24,9 @@ pub struct World {
     pub lights: Vec<Light>,
     /// Jitter primary rays within the pixel (`render.pixel_jitter`).
     pub pixel_jitter: bool,
+    /// Seconds between this frame and the previous one (1/`animation.fps`;
+    /// 0 for a static scene): how far media move along their velocity.
+    pub frame_dt: f32,
 }
 
 impl World {
@@ -47,6 +51,7 @@ impl World {
                 .map(|(i, l)| l.build(i, base))
                 .collect::<Result<_, _>>()?,
             pixel_jitter,
+            frame_dt: 0.0,
         })
     }
 

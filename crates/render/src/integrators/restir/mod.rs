@@ -32,6 +32,8 @@
 //! | `estimator` | `analytic_trilinear` | transmittance of final shading: exact, or any unbiased estimator |
 //! | `reuse_bc4` | false | march the reuse T̃ through a BC4-compressed copy of its mip (4 bits a voxel, §5.1; p̂ only, so no bias) |
 //! | `shift` | `direction` | path shift of reuse: `direction` (ω_i and z_i copied, §4.2's default) or `vertex` (x_2 … x_k kept, 1/z² terms) |
+//! | `reprojection` | true | temporal reuse follows x_1 to the previous frame (false: the same pixel, Fig. 8) |
+//! | `velocity_resampling` | true | a sample without x_1 reprojects through a medium point resampled ∝ σ_t·T along its ray (§5.2, Fig. 13) |
 //! | `rr_depth` | 3 | Russian roulette by albedo after vertex x_rr_depth (only when K > rr_depth, §6.1) |
 
 pub mod candidates;
@@ -45,6 +47,7 @@ pub mod reservoir;
 pub mod spatial;
 pub mod target;
 pub mod temporal;
+pub mod velocity_resampling;
 pub mod volume;
 
 pub use integrator::{FrameData, Restir};

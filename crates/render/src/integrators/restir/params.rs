@@ -7,7 +7,7 @@ use crate::error::SceneError;
 use crate::params::{take_estimator, Param, ParamReader};
 use fogbank_estimators::Estimator;
 
-pub const PARAMS: [Param; 18] = [
+pub const PARAMS: [Param; 20] = [
     Param {
         key: "max_depth",
         default: "3",
@@ -94,6 +94,16 @@ pub const PARAMS: [Param; 18] = [
         meaning: "path shift of reuse: direction (ω_i, z_i copied) or vertex (x_2 … kept)",
     },
     Param {
+        key: "reprojection",
+        default: "true",
+        meaning: "temporal reuse reprojects x_1 (false: the same pixel, Fig. 8)",
+    },
+    Param {
+        key: "velocity_resampling",
+        default: "true",
+        meaning: "reproject a pixel without x_1 through a resampled medium point (§5.2)",
+    },
+    Param {
         key: "rr_depth",
         default: "3",
         meaning: "Russian roulette by albedo after this vertex when K is larger",
@@ -150,6 +160,10 @@ pub struct RestirParams {
     pub vertex_reuse: bool,
     /// March the reuse target through a BC4-compressed mip (§5.1).
     pub reuse_bc4: bool,
+    /// Temporal reuse follows x_1 to the previous frame (§4.4).
+    pub reprojection: bool,
+    /// A sample without x_1 reprojects a resampled medium point (§5.2).
+    pub velocity_resampling: bool,
 }
 
 impl Default for RestirParams {
@@ -176,6 +190,8 @@ impl Default for RestirParams {
             rr_depth: 3,
             vertex_reuse: false,
             reuse_bc4: false,
+            reprojection: true,
+            velocity_resampling: true,
         }
     }
 }
@@ -247,6 +263,8 @@ impl RestirParams {
         }
         let rr_depth = r.take("rr_depth")?.unwrap_or(d.rr_depth);
         let reuse_bc4 = r.take("reuse_bc4")?.unwrap_or(false);
+        let reprojection = r.take("reprojection")?.unwrap_or(true);
+        let velocity_resampling = r.take("velocity_resampling")?.unwrap_or(true);
         let vertex_reuse = match r.take::<String>("shift")?.as_deref() {
             None | Some("direction") => false,
             Some("vertex") => true,
@@ -276,6 +294,8 @@ impl RestirParams {
             rr_depth: in_range(r, "rr_depth", rr_depth, 1, 1000)?,
             vertex_reuse,
             reuse_bc4,
+            reprojection,
+            velocity_resampling,
         })
     }
 
@@ -300,6 +320,11 @@ impl RestirParams {
         );
         t.insert("rr_depth".into(), i64::from(self.rr_depth).into());
         t.insert("reuse_bc4".into(), self.reuse_bc4.into());
+        t.insert("reprojection".into(), self.reprojection.into());
+        t.insert(
+            "velocity_resampling".into(),
+            self.velocity_resampling.into(),
+        );
         t.insert(
             "shift".into(),
             if self.vertex_reuse {

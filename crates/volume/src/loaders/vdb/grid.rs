@@ -27,13 +27,15 @@ impl GridClass {
 #[derive(Debug, Clone, PartialEq)]
 pub struct VdbGridDescriptor {
     /// The grid name; duplicated names carry an index, `name[N]`, which
-    /// [`read_grid`] accepts.
+    /// [`read_grid`](super::read_grid) accepts.
     pub name: String,
     /// Value type from the tree type string, e.g. `float`, `vec3s`, `int32`.
     pub value_type: String,
     pub grid_class: GridClass,
     pub stored_as_half: bool,
-    /// True for float scalar grids with the standard tree layout.
+    /// True for float scalar grids with the standard tree layout, which
+    /// [`read_grid`](super::read_grid) reads. (`vec3s` grids are read by
+    /// [`read_vec3_grid`](super::read_vec3_grid) instead.)
     pub supported: bool,
 }
 
@@ -61,6 +63,23 @@ pub(super) struct GridDesc {
     pub(super) end_pos: usize,
 }
 
+/// Tree type names of the grids the reader reads (5-4-3 trees of `float`
+/// and of `vec3s` values).
+pub(super) const FLOAT_TREE: &str = "Tree_float_5_4_3";
+pub(super) const VEC3S_TREE: &str = "Tree_vec3s_5_4_3";
+
+impl GridDesc {
+    /// Floats per value for the trees the reader can read: 1 for `float`,
+    /// 3 for `vec3s` grids.
+    pub(super) fn components(&self) -> Option<usize> {
+        match self.type_name.as_str() {
+            FLOAT_TREE => Some(1),
+            VEC3S_TREE => Some(3),
+            _ => None,
+        }
+    }
+}
+
 /// An 8³ leaf node. `values` and `active` use OpenVDB's layout: voxel
 /// `(x, y, z)` relative to `origin` sits at index `x * 64 + y * 8 + z`.
 #[derive(Debug, Clone, PartialEq)]
@@ -81,7 +100,9 @@ pub struct VdbTile {
     pub active: bool,
 }
 
-/// One float grid, flattened into leaves and tiles.
+/// One float grid, flattened into leaves and tiles. A `vec3s` grid is read
+/// as three of these, one per component, named `name.x`, `name.y` and
+/// `name.z`, with identical leaves, tiles, masks, transform and class.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VdbGrid {
     pub name: String,

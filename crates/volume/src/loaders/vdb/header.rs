@@ -3,11 +3,11 @@
 
 use std::path::Path;
 
-use super::grid::{FileHeader, GridDesc};
+use super::grid::{FileHeader, GridDesc, FLOAT_TREE};
 use super::metadata::{read_grid_head, read_metamap};
 use super::reader::{grid_context, Reader};
 use super::transform::read_transform;
-use super::tree::read_float_grid;
+use super::tree::read_grid_at;
 use crate::error::{Result, VolumeError};
 
 /// The oldest format that stores compression per grid and per-node mask
@@ -20,7 +20,6 @@ const MAX_FILE_VERSION: u32 = 225;
 const MAGIC: [u8; 8] = [0x20, 0x42, 0x44, 0x56, 0, 0, 0, 0];
 const HALF_SUFFIX: &str = "_HalfFloat";
 pub(super) const NAME_SEP: char = '\x1e';
-pub(super) const FLOAT_TREE: &str = "Tree_float_5_4_3";
 
 /// What precedes the grid descriptors.
 pub(super) struct Preamble {
@@ -150,17 +149,20 @@ pub(super) fn parse_header(path: &Path, data: &[u8]) -> Result<FileHeader> {
                 version: pre.version,
                 descs: Vec::new(),
             };
-            let end = if !desc.instance_parent.is_empty() {
-                read_grid_head(&mut r)?;
-                read_transform(&mut r)?;
-                r.offset()
-            } else if desc.supported {
-                read_float_grid(&mut r, &file, &desc)?.1
-            } else {
-                return Err(r.fail(format!(
-                    "file has no grid offsets, so grid of type `{}` cannot be skipped",
-                    desc.type_name
-                )));
+            let end = match desc.components() {
+                _ if !desc.instance_parent.is_empty() => {
+                    read_grid_head(&mut r)?;
+                    read_transform(&mut r)?;
+                    r.offset()
+                }
+                Some(1) => read_grid_at::<1>(&mut r, &file, &desc)?.1,
+                Some(3) => read_grid_at::<3>(&mut r, &file, &desc)?.1,
+                _ => {
+                    return Err(r.fail(format!(
+                        "file has no grid offsets, so grid of type `{}` cannot be skipped",
+                        desc.type_name
+                    )))
+                }
             };
             r.seek(end, "grid end")?;
             desc.end_pos = end;

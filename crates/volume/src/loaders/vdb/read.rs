@@ -4,11 +4,12 @@
 use std::path::Path;
 
 use super::grid::{FileHeader, GridDesc, VdbGrid, VdbGridDescriptor};
+use super::grid::{FLOAT_TREE, VEC3S_TREE};
+use super::header::NAME_SEP;
 use super::header::{check_offsets, parse_descriptor, parse_header, parse_preamble};
-use super::header::{FLOAT_TREE, NAME_SEP};
 use super::metadata::read_grid_head;
 use super::reader::{grid_context, Reader};
-use super::tree::read_float_grid;
+use super::tree::read_grid_at;
 use crate::error::{Result, VolumeError};
 
 /// Lists the grids of a file with their types, without reading any tree.
@@ -33,17 +34,42 @@ pub fn list_grids_from_bytes(path: &Path, bytes: &[u8]) -> Result<Vec<VdbGridDes
 /// Reads one float grid. `name = None` picks `density`, else the first float
 /// scalar grid.
 pub fn read_grid(path: &Path, name: Option<&str>) -> Result<VdbGrid> {
-    read_grid_limit(path, name, WHOLE_FILE_LIMIT)
+    let [grid] = read_grid_limit::<1>(path, name, WHOLE_FILE_LIMIT)?;
+    Ok(grid)
 }
 
 /// Same as [`read_grid`] from bytes already in memory (used by the fuzz
 /// target). `path` is only used in messages.
 pub fn parse_grid(path: &Path, bytes: &[u8], name: Option<&str>) -> Result<VdbGrid> {
-    let file = parse_header(path, bytes)?;
-    let desc = select_grid(path, &file, name)?;
-    let mut r = Reader::new(path, bytes, grid_context(&desc.display_name));
-    let (grid, _end) = read_float_grid(&mut r, &file, desc)?;
+    let [grid] = parse_grid_k::<1>(path, bytes, name)?;
     Ok(grid)
+}
+
+/// Reads one `vec3s` grid (velocity; stored in full or half precision) as
+/// its x, y and z components: three float grids named `name.x`, `name.y`,
+/// `name.z` with the same topology, transform and class. `name = None`
+/// picks a `vec3s` grid named `vel`, `v` or `velocity` (in that order of
+/// preference), else the first `vec3s` grid.
+pub fn read_vec3_grid(path: &Path, name: Option<&str>) -> Result<[VdbGrid; 3]> {
+    read_grid_limit::<3>(path, name, WHOLE_FILE_LIMIT)
+}
+
+/// Same as [`read_vec3_grid`] from bytes already in memory (used by the
+/// fuzz target). `path` is only used in messages.
+pub fn parse_vec3_grid(path: &Path, bytes: &[u8], name: Option<&str>) -> Result<[VdbGrid; 3]> {
+    parse_grid_k::<3>(path, bytes, name)
+}
+
+/// A grid with `K` floats per value (1: `float`, 3: `vec3s`) from bytes.
+fn parse_grid_k<const K: usize>(
+    path: &Path,
+    bytes: &[u8],
+    name: Option<&str>,
+) -> Result<[VdbGrid; K]> {
+    let file = parse_header(path, bytes)?;
+    let desc = select_grid(path, &file, name, K)?;
+    let mut r = Reader::new(path, bytes, grid_context(&desc.display_name));
+    Ok(read_grid_at::<K>(&mut r, &file, desc)?.0)
 }
 
 fn describe(d: &GridDesc, r: &mut Reader) -> Result<VdbGridDescriptor> {
@@ -157,16 +183,20 @@ fn list_grids_limit(path: &Path, limit: u64) -> Result<Vec<VdbGridDescriptor>> {
     Ok(out)
 }
 
-fn read_grid_limit(path: &Path, name: Option<&str>, limit: u64) -> Result<VdbGrid> {
+fn read_grid_limit<const K: usize>(
+    path: &Path,
+    name: Option<&str>,
+    limit: u64,
+) -> Result<[VdbGrid; K]> {
     let (mut file, header) = match open(path, limit)? {
-        Opened::Whole(bytes) => return parse_grid(path, &bytes, name),
+        Opened::Whole(bytes) => return parse_grid_k::<K>(path, &bytes, name),
         Opened::Piecewise(file, header) => (file, header),
     };
-    let desc = select_grid(path, &header, name)?;
+    let desc = select_grid(path, &header, name, K)?;
     if !desc.instance_parent.is_empty() {
         // The tree lives with the parent grid, elsewhere in the file.
         let bytes = std::fs::read(path).map_err(|e| VolumeError::io(path, e))?;
-        return parse_grid(path, &bytes, name);
+        return parse_grid_k::<K>(path, &bytes, name);
     }
     let bytes = read_at(path, &mut file, desc.grid_pos, desc.end_pos - desc.grid_pos)?;
     let mut r = Reader::window(
@@ -175,32 +205,50 @@ fn read_grid_limit(path: &Path, name: Option<&str>, limit: u64) -> Result<VdbGri
         desc.grid_pos,
         grid_context(&desc.display_name),
     );
-    Ok(read_float_grid(&mut r, &header, desc)?.0)
+    Ok(read_grid_at::<K>(&mut r, &header, desc)?.0)
 }
 
-fn select_grid<'f>(path: &Path, file: &'f FileHeader, name: Option<&str>) -> Result<&'f GridDesc> {
-    let Some(name) = name else {
-        let pick = file
+/// Picks the grid to read: by name (`name`, or `name[N]` for duplicated
+/// names; a plain name picks the first), else by the default names, else
+/// the first grid of the wanted type. A named grid of another type is an
+/// error that names its type.
+fn select_grid<'f>(
+    path: &Path,
+    file: &'f FileHeader,
+    name: Option<&str>,
+    k: usize,
+) -> Result<&'f GridDesc> {
+    // Names preferred when no name is given, best first; the kind of grid.
+    let (defaults, kind): (&[&str], &str) = if k == 3 {
+        (&["vel", "v", "velocity"], "vec3s (velocity)")
+    } else {
+        (&["density"], "float")
+    };
+    let fits = |d: &&GridDesc| d.components() == Some(k);
+    let listed = || {
+        let all: Vec<String> = file
             .descs
             .iter()
-            .find(|d| d.supported && d.name == "density")
-            .or_else(|| file.descs.iter().find(|d| d.supported));
+            .map(|d| {
+                let half = if d.half { ", half" } else { "" };
+                format!("`{}` ({}{half})", d.display_name, d.value_type)
+            })
+            .collect();
+        if all.is_empty() {
+            "none".to_string()
+        } else {
+            all.join(", ")
+        }
+    };
+    let Some(name) = name else {
+        let pick = defaults
+            .iter()
+            .find_map(|n| file.descs.iter().filter(fits).find(|d| d.name == *n))
+            .or_else(|| file.descs.iter().find(fits));
         return pick.ok_or_else(|| {
-            let listed: Vec<String> = file
-                .descs
-                .iter()
-                .map(|d| format!("`{}` ({})", d.display_name, d.value_type))
-                .collect();
             VolumeError::format(
                 path,
-                format!(
-                    "no float grid to read (grids in file: {})",
-                    if listed.is_empty() {
-                        "none".to_string()
-                    } else {
-                        listed.join(", ")
-                    }
-                ),
+                format!("no {} grid to read (grids in file: {})", kind, listed()),
             )
         });
     };
@@ -213,21 +261,35 @@ fn select_grid<'f>(path: &Path, file: &'f FileHeader, name: Option<&str>) -> Res
         .iter()
         .find(|d| d.unique_name == name || d.unique_name == unique)
         .or_else(|| file.descs.iter().find(|d| d.name == name));
-    match found {
-        Some(d) if d.supported => Ok(d),
-        Some(d) => Err(VolumeError::format(
-            path,
-            format!(
-                "grid `{}` has value type `{}` ({}); only float grids ({}) can be read",
-                d.display_name, d.value_type, d.type_name, FLOAT_TREE
-            ),
-        )),
-        None => Err(VolumeError::GridNotFound {
+    let Some(d) = found else {
+        return Err(VolumeError::GridNotFound {
             path: path.to_path_buf(),
             grid: name.to_string(),
             available: file.descs.iter().map(|d| d.display_name.clone()).collect(),
-        }),
+        });
+    };
+    if fits(&d) {
+        return Ok(d);
     }
+    let precision = if d.half { ", stored as half" } else { "" };
+    let message = if k == 3 {
+        format!(
+            "grid `{}` has value type `{}` ({}{precision}); a velocity grid must be \
+             vec3s ({VEC3S_TREE}, float or half precision)",
+            d.display_name, d.value_type, d.type_name
+        )
+    } else {
+        let hint = if d.type_name == VEC3S_TREE {
+            "; vec3s grids are read as three components by read_vec3_grid"
+        } else {
+            ""
+        };
+        format!(
+            "grid `{}` has value type `{}` ({}{precision}); only float grids ({}) can be read{hint}",
+            d.display_name, d.value_type, d.type_name, FLOAT_TREE
+        )
+    };
+    Err(VolumeError::format(path, message))
 }
 
 #[cfg(test)]
@@ -242,6 +304,10 @@ mod tests {
             "tiles_f32_zip.vdb",
             "stream_tiles.vdb",
             "fog_half_blosc.vdb",
+            "density_vel.vdb",
+            "vec3_instance.vdb",
+            "vec3_stream.vdb",
+            "vec3_half_zip.vdb",
         ] {
             let path = dir.join(file);
             let bytes = std::fs::read(&path).unwrap();
@@ -255,12 +321,20 @@ mod tests {
                 .filter(|d| d.supported)
             {
                 let whole = parse_grid(&path, &bytes, Some(&d.name)).unwrap();
-                let piecewise = read_grid_limit(&path, Some(&d.name), 0).unwrap();
+                let [piecewise] = read_grid_limit::<1>(&path, Some(&d.name), 0).unwrap();
+                assert_eq!(whole, piecewise, "{file} / {}", d.name);
+            }
+            for d in list_grids_from_bytes(&path, &bytes)
+                .unwrap()
+                .iter()
+                .filter(|d| d.value_type == "vec3s")
+            {
+                let whole = parse_vec3_grid(&path, &bytes, Some(&d.name)).unwrap();
+                let piecewise = read_grid_limit::<3>(&path, Some(&d.name), 0).unwrap();
                 assert_eq!(whole, piecewise, "{file} / {}", d.name);
             }
             assert!(
-                matches!(open(&path, 0).unwrap(), Opened::Piecewise(..))
-                    != file.starts_with("stream")
+                matches!(open(&path, 0).unwrap(), Opened::Piecewise(..)) != file.contains("stream")
             );
         }
     }
