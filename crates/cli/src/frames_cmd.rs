@@ -37,6 +37,18 @@ pub fn parse_frames(s: &str, frames: u32) -> Result<std::ops::Range<u32>, String
     Ok(range)
 }
 
+/// A film's mean (non-finite values as 0) and, with more than one sample
+/// per pixel, the variance of the mean.
+fn film_rgb(film: &fogbank_render::Film) -> (Vec<[f32; 3]>, Option<Vec<[f32; 3]>>) {
+    let rgb = film
+        .mean()
+        .into_iter()
+        .map(|p| p.map(|c| if c.is_finite() { c } else { 0.0 }))
+        .collect();
+    let var = (film.min_spp() > 1).then(|| film.variance_of_mean());
+    (rgb, var)
+}
+
 /// The output file of `frame`: `{frame}` / `{frame:04}` in `pattern`
 /// replaced, or `_0042` inserted before the extension.
 pub fn frame_output(pattern: &Path, frame: u32) -> PathBuf {
@@ -62,6 +74,8 @@ pub struct FramesArgs<'a> {
     pub seed: u32,
     pub exposure: f32,
     pub quiet: bool,
+    /// `--device gpu`: the device every frame renders on.
+    pub gpu: Option<&'a fogbank_gpu::Gpu>,
 }
 
 pub fn run(
@@ -93,7 +107,16 @@ pub fn run(
         IntegratorKind::Restir(r) => Some(r),
         _ => None,
     };
-    let mut sequence = restir.map(|r| Sequence::new(r, a.seed, 0));
+    let mut sequence = restir
+        .filter(|_| a.gpu.is_none())
+        .map(|r| Sequence::new(r, a.seed, 0));
+    let mut sequence_gpu = match (a.gpu, restir) {
+        (Some(g), Some(_)) => Some(
+            fogbank_gpu::restir::SequenceGpu::new(g, &first, a.seed)
+                .map_err(|e| format!("--device gpu: {e}"))?,
+        ),
+        _ => None,
+    };
     let mut prev: Option<Scene> = None;
     for f in range.clone() {
         if progress.cancel.load(Ordering::Relaxed) {
@@ -108,6 +131,22 @@ pub fn run(
         };
         let clock = Instant::now();
         let (rgb, variance) = match (&mut sequence, &scene.integrator) {
+            _ if a.gpu.is_some() => {
+                let gpu = a.gpu.expect("checked");
+                let film = match &mut sequence_gpu {
+                    Some(seq) => seq.frame(gpu, &scene),
+                    None => {
+                        let opts = RenderOptions {
+                            spp: a.spp,
+                            seed: a.seed,
+                            time_budget: None,
+                        };
+                        fogbank_gpu::render::render(gpu, &scene, &opts, progress).map(|r| r.film)
+                    }
+                }
+                .map_err(|e| format!("frame {f}: --device gpu: {e}"))?;
+                film_rgb(&film)
+            }
             (Some(seq), IntegratorKind::Restir(r)) => {
                 let before = prev.as_ref().unwrap_or(&scene);
                 let prev_restir = match &before.integrator {
@@ -129,14 +168,7 @@ pub fn run(
                     seed: a.seed,
                     time_budget: None,
                 };
-                let film = pool.install(|| render(&scene, &opts, progress)).film;
-                let rgb = film
-                    .mean()
-                    .into_iter()
-                    .map(|p| p.map(|c| if c.is_finite() { c } else { 0.0 }))
-                    .collect();
-                let var = (film.min_spp() > 1).then(|| film.variance_of_mean());
-                (rgb, var)
+                film_rgb(&pool.install(|| render(&scene, &opts, progress)).film)
             }
         };
         let seconds = clock.elapsed().as_secs_f64();

@@ -100,9 +100,10 @@ pub fn run(a: RenderArgs) -> CliResult {
     let pool = thread_pool(a.threads)?;
     let threads = pool.current_num_threads();
     if let Some(frames) = &a.frames {
-        if a.device == Device::Gpu {
-            return Err("--frames renders on the CPU for now (issue 18)".into());
-        }
+        let gpu = match a.device {
+            Device::Cpu => None,
+            Device::Gpu => Some(fogbank_gpu::Gpu::new().map_err(|e| format!("--device gpu: {e}"))?),
+        };
         if a.time_budget.is_some() {
             return Err("--frames takes --spp, not --time-budget".into());
         }
@@ -121,6 +122,7 @@ pub fn run(a: RenderArgs) -> CliResult {
                 seed: opts.seed,
                 exposure: a.exposure,
                 quiet: a.quiet,
+                gpu: gpu.as_ref(),
             },
             scene,
             &pool,

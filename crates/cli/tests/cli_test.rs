@@ -357,9 +357,10 @@ fn experiment_help_lists_every_experiment() {
     }
 }
 
-/// `--frames`: one file per frame; restir carries reservoirs across frames;
-/// a missing per-frame file stops the sequence with the frames before it
-/// written; a scene without animation is refused.
+/// `--frames`: one file per frame; restir carries reservoirs across frames
+/// (on the CPU and, with `--device gpu`, on the GPU); a missing per-frame
+/// file stops the sequence with the frames before it written; a scene
+/// without animation is refused.
 #[test]
 fn frames_render_a_sequence_and_stop_at_a_missing_frame() {
     let dir = tmp_dir("frames");
@@ -377,28 +378,37 @@ fn frames_render_a_sequence_and_stop_at_a_missing_frame() {
          [integrator]\ntype = \"restir\"\nmax_depth = 2\n[animation]\nframes = 4\n",
     )
     .unwrap();
-    let out = dir.join("out_{frame:02}.exr");
-    let o = fogbank()
-        .args([
-            "render",
-            scene.to_str().unwrap(),
-            "--frames",
-            "0..4",
-            "-q",
-            "-o",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(!o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("frame 2") && err.contains("d_2.raw"), "{err}");
-    assert!(!err.contains("panicked"), "{err}");
-    for f in 0..2 {
-        let img = fogbank_image::image_io::read_image(dir.join(format!("out_{f:02}.exr"))).unwrap();
-        assert_eq!((img.width, img.height), (12, 8));
+    let gpu = fogbank_gpu::test_gpu().is_some();
+    for device in ["cpu", "gpu"].into_iter().filter(|d| *d == "cpu" || gpu) {
+        let out = dir.join(format!("{device}_{{frame:02}}.exr"));
+        let o = fogbank()
+            .args([
+                "render",
+                scene.to_str().unwrap(),
+                "--frames",
+                "0..4",
+                "--device",
+                device,
+                "-q",
+                "-o",
+            ])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(!o.status.success());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains("frame 2") && err.contains("d_2.raw"), "{device}: {err}");
+        assert!(!err.contains("panicked"), "{device}: {err}");
+        for f in 0..2 {
+            let img =
+                fogbank_image::image_io::read_image(dir.join(format!("{device}_{f:02}.exr")))
+                    .unwrap();
+            assert_eq!((img.width, img.height), (12, 8));
+            let mean = img.rgb.iter().map(|p| p[1] as f64).sum::<f64>() / img.rgb.len() as f64;
+            assert!(mean.is_finite() && mean > 0.0, "{device} frame {f}: mean {mean}");
+        }
+        assert!(!dir.join(format!("{device}_02.exr")).exists());
     }
-    assert!(!dir.join("out_02.exr").exists());
     run_fails_naming(
         fogbank().args(["render", "--frames", "0..2", "-q"]),
         "no [animation]",

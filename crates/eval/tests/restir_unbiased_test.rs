@@ -8,40 +8,21 @@
 
 use fogbank_eval::image_io::Image;
 use fogbank_eval::metrics::ztest::{ztest, ZTest};
+use fogbank_math::testdata::checker_slab_raw;
 use fogbank_render::integrators::restir::frame::Sequence;
 use fogbank_render::integrators::restir::{FrameData, Restir};
 use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::Path;
 
-/// A test volume without faint fringes, so that every pixel's estimate
-/// rests on many events in both renderers (the z-test needs the CLT; a
-/// pixel whose rays graze a wisp sees rare events only, and a reference
-/// that happens to see none reads as exact): a 24³ grid whose far half is
-/// dense everywhere (so every primary ray meets it) and whose near half is a
-/// checkerboard of 3-voxel columns and holes (so a neighbour's shifted
-/// first vertex often lands at zero density, where 1/M weights darken).
-/// Written once as a raw f32 file; the camera sees only the front face.
+/// The test volume ([`checker_slab_raw`]): no faint fringes, so that every
+/// pixel's estimate rests on many events in both renderers (the z-test
+/// needs the CLT; a pixel whose rays graze a wisp sees rare events only,
+/// and a reference that happens to see none reads as exact), and holes
+/// where a neighbour's shifted first vertex lands at zero density (where
+/// 1/M weights darken). The camera sees only the front face.
 fn volume_file() -> String {
-    let path = std::env::temp_dir().join(format!("fogbank_restir_test_{}.raw", std::process::id()));
-    let n = 24usize;
-    let mut bytes = Vec::with_capacity(n * n * n * 4);
-    for k in 0..n {
-        for j in 0..n {
-            for i in 0..n {
-                let d: f32 = if k < n / 2 {
-                    0.5 + 0.5 * (((i * 7 + j * 13 + k * 5) % 11) as f32 / 10.0)
-                } else if (i / 3 + j / 3) % 2 == 0 {
-                    1.0
-                } else {
-                    0.0
-                };
-                bytes.extend_from_slice(&d.to_le_bytes());
-            }
-        }
-    }
-    std::fs::write(&path, bytes).unwrap();
-    path.display().to_string().replace('\\', "/")
+    checker_slab_raw("fogbank_restir_test")
 }
 
 fn scene_text(lights: &str, medium_extra: &str) -> String {

@@ -18,6 +18,11 @@ pub const FLAGS: [(&str, u32); 3] = [("UNIFORM_JITTER", 1), ("CLIP", 2), ("DOUBL
 const FLAG_UNIFORM_JITTER: u32 = FLAGS[0].1;
 const FLAG_CLIP: u32 = FLAGS[1].1;
 const FLAG_DOUBLED: u32 = FLAGS[2].1;
+/// Bits of `Frame::integrator_flags` (WGSL `INTEGRATOR_*`).
+pub const INTEGRATOR_FLAGS: [(&str, u32); 1] = [("LIGHT_ONLY", 1)];
+/// volpath's `restir_baseline` preset: light sampling only (no
+/// phase-sampled escape MIS) and Russian roulette by albedo.
+pub const INTEGRATOR_LIGHT_ONLY: u32 = INTEGRATOR_FLAGS[0].1;
 
 /// Emission kinds of a medium (0: none).
 pub const EMISSION_KINDS: [&str; 3] = ["none", "color", "blackbody"];
@@ -161,6 +166,9 @@ pub fn wgsl_prelude() -> String {
     enumeration(&mut s, "EMISSION", &EMISSION_KINDS);
     for (name, bit) in FLAGS {
         s.push_str(&format!("const FLAG_{name}: u32 = {bit}u;\n"));
+    }
+    for (name, bit) in INTEGRATOR_FLAGS {
+        s.push_str(&format!("const INTEGRATOR_{name}: u32 = {bit}u;\n"));
     }
     s.push_str(&format!(
         "const DIM_CAMERA: u32 = {}u;\nconst DIM_ESTIMATOR: u32 = {}u;\n",

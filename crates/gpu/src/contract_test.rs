@@ -3,11 +3,12 @@
 //! its own WGSL branch and reaches it, and an id without a branch marks the
 //! sample invalid instead of running another method.
 
+use crate::accumulation::Frame;
 use crate::contract::{wgsl_prelude, EMISSION_KINDS};
 use crate::lights::{EnvParams, LightGpu};
-use crate::render::{render_kernel, Frame, Kernel};
+use crate::render::{render_kernel, Kernel};
 use crate::scene_buffers::MediumGpu;
-use crate::shaders;
+use crate::shaders::{self, check_layout};
 use fogbank_estimators::Estimator;
 use fogbank_render::integrators::point_mis::Strategy;
 use fogbank_render::integrators::shared::DistanceSampler;
@@ -15,33 +16,6 @@ use fogbank_render::lights::Light;
 use fogbank_render::{parse_scene, Film, Progress, RenderOptions, Scene};
 use std::mem::{offset_of, size_of};
 use std::path::Path;
-
-/// (span, [(member, offset)]) of WGSL struct `name` in `source`.
-fn wgsl_struct(source: &str, name: &str) -> (u32, Vec<(String, u32)>) {
-    let module = naga::front::wgsl::parse_str(source).expect("kernel parses");
-    for (_, ty) in module.types.iter() {
-        if ty.name.as_deref() == Some(name) {
-            if let naga::TypeInner::Struct { members, span } = &ty.inner {
-                let m = members
-                    .iter()
-                    .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
-                    .collect();
-                return (*span, m);
-            }
-        }
-    }
-    panic!("no struct {name} in the kernel");
-}
-
-fn check_layout(source: &str, name: &str, size: usize, expected: &[(&str, usize)]) {
-    let (span, members) = wgsl_struct(source, name);
-    assert_eq!(span as usize, size, "{name}: WGSL size vs Rust size_of");
-    let got: Vec<(&str, usize)> = members
-        .iter()
-        .map(|(n, o)| (n.as_str(), *o as usize))
-        .collect();
-    assert_eq!(got, expected, "{name}: WGSL members and offsets vs Rust");
-}
 
 #[test]
 fn wgsl_structs_have_the_layout_of_the_rust_structs() {
@@ -72,6 +46,10 @@ fn wgsl_structs_have_the_layout_of_the_rust_structs() {
             ("rr_depth", offset_of!(Frame, rr_depth)),
             ("sampler", offset_of!(Frame, sampler)),
             ("mis_samples", offset_of!(Frame, mis_samples)),
+            ("integrator_flags", offset_of!(Frame, integrator_flags)),
+            ("pad0", offset_of!(Frame, pad)),
+            ("pad1", offset_of!(Frame, pad) + 4),
+            ("pad2", offset_of!(Frame, pad) + 8),
         ],
     );
     let w2i = offset_of!(MediumGpu, w2i);

@@ -8,6 +8,7 @@
 //! no dispatch. PCG32/PCG3D are bit-identical to the CPU's, so a pixel's
 //! random stream is the same on both.
 
+pub mod accumulation;
 pub mod context;
 pub mod contract;
 #[cfg(test)]
@@ -15,6 +16,7 @@ mod contract_test;
 pub mod diagnostics;
 pub mod lights;
 pub mod render;
+pub mod restir;
 pub mod scene_buffers;
 pub mod shaders;
 

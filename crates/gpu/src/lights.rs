@@ -52,9 +52,10 @@ impl LightBuffers {
             IntegratorKind::Direct(d) => &d.lights,
             IntegratorKind::VolPath(v) => &v.lights,
             IntegratorKind::PointMis(p) => &p.lights,
+            IntegratorKind::Restir(r) => &r.lights,
             _ => {
                 return Err(GpuError(
-                    "lights are uploaded for direct, volpath and point_mis only".into(),
+                    "lights are uploaded for direct, volpath, point_mis and restir only".into(),
                 ))
             }
         };

@@ -3,40 +3,16 @@
 //! CPU's (same scene, seed, sample indices and random streams), accumulated
 //! on the device and read back once.
 
+use crate::accumulation::{frame_bind_group_layout, read_film, Frame};
+pub use crate::accumulation::{GpuRender, Observer};
 use crate::contract::{gpu_estimator, sampler_id, strategy_id, GpuEstimator};
 use crate::scene_buffers::SceneBuffers;
 use crate::shaders;
 use crate::{Gpu, GpuError};
-use bytemuck::{Pod, Zeroable};
 use fogbank_render::integrators::IntegratorKind;
-use fogbank_render::{Film, Progress, RenderOptions, Scene};
+use fogbank_render::{Progress, RenderOptions, Scene};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
-
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub(crate) struct Frame {
-    pub(crate) cam_origin: [f32; 4],
-    pub(crate) cam_forward: [f32; 4],
-    pub(crate) cam_right: [f32; 4],
-    pub(crate) cam_up: [f32; 4],
-    pub(crate) background: [f32; 4],
-    pub(crate) tan_half: [f32; 2],
-    pub(crate) width: u32,
-    pub(crate) height: u32,
-    pub(crate) seed: u32,
-    pub(crate) first_sample: u32,
-    pub(crate) sample_count: u32,
-    pub(crate) media_count: u32,
-    pub(crate) pixel_jitter: u32,
-    pub(crate) est_samples: u32,
-    pub(crate) est_step: f32,
-    pub(crate) est_flags: u32,
-    pub(crate) max_depth: u32,
-    pub(crate) rr_depth: u32,
-    pub(crate) sampler: u32,
-    pub(crate) mis_samples: u32,
-}
 
 /// What the integrator asks of the kernels.
 pub(crate) struct Kernel {
@@ -51,6 +27,8 @@ pub(crate) struct Kernel {
     /// `SAMPLER_*` id, or for `point_mis` the `STRATEGY_*` id.
     pub(crate) sampler: u32,
     mis_samples: u32,
+    /// `INTEGRATOR_*` bits.
+    flags: u32,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -65,13 +43,6 @@ impl Kernel {
         if let IntegratorKind::Restir(_) = scene.integrator {
             return Err(no_restir());
         }
-        if let IntegratorKind::VolPath(v) = &scene.integrator {
-            if v.light_only {
-                return Err(GpuError(
-                    "volpath preset `restir_baseline` has no GPU port yet (issue 18); render it with --backend cpu".into(),
-                ));
-            }
-        }
         let estimator = scene.integrator.estimator();
         let est = gpu_estimator(estimator).ok_or_else(|| {
             GpuError(format!(
@@ -83,6 +54,7 @@ impl Kernel {
             IntegratorKind::Transmittance { background, .. } => Kernel {
                 source: KernelSource::Transmittance,
                 mis_samples: 0,
+                flags: 0,
                 scatter: false,
                 est,
                 background: *background,
@@ -93,6 +65,7 @@ impl Kernel {
             IntegratorKind::Direct(d) => Kernel {
                 source: KernelSource::Scatter,
                 mis_samples: 0,
+                flags: 0,
                 scatter: true,
                 est,
                 background: glam::Vec3::ZERO,
@@ -103,6 +76,11 @@ impl Kernel {
             IntegratorKind::VolPath(v) => Kernel {
                 source: KernelSource::Scatter,
                 mis_samples: 0,
+                flags: if v.light_only {
+                    crate::contract::INTEGRATOR_LIGHT_ONLY
+                } else {
+                    0
+                },
                 scatter: true,
                 est,
                 background: glam::Vec3::ZERO,
@@ -119,6 +97,7 @@ impl Kernel {
                 rr_depth: u32::MAX,
                 sampler: strategy_id(p.strategy),
                 mis_samples: p.mis_samples,
+                flags: 0,
             },
             IntegratorKind::Restir(_) => return Err(no_restir()),
         };
@@ -128,21 +107,8 @@ impl Kernel {
 
 fn no_restir() -> GpuError {
     GpuError(
-        "integrator `restir` has no GPU port yet (issue 18); render it with --backend cpu".into(),
+        "integrator `restir` runs its own passes (crate::restir), not a per-sample kernel".into(),
     )
-}
-
-/// Called with the film so far and the render seconds so far.
-pub type Observer<'a> = &'a mut dyn FnMut(&Film, f64);
-
-pub struct GpuRender {
-    pub film: Film,
-    /// Wall-clock seconds of the render loop (upload excluded).
-    pub seconds: f64,
-    /// Kernel time from timestamp queries, when the device has them.
-    pub gpu_ms: Option<f64>,
-    pub interrupted: bool,
-    pub upload_bytes: u64,
 }
 
 /// Samples per pixel per dispatch: short dispatches keep the desktop
@@ -169,6 +135,9 @@ pub fn render_observed(
     progress: &Progress,
     after: Option<Observer<'_>>,
 ) -> Result<GpuRender, GpuError> {
+    if let IntegratorKind::Restir(_) = scene.integrator {
+        return crate::restir::render(gpu, scene, opts, progress, after);
+    }
     render_kernel(gpu, scene, &Kernel::of(scene)?, opts, progress, after)
 }
 
@@ -223,34 +192,7 @@ pub(crate) fn render_kernel(
     let sum = zeroed("accum_sum", pixels * 16);
     let sq = zeroed("accum_sq", pixels * 16);
     let lookups = zeroed("accum_lookups", pixels * 4);
-    let storage_rw = |binding| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: false },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
-    let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("frame"),
-        entries: &[
-            wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            },
-            storage_rw(1),
-            storage_rw(2),
-            storage_rw(3),
-        ],
-    });
+    let frame_layout = frame_bind_group_layout(device);
     let frame_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("frame"),
         layout: &frame_layout,
@@ -322,6 +264,8 @@ pub(crate) fn render_kernel(
         rr_depth: kernel.rr_depth,
         sampler: kernel.sampler,
         mis_samples: kernel.mis_samples,
+        integrator_flags: kernel.flags,
+        pad: [0; 3],
     };
     let dispatches = opts.spp.div_ceil(SAMPLES_PER_DISPATCH);
     let timed = gpu.timestamps && dispatches <= MAX_TIMED_DISPATCHES && dispatches > 0;
@@ -423,28 +367,4 @@ pub(crate) fn render_kernel(
         interrupted,
         upload_bytes: media.bytes,
     })
-}
-
-/// The device accumulation buffers as a film (sums widened to f64).
-fn read_film(
-    gpu: &Gpu,
-    w: u32,
-    h: u32,
-    sum: &wgpu::Buffer,
-    sq: &wgpu::Buffer,
-    lookups: &wgpu::Buffer,
-) -> Result<Film, GpuError> {
-    let pixels = w as u64 * h as u64;
-    let sums: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_back(sum)?).to_vec();
-    let sqs: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_back(sq)?).to_vec();
-    let looks: Vec<u32> = bytemuck::cast_slice(&gpu.read_back(lookups)?).to_vec();
-    let mut film = Film::new(w, h);
-    for i in 0..pixels as usize {
-        film.sum[i] = [0, 1, 2].map(|c| sums[i][c] as f64);
-        film.sum_sq[i] = [0, 1, 2].map(|c| sqs[i][c] as f64);
-        film.count[i] = sums[i][3] as u32;
-        film.nan_samples += sqs[i][3] as u64;
-        film.lookups += looks[i] as u64;
-    }
-    Ok(film)
 }

@@ -40,6 +40,8 @@ pub struct SceneBuffers {
     pub bind_group: wgpu::BindGroup,
     /// Bytes uploaded (for stats).
     pub bytes: u64,
+    /// Record of the first of the `extra` media of [`SceneBuffers::upload_with`].
+    pub extra_first: u32,
 }
 
 #[derive(Default)]
@@ -80,6 +82,16 @@ fn check_size(what: &str, len: usize, limit: u64) -> Result<(), GpuError> {
 
 impl SceneBuffers {
     pub fn upload(gpu: &Gpu, scene: &Scene) -> Result<SceneBuffers, GpuError> {
+        Self::upload_with(gpu, scene, &[])
+    }
+
+    /// The scene's media and property grids, then the `extra` media (such
+    /// as a medium's mips) as records from [`SceneBuffers::extra_first`] on.
+    pub fn upload_with(
+        gpu: &Gpu,
+        scene: &Scene,
+        extra: &[&Medium],
+    ) -> Result<SceneBuffers, GpuError> {
         let mut p = Packed::default();
         let mut media = Vec::new();
         for (i, sm) in scene.media.iter().enumerate() {
@@ -111,6 +123,13 @@ impl SceneBuffers {
                 _ => 0,
             };
             properties.push([albedo.0, albedo.1, emission]);
+        }
+        let extra_first = media.len() as u32;
+        for (i, m) in extra.iter().enumerate() {
+            media.push(
+                pack_medium(m, scene.camera.origin, &mut p)
+                    .map_err(|e| GpuError(format!("derived medium {i}: {}", e.0)))?,
+            );
         }
         let limit = gpu.device.limits().max_storage_buffer_binding_size;
         check_size("voxel data", p.data.len(), limit)?;
@@ -149,6 +168,7 @@ impl SceneBuffers {
             bind_group_layout,
             bind_group,
             bytes,
+            extra_first,
         })
     }
 }

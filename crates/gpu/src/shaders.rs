@@ -25,6 +25,15 @@ pub const PROPERTIES: &str = include_str!("wgsl/properties.wgsl");
 pub const SCATTER_KERNEL: &str = include_str!("wgsl/scatter_kernel.wgsl");
 pub const POINT_MIS_KERNEL: &str = include_str!("wgsl/point_mis_kernel.wgsl");
 pub const ACCUMULATE: &str = include_str!("wgsl/accumulate.wgsl");
+pub const RESTIR_PARAMS: &str = include_str!("wgsl/restir/params.wgsl");
+pub const RESTIR_RESERVOIR: &str = include_str!("wgsl/restir/reservoir.wgsl");
+pub const RESTIR_VOLUME: &str = include_str!("wgsl/restir/volume.wgsl");
+pub const RESTIR_TARGET: &str = include_str!("wgsl/restir/target.wgsl");
+pub const RESTIR_CANDIDATES: &str = include_str!("wgsl/restir/candidates.wgsl");
+pub const RESTIR_COMBINE: &str = include_str!("wgsl/restir/combine.wgsl");
+pub const RESTIR_TEMPORAL: &str = include_str!("wgsl/restir/temporal.wgsl");
+pub const RESTIR_SPATIAL: &str = include_str!("wgsl/restir/spatial.wgsl");
+pub const RESTIR_SHADE: &str = include_str!("wgsl/restir/shade.wgsl");
 pub const TRANSMITTANCE_KERNEL: &str = include_str!("wgsl/transmittance_kernel.wgsl");
 
 /// Every estimator's source, after the generated contract constants
@@ -78,4 +87,56 @@ pub fn scatter_kernel() -> String {
 /// `point_mis`.
 pub fn point_mis_kernel() -> String {
     scattering_kernel(POINT_MIS_KERNEL)
+}
+
+/// `restir`: the scattering prelude without the per-sample entry point,
+/// then its passes (entry points `candidates`, `reproject`, `temporal`,
+/// `spatial`, `shade`, `reduce`).
+pub fn restir_kernel() -> String {
+    [
+        &estimators(),
+        FRAME,
+        PHASE,
+        LIGHTS,
+        PROPERTIES,
+        RESTIR_PARAMS,
+        RESTIR_RESERVOIR,
+        RESTIR_VOLUME,
+        RESTIR_TARGET,
+        RESTIR_CANDIDATES,
+        RESTIR_COMBINE,
+        RESTIR_TEMPORAL,
+        RESTIR_SPATIAL,
+        RESTIR_SHADE,
+    ]
+    .join("\n")
+}
+
+/// (span, [(member, offset)]) of WGSL struct `name` in `source`.
+#[cfg(test)]
+pub(crate) fn wgsl_struct(source: &str, name: &str) -> (u32, Vec<(String, u32)>) {
+    let module = naga::front::wgsl::parse_str(source).expect("kernel parses");
+    for (_, ty) in module.types.iter() {
+        if ty.name.as_deref() == Some(name) {
+            if let naga::TypeInner::Struct { members, span } = &ty.inner {
+                let m = members
+                    .iter()
+                    .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                    .collect();
+                return (*span, m);
+            }
+        }
+    }
+    panic!("no struct {name} in the kernel");
+}
+
+#[cfg(test)]
+pub(crate) fn check_layout(source: &str, name: &str, size: usize, expected: &[(&str, usize)]) {
+    let (span, members) = wgsl_struct(source, name);
+    assert_eq!(span as usize, size, "{name}: WGSL size vs Rust size_of");
+    let got: Vec<(&str, usize)> = members
+        .iter()
+        .map(|(n, o)| (n.as_str(), *o as usize))
+        .collect();
+    assert_eq!(got, expected, "{name}: WGSL members and offsets vs Rust");
 }

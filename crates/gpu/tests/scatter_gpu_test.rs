@@ -93,6 +93,24 @@ fn volpath_matches_the_cpu() {
         ],
         256,
     );
+    // Seed 002's baseline: light sampling only, roulette by albedo.
+    compare(
+        PROBE,
+        &[
+            "integrator.preset=restir_baseline",
+            "integrator.max_depth=5",
+            "media.0.supervoxel=8",
+        ],
+        256,
+    );
+    compare(
+        MIXED,
+        &[
+            "integrator.preset=restir_baseline",
+            "integrator.max_depth=3",
+        ],
+        256,
+    );
 }
 
 #[test]

@@ -45,3 +45,31 @@ fn missing<T>(what: &str, path: &Path) -> Option<T> {
     eprintln!("SKIPPED ({what})");
     None
 }
+
+/// A 24³ f32 raw grid for integrator tests without faint fringes (seed
+/// 002's unbiasedness tests, CPU and GPU): its far half (k < 12) is dense
+/// everywhere, so every ray through the front face meets many events, and
+/// its near half a checkerboard of 3-voxel columns and holes, so a shifted
+/// vertex often lands at zero density. Written to the temp folder (once per
+/// process and name); returns the path with forward slashes.
+pub fn checker_slab_raw(name: &str) -> String {
+    let path = std::env::temp_dir().join(format!("{name}_{}.raw", std::process::id()));
+    let n = 24usize;
+    let mut bytes = Vec::with_capacity(n * n * n * 4);
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let d: f32 = if k < n / 2 {
+                    0.5 + 0.5 * (((i * 7 + j * 13 + k * 5) % 11) as f32 / 10.0)
+                } else if (i / 3 + j / 3) % 2 == 0 {
+                    1.0
+                } else {
+                    0.0
+                };
+                bytes.extend_from_slice(&d.to_le_bytes());
+            }
+        }
+    }
+    std::fs::write(&path, bytes).expect("writing the test volume");
+    path.display().to_string().replace('\\', "/")
+}

@@ -21,6 +21,7 @@ pub mod restir_ablation;
 pub mod restir_bias;
 pub mod restir_dynamic;
 pub mod restir_equal_time;
+pub mod restir_gpu_frame_time;
 pub mod restir_protocol;
 pub mod restir_scenes;
 pub mod table1;
@@ -62,6 +63,7 @@ pub fn names() -> &'static [&'static str] {
         "restir-ablation",
         "restir-dynamic",
         "restir-bias",
+        "restir-gpu-frame-time",
     ]
 }
 
@@ -93,6 +95,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "restir-ablation" => restir_ablation::run(&mut w, trials),
         "restir-dynamic" => restir_dynamic::run(&mut w, trials),
         "restir-bias" => restir_bias::run(&mut w, trials),
+        "restir-gpu-frame-time" => restir_gpu_frame_time::run(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",

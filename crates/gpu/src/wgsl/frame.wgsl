@@ -30,6 +30,11 @@ struct Frame {
     rr_depth: u32,
     sampler: u32,
     mis_samples: u32,
+    // INTEGRATOR_* bits: LIGHT_ONLY = volpath's restir_baseline preset.
+    integrator_flags: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 @group(1) @binding(0) var<uniform> frame: Frame;

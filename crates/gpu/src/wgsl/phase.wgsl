@@ -61,3 +61,12 @@ fn hg_sample(g: f32, wo: vec3<f32>, u0: f32, u1: f32) -> vec4<f32> {
     let pdf = INV_4PI * d * d * d / (one_minus_g2 * one_minus_g2);
     return vec4<f32>(wi, pdf);
 }
+
+// HenyeyGreenstein::pdf(wo, wi), both pointing away from the scattering
+// point: 1 ∓ cos θ from |wi ± wo|² / 2, accurate where the dot product has
+// lost its digits.
+fn hg_pdf(g: f32, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+    let a = wi + wo;
+    let b = wi - wo;
+    return hg_eval_split(g, 0.5 * dot(a, a), 0.5 * dot(b, b));
+}

@@ -4,7 +4,13 @@
 // one light chosen by power with the transmittance estimator ESTIMATOR,
 // environments MIS-combined with phase sampling (at the last vertex the
 // phase-sampled direction's transmittance is estimated instead of traced),
-// Russian roulette on the throughput after rr_depth bounces.
+// Russian roulette on the throughput after rr_depth bounces. With
+// INTEGRATOR_LIGHT_ONLY (volpath's restir_baseline preset, seed 002 §6):
+// light sampling only, no phase-sampled escape, roulette by albedo.
+
+fn light_only() -> bool {
+    return (frame.integrator_flags & INTEGRATOR_LIGHT_ONLY) != 0u;
+}
 
 
 fn free_flight(m: MediumGpu, r: Ray, t0: f32, t1: f32,
@@ -121,6 +127,9 @@ fn light_sample(p: vec3<f32>, d: vec3<f32>, g: f32, rng: ptr<function, Pcg32>,
     if (ls.is_delta) {
         return ls.radiance * (f * tr / pmf);
     }
+    if (light_only()) {
+        return ls.radiance * (f * tr / (pmf * ls.pdf));
+    }
     let light_pdf = pmf * ls.pdf;
     return ls.radiance * (f * tr * balance(light_pdf, f) / light_pdf);
 }
@@ -150,7 +159,9 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
     for (var depth = 0u; depth < frame.max_depth; depth++) {
         let hit = next_collision(ray, depth == 0u, &rng, lookups);
         if (hit.x < 0.0) {
-            radiance += beta * escaped(ray.d, phase_pdf);
+            if (!(light_only() && phase_pdf >= 0.0)) {
+                radiance += beta * escaped(ray.d, phase_pdf);
+            }
             break;
         }
         let mi = u32(hit.y);
@@ -167,6 +178,9 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
         let u1 = pcg32_next_f32(&rng);
         let s = hg_sample(sh.w, -ray.d, u0, u1);
         if (depth + 1u == frame.max_depth) {
+            if (light_only()) {
+                break;
+            }
             radiance += beta * phase_sample_to_environment(p, s.xyz, s.w, &rng, lookups);
             break;
         }
@@ -174,7 +188,10 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
         ray.o = p;
         ray.d = s.xyz;
         if (depth + 1u >= frame.rr_depth) {
-            let q = min(max(beta.x, max(beta.y, beta.z)), 1.0);
+            var q = min(max(beta.x, max(beta.y, beta.z)), 1.0);
+            if (light_only()) {
+                q = min(max(albedo.x, max(albedo.y, albedo.z)), 1.0);
+            }
             if (pcg32_next_f32(&rng) >= q) {
                 break;
             }

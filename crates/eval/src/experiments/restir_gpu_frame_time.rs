@@ -1,0 +1,171 @@
+//! Seed 002's frame-time table on a GPU (§6, Fig. 22's timings; issue 18
+//! item 4): `restir` at 1920×1080 (the paper's resolution) with the
+//! paper's defaults (M = 4, Q = 4, 3 neighbours within 10 px, T̃ on mip 1),
+//! K = 1, 3, 7 on the light-probe cloud and K = 3 on the emissive
+//! explosion, device time per pass from timestamp queries averaged over the
+//! measured frames after a warm-up; beside it the paper's baseline
+//! (`volpath` with `preset = "restir_baseline"`) at 1 spp on the same
+//! device, so the table also says how many baseline samples one ReSTIR
+//! frame costs. `--trials` sets the measured frames (default 16). Needs a
+//! GPU with timestamp queries (a CPU Vulkan device such as lavapipe runs
+//! it, slowly, but its times say nothing about a GPU).
+
+use super::restir_protocol::build;
+use super::writer::Writer;
+use fogbank_gpu::restir::{PassMs, RestirGpu, STORED_BYTES};
+use fogbank_gpu::Gpu;
+use fogbank_render::integrators::IntegratorKind;
+use fogbank_render::{Progress, RenderOptions};
+
+const WARM_UP: u32 = 4;
+const WIDTH: u32 = 1920;
+const HEIGHT: u32 = 1080;
+
+fn probe_cloud() -> String {
+    format!(
+        "[camera]\nfrom = [0.0, 0.1, 2.0]\nto = [0.0, 0.0, 0.0]\nfov = 40.0\nwidth = {WIDTH}\nheight = {HEIGHT}\n\
+         [[media]]\ndensity = {{ procedural = \"cloud\", resolution = 128, seed = 7 }}\n\
+         sigma_t_scale = 40.0\nalbedo = [0.95, 0.95, 0.95]\nphase = {{ type = \"hg\", g = 0.5 }}\n\
+         [[lights]]\ntype = \"envmap\"\nfile = \"probes/sky.hdr\"\n\
+         [render]\npixel_jitter = false\n"
+    )
+}
+
+fn explosion() -> String {
+    format!(
+        "[camera]\nfrom = [0.0, 0.1, 1.9]\nto = [0.0, -0.02, 0.0]\nfov = 40.0\nwidth = {WIDTH}\nheight = {HEIGHT}\n\
+         [[media]]\ndensity = {{ procedural = \"explosion\", resolution = 128, seed = 3 }}\n\
+         sigma_t_scale = 10.0\nalbedo = [0.55, 0.55, 0.55]\nphase = {{ type = \"hg\", g = 0.3 }}\n\
+         emission = {{ temperature = {{ procedural = \"explosion\", quantity = \"temperature\", resolution = 128, seed = 3 }}, scale = 40.0 }}\n\
+         [[lights]]\ntype = \"constant\"\nradiance = [0.02, 0.025, 0.03]\n\
+         [render]\npixel_jitter = false\n"
+    )
+}
+
+/// Mean device milliseconds per frame of each pass over `frames` frames.
+fn restir_times(gpu: &Gpu, text: &str, k: u32, frames: u32) -> Result<PassMs, String> {
+    let set = vec![
+        "integrator.type=restir".to_string(),
+        format!("integrator.max_depth={k}"),
+    ];
+    let scene = build(text, &set)?;
+    let reuse = match &scene.integrator {
+        IntegratorKind::Restir(r) => r.params.reuse,
+        _ => unreachable!("the scene's integrator is restir"),
+    };
+    let err = |e: fogbank_gpu::GpuError| e.0;
+    let mut kernels = RestirGpu::new(gpu, &scene, 1).map_err(err)?;
+    let data = kernels.upload(gpu, &scene).map_err(err)?;
+    kernels.start_sequences(0, 1);
+    for f in 0..WARM_UP + frames {
+        if f == WARM_UP {
+            kernels.times = PassMs::default();
+        }
+        kernels
+            .frame(gpu, &data, &data, f, f + 1 == WARM_UP + frames, reuse)
+            .map_err(err)?;
+    }
+    let t = kernels.times;
+    let n = t.frames.max(1) as f64;
+    Ok(PassMs {
+        candidates: t.candidates / n,
+        temporal: t.temporal / n,
+        spatial: t.spatial / n,
+        shading: t.shading / n,
+        frames: t.frames,
+    })
+}
+
+/// Device milliseconds of one baseline sample per pixel (mean of `spp`).
+fn baseline_ms(gpu: &Gpu, text: &str, k: u32, spp: u32) -> Result<f64, String> {
+    let set = vec![
+        "integrator.type=volpath".to_string(),
+        "integrator.preset=restir_baseline".to_string(),
+        format!("integrator.max_depth={k}"),
+        "media.0.supervoxel=8".to_string(),
+    ];
+    let scene = build(text, &set)?;
+    let opts = RenderOptions {
+        spp,
+        seed: 1,
+        time_budget: None,
+    };
+    let r = fogbank_gpu::render::render(gpu, &scene, &opts, &Progress::default())
+        .map_err(|e| e.0)?;
+    r.gpu_ms
+        .map(|ms| ms / spp as f64)
+        .ok_or_else(|| "the device has no timestamp queries".to_string())
+}
+
+pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
+    let frames = trials.unwrap_or(16).clamp(1, 10_000) as u32;
+    let gpu = Gpu::new().map_err(|e| e.0)?;
+    if !gpu.timestamps {
+        return Err(format!(
+            "{}: no timestamp queries, so no per-pass times",
+            gpu.describe()
+        ));
+    }
+    let cases = [
+        ("light-probe cloud", probe_cloud(), 1),
+        ("light-probe cloud", probe_cloud(), 3),
+        ("light-probe cloud", probe_cloud(), 7),
+        ("explosion", explosion(), 3),
+    ];
+    let (mut rows, mut table) = (Vec::new(), Vec::new());
+    for (name, text, k) in &cases {
+        let t = restir_times(&gpu, text, *k, frames)?;
+        let total = t.candidates + t.temporal + t.spatial + t.shading;
+        let base = baseline_ms(&gpu, text, *k, 16)?;
+        table.push(format!(
+            "| {name} | {k} | {:.2} | {:.2} | {:.2} | {:.2} | **{:.2}** | {:.2} | {:.1} |",
+            t.candidates,
+            t.temporal,
+            t.spatial,
+            t.shading,
+            total,
+            base,
+            total / base
+        ));
+        rows.push(vec![
+            name.to_string(),
+            k.to_string(),
+            format!("{:.4}", t.candidates),
+            format!("{:.4}", t.temporal),
+            format!("{:.4}", t.spatial),
+            format!("{:.4}", t.shading),
+            format!("{total:.4}"),
+            format!("{base:.4}"),
+        ]);
+    }
+    w.csv(
+        "frame_time.csv",
+        &[
+            "case",
+            "k",
+            "candidates_ms",
+            "temporal_ms",
+            "spatial_ms",
+            "shading_ms",
+            "frame_ms",
+            "baseline_spp_ms",
+        ],
+        &rows,
+    )?;
+    // Per pixel: three reservoir regions and the accumulation buffers.
+    let bytes = 3 * STORED_BYTES + 16 + 16 + 4;
+    Ok(format!(
+        "Seed 002's frame times on {} at {WIDTH}×{HEIGHT}: device time per pass from timestamp queries, \
+         mean of {frames} frames after {WARM_UP} warm-up frames (one sequence, M = 4, Q = 4, 3 neighbours \
+         within 10 px, T̃ on mip 1, exact trilinear T in shading). \"baseline 1 spp\" is `volpath` with the \
+         `restir_baseline` preset (super-voxels of 8³), mean of 16 spp. The paper (RTX 3090, its scenes): \
+         a ReSTIR frame costs about as much as a few baseline samples per pixel.\n\n\
+         | scene | K | candidates ms | temporal ms | spatial ms | shading ms | frame ms | baseline 1 spp ms | frame / baseline spp |\n\
+         |---|---|---|---|---|---|---|---|---|\n{}\n\n\
+         Memory per pixel: {bytes} bytes ({} MiB at {WIDTH}×{HEIGHT}): three reservoir regions of {STORED_BYTES} bytes \
+         (candidates, temporal output, the previous frame's; paths of up to 8 vertices) and the accumulation buffers.\n",
+        gpu.describe(),
+        table.join("\n"),
+        (bytes * WIDTH as u64 * HEIGHT as u64) >> 20
+    ))
+}

@@ -1,0 +1,105 @@
+//! Bind group 1 of every kernel: the frame uniform (`Frame` in
+//! `wgsl/frame.wgsl`: camera, image, seed, estimator and integrator
+//! options) and the accumulation buffers (Σ radiance with the sample count,
+//! Σ radiance² with the dropped samples, lookups), read back as a film.
+
+use crate::{Gpu, GpuError};
+use bytemuck::{Pod, Zeroable};
+use fogbank_render::Film;
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(crate) struct Frame {
+    pub(crate) cam_origin: [f32; 4],
+    pub(crate) cam_forward: [f32; 4],
+    pub(crate) cam_right: [f32; 4],
+    pub(crate) cam_up: [f32; 4],
+    pub(crate) background: [f32; 4],
+    pub(crate) tan_half: [f32; 2],
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    pub(crate) seed: u32,
+    pub(crate) first_sample: u32,
+    pub(crate) sample_count: u32,
+    pub(crate) media_count: u32,
+    pub(crate) pixel_jitter: u32,
+    pub(crate) est_samples: u32,
+    pub(crate) est_step: f32,
+    pub(crate) est_flags: u32,
+    pub(crate) max_depth: u32,
+    pub(crate) rr_depth: u32,
+    pub(crate) sampler: u32,
+    pub(crate) mis_samples: u32,
+    pub(crate) integrator_flags: u32,
+    pub(crate) pad: [u32; 3],
+}
+
+/// Bind group 1 of every kernel: the frame uniform and the accumulation
+/// buffers (Σ radiance, Σ radiance², lookups).
+pub(crate) fn frame_bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let storage_rw = |binding| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: false },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("frame"),
+        entries: &[
+            wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            },
+            storage_rw(1),
+            storage_rw(2),
+            storage_rw(3),
+        ],
+    })
+}
+
+/// Called with the film so far and the render seconds so far.
+pub type Observer<'a> = &'a mut dyn FnMut(&Film, f64);
+
+pub struct GpuRender {
+    pub film: Film,
+    /// Wall-clock seconds of the render loop (upload excluded).
+    pub seconds: f64,
+    /// Kernel time from timestamp queries, when the device has them.
+    pub gpu_ms: Option<f64>,
+    pub interrupted: bool,
+    pub upload_bytes: u64,
+}
+
+/// The device accumulation buffers as a film (sums widened to f64).
+pub(crate) fn read_film(
+    gpu: &Gpu,
+    w: u32,
+    h: u32,
+    sum: &wgpu::Buffer,
+    sq: &wgpu::Buffer,
+    lookups: &wgpu::Buffer,
+) -> Result<Film, GpuError> {
+    let pixels = w as u64 * h as u64;
+    let sums: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_back(sum)?).to_vec();
+    let sqs: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_back(sq)?).to_vec();
+    let looks: Vec<u32> = bytemuck::cast_slice(&gpu.read_back(lookups)?).to_vec();
+    let mut film = Film::new(w, h);
+    for i in 0..pixels as usize {
+        film.sum[i] = [0, 1, 2].map(|c| sums[i][c] as f64);
+        film.sum_sq[i] = [0, 1, 2].map(|c| sqs[i][c] as f64);
+        film.count[i] = sums[i][3] as u32;
+        film.nan_samples += sqs[i][3] as u64;
+        film.lookups += looks[i] as u64;
+    }
+    Ok(film)
+}

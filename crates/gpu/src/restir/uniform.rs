@@ -1,0 +1,259 @@
+//! The restir passes' uniform (`RestirUniform` in `wgsl/restir/params.wgsl`):
+//! the integrator's parameters, the media records of its mips, and what one
+//! frame of one batch of sequences reads and writes.
+
+use bytemuck::{Pod, Zeroable};
+use fogbank_render::integrators::restir::{RestirParams, ReuseMis};
+
+/// Bytes of one stored reservoir (`Stored` in `wgsl/restir/reservoir.wgsl`).
+pub const STORED_BYTES: u64 = 336;
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(crate) struct RestirUniform {
+    pub(crate) batch: u32,
+    pub(crate) first_sequence: u32,
+    pub(crate) frame_index: u32,
+    pub(crate) accumulate: u32,
+    pub(crate) region_cand: u32,
+    pub(crate) region_temporal: u32,
+    pub(crate) region_spatial_in: u32,
+    pub(crate) region_spatial_out: u32,
+    pub(crate) region_prev: u32,
+    pub(crate) region_final: u32,
+    pub(crate) temporal: u32,
+    pub(crate) max_depth: u32,
+    pub(crate) candidates: u32,
+    pub(crate) mis: u32,
+    pub(crate) neighbours: u32,
+    pub(crate) radius: f32,
+    pub(crate) temporal_cap: f32,
+    pub(crate) primary_record: u32,
+    pub(crate) indirect_record: u32,
+    pub(crate) nee_record: u32,
+    pub(crate) reuse_record: u32,
+    pub(crate) mip1_record: u32,
+    pub(crate) nee_transmittance: u32,
+    pub(crate) reuse_step: f32,
+    pub(crate) rr_depth: u32,
+    pub(crate) vertex_reuse: u32,
+    pub(crate) reprojection: u32,
+    pub(crate) velocity_resampling: u32,
+    pub(crate) pad: [u32; 4],
+    pub(crate) r2: [[f32; 4]; 16],
+}
+
+/// `MIS_*` of `params.wgsl`, in [`ReuseMis`]'s order.
+pub(crate) fn mis_id(m: ReuseMis) -> u32 {
+    match m {
+        ReuseMis::Talbot => 0,
+        ReuseMis::Stochastic => 1,
+        ReuseMis::Uniform => 2,
+    }
+}
+
+/// Media records of the mips: record of level l ≥ 1 is `first_mip + l − 1`
+/// (level 0 is the scene's medium, record 0); `bc4` the record of the
+/// compressed reuse mip, when there is one.
+pub(crate) struct MipRecords {
+    pub(crate) first_mip: u32,
+    pub(crate) bc4: Option<u32>,
+}
+
+impl MipRecords {
+    fn level(&self, l: u32) -> u32 {
+        if l == 0 {
+            0
+        } else {
+            self.first_mip + l - 1
+        }
+    }
+}
+
+impl RestirUniform {
+    /// The frame-independent part, from the integrator's parameters.
+    pub(crate) fn new(p: &RestirParams, mips: &MipRecords, batch: u32) -> RestirUniform {
+        use fogbank_render::integrators::restir::neighbours::r2;
+        let mut pts = [[0.0f32; 4]; 16];
+        for (k, v) in pts.iter_mut().enumerate() {
+            let (a, b) = (r2(2 * k as u32), r2(2 * k as u32 + 1));
+            *v = [a[0], a[1], b[0], b[1]];
+        }
+        RestirUniform {
+            batch,
+            first_sequence: 0,
+            frame_index: 0,
+            accumulate: 0,
+            region_cand: 0,
+            region_temporal: 0,
+            region_spatial_in: 0,
+            region_spatial_out: 0,
+            region_prev: 0,
+            region_final: 0,
+            temporal: 0,
+            max_depth: p.max_depth,
+            candidates: p.candidates,
+            mis: mis_id(p.mis),
+            neighbours: p.neighbours,
+            radius: p.radius,
+            temporal_cap: p.temporal_cap,
+            primary_record: mips.level(p.primary_mip),
+            indirect_record: mips.level(p.indirect_mip),
+            nee_record: mips.level(p.nee_mip),
+            reuse_record: mips.bc4.unwrap_or(mips.level(p.reuse_mip)),
+            mip1_record: mips.level(1),
+            nee_transmittance: p.nee_transmittance as u32,
+            reuse_step: p.reuse_step,
+            rr_depth: p.rr_depth,
+            vertex_reuse: p.vertex_reuse as u32,
+            reprojection: p.reprojection as u32,
+            velocity_resampling: p.velocity_resampling as u32,
+            pad: [0; 4],
+            r2: pts,
+        }
+    }
+}
+
+/// Which of the three reservoir regions each pass of a frame reads and
+/// writes: candidates into a region the previous frame's reservoirs are
+/// not in, temporal reuse into the third, spatial reuse back into a free
+/// one; the final region is the next frame's previous one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Regions {
+    pub(crate) cand: u32,
+    pub(crate) temporal: Option<u32>,
+    pub(crate) spatial: Option<(u32, u32)>,
+    pub(crate) prev: Option<u32>,
+    pub(crate) last: u32,
+}
+
+impl Regions {
+    pub(crate) fn plan(prev: Option<u32>, temporal: bool, spatial: bool) -> Regions {
+        let free: Vec<u32> = (0..3).filter(|r| Some(*r) != prev).collect();
+        let (cand, other) = (free[0], free[1]);
+        let temporal = (temporal && prev.is_some()).then_some(other);
+        let mut last = temporal.unwrap_or(cand);
+        let spatial = spatial.then(|| {
+            let out = if temporal.is_some() { cand } else { other };
+            let io = (last, out);
+            last = out;
+            io
+        });
+        Regions {
+            cand,
+            temporal,
+            spatial,
+            prev,
+            last,
+        }
+    }
+
+    pub(crate) fn apply(&self, u: &mut RestirUniform) {
+        u.region_cand = self.cand;
+        u.temporal = self.temporal.is_some() as u32;
+        u.region_temporal = self.temporal.unwrap_or(0);
+        u.region_prev = self.prev.unwrap_or(0);
+        let (si, so) = self.spatial.unwrap_or((0, 0));
+        u.region_spatial_in = si;
+        u.region_spatial_out = so;
+        u.region_final = self.last;
+    }
+}
+
+#[cfg(test)]
+mod regions_test {
+    use super::Regions;
+
+    /// No pass reads a region another pass of the frame is writing, and
+    /// the previous frame's reservoirs survive until temporal reuse.
+    #[test]
+    fn passes_never_overwrite_what_they_still_read() {
+        let mut prev = None;
+        for frame in 0..6 {
+            for (t, s) in [(true, true), (true, false), (false, true), (false, false)] {
+                let r = Regions::plan(prev, t, s);
+                if let Some(p) = prev {
+                    assert_ne!(r.cand, p);
+                    if let Some(tr) = r.temporal {
+                        assert!(tr != p && tr != r.cand, "frame {frame}: {r:?}");
+                    }
+                }
+                if let Some((i, o)) = r.spatial {
+                    assert_ne!(i, o, "{r:?}");
+                    assert_eq!(i, r.temporal.unwrap_or(r.cand));
+                    assert_eq!(o, r.last);
+                    if r.temporal.is_none() {
+                        assert_ne!(Some(o), prev, "{r:?}");
+                    }
+                }
+            }
+            prev = Some(Regions::plan(prev, true, true).last);
+        }
+    }
+}
+
+#[cfg(test)]
+mod layout_test {
+    use super::{RestirUniform, STORED_BYTES};
+    use crate::shaders::wgsl_struct;
+    use std::mem::{offset_of, size_of};
+
+    /// `RestirUniform` and `Stored` have in WGSL the size and member
+    /// offsets the Rust side writes and sizes buffers by.
+    #[test]
+    fn restir_structs_have_the_rust_layout() {
+        let src = crate::shaders::restir_kernel();
+        let (span, members) = wgsl_struct(&src, "RestirUniform");
+        assert_eq!(span as usize, size_of::<RestirUniform>());
+        let rust = |name: &str| -> usize {
+            macro_rules! at {
+                ($($f:ident),*) => {
+                    match name {
+                        $(stringify!($f) => offset_of!(RestirUniform, $f),)*
+                        "pad0" => offset_of!(RestirUniform, pad),
+                        "pad1" => offset_of!(RestirUniform, pad) + 4,
+                        "pad2" => offset_of!(RestirUniform, pad) + 8,
+                        "pad3" => offset_of!(RestirUniform, pad) + 12,
+                        other => panic!("WGSL member {other} has no Rust field"),
+                    }
+                };
+            }
+            at!(
+                batch,
+                first_sequence,
+                frame_index,
+                accumulate,
+                region_cand,
+                region_temporal,
+                region_spatial_in,
+                region_spatial_out,
+                region_prev,
+                region_final,
+                temporal,
+                max_depth,
+                candidates,
+                mis,
+                neighbours,
+                radius,
+                temporal_cap,
+                primary_record,
+                indirect_record,
+                nee_record,
+                reuse_record,
+                mip1_record,
+                nee_transmittance,
+                reuse_step,
+                rr_depth,
+                vertex_reuse,
+                reprojection,
+                velocity_resampling,
+                r2
+            )
+        };
+        for (name, offset) in &members {
+            assert_eq!(*offset as usize, rust(name), "RestirUniform.{name}");
+        }
+        let (stored, _) = wgsl_struct(&src, "Stored");
+        assert_eq!(stored as u64, STORED_BYTES, "Stored");
+    }
+}

@@ -1,0 +1,100 @@
+// fogbank_render::integrators::restir::volume on the GPU: σ_t of the
+// full-resolution trilinear field, regular tracking through a conservative
+// mip with its closed-form pdf (seed 002 Eq. 27–28), and T̃ by deterministic
+// midpoint marching (§4.3, §5.1). Record 0 of `media` is the scene's medium.
+
+// volume::sigma_t: the trilinear σ_t at world point p, 0 outside the box.
+fn restir_sigma_t(p: vec3<f32>) -> f32 {
+    let m = media[0];
+    let o = vec4<f32>(p, 1.0);
+    let q = vec3<f32>(dot(m.w2i0, o), dot(m.w2i1, o), dot(m.w2i2, o));
+    if (any(q < vec3<f32>(0.0)) || any(q > vec3<f32>(m.dims))) {
+        return 0.0;
+    }
+    return m.scale * max(trilinear(m, q), 0.0);
+}
+
+// TrackedFlight: t < 0 on escape; sigma_t at t; tau to t (whole ray on escape).
+struct Flight {
+    t: f32,
+    sigma_t: f32,
+    tau: f32,
+}
+
+// volume::track with regular_tracking::sample_tracked: the exact optical
+// depth of the nearest-filtered mip record `mi`, inverted voxel by voxel.
+fn restir_track(mi: u32, world: Ray, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> Flight {
+    let m = media[mi];
+    var r: Ray;
+    let range = to_index(m, world, F32_INF, &r);
+    let target_tau = -log(1.0 - pcg32_next_f32(rng));
+    if (range.z == 0.0) {
+        return Flight(NO_HIT, 0.0, 0.0);
+    }
+    var tau = 0.0;
+    var dda = dda_new(r, 1.0, m.dims, range.x, range.y);
+    var s: DdaStep;
+    while (dda_next(&dda, &s)) {
+        *lookups += 1u;
+        let sigma_t = m.scale * fetch(m, s.cell.x, s.cell.y, s.cell.z);
+        let d = sigma_t * (s.t1 - s.t0);
+        if (tau + d >= target_tau && sigma_t > 0.0) {
+            let t = clamp(s.t0 + (target_tau - tau) / sigma_t, s.t0, s.t1);
+            return Flight(t, sigma_t, target_tau);
+        }
+        tau += d;
+    }
+    return Flight(NO_HIT, 0.0, tau);
+}
+
+// deterministic_marching::optical_depth: trilinear midpoints on a fixed
+// grid of `step` index units from t0; no random numbers.
+fn marched_tau(m: MediumGpu, r: Ray, t0: f32, t1: f32, step: f32, lookups: ptr<function, u32>) -> f32 {
+    let speed = length(r.d);
+    if (!(t1 > t0) || step <= 0.0 || speed <= 0.0) {
+        return 0.0;
+    }
+    let dt = step / speed;
+    let n = u32(max(ceil((t1 - t0) / dt), 1.0));
+    var tau = 0.0;
+    for (var i = 0u; i < n; i++) {
+        let lo = t0 + f32(i) * dt;
+        let hi = min(lo + dt, t1);
+        tau += trilinear(m, ray_at(r, 0.5 * (lo + hi))) * (hi - lo);
+    }
+    *lookups += n;
+    return tau * m.scale;
+}
+
+const SQRT3: f32 = 1.7320508;
+
+// SegmentT::Marched: T̃ of [0, t_max] along the world ray through record
+// `mi`, marched in steps of `step` voxel diagonals.
+fn marched_t(mi: u32, step: f32, world: Ray, t_max: f32, lookups: ptr<function, u32>) -> f32 {
+    let m = media[mi];
+    var r: Ray;
+    let range = to_index(m, world, t_max, &r);
+    if (range.z == 0.0) {
+        return 1.0;
+    }
+    return exp(-marched_tau(m, r, range.x, range.y, step * SQRT3, lookups));
+}
+
+// SegmentT::Exact / Estimated: the shading estimator ESTIMATOR on the
+// full-resolution medium (analytic_trilinear gives the exact T).
+fn shading_t(world: Ray, t_max: f32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    let m = media[0];
+    var r: Ray;
+    let range = to_index(m, world, t_max, &r);
+    if (range.z == 0.0) {
+        return 1.0;
+    }
+    return estimate(m, r, range.x, range.y, rng, lookups);
+}
+
+fn segment_t(mode: u32, world: Ray, t_max: f32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    if (mode == MODE_TARGET) {
+        return marched_t(rp.reuse_record, rp.reuse_step, world, t_max, lookups);
+    }
+    return shading_t(world, t_max, rng, lookups);
+}
