@@ -397,15 +397,20 @@ fn frames_render_a_sequence_and_stop_at_a_missing_frame() {
             .unwrap();
         assert!(!o.status.success());
         let err = String::from_utf8_lossy(&o.stderr);
-        assert!(err.contains("frame 2") && err.contains("d_2.raw"), "{device}: {err}");
+        assert!(
+            err.contains("frame 2") && err.contains("d_2.raw"),
+            "{device}: {err}"
+        );
         assert!(!err.contains("panicked"), "{device}: {err}");
         for f in 0..2 {
-            let img =
-                fogbank_image::image_io::read_image(dir.join(format!("{device}_{f:02}.exr")))
-                    .unwrap();
+            let img = fogbank_image::image_io::read_image(dir.join(format!("{device}_{f:02}.exr")))
+                .unwrap();
             assert_eq!((img.width, img.height), (12, 8));
             let mean = img.rgb.iter().map(|p| p[1] as f64).sum::<f64>() / img.rgb.len() as f64;
-            assert!(mean.is_finite() && mean > 0.0, "{device} frame {f}: mean {mean}");
+            assert!(
+                mean.is_finite() && mean > 0.0,
+                "{device} frame {f}: mean {mean}"
+            );
         }
         assert!(!dir.join(format!("{device}_02.exr")).exists());
     }

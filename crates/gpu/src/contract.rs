@@ -62,6 +62,23 @@ pub fn emission_id(e: Option<&Emission>) -> u32 {
     )
 }
 
+/// How the GPU evaluates a medium's velocity (`VELOCITY_*`): a grid of
+/// three property records, or an affine map M·p + c inside a box (a
+/// constant, and the plume's rise and swirl, which is affine in position).
+pub const VELOCITY_KINDS: [&str; 3] = ["none", "grid", "affine"];
+
+pub fn velocity_id(v: Option<&fogbank_render::world::velocity::Velocity>) -> u32 {
+    use fogbank_render::world::velocity::Velocity;
+    position(
+        &VELOCITY_KINDS,
+        match v {
+            None => "none",
+            Some(Velocity::Grid { .. }) => "grid",
+            Some(Velocity::Constant(_) | Velocity::Plume { .. }) => "affine",
+        },
+    )
+}
+
 /// A WGSL-ported estimator: its `ESTIMATOR` constant and the options the
 /// kernel reads from the frame (samples, fixed step or 0, flags).
 pub struct GpuEstimator {
@@ -164,6 +181,7 @@ pub fn wgsl_prelude() -> String {
     enumeration(&mut s, "STRATEGY", &Strategy::ALL.map(Strategy::name));
     enumeration(&mut s, "LIGHT", &Light::KINDS);
     enumeration(&mut s, "EMISSION", &EMISSION_KINDS);
+    enumeration(&mut s, "VELOCITY", &VELOCITY_KINDS);
     for (name, bit) in FLAGS {
         s.push_str(&format!("const FLAG_{name}: u32 = {bit}u;\n"));
     }

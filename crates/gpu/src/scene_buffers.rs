@@ -42,6 +42,8 @@ pub struct SceneBuffers {
     pub bytes: u64,
     /// Record of the first of the `extra` media of [`SceneBuffers::upload_with`].
     pub extra_first: u32,
+    /// Record of the first channel of each of its `fields`.
+    pub field_first: Vec<u32>,
 }
 
 #[derive(Default)]
@@ -82,15 +84,18 @@ fn check_size(what: &str, len: usize, limit: u64) -> Result<(), GpuError> {
 
 impl SceneBuffers {
     pub fn upload(gpu: &Gpu, scene: &Scene) -> Result<SceneBuffers, GpuError> {
-        Self::upload_with(gpu, scene, &[])
+        Self::upload_with(gpu, scene, &[], &[])
     }
 
     /// The scene's media and property grids, then the `extra` media (such
-    /// as a medium's mips) as records from [`SceneBuffers::extra_first`] on.
+    /// as a medium's mips) as records from [`SceneBuffers::extra_first`] on,
+    /// then the channels of `fields` (such as a velocity grid) as property
+    /// records ([`SceneBuffers::field_first`]).
     pub fn upload_with(
         gpu: &Gpu,
         scene: &Scene,
         extra: &[&Medium],
+        fields: &[&fogbank_render::world::field::Field],
     ) -> Result<SceneBuffers, GpuError> {
         let mut p = Packed::default();
         let mut media = Vec::new();
@@ -131,6 +136,17 @@ impl SceneBuffers {
                     .map_err(|e| GpuError(format!("derived medium {i}: {}", e.0)))?,
             );
         }
+        let mut field_first = Vec::with_capacity(fields.len());
+        for f in fields {
+            field_first.push(media.len() as u32);
+            let (channels, w2i) = f.parts();
+            for c in channels {
+                media.push(
+                    pack_property(c, w2i, &mut p)
+                        .map_err(|e| GpuError(format!("{}: {}", f.source, e.0)))?,
+                );
+            }
+        }
         let limit = gpu.device.limits().max_storage_buffer_binding_size;
         check_size("voxel data", p.data.len(), limit)?;
         check_size("brick table", p.table.len(), limit)?;
@@ -169,6 +185,7 @@ impl SceneBuffers {
             bind_group,
             bytes,
             extra_first,
+            field_first,
         })
     }
 }

@@ -11,6 +11,7 @@ pub const TRACK_LENGTH: &str = include_str!("wgsl/track_length.wgsl");
 pub const RATIO_TRACKING: &str = include_str!("wgsl/ratio_tracking.wgsl");
 pub const RESIDUAL_RATIO_TRACKING: &str = include_str!("wgsl/residual_ratio_tracking.wgsl");
 pub const ANALYTIC_TRILINEAR: &str = include_str!("wgsl/analytic_trilinear.wgsl");
+pub const DISTANCE_TRILINEAR: &str = include_str!("wgsl/distance_trilinear.wgsl");
 pub const OPTICAL_DEPTH: &str = include_str!("wgsl/optical_depth.wgsl");
 pub const JACKKNIFE: &str = include_str!("wgsl/jackknife.wgsl");
 pub const RAY_MARCHING: &str = include_str!("wgsl/ray_marching.wgsl");
@@ -99,6 +100,7 @@ pub fn restir_kernel() -> String {
         PHASE,
         LIGHTS,
         PROPERTIES,
+        DISTANCE_TRILINEAR,
         RESTIR_PARAMS,
         RESTIR_RESERVOIR,
         RESTIR_VOLUME,

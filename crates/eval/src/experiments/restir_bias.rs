@@ -39,9 +39,21 @@ fn measure(
 ) -> Result<Bias, String> {
     let text = shot.text();
     let last = shot.frames - 1;
-    let r = frame_references(&text, set, last..last + 1, reference_spp, 0x5EED_0010)?
-        .pop()
-        .ok_or("no reference")?;
+    // The reference takes the scene's keys, not restir's (Q is restir's).
+    let scene_set: Vec<String> = set
+        .iter()
+        .filter(|s| !s.starts_with("integrator."))
+        .cloned()
+        .collect();
+    let r = frame_references(
+        &text,
+        &scene_set,
+        last..last + 1,
+        reference_spp,
+        0x5EED_0010,
+    )?
+    .pop()
+    .ok_or("no reference")?;
     let frames = build_frames(&text, set, shot.frames)?;
     let n = r.rgb.len();
     let (mut sum, mut sq) = (vec![0.0f64; n], vec![0.0f64; n]);

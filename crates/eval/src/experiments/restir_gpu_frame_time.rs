@@ -90,8 +90,8 @@ fn baseline_ms(gpu: &Gpu, text: &str, k: u32, spp: u32) -> Result<f64, String> {
         seed: 1,
         time_budget: None,
     };
-    let r = fogbank_gpu::render::render(gpu, &scene, &opts, &Progress::default())
-        .map_err(|e| e.0)?;
+    let r =
+        fogbank_gpu::render::render(gpu, &scene, &opts, &Progress::default()).map_err(|e| e.0)?;
     r.gpu_ms
         .map(|ms| ms / spp as f64)
         .ok_or_else(|| "the device has no timestamp queries".to_string())

@@ -12,9 +12,8 @@
 //! frame's, so moving cameras, media placements and lights reuse as on the
 //! CPU. Timestamp queries give the time of each pass.
 //!
-//! Not ported (refused with a message): exact trilinear free flight at full
-//! resolution (`primary_mip`/`indirect_mip` = 0) and velocity fields of
-//! animated media.
+//! Velocity fields move reprojected points back as on the CPU (a grid, or
+//! an affine field: a constant or the plume's).
 
 #[cfg(test)]
 mod kernel_test;
@@ -27,11 +26,12 @@ use crate::scene_buffers::SceneBuffers;
 use crate::{shaders, Gpu, GpuError};
 use fogbank_render::integrators::restir::{Restir, Reuse};
 use fogbank_render::integrators::IntegratorKind;
+use fogbank_render::world::velocity::Velocity;
 use fogbank_render::{Film, Progress, RenderOptions, Scene};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 pub use uniform::STORED_BYTES;
-use uniform::{MipRecords, Regions, RestirUniform};
+use uniform::{MipRecords, Regions, RestirUniform, VelocityGpu};
 
 /// Reservoir regions: candidates, temporal output, previous frame's.
 const REGIONS: u64 = 3;
@@ -76,6 +76,7 @@ pub struct FrameGpu {
     frame_buf: wgpu::Buffer,
     frame_group: wgpu::BindGroup,
     frame: Frame,
+    velocity: VelocityGpu,
 }
 
 /// The restir kernels with their reservoir and accumulation buffers.
@@ -105,11 +106,6 @@ impl RestirGpu {
     pub fn new(gpu: &Gpu, scene: &Scene, max_batch: u32) -> Result<RestirGpu, GpuError> {
         let restir = restir_of(scene)?;
         let p = &restir.params;
-        if p.primary_mip == 0 || p.indirect_mip == 0 {
-            return Err(GpuError(
-                "restir on the GPU tracks candidates through mips 1–3; exact trilinear free flight (primary_mip or indirect_mip = 0) is CPU-only".into(),
-            ));
-        }
         let est = gpu_estimator(p.estimator).ok_or_else(|| {
             GpuError(format!(
                 "restir: shading estimator `{}` has no GPU kernel",
@@ -268,11 +264,6 @@ impl RestirGpu {
                 self.width, self.height
             )));
         }
-        if scene.world.frame_dt > 0.0 && scene.media[0].velocity.is_some() {
-            return Err(GpuError(
-                "restir on the GPU does not follow velocity fields yet; render animated media with velocity on the CPU".into(),
-            ));
-        }
         let est = gpu_estimator(restir.params.estimator)
             .ok_or_else(|| GpuError("restir: shading estimator has no GPU kernel".into()))?;
         upload_frame(
@@ -308,6 +299,7 @@ impl RestirGpu {
     ) -> Result<(), GpuError> {
         let plan = Regions::plan(self.prev, reuse.temporal, reuse.spatial);
         plan.apply(&mut self.uniform);
+        cur.velocity.apply(&mut self.uniform);
         self.uniform.frame_index = frame_index;
         self.uniform.accumulate = accumulate as u32;
         gpu.queue
@@ -442,7 +434,17 @@ fn upload_frame(
     if restir.params.reuse_bc4 {
         extra.push(restir.mips.reuse(full, restir.params.reuse_mip));
     }
-    let media = SceneBuffers::upload_with(gpu, scene, &extra)?;
+    let sm = &scene.media[0];
+    let fields: Vec<&fogbank_render::world::field::Field> = match &sm.velocity {
+        Some(Velocity::Grid { field, .. }) => vec![field],
+        _ => vec![],
+    };
+    let media = SceneBuffers::upload_with(gpu, scene, &extra, &fields)?;
+    let velocity = VelocityGpu::new(
+        sm.velocity.as_ref(),
+        media.field_first.first().copied().unwrap_or(0),
+        scene.world.frame_dt,
+    );
     let lights = LightBuffers::upload(gpu, scene, &media.properties)?;
     let frame_buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("frame"),
@@ -459,6 +461,7 @@ fn upload_frame(
         frame_buf,
         frame_group,
         frame,
+        velocity,
     })
 }
 

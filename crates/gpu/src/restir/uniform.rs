@@ -4,6 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use fogbank_render::integrators::restir::{RestirParams, ReuseMis};
+use fogbank_render::world::velocity::Velocity;
 
 /// Bytes of one stored reservoir (`Stored` in `wgsl/restir/reservoir.wgsl`).
 pub const STORED_BYTES: u64 = 336;
@@ -40,7 +41,86 @@ pub(crate) struct RestirUniform {
     pub(crate) reprojection: u32,
     pub(crate) velocity_resampling: u32,
     pub(crate) pad: [u32; 4],
+    /// The current frame's velocity ([`VelocityGpu`]).
+    pub(crate) velocity_kind: u32,
+    pub(crate) velocity_record: u32,
+    pub(crate) frame_dt: f32,
+    pub(crate) pad4: u32,
+    pub(crate) velocity: [[f32; 4]; 6],
     pub(crate) r2: [[f32; 4]; 16],
+}
+
+/// A frame's medium velocity as the GPU evaluates it (`velocity_at` in
+/// `wgsl/restir/candidates.wgsl`): `VELOCITY_GRID`: rows 0–2 the linear map
+/// of the grid's vectors to world vectors, the grid's channels from record
+/// `record`; `VELOCITY_AFFINE`: v(p) = rows 0–2 · (p, 1) where rows 3–5 ·
+/// (p, 1) lies in the unit cube, 0 elsewhere.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct VelocityGpu {
+    pub(crate) kind: u32,
+    pub(crate) record: u32,
+    pub(crate) rows: [[f32; 4]; 6],
+    /// Seconds since the previous frame.
+    pub(crate) dt: f32,
+}
+
+impl VelocityGpu {
+    /// `v` of a medium, with its grid's first record `record` (if a grid).
+    pub(crate) fn new(v: Option<&Velocity>, record: u32, dt: f32) -> VelocityGpu {
+        use crate::contract::velocity_id;
+        let mut out = VelocityGpu {
+            kind: velocity_id(v),
+            record,
+            rows: [[0.0; 4]; 6],
+            dt,
+        };
+        let row = |m: glam::DMat3, c: glam::DVec3, r: usize| {
+            [m.row(r).x, m.row(r).y, m.row(r).z, c[r]].map(|x| x as f32)
+        };
+        match v {
+            None => {}
+            Some(Velocity::Constant(c)) => {
+                for r in 0..3 {
+                    out.rows[r] = row(glam::DMat3::ZERO, c.as_dvec3(), r);
+                }
+            }
+            Some(Velocity::Grid { to_world, .. }) => {
+                for r in 0..3 {
+                    out.rows[r] = row(to_world.as_dmat3(), glam::DVec3::ZERO, r);
+                }
+            }
+            Some(Velocity::Plume {
+                world_to_unit,
+                unit_to_world,
+            }) => {
+                // plume_velocity is affine in the unit-cube position x:
+                // A x + b, recovered from four evaluations; in world
+                // coordinates v(p) = U (A (W p) + b).
+                let f = |x: glam::Vec3| fogbank_volume::plume::plume_velocity(x).as_dvec3();
+                let b = f(glam::Vec3::ZERO);
+                let a = glam::DMat3::from_cols(
+                    f(glam::Vec3::X) - b,
+                    f(glam::Vec3::Y) - b,
+                    f(glam::Vec3::Z) - b,
+                );
+                let u = unit_to_world.as_dmat3();
+                let m = u * a * world_to_unit.matrix3;
+                let c = u * (a * world_to_unit.translation + b);
+                for r in 0..3 {
+                    out.rows[r] = row(m, c, r);
+                    out.rows[3 + r] = row(world_to_unit.matrix3, world_to_unit.translation, r);
+                }
+            }
+        }
+        out
+    }
+
+    pub(crate) fn apply(&self, u: &mut RestirUniform) {
+        u.velocity_kind = self.kind;
+        u.velocity_record = self.record;
+        u.frame_dt = self.dt;
+        u.velocity = self.rows;
+    }
 }
 
 /// `MIS_*` of `params.wgsl`, in [`ReuseMis`]'s order.
@@ -109,6 +189,11 @@ impl RestirUniform {
             reprojection: p.reprojection as u32,
             velocity_resampling: p.velocity_resampling as u32,
             pad: [0; 4],
+            velocity_kind: 0,
+            velocity_record: 0,
+            frame_dt: 0.0,
+            pad4: 0,
+            velocity: [[0.0; 4]; 6],
             r2: pts,
         }
     }
@@ -247,6 +332,11 @@ mod layout_test {
                 vertex_reuse,
                 reprojection,
                 velocity_resampling,
+                velocity_kind,
+                velocity_record,
+                frame_dt,
+                pad4,
+                velocity,
                 r2
             )
         };
@@ -255,5 +345,63 @@ mod layout_test {
         }
         let (stored, _) = wgsl_struct(&src, "Stored");
         assert_eq!(stored as u64, STORED_BYTES, "Stored");
+    }
+}
+
+#[cfg(test)]
+mod velocity_test {
+    use super::VelocityGpu;
+    use fogbank_math::{DAffine3, DVec3, Vec3};
+    use fogbank_render::world::velocity::Velocity;
+
+    /// rows 0–2 · (p, 1) where rows 3–5 · (p, 1) is in the unit cube.
+    fn affine(v: &VelocityGpu, p: Vec3) -> Vec3 {
+        let o = [p.x, p.y, p.z, 1.0];
+        let dot = |r: [f32; 4]| (0..4).map(|i| r[i] * o[i]).sum::<f32>();
+        let u = Vec3::new(dot(v.rows[3]), dot(v.rows[4]), dot(v.rows[5]));
+        if u.cmplt(Vec3::ZERO).any() || u.cmpgt(Vec3::ONE).any() {
+            return Vec3::ZERO;
+        }
+        Vec3::new(dot(v.rows[0]), dot(v.rows[1]), dot(v.rows[2]))
+    }
+
+    /// The GPU's affine encoding of the plume's velocity (placed, scaled
+    /// and turned) and of a constant gives Velocity::at at any point,
+    /// inside and outside the plume's box.
+    #[test]
+    fn affine_rows_reproduce_the_cpu_velocity() {
+        let unit_xf = DAffine3::from_scale_rotation_translation(
+            DVec3::new(1.5, 2.0, 0.8),
+            glam::DQuat::from_rotation_y(0.6),
+            DVec3::new(-0.7, -1.0, 0.2),
+        );
+        let plume = Velocity::Plume {
+            world_to_unit: unit_xf.inverse(),
+            unit_to_world: unit_xf.matrix3.as_mat3(),
+        };
+        let constant = Velocity::Constant(Vec3::new(0.3, -1.2, 2.0));
+        let mut rng = fogbank_math::Pcg32::new(5, 9);
+        let mut inside = 0;
+        for v in [&plume, &constant] {
+            let g = VelocityGpu::new(Some(v), 0, 0.04);
+            for _ in 0..2000 {
+                // Around the plume's box: unit coordinates in [−¼, 1¼]³.
+                let u = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 1.5
+                    - Vec3::splat(0.25);
+                let p = unit_xf.transform_point3(u.as_dvec3()).as_vec3();
+                let (cpu, gpu) = (v.at(p), affine(&g, p));
+                inside += (cpu != Vec3::ZERO) as u32;
+                assert!(
+                    (cpu - gpu).length() <= 1e-4 * (1.0 + cpu.length()),
+                    "{p}: {cpu} vs {gpu}"
+                );
+            }
+        }
+        // (1/1.5)³ ≈ 30 % of the points fall inside the plume's box.
+        assert!(
+            inside > 2000 + 400,
+            "points inside the plume's box: {}",
+            inside - 2000
+        );
     }
 }

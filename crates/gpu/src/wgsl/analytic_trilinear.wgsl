@@ -1,8 +1,52 @@
 // fogbank_estimators::analytic_trilinear: the optical depth of the
 // trilinear interpolant, exact per dual cell (a cubic in t) by two-point
-// Gauss–Legendre.
+// Gauss–Legendre. The dual cell is the one definition the exact free-flight
+// sampler (distance_trilinear.wgsl) shares.
 
 const GL_NODE: f32 = 0.5773502691896258;
+
+// analytic_trilinear::DualCell: the eight voxel values around dual cell c
+// (which spans voxel centres c − 1 … c of the ray shifted by +½).
+struct DualCell {
+    c: array<f32, 8>,
+    base: vec3<f32>,
+}
+
+fn dual_cell(m: MediumGpu, cell: vec3<i32>) -> DualCell {
+    let c = cell - vec3<i32>(1);
+    var d: DualCell;
+    d.c[0] = fetch(m, c.x, c.y, c.z);
+    d.c[1] = fetch(m, c.x + 1, c.y, c.z);
+    d.c[2] = fetch(m, c.x, c.y + 1, c.z);
+    d.c[3] = fetch(m, c.x + 1, c.y + 1, c.z);
+    d.c[4] = fetch(m, c.x, c.y, c.z + 1);
+    d.c[5] = fetch(m, c.x + 1, c.y, c.z + 1);
+    d.c[6] = fetch(m, c.x, c.y + 1, c.z + 1);
+    d.c[7] = fetch(m, c.x + 1, c.y + 1, c.z + 1);
+    d.base = vec3<f32>(cell);
+    return d;
+}
+
+// DualCell::value at parameter t of the shifted ray o + t d. Relative to
+// the cell corner, so the weights keep f32 precision far from the origin.
+fn dual_value(d: ptr<function, DualCell>, o: vec3<f32>, dir: vec3<f32>, t: f32) -> f32 {
+    let w = clamp(o - (*d).base + t * dir, vec3<f32>(0.0), vec3<f32>(1.0));
+    let x0 = (*d).c[0] + w.x * ((*d).c[1] - (*d).c[0]);
+    let x1 = (*d).c[2] + w.x * ((*d).c[3] - (*d).c[2]);
+    let x2 = (*d).c[4] + w.x * ((*d).c[5] - (*d).c[4]);
+    let x3 = (*d).c[6] + w.x * ((*d).c[7] - (*d).c[6]);
+    let y0 = x0 + w.y * (x1 - x0);
+    let y1 = x2 + w.y * (x3 - x2);
+    return y0 + w.z * (y1 - y0);
+}
+
+// DualCell::integral over [a, b]: exact for the cubic.
+fn dual_integral(d: ptr<function, DualCell>, o: vec3<f32>, dir: vec3<f32>, a: f32, b: f32) -> f32 {
+    let mid = 0.5 * (a + b);
+    let half_len = 0.5 * (b - a);
+    return (dual_value(d, o, dir, mid - half_len * GL_NODE)
+        + dual_value(d, o, dir, mid + half_len * GL_NODE)) * half_len;
+}
 
 fn analytic_trilinear(m: MediumGpu, r: Ray, t0: f32, t1: f32, lookups: ptr<function, u32>) -> f32 {
     var shifted = r;
@@ -11,38 +55,12 @@ fn analytic_trilinear(m: MediumGpu, r: Ray, t0: f32, t1: f32, lookups: ptr<funct
     var dda = dda_new(shifted, 1.0, m.dims + vec3<u32>(1u), t0, t1);
     var s: DdaStep;
     while (dda_next(&dda, &s)) {
-        let len = s.t1 - s.t0;
-        if (len <= 0.0) {
+        if (s.t1 - s.t0 <= 0.0) {
             continue;
         }
         *lookups += 1u;
-        let c = s.cell - vec3<i32>(1);
-        let c000 = fetch(m, c.x, c.y, c.z);
-        let c100 = fetch(m, c.x + 1, c.y, c.z);
-        let c010 = fetch(m, c.x, c.y + 1, c.z);
-        let c110 = fetch(m, c.x + 1, c.y + 1, c.z);
-        let c001 = fetch(m, c.x, c.y, c.z + 1);
-        let c101 = fetch(m, c.x + 1, c.y, c.z + 1);
-        let c011 = fetch(m, c.x, c.y + 1, c.z + 1);
-        let c111 = fetch(m, c.x + 1, c.y + 1, c.z + 1);
-        let base = vec3<f32>(s.cell);
-        let mid = 0.5 * (s.t0 + s.t1);
-        let half_len = 0.5 * len;
-        var sum = 0.0;
-        for (var k = 0; k < 2; k++) {
-            let t = mid + select(-1.0, 1.0, k == 1) * half_len * GL_NODE;
-            // Relative to the cell corner, so the weights keep f32 precision
-            // far from the index origin.
-            let w = clamp(shifted.o - base + t * shifted.d, vec3<f32>(0.0), vec3<f32>(1.0));
-            let x0 = c000 + w.x * (c100 - c000);
-            let x1 = c010 + w.x * (c110 - c010);
-            let x2 = c001 + w.x * (c101 - c001);
-            let x3 = c011 + w.x * (c111 - c011);
-            let y0 = x0 + w.y * (x1 - x0);
-            let y1 = x2 + w.y * (x3 - x2);
-            sum += y0 + w.z * (y1 - y0);
-        }
-        tau += sum * half_len;
+        var cell = dual_cell(m, s.cell);
+        tau += dual_integral(&cell, shifted.o, shifted.d, s.t0, s.t1);
     }
     return exp(-tau * m.scale);
 }

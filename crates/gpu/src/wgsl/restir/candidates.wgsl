@@ -168,6 +168,26 @@ fn resample_point(world: Ray, rng: ptr<function, Pcg32>, lookups: ptr<function, 
     return chosen.x + pcg32_next_f32(rng) * (chosen.y - chosen.x);
 }
 
+// Velocity::at of the current frame's medium (world lengths per second):
+// a grid of three property records turned to world vectors, or an affine
+// field inside its box (VelocityGpu in src/restir/uniform.rs).
+fn velocity_at(p: vec3<f32>) -> vec3<f32> {
+    let o = vec4<f32>(p, 1.0);
+    let v = rp.velocity;
+    if (rp.velocity_kind == VELOCITY_GRID) {
+        let f = field_eval(rp.velocity_record, 3u, p);
+        return vec3<f32>(dot(v[0].xyz, f), dot(v[1].xyz, f), dot(v[2].xyz, f));
+    }
+    if (rp.velocity_kind == VELOCITY_AFFINE) {
+        let u = vec3<f32>(dot(v[3], o), dot(v[4], o), dot(v[5], o));
+        if (any(u < vec3<f32>(0.0)) || any(u > vec3<f32>(1.0))) {
+            return vec3<f32>(0.0);
+        }
+        return vec3<f32>(dot(v[0], o), dot(v[1], o), dot(v[2], o));
+    }
+    return vec3<f32>(0.0);
+}
+
 // The first part of Restir::temporal, run with the current frame's data:
 // the two pixel-pick numbers, then what the pixel saw (x_1 of the
 // candidate, else a point resampled along the ray, else the background
@@ -185,10 +205,12 @@ fn reprojection_source(index: u32, ray: Ray, r: ptr<function, Reservoir>,
             t = resample_point(ray, rng, lookups);
         }
         if (t >= 0.0) {
-            // In the medium's index space: the reprojection pass maps it out
+            // Moved back along the velocity for one frame, then into the
+            // medium's index space: the reprojection pass maps it out
             // through the previous frame's placement (rigid motion).
             let m = media[0];
-            let o = vec4<f32>(ray_at(ray, t), 1.0);
+            let x = ray_at(ray, t);
+            let o = vec4<f32>(x - velocity_at(x) * rp.frame_dt, 1.0);
             seen = vec4<f32>(dot(m.w2i0, o), dot(m.w2i1, o), dot(m.w2i2, o), 1.0);
         } else {
             seen = vec4<f32>(ray.d, 0.0);

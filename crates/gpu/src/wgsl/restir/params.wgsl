@@ -48,6 +48,13 @@ struct RestirUniform {
     pad1: u32,
     pad2: u32,
     pad3: u32,
+    // The current frame's medium velocity (VelocityGpu of src/restir/uniform.rs)
+    // and the seconds since the previous frame.
+    velocity_kind: u32,
+    velocity_record: u32,
+    frame_dt: f32,
+    pad4: u32,
+    velocity: array<vec4<f32>, 6>,
     // Points 0..32 of the R2 sequence (two per vec4), as neighbours.rs.
     r2: array<vec4<f32>, 16>,
 }

@@ -21,16 +21,23 @@ struct Flight {
     tau: f32,
 }
 
-// volume::track with regular_tracking::sample_tracked: the exact optical
-// depth of the nearest-filtered mip record `mi`, inverted voxel by voxel.
+// volume::track: regular tracking (regular_tracking::sample_tracked)
+// through the nearest-filtered mip record `mi` — the exact optical depth
+// inverted voxel by voxel — or, for record 0 (the scene's medium, mip
+// level 0), exact free flight through its trilinear field.
 fn restir_track(mi: u32, world: Ray, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> Flight {
     let m = media[mi];
     var r: Ray;
     let range = to_index(m, world, F32_INF, &r);
-    let target_tau = -log(1.0 - pcg32_next_f32(rng));
+    let u = pcg32_next_f32(rng);
     if (range.z == 0.0) {
         return Flight(NO_HIT, 0.0, 0.0);
     }
+    if (mi == 0u) {
+        let f = trilinear_flight(m, r, range.x, range.y, u, lookups);
+        return Flight(f.x, f.y, f.z);
+    }
+    let target_tau = -log(1.0 - u);
     var tau = 0.0;
     var dda = dda_new(r, 1.0, m.dims, range.x, range.y);
     var s: DdaStep;
