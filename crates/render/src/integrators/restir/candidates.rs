@@ -32,6 +32,7 @@ impl Restir {
     pub fn candidates(
         &self,
         data: &FrameData,
+        pixel: Option<usize>,
         ray0: &Ray,
         rng: &mut Pcg32,
         lookups: &mut u32,
@@ -42,7 +43,7 @@ impl Restir {
             self.walk(data, ray0, rng, &mut res, lookups);
         }
         if let Some(y) = res.y {
-            let p_hat = self.p_hat(data, ray0, &y, lookups);
+            let p_hat = self.p_hat(data, pixel, ray0, &y, lookups);
             res.retarget(p_hat);
         }
         res
@@ -192,6 +193,7 @@ impl Restir {
             SegmentT::Marched {
                 medium: data.mips.level(full, self.params.nee_mip),
                 step: 1.0,
+                primary: None,
             }
             .eval(full, &Ray::new(x, ls.wi), ls.distance, lookups)
         } else {

@@ -24,6 +24,8 @@ pub const MAX_INPUTS: usize = 33;
 /// One input of a combination.
 pub struct Input<'a> {
     pub res: Reservoir<PathSample>,
+    /// The pixel's index (for its primary-ray T̃ table) and centre ray.
+    pub pixel: usize,
     pub ray: Ray,
     pub data: &'a FrameData<'a>,
 }
@@ -52,7 +54,7 @@ impl Restir {
             match xi.res.y {
                 None => 0.0,
                 Some(_) if i == j => xi.res.p_hat,
-                Some(y) => self.p_hat(into.data, &into.ray, &y, lookups),
+                Some(y) => self.p_hat(into.data, Some(into.pixel), &into.ray, &y, lookups),
             }
         };
         let mut out = Reservoir::default();

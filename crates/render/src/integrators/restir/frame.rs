@@ -8,6 +8,7 @@
 
 use super::integrator::{FrameData, Restir};
 use super::path::PathSample;
+use super::primary::PrimaryT;
 use super::reservoir::Reservoir;
 use super::temporal::Previous;
 use crate::world::World;
@@ -43,6 +44,8 @@ pub struct Sequence<'r> {
     sequence: u32,
     frame: u32,
     prev: Option<Vec<Reservoir<PathSample>>>,
+    /// The previous frame's primary-ray T̃ tables.
+    prev_primary: Option<PrimaryT>,
 }
 
 impl<'r> Sequence<'r> {
@@ -55,6 +58,7 @@ impl<'r> Sequence<'r> {
             sequence,
             frame: 0,
             prev: None,
+            prev_primary: None,
         }
     }
 
@@ -63,6 +67,24 @@ impl<'r> Sequence<'r> {
     /// parameters are the sequence's; the mips and lights are each frame's.
     pub fn frame(&mut self, cur: &FrameData, prev: &FrameData) -> FrameOutput {
         let r = self.restir;
+        // This frame's primary-ray T̃ tables; the previous frame's came with it.
+        let full = &cur.world.media[0].medium;
+        let reuse = cur.mips.reuse(full, r.params.reuse_mip);
+        let clock = Instant::now();
+        let table = r
+            .params
+            .primary_table
+            .then(|| PrimaryT::build(reuse, r.params.reuse_step, &cur.world.camera))
+            .flatten();
+        let table_seconds = clock.elapsed().as_secs_f64();
+        let cur = &FrameData {
+            primary: table.as_ref(),
+            ..*cur
+        };
+        let prev = &FrameData {
+            primary: self.prev_primary.as_ref(),
+            ..*prev
+        };
         let cam = &cur.world.camera;
         let (w, n) = (cam.width, (cam.width * cam.height) as usize);
         let (seed, sequence, frame) = (self.seed, self.sequence, self.frame);
@@ -84,9 +106,12 @@ impl<'r> Sequence<'r> {
         let mut lookups = 0u64;
 
         let clock = Instant::now();
-        let (mut res, l) = collect(n, |i, lk| r.candidates(cur, &ray(i), &mut rng(i, 0), lk));
+        let (mut res, l) = collect(n, |i, lk| {
+            r.candidates(cur, Some(i), &ray(i), &mut rng(i, 0), lk)
+        });
         lookups += l;
-        times.candidates = clock.elapsed().as_secs_f64();
+        // The tables serve every pass; their time is counted here.
+        times.candidates = table_seconds + clock.elapsed().as_secs_f64();
 
         let old_cam = &prev.world.camera;
         let same_size = old_cam.width == cam.width && old_cam.height == cam.height;
@@ -128,6 +153,7 @@ impl<'r> Sequence<'r> {
         lookups += shaded.iter().map(|s| s.1 as u64).sum::<u64>();
 
         self.prev = Some(res);
+        self.prev_primary = table;
         self.frame += 1;
         FrameOutput {
             radiance: shaded.into_iter().map(|s| s.0).collect(),

@@ -4,6 +4,7 @@
 
 use super::params::RestirParams;
 use super::path::PathSample;
+use super::primary::PrimaryT;
 use super::reservoir::Reservoir;
 use super::target::{evaluate, luminance};
 use super::volume::{Mips, SegmentT};
@@ -16,11 +17,14 @@ use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
 use fogbank_volume::DensityData;
 
 /// What a frame's passes read: the world of that frame, its medium's mips
-/// and its light selection.
+/// and its light selection, and (built by [`super::frame::Sequence`]) the
+/// reuse T̃ of its pixels' primary rays.
+#[derive(Clone, Copy)]
 pub struct FrameData<'a> {
     pub world: &'a World,
     pub mips: &'a Mips,
     pub lights: &'a LightSampler,
+    pub primary: Option<&'a PrimaryT>,
 }
 
 /// The built integrator (for the scene's world as built).
@@ -58,16 +62,28 @@ impl Restir {
             world,
             mips: &self.mips,
             lights: &self.lights,
+            primary: None,
         }
     }
 
     /// The reuse target p̂ of the pixel with primary ray `ray` at path `y`:
     /// luminance of the path with T̃ marched on mip `reuse_mip` (§4.3, §5.1).
-    pub fn p_hat(&self, data: &FrameData, ray: &Ray, y: &PathSample, lookups: &mut u32) -> f32 {
+    /// With the pixel's index (`ray` its centre ray) and the frame's
+    /// primary-ray tables, the first segment's T̃ comes from the table (the
+    /// same value).
+    pub fn p_hat(
+        &self,
+        data: &FrameData,
+        pixel: Option<usize>,
+        ray: &Ray,
+        y: &PathSample,
+        lookups: &mut u32,
+    ) -> f32 {
         let full = &data.world.media[0].medium;
         let mut tr = SegmentT::Marched {
             medium: data.mips.reuse(full, self.params.reuse_mip),
             step: self.params.reuse_step,
+            primary: data.primary.zip(pixel),
         };
         luminance(evaluate(data.world, ray, y, &mut tr, lookups)).max(0.0)
     }
@@ -102,7 +118,7 @@ impl Restir {
         let mut rng = estimator_rng(key);
         let ray = world.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
         let mut lookups = 0;
-        let res = self.candidates(&data, &ray, &mut rng, &mut lookups);
+        let res = self.candidates(&data, None, &ray, &mut rng, &mut lookups);
         let radiance = self.shade(&data, &ray, &res, &mut rng, &mut lookups);
         PixelSample { radiance, lookups }
     }

@@ -31,6 +31,7 @@
 //! | `reuse_step` | 1 | marching step of T̃ in p̂, in voxel diagonals of `reuse_mip` |
 //! | `estimator` | `analytic_trilinear` | transmittance of final shading: exact, or any unbiased estimator |
 //! | `reuse_bc4` | false | march the reuse T̃ through a BC4-compressed copy of its mip (4 bits a voxel, §5.1; p̂ only, so no bias) |
+//! | `primary_table` | true | tabulate the reuse T̃ of every pixel's primary ray once per frame ([`primary`]): the same p̂ bit for bit with one lookup per first segment instead of a march (CPU; the GPU marches) |
 //! | `shift` | `direction` | path shift of reuse: `direction` (ω_i and z_i copied, §4.2's default) or `vertex` (x_2 … x_k kept, 1/z² terms) |
 //! | `reprojection` | true | temporal reuse follows x_1 to the previous frame (false: the same pixel, Fig. 8) |
 //! | `velocity_resampling` | true | a sample without x_1 reprojects through a medium point resampled ∝ σ_t·T along its ray (§5.2, Fig. 13) |
@@ -43,6 +44,7 @@ pub mod integrator;
 pub mod neighbours;
 pub mod params;
 pub mod path;
+pub mod primary;
 pub mod reservoir;
 pub mod spatial;
 pub mod target;

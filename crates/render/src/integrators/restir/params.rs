@@ -7,7 +7,7 @@ use crate::error::SceneError;
 use crate::params::{take_estimator, Param, ParamReader};
 use fogbank_estimators::Estimator;
 
-pub const PARAMS: [Param; 20] = [
+pub const PARAMS: [Param; 21] = [
     Param {
         key: "max_depth",
         default: "3",
@@ -89,6 +89,11 @@ pub const PARAMS: [Param; 20] = [
         meaning: "the reuse T̃'s mip through BC4 compression (4 bits a voxel, §5.1)",
     },
     Param {
+        key: "primary_table",
+        default: "true",
+        meaning: "tabulate the reuse T̃ of every primary ray once per frame (the same p̂, fewer lookups; CPU)",
+    },
+    Param {
         key: "shift",
         default: "direction",
         meaning: "path shift of reuse: direction (ω_i, z_i copied) or vertex (x_2 … kept)",
@@ -160,6 +165,8 @@ pub struct RestirParams {
     pub vertex_reuse: bool,
     /// March the reuse target through a BC4-compressed mip (§5.1).
     pub reuse_bc4: bool,
+    /// Tabulate the reuse T̃ of primary rays once per frame (CPU speed-up).
+    pub primary_table: bool,
     /// Temporal reuse follows x_1 to the previous frame (§4.4).
     pub reprojection: bool,
     /// A sample without x_1 reprojects a resampled medium point (§5.2).
@@ -190,6 +197,7 @@ impl Default for RestirParams {
             rr_depth: 3,
             vertex_reuse: false,
             reuse_bc4: false,
+            primary_table: true,
             reprojection: true,
             velocity_resampling: true,
         }
@@ -263,6 +271,7 @@ impl RestirParams {
         }
         let rr_depth = r.take("rr_depth")?.unwrap_or(d.rr_depth);
         let reuse_bc4 = r.take("reuse_bc4")?.unwrap_or(false);
+        let primary_table = r.take("primary_table")?.unwrap_or(true);
         let reprojection = r.take("reprojection")?.unwrap_or(true);
         let velocity_resampling = r.take("velocity_resampling")?.unwrap_or(true);
         let vertex_reuse = match r.take::<String>("shift")?.as_deref() {
@@ -294,6 +303,7 @@ impl RestirParams {
             rr_depth: in_range(r, "rr_depth", rr_depth, 1, 1000)?,
             vertex_reuse,
             reuse_bc4,
+            primary_table,
             reprojection,
             velocity_resampling,
         })
@@ -320,6 +330,7 @@ impl RestirParams {
         );
         t.insert("rr_depth".into(), i64::from(self.rr_depth).into());
         t.insert("reuse_bc4".into(), self.reuse_bc4.into());
+        t.insert("primary_table".into(), self.primary_table.into());
         t.insert("reprojection".into(), self.reprojection.into());
         t.insert(
             "velocity_resampling".into(),

@@ -26,6 +26,7 @@ impl Restir {
         let index = pixel.1 * cam.width + pixel.0;
         let mut inputs = vec![Input {
             res: pixels[index as usize],
+            pixel: index as usize,
             ray: centre(pixel.0, pixel.1),
             data,
         }];
@@ -38,6 +39,7 @@ impl Restir {
             let (x, y) = (x as u32, y as u32);
             inputs.push(Input {
                 res: pixels[(y * cam.width + x) as usize],
+                pixel: (y * cam.width + x) as usize,
                 ray: centre(x, y),
                 data,
             });

@@ -61,7 +61,7 @@ pub fn evaluate(
         if le == Vec3::ZERO {
             return Vec3::ZERO;
         }
-        return le * tr.eval(full, ray0, f32::INFINITY, lookups);
+        return le * tr.eval_primary(full, ray0, f32::INFINITY, lookups);
     }
     let hg = HenyeyGreenstein { g: m.phase_g };
     let k = y.k as usize;
@@ -99,7 +99,12 @@ pub fn evaluate(
             return Vec3::ZERO;
         }
         let albedo = m.albedo_at(x);
-        f *= g * tr.eval(full, &seg, z, lookups);
+        let t = if i == 0 {
+            tr.eval_primary(full, &seg, z, lookups)
+        } else {
+            tr.eval(full, &seg, z, lookups)
+        };
+        f *= g * t;
         if last && y.end == PathEnd::Emission {
             f *= m.emitted(x, albedo) * sigma;
         } else {

@@ -96,11 +96,13 @@ impl Restir {
         let inputs = [
             Input {
                 res: cand,
+                pixel: (pixel.1 * w + pixel.0) as usize,
                 ray: *ray,
                 data: cur,
             },
             Input {
                 res: old,
+                pixel: (from.1 * w + from.0) as usize,
                 ray: cam.ray(from.0 as f32 + 0.5, from.1 as f32 + 0.5),
                 data: prev.data,
             },

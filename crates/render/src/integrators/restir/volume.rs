@@ -5,6 +5,7 @@
 //! (deterministic ray marching of a mip, inside p̂) and T (exact or an
 //! unbiased estimator, in F).
 
+use super::primary::PrimaryT;
 use crate::error::SceneError;
 use fogbank_estimators::distance::{analytic_trilinear, regular_tracking, TrackedFlight};
 use fogbank_estimators::{analytic_trilinear as exact, deterministic_marching, Estimator};
@@ -124,7 +125,13 @@ pub enum SegmentT<'a> {
     /// T̃ = exp(−τ̃): deterministic midpoint marching of the trilinear field
     /// of `medium` (a mip, or the full grid), `step` of its voxel diagonals
     /// (seed 002 §4.3, §5.1). Inside p̂.
-    Marched { medium: &'a Medium, step: f32 },
+    /// `primary`: the frame's primary-ray tables and the pixel whose
+    /// centre ray is the path's first segment ([`SegmentT::eval_primary`]).
+    Marched {
+        medium: &'a Medium,
+        step: f32,
+        primary: Option<(&'a PrimaryT, usize)>,
+    },
     /// The exact T of the full-resolution trilinear field (analytic
     /// piecewise-trilinear integration, Szirmay-Kalos 2011). In F.
     Exact,
@@ -136,11 +143,25 @@ pub enum SegmentT<'a> {
 }
 
 impl SegmentT<'_> {
+    /// [`SegmentT::eval`] of a path's first segment, `[0, t_max]` of the
+    /// pixel's centre ray `ray`: from the pixel's table when there is one.
+    pub fn eval_primary(&mut self, full: &Medium, ray: &Ray, t_max: f32, lookups: &mut u32) -> f32 {
+        if let SegmentT::Marched {
+            medium,
+            primary: Some((table, pixel)),
+            ..
+        } = self
+        {
+            return table.transmittance(medium, *pixel, t_max, lookups);
+        }
+        self.eval(full, ray, t_max, lookups)
+    }
+
     /// Transmittance of `[0, t_max]` along the world `ray` through `full`
     /// (the scene's medium at full resolution).
     pub fn eval(&mut self, full: &Medium, ray: &Ray, t_max: f32, lookups: &mut u32) -> f32 {
         match self {
-            SegmentT::Marched { medium, step } => {
+            SegmentT::Marched { medium, step, .. } => {
                 let Some((r, t0, t1)) = medium.to_index(ray, 0.0, t_max) else {
                     return 1.0;
                 };
