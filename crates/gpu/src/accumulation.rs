@@ -67,6 +67,30 @@ pub(crate) fn frame_bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupL
     })
 }
 
+/// After `n` passes over `pixels` pixels: the progress counted and, with
+/// an observer, the film so far shown with the render seconds so far; the
+/// read-back is not counted (`start` moves past it).
+pub(crate) fn after_passes(
+    progress: &fogbank_render::Progress,
+    n: u32,
+    pixels: u64,
+    after: &mut Option<Observer<'_>>,
+    start: &mut std::time::Instant,
+    film: impl FnOnce() -> Result<Film, GpuError>,
+) -> Result<(), GpuError> {
+    use std::sync::atomic::Ordering;
+    progress
+        .samples_done
+        .fetch_add(n as u64 * pixels, Ordering::Relaxed);
+    progress.passes_done.fetch_add(n as u64, Ordering::Relaxed);
+    if let Some(f) = after.as_mut() {
+        let observing = std::time::Instant::now();
+        f(&film()?, (observing - *start).as_secs_f64());
+        *start += observing.elapsed();
+    }
+    Ok(())
+}
+
 /// Called with the film so far and the render seconds so far.
 pub type Observer<'a> = &'a mut dyn FnMut(&Film, f64);
 

@@ -3,7 +3,7 @@
 //! CPU's (same scene, seed, sample indices and random streams), accumulated
 //! on the device and read back once.
 
-use crate::accumulation::{frame_bind_group_layout, read_film, Frame};
+use crate::accumulation::{after_passes, frame_bind_group_layout, read_film, Frame};
 pub use crate::accumulation::{GpuRender, Observer};
 use crate::contract::{gpu_estimator, sampler_id, strategy_id, GpuEstimator};
 use crate::scene_buffers::SceneBuffers;
@@ -328,16 +328,9 @@ pub(crate) fn render_kernel(
             .map_err(|e| GpuError(format!("device poll failed: {e}")))?;
         issued += 1;
         done += n;
-        progress
-            .samples_done
-            .fetch_add(n as u64 * pixels, Ordering::Relaxed);
-        progress.passes_done.fetch_add(n as u64, Ordering::Relaxed);
-        if let Some(f) = after.as_mut() {
-            let observing = Instant::now();
-            let film = read_film(gpu, w, h, &sum, &sq, &lookups)?;
-            f(&film, (observing - start).as_secs_f64());
-            start += observing.elapsed();
-        }
+        after_passes(progress, n, pixels, &mut after, &mut start, || {
+            read_film(gpu, w, h, &sum, &sq, &lookups)
+        })?;
     }
     let seconds = start.elapsed().as_secs_f64();
     let gpu_ms = match &queries {

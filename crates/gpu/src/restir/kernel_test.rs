@@ -4,7 +4,7 @@
 //! writer has panicked on constructs the validator accepts, such as a
 //! pointer to a struct member passed to a function).
 
-use super::PASSES;
+use super::kernels::PASSES;
 
 fn module() -> (naga::Module, naga::valid::ModuleInfo, String) {
     let src = crate::shaders::restir_kernel();

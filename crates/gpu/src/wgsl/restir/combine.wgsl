@@ -35,8 +35,9 @@ fn set_input(i: u32, index: u32, pixel: u32, cap: f32) {
     in_m[i] = m;
 }
 
-// p̂_j(x_i): pixel j's target at input i's sample.
-fn p_hat_at(i: u32, j: u32, lookups: ptr<function, u32>) -> f32 {
+// p̂_j(x_i): pixel j's target at input i's sample `y` (its stored path,
+// loaded once by the caller).
+fn p_hat_at(i: u32, j: u32, y: ptr<function, Path>, lookups: ptr<function, u32>) -> f32 {
     if (!in_has_y[i]) {
         return 0.0;
     }
@@ -46,9 +47,8 @@ fn p_hat_at(i: u32, j: u32, lookups: ptr<function, u32>) -> f32 {
     if (combining_temporal && j == 1u) {
         return temporal_p_hat_prev;
     }
-    var y = load_reservoir(in_index[i]).y;
     let p = in_pixel[j];
-    return p_hat_of(centre_ray(p % frame.width, p / frame.width), &y, lookups);
+    return p_hat_of(centre_ray(p % frame.width, p / frame.width), y, lookups);
 }
 
 // Restir::combine: the combined reservoir of input 0's pixel.
@@ -64,6 +64,7 @@ fn combine(n: u32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> Re
         if (!in_has_y[i] || in_w[i] <= 0.0) {
             continue;
         }
+        var y = load_reservoir(in_index[i]).y;
         var p_hat_q = 0.0;
         var weight = 0.0;
         if (rp.mis == MIS_TALBOT) {
@@ -71,7 +72,7 @@ fn combine(n: u32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> Re
             var den = 0.0;
             var own = 0.0;
             for (var j = 0u; j < n; j++) {
-                let p = p_hat_at(i, j, lookups);
+                let p = p_hat_at(i, j, &y, lookups);
                 den += in_m[j] * p;
                 if (j == i) {
                     own = p;
@@ -84,7 +85,7 @@ fn combine(n: u32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> Re
                 weight = in_m[i] * own / den;
             }
         } else {
-            p_hat_q = p_hat_at(i, 0u, lookups);
+            p_hat_q = p_hat_at(i, 0u, &y, lookups);
             weight = in_m[i] / m_total;
         }
         // reservoir::stream_input
@@ -100,13 +101,14 @@ fn combine(n: u32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> Re
     }
     out.m = m_total;
     if (chosen < MAX_INPUTS) {
-        out.y = load_reservoir(in_index[chosen]).y;
+        var y = load_reservoir(in_index[chosen]).y;
+        out.y = y;
         out.has_y = true;
         if (rp.mis == MIS_STOCHASTIC) {
             // Eq. 10 for unequal M: W = m_r(y)·w_sum/(M_r p̂_q(y)).
             var den = 0.0;
             for (var j = 0u; j < n; j++) {
-                den += in_m[j] * p_hat_at(chosen, j, lookups);
+                den += in_m[j] * p_hat_at(chosen, j, &y, lookups);
             }
             let num = m_total * in_p_hat[chosen];
             if (den > 0.0) {
