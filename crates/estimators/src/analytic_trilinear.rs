@@ -7,7 +7,7 @@
 //! with two evaluations per cell. Computed in f64.
 
 use fogbank_math::{Ray, Vec3};
-use fogbank_volume::{BrickGrid, Dda, GridView, Voxel};
+use fogbank_volume::{BrickGrid, Dda, GridView, Occupied, Voxel, ZERO_TRILINEAR};
 use glam::DVec3;
 
 const GL_NODE: f64 = 0.577_350_269_189_625_8; // 1/√3
@@ -78,19 +78,24 @@ pub fn shifted(ray: &Ray, dims: [u32; 3]) -> (Ray, [u32; 3]) {
 }
 
 /// τ over `[t0, t1]` (clipped to the grid box `[0, dims]`). Returns
-/// (τ, lookups = dual cells visited; each reads eight voxels).
+/// (τ, lookups = dual cells visited; each reads eight voxels). Skips the
+/// super-voxels where the field is zero ([`Occupied`]); a dual cell cut by
+/// a span's end is integrated in pieces, which sum to the same cubic's
+/// integral.
 pub fn optical_depth<T: Voxel>(v: &GridView<'_, T>, ray: &Ray, t0: f32, t1: f32) -> (f64, u32) {
     let (shifted, n) = shifted(ray, v.grid.dims());
     let (o, d) = (shifted.o.as_dvec3(), shifted.d.as_dvec3());
     let mut tau = 0.0f64;
     let mut lookups = 0;
-    for s in Dda::new(&shifted, 1.0, n, t0, t1) {
-        let len = (s.t1 - s.t0) as f64;
-        if len <= 0.0 {
-            continue;
+    for (ta, tb) in Occupied::new(v.supervoxels, ZERO_TRILINEAR, ray, t0, t1) {
+        for s in Dda::new(&shifted, 1.0, n, ta, tb) {
+            let len = (s.t1 - s.t0) as f64;
+            if len <= 0.0 {
+                continue;
+            }
+            lookups += 1;
+            tau += DualCell::new(v.grid, s.cell).integral(o, d, s.t0 as f64, s.t1 as f64);
         }
-        lookups += 1;
-        tau += DualCell::new(v.grid, s.cell).integral(o, d, s.t0 as f64, s.t1 as f64);
     }
     (tau * v.scale as f64, lookups)
 }

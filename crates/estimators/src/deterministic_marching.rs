@@ -8,7 +8,7 @@
 //! diagonal this is the paper's reuse T̃.
 
 use fogbank_math::{Ray, Vec3};
-use fogbank_volume::{Filter, GridView, Voxel};
+use fogbank_volume::{Filter, GridView, Occupied, Voxel, ZERO_TRILINEAR};
 
 /// (τ̃, lookups) over `[t0, t1]` of the index-space `ray`, with steps of
 /// `step` index-space units (voxels) along the ray; the field is read
@@ -30,12 +30,24 @@ pub fn optical_depth<T: Voxel>(
     let (a, b) = (t0 as f64, t1 as f64);
     let n = ((b - a) / dt).ceil().max(1.0) as u64;
     let mut tau = 0.0f64;
-    for i in 0..n {
-        let lo = a + i as f64 * dt;
-        let hi = (lo + dt).min(b);
-        let mid = 0.5 * (lo + hi);
-        let p = ray.at(mid as f32);
-        tau += v.grid.filtered(Filter::Trilinear, p, Vec3::ZERO) as f64 * (hi - lo);
+    let mut lookups = 0u64;
+    // Only the steps that reach a super-voxel where the field may be
+    // non-zero: the others would add exact zeros, so τ̃ is the same sum, bit
+    // for bit, in the same order (`next` keeps a step shared by two spans
+    // from counting twice).
+    let mut next = 0u64;
+    for (ta, tb) in Occupied::new(v.supervoxels, ZERO_TRILINEAR, ray, t0, t1) {
+        let first = (((ta as f64 - a) / dt).floor().max(0.0) as u64).max(next);
+        let end = (((tb as f64 - a) / dt).floor() as u64 + 1).min(n);
+        for i in first..end {
+            let lo = a + i as f64 * dt;
+            let hi = (lo + dt).min(b);
+            let mid = 0.5 * (lo + hi);
+            let p = ray.at(mid as f32);
+            tau += v.grid.filtered(Filter::Trilinear, p, Vec3::ZERO) as f64 * (hi - lo);
+            lookups += 1;
+        }
+        next = next.max(end);
     }
-    (tau * v.scale as f64, n.min(u32::MAX as u64) as u32)
+    (tau * v.scale as f64, lookups.min(u32::MAX as u64) as u32)
 }

@@ -333,11 +333,8 @@ impl AnalyticField {
                 }
             }
         }
-        SuperVoxelGrid {
-            size,
-            dims: sdims,
-            cells,
-        }
+        // min/max bound the continuous field over the cell: apron 1.
+        SuperVoxelGrid::new(size, sdims, cells, 1)
     }
 }
 

@@ -64,7 +64,17 @@ pub struct SuperVoxelGrid {
     pub size: u32,
     pub dims: [u32; 3],
     pub cells: Vec<SuperVoxel>,
+    /// Per cell: [`ZERO_NEAREST`] | [`ZERO_TRILINEAR`] where the field is
+    /// exactly zero (what empty-space skipping may jump over).
+    zero: Vec<u8>,
 }
+
+/// The cell's own voxels are all zero: the nearest-filtered field is zero
+/// in its region.
+pub const ZERO_NEAREST: u8 = 1;
+/// Every voxel a trilinear lookup in the cell's region reads (the cell and
+/// a one-voxel apron) is zero.
+pub const ZERO_TRILINEAR: u8 = 2;
 
 impl SuperVoxelGrid {
     /// Builds the statistics of a voxel grid of `dims` voxels read through
@@ -98,11 +108,60 @@ impl SuperVoxelGrid {
                 SuperVoxel::from_values(values.map(|(i, j, k)| fetch(i, j, k)))
             })
             .collect();
-        SuperVoxelGrid {
+        SuperVoxelGrid::new(size, sdims, cells, apron)
+    }
+
+    /// A grid of `cells` (x fastest) whose bounds cover an apron of `apron`
+    /// voxels (≥ 1: they bound the trilinear field in the cell's region).
+    pub fn new(size: u32, dims: [u32; 3], cells: Vec<SuperVoxel>, apron: u32) -> Self {
+        let mut g = SuperVoxelGrid {
             size,
-            dims: sdims,
+            dims,
             cells,
-        }
+            zero: Vec::new(),
+        };
+        g.zero = g.zero_flags(apron);
+        g
+    }
+
+    /// Without an apron the trilinear flag needs the 26 neighbours to be
+    /// zero too (a trilinear lookup reads at most one voxel into them).
+    fn zero_flags(&self, apron: u32) -> Vec<u8> {
+        let own: Vec<bool> = self
+            .cells
+            .iter()
+            .map(|c| c.min == 0.0 && c.max == 0.0)
+            .collect();
+        let d = self.dims.map(|v| v as i32);
+        let index = |c: [i32; 3]| ((c[2] * d[1] + c[1]) * d[0] + c[0]) as usize;
+        (0..own.len())
+            .map(|i| {
+                if !own[i] {
+                    return 0;
+                }
+                let c = [
+                    i as i32 % d[0],
+                    (i as i32 / d[0]) % d[1],
+                    i as i32 / (d[0] * d[1]),
+                ];
+                let tri = apron >= 1
+                    || (0..27).all(|n| {
+                        let o = [n % 3 - 1, (n / 3) % 3 - 1, n / 9 - 1];
+                        own[index(std::array::from_fn(|a| (c[a] + o[a]).clamp(0, d[a] - 1)))]
+                    });
+                ZERO_NEAREST | if tri { ZERO_TRILINEAR } else { 0 }
+            })
+            .collect()
+    }
+
+    /// Whether the field read with `flag` ([`ZERO_NEAREST`] or
+    /// [`ZERO_TRILINEAR`]) is zero everywhere in cell `c`.
+    #[inline(always)]
+    pub fn is_zero(&self, c: [i32; 3], flag: u8) -> bool {
+        self.zero
+            [((c[2] as u32 * self.dims[1] + c[1] as u32) * self.dims[0] + c[0] as u32) as usize]
+            & flag
+            != 0
     }
 
     #[inline(always)]
@@ -112,10 +171,28 @@ impl SuperVoxelGrid {
     }
 
     pub fn scaled(&self, s: f32) -> Self {
+        let cells: Vec<SuperVoxel> = self.cells.iter().map(|c| c.scaled(s)).collect();
+        // A finite non-zero scale keeps zeros zero and non-zeros non-zero.
+        let zero = if s.is_finite() && s != 0.0 {
+            self.zero.clone()
+        } else {
+            let own = |c: &SuperVoxel| c.min == 0.0 && c.max == 0.0;
+            cells
+                .iter()
+                .map(|c| {
+                    if own(c) {
+                        ZERO_NEAREST | ZERO_TRILINEAR
+                    } else {
+                        0
+                    }
+                })
+                .collect()
+        };
         SuperVoxelGrid {
             size: self.size,
             dims: self.dims,
-            cells: self.cells.iter().map(|c| c.scaled(s)).collect(),
+            cells,
+            zero,
         }
     }
 

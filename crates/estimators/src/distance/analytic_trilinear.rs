@@ -10,7 +10,7 @@
 use super::{FreeFlight, TrackedFlight};
 use crate::analytic_trilinear::{shifted, DualCell};
 use fogbank_math::{Pcg32, Ray};
-use fogbank_volume::{Dda, GridView, Voxel};
+use fogbank_volume::{Dda, GridView, Occupied, Voxel, ZERO_TRILINEAR};
 
 /// Newton steps before giving up on tighter brackets (bisection alone
 /// reaches f64 resolution in ~60).
@@ -43,25 +43,28 @@ pub fn sample_tracked<T: Voxel>(
     let (o, d) = (shifted.o.as_dvec3(), shifted.d.as_dvec3());
     let mut tau = 0.0f64;
     let mut lookups = 0;
-    for s in Dda::new(&shifted, 1.0, n, t0, t1) {
-        let (a, b) = (s.t0 as f64, s.t1 as f64);
-        if b <= a {
-            continue;
+    // Zero super-voxels hold no collision and add nothing to τ ([`Occupied`]).
+    for (ta, tb) in Occupied::new(v.supervoxels, ZERO_TRILINEAR, ray, t0, t1) {
+        for s in Dda::new(&shifted, 1.0, n, ta, tb) {
+            let (a, b) = (s.t0 as f64, s.t1 as f64);
+            if b <= a {
+                continue;
+            }
+            lookups += 1;
+            let cell = DualCell::new(v.grid, s.cell);
+            let d_tau = cell.integral(o, d, a, b);
+            if tau + d_tau >= target && d_tau > 0.0 {
+                let t = invert(&cell, o, d, a, b, target - tau, d_tau);
+                let t32 = (t as f32).clamp(s.t0, s.t1);
+                return TrackedFlight {
+                    t: Some(t32),
+                    sigma_t: scale * cell.value(o, d, t32 as f64),
+                    tau: u,
+                    lookups,
+                };
+            }
+            tau += d_tau;
         }
-        lookups += 1;
-        let cell = DualCell::new(v.grid, s.cell);
-        let d_tau = cell.integral(o, d, a, b);
-        if tau + d_tau >= target && d_tau > 0.0 {
-            let t = invert(&cell, o, d, a, b, target - tau, d_tau);
-            let t32 = (t as f32).clamp(s.t0, s.t1);
-            return TrackedFlight {
-                t: Some(t32),
-                sigma_t: scale * cell.value(o, d, t32 as f64),
-                tau: u,
-                lookups,
-            };
-        }
-        tau += d_tau;
     }
     TrackedFlight {
         t: None,

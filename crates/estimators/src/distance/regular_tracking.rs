@@ -6,7 +6,7 @@
 
 use super::{FreeFlight, TrackedFlight};
 use fogbank_math::{Pcg32, Ray};
-use fogbank_volume::{Dda, GridView, Voxel};
+use fogbank_volume::{Dda, GridView, Occupied, Voxel, ZERO_NEAREST};
 
 pub fn sample<T: Voxel>(
     v: &GridView<'_, T>,
@@ -30,20 +30,23 @@ pub fn sample_tracked<T: Voxel>(
     let target = -(1.0 - rng.next_f32() as f64).ln();
     let mut tau = 0.0f64;
     let mut lookups = 0;
-    for s in Dda::new(ray, 1.0, v.grid.dims(), t0, t1) {
-        lookups += 1;
-        let sigma_t = v.scale as f64 * v.grid.fetch(s.cell[0], s.cell[1], s.cell[2]) as f64;
-        let d = sigma_t * (s.t1 - s.t0) as f64;
-        if tau + d >= target && sigma_t > 0.0 {
-            let t = s.t0 as f64 + (target - tau) / sigma_t;
-            return TrackedFlight {
-                t: Some((t as f32).clamp(s.t0, s.t1)),
-                sigma_t,
-                tau: target,
-                lookups,
-            };
+    // Zero super-voxels hold no collision and add nothing to τ ([`Occupied`]).
+    for (ta, tb) in Occupied::new(v.supervoxels, ZERO_NEAREST, ray, t0, t1) {
+        for s in Dda::new(ray, 1.0, v.grid.dims(), ta, tb) {
+            lookups += 1;
+            let sigma_t = v.scale as f64 * v.grid.fetch(s.cell[0], s.cell[1], s.cell[2]) as f64;
+            let d = sigma_t * (s.t1 - s.t0) as f64;
+            if tau + d >= target && sigma_t > 0.0 {
+                let t = s.t0 as f64 + (target - tau) / sigma_t;
+                return TrackedFlight {
+                    t: Some((t as f32).clamp(s.t0, s.t1)),
+                    sigma_t,
+                    tau: target,
+                    lookups,
+                };
+            }
+            tau += d;
         }
-        tau += d;
     }
     TrackedFlight {
         t: None,

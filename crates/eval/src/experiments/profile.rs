@@ -30,11 +30,7 @@ impl Profile1D {
         let n = values.len() as u32;
         let mut p = Profile1D {
             values,
-            supervoxels: SuperVoxelGrid {
-                size: 1,
-                dims: [1, 1, 1],
-                cells: Vec::new(),
-            },
+            supervoxels: SuperVoxelGrid::new(1, [0, 0, 0], Vec::new(), 1),
         };
         p.set_supervoxel_size(n);
         p
