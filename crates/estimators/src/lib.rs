@@ -38,6 +38,7 @@ pub mod kettunen;
 pub mod lookup;
 pub mod null_collisions;
 pub mod optical_depth;
+pub mod pins;
 pub mod ratio_tracking;
 pub mod ray_marching;
 pub mod regular_tracking;
