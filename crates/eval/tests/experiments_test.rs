@@ -1,9 +1,9 @@
-//! Seed 000's one-dimensional experiments at reduced trial counts: each test
+//! Seed 000's (and seed 004's) one-dimensional experiments at reduced trial counts: each test
 //! checks the experiment's qualitative finding on the computed numbers.
 
 use fogbank_estimators::optical_depth::Jitter;
 use fogbank_eval::experiments::{
-    self, distributions, fig14, fig2, fig3, fig4, fig5, fig7, profile, table1,
+    self, distributions, fig14, fig2, fig3, fig4, fig5, fig7, pins_fig3_4, profile, table1,
 };
 
 #[test]
@@ -277,4 +277,33 @@ fn registry_writes_csv_plots_and_summary() {
     assert!(experiments::run("nope", &dir, None).is_err());
     assert!(experiments::names().contains(&"fig6"));
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Seed 004 Fig. 3.4's finding: decomposed rows sit far closer to the
+/// exact discrete distribution than rows of the collision matrix, and no
+/// sampler beats independent exact samples.
+#[test]
+fn pins_fig3_4_decomposition_beats_stored_collision_rows() {
+    use fogbank_estimators::pins::reference::collision_probabilities;
+    use fogbank_math::Pcg32;
+    use pins_fig3_4::{total_variation, transmittances, Sampler};
+    let t = transmittances();
+    let exact = collision_probabilities(&t);
+    let tv = |s: Sampler| -> f64 {
+        let mut rng = Pcg32::new(11, 2);
+        (0..200)
+            .map(|_| total_variation(&s.histogram(&t, &mut rng), &exact))
+            .sum::<f64>()
+            / 200.0
+    };
+    let (e, m, d, d5) = (
+        tv(Sampler::Exact),
+        tv(Sampler::Undecomposed),
+        tv(Sampler::Decomposed),
+        tv(Sampler::DecomposedMask5),
+    );
+    assert!(
+        e < d && d < 0.5 * m && d5 < 0.5 * m,
+        "exact {e}, M {m}, I∧H {d}, 5-step {d5}"
+    );
 }

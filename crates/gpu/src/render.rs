@@ -73,6 +73,11 @@ impl Kernel {
                 rr_depth: u32::MAX,
                 sampler: sampler_id(d.distance),
             },
+            IntegratorKind::VolPath(v) if v.pins != Default::default() => return Err(GpuError(
+                "volpath: pins and ray-marching tracking (seed 004) run on the CPU only so far \
+                     (render with --device cpu)"
+                    .into(),
+            )),
             IntegratorKind::VolPath(v) => Kernel {
                 source: KernelSource::Scatter,
                 mis_samples: 0,

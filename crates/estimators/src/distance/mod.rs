@@ -11,6 +11,7 @@ pub mod decomposition_tracking;
 pub mod delta_tracking;
 pub mod delta_tracking_ratio;
 pub mod equiangular;
+pub mod ray_marching;
 pub mod regular_tracking;
 
 /// A free-flight distance sample and what it cost.

@@ -16,6 +16,7 @@ pub mod fig4;
 pub mod fig5;
 pub mod fig7;
 mod fit;
+pub mod pins_fig3_4;
 pub mod profile;
 pub mod restir_ablation;
 pub mod restir_bias;
@@ -64,6 +65,7 @@ pub fn names() -> &'static [&'static str] {
         "restir-dynamic",
         "restir-bias",
         "restir-gpu-frame-time",
+        "pins-fig3-4",
     ]
 }
 
@@ -96,6 +98,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "restir-dynamic" => restir_dynamic::run(&mut w, trials),
         "restir-bias" => restir_bias::run(&mut w, trials),
         "restir-gpu-frame-time" => restir_gpu_frame_time::run(&mut w, trials),
+        "pins-fig3-4" => pins_fig3_4::run(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",

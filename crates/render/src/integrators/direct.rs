@@ -46,7 +46,8 @@ impl Direct {
         let mut rng = estimator_rng(key);
         let ray = primary_ray(world, x, y, key);
         let mut lookups = 0u32;
-        let Some((t, mi)) = next_collision(self.distance, world, &ray, &mut rng, &mut lookups)
+        let Some((t, mi)) =
+            next_collision(self.distance.into(), world, &ray, &mut rng, &mut lookups)
         else {
             return PixelSample {
                 radiance: escaped(world, &self.lights, ray.d, None),
@@ -61,10 +62,20 @@ impl Direct {
             let hg = HenyeyGreenstein { g: m.phase_g };
             let (lights, nee) = (&self.lights, self.nee);
             let rng = &mut rng;
-            radiance += albedo * light_sample(world, lights, nee, p, ray.d, &hg, rng, &mut lookups);
+            radiance +=
+                albedo * light_sample(world, lights, nee.into(), p, ray.d, &hg, rng, &mut lookups);
             let (wi, pdf) = hg.sample(-ray.d, [rng.next_f32(), rng.next_f32()]);
             radiance += albedo
-                * phase_sample_to_environment(world, lights, nee, p, wi, pdf, rng, &mut lookups);
+                * phase_sample_to_environment(
+                    world,
+                    lights,
+                    nee.into(),
+                    p,
+                    wi,
+                    pdf,
+                    rng,
+                    &mut lookups,
+                );
         }
         PixelSample { radiance, lookups }
     }

@@ -158,7 +158,7 @@ impl IntegratorDesc {
                 background: Vec3::from(p.background),
             },
             IntegratorDesc::Direct(p) => IntegratorKind::Direct(Direct::new(p, world)),
-            IntegratorDesc::VolPath(p) => IntegratorKind::VolPath(VolPath::new(p, world)),
+            IntegratorDesc::VolPath(p) => IntegratorKind::VolPath(VolPath::new(p, world)?),
             IntegratorDesc::PointMis(p) => IntegratorKind::PointMis(PointMis::new(p, world)?),
             IntegratorDesc::Restir(p) => IntegratorKind::Restir(Restir::new(p, world)?),
         })

@@ -20,9 +20,12 @@
 //! | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only (no phase-sampled escape MIS) and roulette by albedo, seed 002's baseline exactly (§6; give the medium `supervoxel = 8`) |
 //! | `max_depth` | 64 | longest path, in scattering vertices (1..=100000) |
 //! | `rr_depth` | 3 | first bounce with Russian roulette on the throughput |
+//! | `pins`, `tracking`, `march_step`, `pin_grid` | off | seed 004's pins and ray-marching baseline, see [`super::shared::pin_params`] |
 
 use super::shared::free_flight::next_collision;
 use super::shared::next_event::{escaped, light_sample_weighted, phase_sample_to_environment};
+use super::shared::pin_params::{PinParams, PIN_KEYS};
+use super::shared::tracking::PinSet;
 use super::shared::{
     estimator_rng, primary_ray, PixelSample, Preset, ScatterParams, SCATTER_PARAMS,
 };
@@ -33,10 +36,11 @@ use crate::world::phase::HenyeyGreenstein;
 use crate::world::World;
 use fogbank_estimators::Estimator;
 use fogbank_math::{Ray, SampleKey, Vec3};
+use std::sync::Arc;
 
 pub use super::shared::DistanceSampler;
 
-pub const PARAMS: [Param; 5] = [
+pub const PARAMS: [Param; 9] = [
     SCATTER_PARAMS[0],
     SCATTER_PARAMS[1],
     SCATTER_PARAMS[2],
@@ -50,6 +54,26 @@ pub const PARAMS: [Param; 5] = [
         default: "3",
         meaning: "first bounce with Russian roulette on the throughput",
     },
+    Param {
+        key: PIN_KEYS[0],
+        default: "off",
+        meaning: "seed 004 pins: off, all, secondary (all but the view ray), ms (PinMS: multiple scattering only)",
+    },
+    Param {
+        key: PIN_KEYS[1],
+        default: "ray_marching with pins, else unbiased",
+        meaning: "rays without pins: ray_marching (seed 004's baseline) or unbiased (distance_sampler + estimator)",
+    },
+    Param {
+        key: PIN_KEYS[2],
+        default: "0.03",
+        meaning: "ray-marching step in edges of the medium's box",
+    },
+    Param {
+        key: PIN_KEYS[3],
+        default: "{}",
+        meaning: "pin grid: positions, memory_ratio (0.1), phi (16), theta (4), step (0.01), jitter (1), mask_iterations (5), unquantised, seed",
+    },
 ];
 
 #[derive(Clone, Debug, PartialEq)]
@@ -57,6 +81,7 @@ pub struct VolPathParams {
     pub scatter: ScatterParams,
     pub max_depth: u32,
     pub rr_depth: u32,
+    pub pins: PinParams,
 }
 
 impl Default for VolPathParams {
@@ -65,6 +90,7 @@ impl Default for VolPathParams {
             scatter: ScatterParams::default(),
             max_depth: 64,
             rr_depth: 3,
+            pins: PinParams::default(),
         }
     }
 }
@@ -83,6 +109,7 @@ impl VolPathParams {
             scatter,
             max_depth,
             rr_depth: r.take("rr_depth")?.unwrap_or(3),
+            pins: PinParams::read(r)?,
         })
     }
 
@@ -90,6 +117,7 @@ impl VolPathParams {
         self.scatter.write(t);
         t.insert("max_depth".into(), i64::from(self.max_depth).into());
         t.insert("rr_depth".into(), i64::from(self.rr_depth).into());
+        self.pins.write(t);
     }
 }
 
@@ -103,19 +131,25 @@ pub struct VolPath {
     /// Seed 002's baseline: light sampling is the only strategy toward the
     /// lights, and roulette continues with the vertex albedo.
     pub light_only: bool,
+    /// Which rays use pins, ray marching or the unbiased samplers.
+    pub pins: PinParams,
+    /// The media's pin grids when pins are on (built once, shared).
+    pub pin_set: Option<Arc<PinSet>>,
 }
 
 impl VolPath {
-    pub fn new(p: &VolPathParams, world: &World) -> VolPath {
+    pub fn new(p: &VolPathParams, world: &World) -> Result<VolPath, SceneError> {
         let (distance, nee) = p.scatter.resolved();
-        VolPath {
+        Ok(VolPath {
             distance,
             nee,
             max_depth: p.max_depth,
             rr_depth: p.rr_depth,
             lights: LightSampler::new(&world.lights, world.radius()),
             light_only: p.scatter.preset == Some(Preset::RestirBaseline),
-        }
+            pin_set: p.pins.build(world)?,
+            pins: p.pins.clone(),
+        })
     }
 
     pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
@@ -124,8 +158,9 @@ impl VolPath {
         let (mut beta, mut radiance, mut lookups) = (Vec3::ONE, Vec3::ZERO, 0u32);
         let mut phase_pdf: Option<f32> = None;
         for depth in 0..self.max_depth {
-            let Some((t, mi)) = next_collision(self.distance, world, &ray, &mut rng, &mut lookups)
-            else {
+            let set = self.pin_set.as_deref();
+            let flight = self.pins.flight(depth, self.distance, set);
+            let Some((t, mi)) = next_collision(flight, world, &ray, &mut rng, &mut lookups) else {
                 if !(self.light_only && phase_pdf.is_some()) {
                     radiance += beta * escaped(world, &self.lights, ray.d, phase_pdf);
                 }
@@ -140,11 +175,12 @@ impl VolPath {
                 break;
             }
             let hg = HenyeyGreenstein { g: m.phase_g };
+            let shadow = self.pins.shadow(depth, self.nee, set);
             radiance += beta
                 * light_sample_weighted(
                     world,
                     &self.lights,
-                    self.nee,
+                    shadow,
                     p,
                     ray.d,
                     &hg,
@@ -161,7 +197,7 @@ impl VolPath {
                     * phase_sample_to_environment(
                         world,
                         &self.lights,
-                        self.nee,
+                        shadow,
                         p,
                         wi,
                         pdf,

@@ -2,55 +2,14 @@
 //! next real collision across overlapping media (free-flight sampling) and
 //! the transmittance of a shadow segment.
 
-use super::DistanceSampler;
+use super::tracking::{self, Flight, Shadow};
 use crate::world::World;
-use fogbank_estimators::distance::{
-    decomposition_tracking, delta_tracking, regular_tracking, FreeFlight,
-};
-use fogbank_estimators::{transmittance, Estimator};
 use fogbank_math::{Pcg32, Ray};
-use fogbank_volume::MediumView;
-
-/// First real collision in one medium along the world ray before `t_max`.
-pub fn free_flight(
-    s: DistanceSampler,
-    m: &fogbank_volume::Medium,
-    ray: &Ray,
-    t_max: f32,
-    rng: &mut Pcg32,
-) -> FreeFlight {
-    let Some((r, t0, t1)) = m.to_index(ray, 0.0, t_max) else {
-        return FreeFlight {
-            t: None,
-            lookups: 0,
-        };
-    };
-    match (m.view(), s) {
-        (MediumView::F16(v), DistanceSampler::RegularTracking) => {
-            regular_tracking::sample(&v, &r, t0, t1, rng)
-        }
-        (MediumView::F32(v), DistanceSampler::RegularTracking) => {
-            regular_tracking::sample(&v, &r, t0, t1, rng)
-        }
-        (MediumView::F16(v), DistanceSampler::DecompositionTracking) => {
-            decomposition_tracking::sample(&v, &r, t0, t1, rng)
-        }
-        (MediumView::F32(v), DistanceSampler::DecompositionTracking) => {
-            decomposition_tracking::sample(&v, &r, t0, t1, rng)
-        }
-        (MediumView::Analytic(v), DistanceSampler::DecompositionTracking) => {
-            decomposition_tracking::sample(&v, &r, t0, t1, rng)
-        }
-        (MediumView::F16(v), _) => delta_tracking::sample(&v, &r, t0, t1, rng),
-        (MediumView::F32(v), _) => delta_tracking::sample(&v, &r, t0, t1, rng),
-        (MediumView::Analytic(v), _) => delta_tracking::sample(&v, &r, t0, t1, rng),
-    }
-}
 
 /// The next real collision across all media: the first collision of
 /// independent processes whose extinctions add. Returns (t, medium index).
 pub fn next_collision(
-    s: DistanceSampler,
+    s: Flight,
     world: &World,
     ray: &Ray,
     rng: &mut Pcg32,
@@ -59,7 +18,7 @@ pub fn next_collision(
     let mut hit: Option<(f32, usize)> = None;
     for (i, m) in world.media.iter().enumerate() {
         let t_max = hit.map_or(f32::INFINITY, |h| h.0);
-        let f = free_flight(s, &m.medium, ray, t_max, rng);
+        let f = tracking::free_flight(s, i, &m.medium, ray, t_max, rng);
         *lookups += f.lookups;
         if let Some(t) = f.t {
             hit = Some((t, i));
@@ -71,7 +30,7 @@ pub fn next_collision(
 /// Transmittance of the segment `[0, distance]` of `ray` through every
 /// medium (the product of per-medium estimates is unbiased when they are).
 pub fn shadow_transmittance(
-    nee: Estimator,
+    nee: Shadow,
     world: &World,
     ray: &Ray,
     distance: f32,
@@ -79,10 +38,10 @@ pub fn shadow_transmittance(
     lookups: &mut u32,
 ) -> f32 {
     let mut t = 1.0;
-    for m in &world.media {
-        let e = transmittance(nee, &m.medium, ray, distance, rng);
-        *lookups += e.lookups;
-        t *= e.transmittance;
+    for (i, m) in world.media.iter().enumerate() {
+        let (tr, n) = tracking::transmittance(nee, i, &m.medium, ray, distance, rng);
+        *lookups += n;
+        t *= tr;
     }
     t
 }

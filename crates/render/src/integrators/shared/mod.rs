@@ -6,6 +6,8 @@
 
 pub mod free_flight;
 pub mod next_event;
+pub mod pin_params;
+pub mod tracking;
 
 use crate::error::SceneError;
 use crate::params::{take_estimator, Param, ParamReader};

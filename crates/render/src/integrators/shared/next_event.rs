@@ -5,10 +5,10 @@
 
 use super::balance;
 use super::free_flight::shadow_transmittance;
+use super::tracking::Shadow;
 use crate::lights::sample::LightSampler;
 use crate::world::phase::HenyeyGreenstein;
 use crate::world::World;
-use fogbank_estimators::Estimator;
 use fogbank_math::{Pcg32, Ray, Vec3};
 
 /// Light-sampling strategy at `p` for a path arriving along direction `d`:
@@ -18,7 +18,7 @@ use fogbank_math::{Pcg32, Ray, Vec3};
 pub fn light_sample(
     world: &World,
     lights: &LightSampler,
-    nee: Estimator,
+    nee: Shadow,
     p: Vec3,
     d: Vec3,
     hg: &HenyeyGreenstein,
@@ -34,7 +34,7 @@ pub fn light_sample(
 pub fn light_sample_weighted(
     world: &World,
     lights: &LightSampler,
-    nee: Estimator,
+    nee: Shadow,
     p: Vec3,
     d: Vec3,
     hg: &HenyeyGreenstein,
@@ -83,7 +83,7 @@ pub fn escaped(world: &World, lights: &LightSampler, d: Vec3, phase_pdf: Option<
 pub fn phase_sample_to_environment(
     world: &World,
     lights: &LightSampler,
-    nee: Estimator,
+    nee: Shadow,
     p: Vec3,
     wi: Vec3,
     phase_pdf: f32,

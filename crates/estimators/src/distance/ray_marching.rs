@@ -1,0 +1,82 @@
+//! Ray marching with a fixed step (seed 004 §2.4–§2.5, the thesis's
+//! baseline and the non-pin rays of PinMS): σ_t read at jittered points one
+//! step apart (one jitter per ray), τ accumulated step by step. Free flight
+//! stops in the step where τ passes −ln(1 − ξ) and solves for the distance
+//! inside it with that step's σ_t; transmittance is exp(−Σ σ_t Δt). Both
+//! are biased (the step's constant σ_t stands for the field); the step is
+//! given in the ray parameter by the caller (the thesis: a fraction of the
+//! bounding box's edge).
+
+use super::FreeFlight;
+use crate::lookup::sigma_t_at;
+use fogbank_math::{Pcg32, Ray};
+use fogbank_volume::VolumeAccess;
+
+/// Longest walk, in steps: a tiny step on a long segment would otherwise
+/// run away.
+pub const MAX_STEPS: u32 = 1 << 20;
+
+/// The marching grid of `[t0, t1]`: step `dt` (ray parameter), clamped so
+/// the walk has at most [`MAX_STEPS`] steps.
+#[inline]
+fn steps(t0: f32, t1: f32, dt: f32) -> (u32, f64) {
+    let len = (t1 - t0) as f64;
+    let dt = (dt as f64).max(len / MAX_STEPS as f64);
+    if !(len > 0.0 && dt > 0.0) {
+        return (0, dt);
+    }
+    (((len / dt).ceil() as u32).clamp(1, MAX_STEPS), dt)
+}
+
+/// Free flight on `[t0, t1]` of the index-space `ray` with step `dt`.
+pub fn sample<V: VolumeAccess>(
+    v: &V,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    dt: f32,
+    rng: &mut Pcg32,
+) -> FreeFlight {
+    let target = -(1.0 - rng.next_f64()).ln();
+    let u = rng.next_f64();
+    let (n, dt) = steps(t0, t1, dt);
+    let mut lookups = 0;
+    let mut tau = 0.0f64;
+    for j in 0..n {
+        let a = t0 as f64 + j as f64 * dt;
+        let b = (a + dt).min(t1 as f64);
+        let t = a + u * (b - a);
+        let sigma = sigma_t_at(v, ray.at(t as f32), rng, &mut lookups) as f64;
+        let d = sigma * (b - a);
+        if tau + d >= target && sigma > 0.0 {
+            let hit = a + (target - tau) / sigma;
+            return FreeFlight {
+                t: Some((hit as f32).clamp(a as f32, b as f32)),
+                lookups,
+            };
+        }
+        tau += d;
+    }
+    FreeFlight { t: None, lookups }
+}
+
+/// exp(−τ̂) of `[t0, t1]` with step `dt`: (transmittance, lookups).
+pub fn transmittance<V: VolumeAccess>(
+    v: &V,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    dt: f32,
+    rng: &mut Pcg32,
+) -> (f32, u32) {
+    let u = rng.next_f64();
+    let (n, dt) = steps(t0, t1, dt);
+    let mut lookups = 0;
+    let mut tau = 0.0f64;
+    for j in 0..n {
+        let a = t0 as f64 + j as f64 * dt;
+        let b = (a + dt).min(t1 as f64);
+        tau += sigma_t_at(v, ray.at((a + u * (b - a)) as f32), rng, &mut lookups) as f64 * (b - a);
+    }
+    ((-tau).exp() as f32, lookups)
+}
