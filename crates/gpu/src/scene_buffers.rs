@@ -52,6 +52,10 @@ struct Packed {
     constants: Vec<f32>,
     data: Vec<u32>,
     supervoxels: Vec<[f32; 4]>,
+    /// Grids already packed, by the address of their shared voxel data
+    /// (instances of one medium), with their super-voxels' offset: copies
+    /// are uploaded once.
+    packed: Vec<(usize, PackedData, u32)>,
 }
 
 fn pack_grid<T: Voxel>(
@@ -211,19 +215,44 @@ fn pack_data(
     }
 }
 
+/// The address of a grid's voxel data (shared by clones), if it has any.
+fn data_address(d: &DensityData) -> Option<usize> {
+    match d {
+        DensityData::F16(g) => Some(g.buffers().0.as_ptr() as usize),
+        DensityData::F32(g) => Some(g.buffers().0.as_ptr() as usize),
+        DensityData::Analytic(_) => None,
+    }
+}
+
 fn pack_medium(m: &Medium, camera: glam::Vec3, p: &mut Packed) -> Result<MediumGpu, GpuError> {
-    let (offsets, precision, dims) = pack_data(
-        &m.data,
-        p,
-        "analytic media are CPU-only; use a voxel grid (cloud, vdb, vol, raw)",
-    )?;
-    let sv_offset = p.supervoxels.len() as u32;
-    p.supervoxels.extend(
-        m.supervoxels
-            .cells
-            .iter()
-            .map(|c| [c.min, c.max, c.mean, c.importance]),
-    );
+    let address = data_address(&m.data);
+    // Instances share data, scale and super-voxel statistics.
+    let seen = p
+        .packed
+        .iter()
+        .find(|(a, _, _)| Some(*a) == address)
+        .map(|&(_, d, sv)| (d, sv));
+    let ((offsets, precision, dims), sv_offset) = match seen {
+        Some(x) => x,
+        None => {
+            let packed = pack_data(
+                &m.data,
+                p,
+                "analytic media are CPU-only; use a voxel grid (cloud, vdb, vol, raw)",
+            )?;
+            let sv_offset = p.supervoxels.len() as u32;
+            p.supervoxels.extend(
+                m.supervoxels
+                    .cells
+                    .iter()
+                    .map(|c| [c.min, c.max, c.mean, c.importance]),
+            );
+            if let Some(a) = address {
+                p.packed.push((a, packed, sv_offset));
+            }
+            (packed, sv_offset)
+        }
+    };
     let a = m.world_to_index;
     Ok(MediumGpu {
         w2i: affine_rows(a),

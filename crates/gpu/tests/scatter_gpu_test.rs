@@ -111,6 +111,15 @@ fn volpath_matches_the_cpu() {
         ],
         256,
     );
+    // Instances of one medium (seed 004 Fig. 4.10), uploaded once.
+    compare(
+        MIXED,
+        &[
+            "integrator.max_depth=4",
+            "media.1.instances=[{ translate = [0.0, 0.0, 0.0] }, { translate = [-0.35, 0.05, 0.1], rotate = [0.0, 1.0, 0.0, 30.0] }]",
+        ],
+        128,
+    );
 }
 
 #[test]
@@ -129,6 +138,12 @@ fn cpu_only_features_are_clear_errors() {
         .err()
         .unwrap();
     assert!(e.0.contains("analytic"), "{e}");
+    // Seed 004's pins and ray marching are CPU-only so far.
+    let s = scene(MIXED, &["integrator.pins=ms".to_string()]);
+    let e = gpu_render::render(&gpu, &s, &opts, &Progress::default())
+        .err()
+        .unwrap();
+    assert!(e.0.contains("pins") && e.0.contains("--device cpu"), "{e}");
 }
 
 #[test]

@@ -18,6 +18,7 @@ use crate::{Result, VolumeError};
 use half::f16;
 use rayon::prelude::*;
 use std::collections::HashMap;
+use std::sync::Arc;
 
 pub const BRICK_LOG2: u32 = 3;
 pub const BRICK: u32 = 1 << BRICK_LOG2;
@@ -71,9 +72,11 @@ pub enum Precision {
 pub struct BrickGrid<T> {
     dims: [u32; 3],
     bdims: [u32; 3],
-    table: Vec<u32>,
-    constants: Vec<f32>,
-    data: Vec<T>,
+    // Shared: a clone (an instance of the medium, a frame's copy) costs no
+    // voxel memory.
+    table: Arc<[u32]>,
+    constants: Arc<[f32]>,
+    data: Arc<[T]>,
 }
 
 /// Validates grid dimensions before anything is allocated.
@@ -176,9 +179,9 @@ impl<T: Voxel> BrickGrid<T> {
         BrickGrid {
             dims,
             bdims,
-            table,
-            constants,
-            data,
+            table: table.into(),
+            constants: constants.into(),
+            data: data.into(),
         }
     }
 
@@ -281,12 +284,14 @@ impl<T: Voxel> BrickGrid<T> {
                 .constants
                 .iter()
                 .map(|&v| T::store(f(v)).load())
-                .collect(),
+                .collect::<Vec<_>>()
+                .into(),
             data: self
                 .data
                 .par_iter()
                 .map(|&v| T::store(f(v.load())))
-                .collect(),
+                .collect::<Vec<_>>()
+                .into(),
         }
     }
 }

@@ -25,6 +25,7 @@ use std::path::Path;
 /// | `supervoxel` | 16 | super-voxel edge in voxels |
 /// | `precision` | `"f16"` | voxel storage, `f16` or `f32` |
 /// | `velocity` | none (a plume's own) | motion for temporal reuse, see [`VelocityDesc`] |
+/// | `instances` | none | placements (applied after `to_world`) of copies sharing the grid (seed 004 Fig. 4.10); with it the medium appears once per entry |
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct MediumDesc {
@@ -49,6 +50,8 @@ pub struct MediumDesc {
     pub precision: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub velocity: Option<VelocityDesc>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub instances: Vec<TransformDesc>,
 }
 
 fn one() -> f32 {
@@ -99,6 +102,8 @@ pub struct SceneMedium {
     pub source: String,
     /// How the medium's matter moves (None: it is still).
     pub velocity: Option<Velocity>,
+    /// The `[[media]]` entry this medium comes from (instances share one).
+    pub entry: usize,
 }
 
 impl SceneMedium {
@@ -124,7 +129,45 @@ impl SceneMedium {
     }
 }
 
+/// Most instances one `[[media]]` entry may have.
+pub const MAX_INSTANCES: usize = 1 << 16;
+
 impl MediumDesc {
+    /// The media of entry `media.{i}`: itself, or one copy per `instances`
+    /// entry, sharing the grid (the copies differ only in placement).
+    pub fn build_instances(&self, i: usize, base: &Path) -> Result<Vec<SceneMedium>, SceneError> {
+        let first = self.build(i, base)?;
+        if self.instances.is_empty() {
+            return Ok(vec![first]);
+        }
+        let key = format!("media.{i}.instances");
+        if self.instances.len() > MAX_INSTANCES {
+            return Err(SceneError(format!(
+                "{key}: {} instances, more than the limit of {MAX_INSTANCES}",
+                self.instances.len()
+            )));
+        }
+        if self.albedo_grid.is_some() || self.emission.is_some() || self.velocity.is_some() {
+            return Err(SceneError(format!(
+                "{key}: instances of a medium with albedo_grid, emission or velocity are not supported yet"
+            )));
+        }
+        self.instances
+            .iter()
+            .enumerate()
+            .map(|(j, t)| {
+                let xf = transform(t) * first.medium.index_to_world;
+                if !(xf.matrix3.determinant().abs() >= 1e-30) {
+                    return Err(SceneError(format!("{key}.{j}: transform is singular")));
+                }
+                let mut m = first.clone();
+                m.medium.index_to_world = xf;
+                m.medium.world_to_index = xf.inverse();
+                Ok(m)
+            })
+            .collect()
+    }
+
     /// The medium `media.{i}`, its files resolved against `base`.
     pub fn build(&self, i: usize, base: &Path) -> Result<SceneMedium, SceneError> {
         let m = self;
@@ -203,6 +246,7 @@ impl MediumDesc {
                 m.phase.g
             },
             source,
+            entry: i,
         })
     }
 }

@@ -43,8 +43,11 @@ impl World {
             media: media
                 .iter()
                 .enumerate()
-                .map(|(i, m)| m.build(i, base))
-                .collect::<Result<_, _>>()?,
+                .map(|(i, m)| m.build_instances(i, base))
+                .collect::<Result<Vec<_>, _>>()?
+                .into_iter()
+                .flatten()
+                .collect(),
             lights: lights
                 .iter()
                 .enumerate()

@@ -282,18 +282,28 @@ impl PinParams {
         })
     }
 
-    /// Every medium's grid, gathered (§3.7), when pins are on.
+    /// Every medium's grid, gathered (§3.7), when pins are on. Instances of
+    /// one `[[media]]` entry share a grid when they differ by a rigid
+    /// motion (seed 004 §3.10: one grid for all instances); a scaled copy
+    /// has other optical depths and gets its own.
     pub fn build(&self, world: &World) -> Result<Option<Arc<PinSet>>, SceneError> {
         if self.mode == PinMode::Off {
             return Ok(None);
         }
-        let mut media = Vec::with_capacity(world.media.len());
+        let mut media: Vec<Option<Arc<PinGrid>>> = Vec::with_capacity(world.media.len());
         for (i, sm) in world.media.iter().enumerate() {
             let m = &sm.medium;
+            let shared = world.media[..i].iter().zip(&media).find_map(|(o, g)| {
+                (o.entry == sm.entry && rigidly_moved(&o.medium, m)).then(|| g.clone())
+            });
+            if let Some(g) = shared {
+                media.push(g);
+                continue;
+            }
             let d = m.dims();
             let voxels = d.iter().map(|&x| x as u64).product();
             let spec = self.grid.spec(self.grid.positions_for(voxels));
-            let err = |e: String| SceneError(format!("media.{i}: {e}"));
+            let err = |e: String| SceneError(format!("media.{}: {e}", sm.entry));
             let seed = self.grid.seed ^ ((i as u64) << 32);
             let cube = unit_cube(m);
             let grid = match m.view() {
@@ -367,4 +377,21 @@ impl PinParams {
             _ => unbiased,
         }
     }
+}
+
+/// Whether `b` is `a` moved rigidly (the same local lengths in the world):
+/// b's linear map is a rotation of a's, Bᵀ·B = Aᵀ·A.
+fn rigidly_moved(a: &fogbank_volume::Medium, b: &fogbank_volume::Medium) -> bool {
+    let (ma, mb) = (a.index_to_world.matrix3, b.index_to_world.matrix3);
+    let (ga, gb) = (ma.transpose() * ma, mb.transpose() * mb);
+    let scale = ga
+        .to_cols_array()
+        .iter()
+        .fold(0.0f64, |s, v| s.max(v.abs()));
+    a.dims() == b.dims()
+        && ga
+            .to_cols_array()
+            .iter()
+            .zip(gb.to_cols_array())
+            .all(|(x, y)| (x - y).abs() <= 1e-9 * scale)
 }
