@@ -157,7 +157,8 @@ impl MediumDesc {
             .enumerate()
             .map(|(j, t)| {
                 let xf = transform(t) * first.medium.index_to_world;
-                if !(xf.matrix3.determinant().abs() >= 1e-30) {
+                let det = xf.matrix3.determinant().abs();
+                if det.is_nan() || det < 1e-30 {
                     return Err(SceneError(format!("{key}.{j}: transform is singular")));
                 }
                 let mut m = first.clone();
