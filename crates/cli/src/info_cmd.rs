@@ -4,6 +4,7 @@
 use crate::common::CliResult;
 use clap::Args;
 use fogbank_math::DAffine3;
+use fogbank_render::integrators::shared::pin_params::PinGridParams;
 use fogbank_volume::loaders::{raw, vdb, vdb_grid, vol};
 use fogbank_volume::{BrickGrid, DensityData, Precision};
 use std::path::PathBuf;
@@ -48,6 +49,15 @@ fn print_memory(grid: BrickGrid<f32>) {
         dims[2],
         bytes as f64 / (1 << 20) as f64,
         bytes as f64 / voxels
+    );
+    // Seed 004's default pin grid for this volume (0.1× the f16 texture).
+    let g = PinGridParams::default();
+    let p = g.positions_for(voxels as u64);
+    let pins = (p as u64).pow(3) * (g.phi * g.theta) as u64;
+    println!(
+        "  pin grid (pins = \"ms\", default): {p}³ positions × {} directions = {pins} pins, {:.2} MiB",
+        g.phi * g.theta,
+        (pins * 8) as f64 / (1 << 20) as f64
     );
 }
 

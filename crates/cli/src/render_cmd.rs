@@ -282,6 +282,13 @@ pub fn run(a: RenderArgs) -> CliResult {
             "inf_samples": film.inf_samples,
             "nonfinite_output_pixels": bad_pixels,
             "peak_memory_bytes": peak_memory_bytes(),
+            "pin_grids": match &scene.integrator {
+                fogbank_render::integrators::IntegratorKind::VolPath(v) => v.pin_set.as_ref().map(|p| serde_json::json!({
+                    "memory_bytes": p.memory_bytes(),
+                    "positions": p.positions(),
+                })),
+                _ => None,
+            },
             "media": scene.media.iter().map(|m| serde_json::json!({
                 "source": m.source,
                 "dims": m.medium.dims(),

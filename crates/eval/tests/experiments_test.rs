@@ -307,3 +307,13 @@ fn pins_fig3_4_decomposition_beats_stored_collision_rows() {
         "exact {e}, M {m}, I∧H {d}, 5-step {d5}"
     );
 }
+
+/// Seed 004 Fig. 4.10's measurement runs on a small image: both methods
+/// render, times and errors are finite, and PinMS shares one grid.
+#[test]
+fn pins_instances_measures_both_methods() {
+    use fogbank_eval::experiments::pins_instances::measure;
+    let r = measure(10, 16, 12, 8).unwrap();
+    assert!(r.rm_ms > 0.0 && r.pin_ms > 0.0 && r.build_s > 0.0);
+    assert!(r.rm_mse.is_finite() && r.pin_mse.is_finite() && r.pin_mse > 0.0);
+}

@@ -17,6 +17,7 @@ pub mod fig5;
 pub mod fig7;
 mod fit;
 pub mod pins_fig3_4;
+pub mod pins_instances;
 pub mod profile;
 pub mod restir_ablation;
 pub mod restir_bias;
@@ -66,6 +67,7 @@ pub fn names() -> &'static [&'static str] {
         "restir-bias",
         "restir-gpu-frame-time",
         "pins-fig3-4",
+        "pins-instances",
     ]
 }
 
@@ -99,6 +101,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "restir-bias" => restir_bias::run(&mut w, trials),
         "restir-gpu-frame-time" => restir_gpu_frame_time::run(&mut w, trials),
         "pins-fig3-4" => pins_fig3_4::run(&mut w, trials),
+        "pins-instances" => pins_instances::run(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",

@@ -6,6 +6,7 @@ pub mod camera;
 pub mod emission;
 pub mod field;
 pub mod film;
+pub mod media_bvh;
 pub mod medium;
 pub mod phase;
 pub mod velocity;
@@ -13,7 +14,8 @@ pub mod velocity;
 use crate::error::SceneError;
 use crate::lights::{Light, LightDesc};
 use camera::{Camera, CameraDesc};
-use fogbank_math::Vec3;
+use fogbank_math::{Ray, Vec3};
+use media_bvh::MediaBvh;
 use medium::{MediumDesc, SceneMedium};
 use std::path::Path;
 
@@ -27,7 +29,12 @@ pub struct World {
     /// Seconds between this frame and the previous one (1/`animation.fps`;
     /// 0 for a static scene): how far media move along their velocity.
     pub frame_dt: f32,
+    /// Over the media's world boxes when there are many (instances).
+    media_bvh: Option<MediaBvh>,
 }
+
+/// From this many media on, rays find theirs through a BVH.
+pub const MEDIA_BVH_MIN: usize = 9;
 
 impl World {
     /// Builds camera, media and lights, resolving files against `base`.
@@ -38,16 +45,26 @@ impl World {
         pixel_jitter: bool,
         base: &Path,
     ) -> Result<World, SceneError> {
+        let media: Vec<SceneMedium> = media
+            .iter()
+            .enumerate()
+            .map(|(i, m)| m.build_instances(i, base))
+            .collect::<Result<Vec<_>, _>>()?
+            .into_iter()
+            .flatten()
+            .collect();
+        let media_bvh = (media.len() >= MEDIA_BVH_MIN).then(|| {
+            MediaBvh::build(
+                &media
+                    .iter()
+                    .map(|m| m.medium.world_bounds())
+                    .collect::<Vec<_>>(),
+            )
+        });
         Ok(World {
             camera: camera.build()?,
-            media: media
-                .iter()
-                .enumerate()
-                .map(|(i, m)| m.build_instances(i, base))
-                .collect::<Result<Vec<_>, _>>()?
-                .into_iter()
-                .flatten()
-                .collect(),
+            media,
+            media_bvh,
             lights: lights
                 .iter()
                 .enumerate()
@@ -56,6 +73,17 @@ impl World {
             pixel_jitter,
             frame_dt: 0.0,
         })
+    }
+
+    /// Calls `visit(i)` for the media the ray may cross within
+    /// `[0, t_max()]`: every medium in order when there are few, else those
+    /// whose boxes it crosses, nearest first (`t_max` is re-read, so a
+    /// shortened ray prunes the rest).
+    pub fn media_along(&self, ray: &Ray, t_max: impl FnMut() -> f32, mut visit: impl FnMut(usize)) {
+        match &self.media_bvh {
+            Some(b) if b.len() == self.media.len() => b.visit(ray, t_max, visit),
+            _ => (0..self.media.len()).for_each(&mut visit),
+        }
     }
 
     /// Half the diagonal of the media's world bounds (1 without media): the

@@ -5,6 +5,7 @@
 use super::tracking::{self, Flight, Shadow};
 use crate::world::World;
 use fogbank_math::{Pcg32, Ray};
+use std::cell::Cell;
 
 /// The next real collision across all media: the first collision of
 /// independent processes whose extinctions add. Returns (t, medium index).
@@ -15,16 +16,16 @@ pub fn next_collision(
     rng: &mut Pcg32,
     lookups: &mut u32,
 ) -> Option<(f32, usize)> {
-    let mut hit: Option<(f32, usize)> = None;
-    for (i, m) in world.media.iter().enumerate() {
-        let t_max = hit.map_or(f32::INFINITY, |h| h.0);
-        let f = tracking::free_flight(s, i, &m.medium, ray, t_max, rng);
+    let hit: Cell<Option<(f32, usize)>> = Cell::new(None);
+    let t_max = || hit.get().map_or(f32::INFINITY, |h| h.0);
+    world.media_along(ray, t_max, |i| {
+        let f = tracking::free_flight(s, i, &world.media[i].medium, ray, t_max(), rng);
         *lookups += f.lookups;
         if let Some(t) = f.t {
-            hit = Some((t, i));
+            hit.set(Some((t, i)));
         }
-    }
-    hit
+    });
+    hit.get()
 }
 
 /// Transmittance of the segment `[0, distance]` of `ray` through every
@@ -38,10 +39,15 @@ pub fn shadow_transmittance(
     lookups: &mut u32,
 ) -> f32 {
     let mut t = 1.0;
-    for (i, m) in world.media.iter().enumerate() {
-        let (tr, n) = tracking::transmittance(nee, i, &m.medium, ray, distance, rng);
-        *lookups += n;
-        t *= tr;
-    }
+    world.media_along(
+        ray,
+        || distance,
+        |i| {
+            let (tr, n) =
+                tracking::transmittance(nee, i, &world.media[i].medium, ray, distance, rng);
+            *lookups += n;
+            t *= tr;
+        },
+    );
     t
 }

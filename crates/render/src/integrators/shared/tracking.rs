@@ -60,6 +60,34 @@ pub struct PinSet {
     pub unquantised: bool,
 }
 
+impl PinSet {
+    /// Bytes of the distinct grids (instances share theirs).
+    pub fn memory_bytes(&self) -> usize {
+        let mut seen: Vec<*const PinGrid> = Vec::new();
+        let mut bytes = 0;
+        for g in self.media.iter().flatten() {
+            if !seen.contains(&Arc::as_ptr(g)) {
+                seen.push(Arc::as_ptr(g));
+                bytes += g.memory_bytes();
+            }
+        }
+        bytes
+    }
+
+    /// P, the position cells per axis, of each distinct grid.
+    pub fn positions(&self) -> Vec<u32> {
+        let mut seen: Vec<*const PinGrid> = Vec::new();
+        let mut out = Vec::new();
+        for g in self.media.iter().flatten() {
+            if !seen.contains(&Arc::as_ptr(g)) {
+                seen.push(Arc::as_ptr(g));
+                out.push(g.spec.positions);
+            }
+        }
+        out
+    }
+}
+
 /// The medium's unit cube.
 pub fn unit_cube(m: &Medium) -> UnitCube {
     UnitCube::new(m.dims(), m.index_to_world.matrix3.as_mat3())
