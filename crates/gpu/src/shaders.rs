@@ -5,6 +5,7 @@
 pub const RNG: &str = include_str!("wgsl/rng.wgsl");
 pub const MEDIUM: &str = include_str!("wgsl/medium.wgsl");
 pub const DDA: &str = include_str!("wgsl/dda.wgsl");
+pub const OCCUPIED: &str = include_str!("wgsl/occupied.wgsl");
 pub const REGULAR_TRACKING: &str = include_str!("wgsl/regular_tracking.wgsl");
 pub const NULL_COLLISIONS: &str = include_str!("wgsl/null_collisions.wgsl");
 pub const TRACK_LENGTH: &str = include_str!("wgsl/track_length.wgsl");
@@ -45,6 +46,7 @@ pub fn estimators() -> String {
         RNG,
         MEDIUM,
         DDA,
+        OCCUPIED,
         REGULAR_TRACKING,
         NULL_COLLISIONS,
         DISTANCE,

@@ -52,15 +52,20 @@ fn analytic_trilinear(m: MediumGpu, r: Ray, t0: f32, t1: f32, lookups: ptr<funct
     var shifted = r;
     shifted.o = r.o + vec3<f32>(0.5);
     var tau = 0.0;
-    var dda = dda_new(shifted, 1.0, m.dims + vec3<u32>(1u), t0, t1);
-    var s: DdaStep;
-    while (dda_next(&dda, &s)) {
-        if (s.t1 - s.t0 <= 0.0) {
-            continue;
+    // Zero super-voxels add nothing (occupied.wgsl).
+    var spans = spans_new(m, r, t0, t1);
+    var span: vec2<f32>;
+    while (spans_next(&spans, m, true, &span)) {
+        var dda = dda_new(shifted, 1.0, m.dims + vec3<u32>(1u), span.x, span.y);
+        var s: DdaStep;
+        while (dda_next(&dda, &s)) {
+            if (s.t1 - s.t0 <= 0.0) {
+                continue;
+            }
+            *lookups += 1u;
+            var cell = dual_cell(m, s.cell);
+            tau += dual_integral(&cell, shifted.o, shifted.d, s.t0, s.t1);
         }
-        *lookups += 1u;
-        var cell = dual_cell(m, s.cell);
-        tau += dual_integral(&cell, shifted.o, shifted.d, s.t0, s.t1);
     }
     return exp(-tau * m.scale);
 }

@@ -90,16 +90,21 @@ fn regular_tracking_sample(m: MediumGpu, r: Ray, t0: f32, t1: f32,
                            rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
     let tau_target = -log(1.0 - pcg32_next_f32(rng));
     var tau = 0.0;
-    var dda = dda_new(r, 1.0, m.dims, t0, t1);
-    var s: DdaStep;
-    while (dda_next(&dda, &s)) {
-        *lookups += 1u;
-        let sigma_t = m.scale * fetch(m, s.cell.x, s.cell.y, s.cell.z);
-        let d = sigma_t * (s.t1 - s.t0);
-        if (tau + d >= tau_target && sigma_t > 0.0) {
-            return clamp(s.t0 + (tau_target - tau) / sigma_t, s.t0, s.t1);
+    // Zero super-voxels hold no collision (occupied.wgsl).
+    var spans = spans_new(m, r, t0, t1);
+    var span: vec2<f32>;
+    while (spans_next(&spans, m, false, &span)) {
+        var dda = dda_new(r, 1.0, m.dims, span.x, span.y);
+        var s: DdaStep;
+        while (dda_next(&dda, &s)) {
+            *lookups += 1u;
+            let sigma_t = m.scale * fetch(m, s.cell.x, s.cell.y, s.cell.z);
+            let d = sigma_t * (s.t1 - s.t0);
+            if (tau + d >= tau_target && sigma_t > 0.0) {
+                return clamp(s.t0 + (tau_target - tau) / sigma_t, s.t0, s.t1);
+            }
+            tau += d;
         }
-        tau += d;
     }
     return NO_HIT;
 }

@@ -46,21 +46,26 @@ fn trilinear_flight(m: MediumGpu, r: Ray, t0: f32, t1: f32, u: f32,
     var shifted = r;
     shifted.o = r.o + vec3<f32>(0.5);
     var tau = 0.0;
-    var dda = dda_new(shifted, 1.0, m.dims + vec3<u32>(1u), t0, t1);
-    var s: DdaStep;
-    while (dda_next(&dda, &s)) {
-        if (s.t1 <= s.t0) {
-            continue;
+    // Zero super-voxels hold no collision (occupied.wgsl).
+    var spans = spans_new(m, r, t0, t1);
+    var span: vec2<f32>;
+    while (spans_next(&spans, m, true, &span)) {
+        var dda = dda_new(shifted, 1.0, m.dims + vec3<u32>(1u), span.x, span.y);
+        var s: DdaStep;
+        while (dda_next(&dda, &s)) {
+            if (s.t1 <= s.t0) {
+                continue;
+            }
+            *lookups += 1u;
+            var cell = dual_cell(m, s.cell);
+            let d_tau = dual_integral(&cell, shifted.o, shifted.d, s.t0, s.t1);
+            if (tau + d_tau >= target_unscaled && d_tau > 0.0) {
+                let t = clamp(dual_invert(&cell, shifted.o, shifted.d, s.t0, s.t1,
+                                          target_unscaled - tau, d_tau), s.t0, s.t1);
+                return vec3<f32>(t, m.scale * dual_value(&cell, shifted.o, shifted.d, t), target_tau);
+            }
+            tau += d_tau;
         }
-        *lookups += 1u;
-        var cell = dual_cell(m, s.cell);
-        let d_tau = dual_integral(&cell, shifted.o, shifted.d, s.t0, s.t1);
-        if (tau + d_tau >= target_unscaled && d_tau > 0.0) {
-            let t = clamp(dual_invert(&cell, shifted.o, shifted.d, s.t0, s.t1,
-                                      target_unscaled - tau, d_tau), s.t0, s.t1);
-            return vec3<f32>(t, m.scale * dual_value(&cell, shifted.o, shifted.d, t), target_tau);
-        }
-        tau += d_tau;
     }
     return vec3<f32>(NO_HIT, 0.0, tau * m.scale);
 }

@@ -39,17 +39,22 @@ fn restir_track(mi: u32, world: Ray, rng: ptr<function, Pcg32>, lookups: ptr<fun
     }
     let target_tau = -log(1.0 - u);
     var tau = 0.0;
-    var dda = dda_new(r, 1.0, m.dims, range.x, range.y);
-    var s: DdaStep;
-    while (dda_next(&dda, &s)) {
-        *lookups += 1u;
-        let sigma_t = m.scale * fetch(m, s.cell.x, s.cell.y, s.cell.z);
-        let d = sigma_t * (s.t1 - s.t0);
-        if (tau + d >= target_tau && sigma_t > 0.0) {
-            let t = clamp(s.t0 + (target_tau - tau) / sigma_t, s.t0, s.t1);
-            return Flight(t, sigma_t, target_tau);
+    // Zero super-voxels hold no collision (occupied.wgsl).
+    var spans = spans_new(m, r, range.x, range.y);
+    var span: vec2<f32>;
+    while (spans_next(&spans, m, false, &span)) {
+        var dda = dda_new(r, 1.0, m.dims, span.x, span.y);
+        var s: DdaStep;
+        while (dda_next(&dda, &s)) {
+            *lookups += 1u;
+            let sigma_t = m.scale * fetch(m, s.cell.x, s.cell.y, s.cell.z);
+            let d = sigma_t * (s.t1 - s.t0);
+            if (tau + d >= target_tau && sigma_t > 0.0) {
+                let t = clamp(s.t0 + (target_tau - tau) / sigma_t, s.t0, s.t1);
+                return Flight(t, sigma_t, target_tau);
+            }
+            tau += d;
         }
-        tau += d;
     }
     return Flight(NO_HIT, 0.0, tau);
 }
@@ -64,12 +69,23 @@ fn marched_tau(m: MediumGpu, r: Ray, t0: f32, t1: f32, step: f32, lookups: ptr<f
     let dt = step / speed;
     let n = u32(max(ceil((t1 - t0) / dt), 1.0));
     var tau = 0.0;
-    for (var i = 0u; i < n; i++) {
-        let lo = t0 + f32(i) * dt;
-        let hi = min(lo + dt, t1);
-        tau += trilinear(m, ray_at(r, 0.5 * (lo + hi))) * (hi - lo);
+    // Only steps that reach a non-zero super-voxel (occupied.wgsl); the
+    // others would add exact zeros. `next` keeps a step shared by two spans
+    // from counting twice.
+    var next = 0u;
+    var spans = spans_new(m, r, t0, t1);
+    var span: vec2<f32>;
+    while (spans_next(&spans, m, true, &span)) {
+        let first = max(u32(max(floor((span.x - t0) / dt), 0.0)), next);
+        let end = min(u32(max(floor((span.y - t0) / dt), 0.0)) + 1u, n);
+        for (var i = first; i < end; i++) {
+            let lo = t0 + f32(i) * dt;
+            let hi = min(lo + dt, t1);
+            tau += trilinear(m, ray_at(r, 0.5 * (lo + hi))) * (hi - lo);
+            *lookups += 1u;
+        }
+        next = max(next, end);
     }
-    *lookups += n;
     return tau * m.scale;
 }
 
