@@ -317,3 +317,24 @@ fn pins_instances_measures_both_methods() {
     assert!(r.rm_ms > 0.0 && r.pin_ms > 0.0 && r.build_s > 0.0);
     assert!(r.rm_mse.is_finite() && r.pin_mse.is_finite() && r.pin_mse > 0.0);
 }
+
+/// Seed 004 Fig. 4.9: the default rule (grid ≤ 0.1× the f16 texture)
+/// picks the thesis's P for all four of its volumes.
+#[test]
+fn pins_memory_rule_matches_the_thesis() {
+    use fogbank_eval::experiments::pins_memory::{row, THESIS};
+    for (name, dims, p, tex, grid) in THESIS {
+        let r = row(name, dims);
+        assert_eq!(r.positions, p, "{name}");
+        assert!(
+            (r.texture_mb - tex).abs() < 0.05 * tex,
+            "{name}: {}",
+            r.texture_mb
+        );
+        assert!(
+            (r.grid_mb - grid).abs() < 0.05 * grid,
+            "{name}: {}",
+            r.grid_mb
+        );
+    }
+}

@@ -18,6 +18,7 @@ pub mod fig7;
 mod fit;
 pub mod pins_fig3_4;
 pub mod pins_instances;
+pub mod pins_memory;
 pub mod profile;
 pub mod restir_ablation;
 pub mod restir_bias;
@@ -68,6 +69,7 @@ pub fn names() -> &'static [&'static str] {
         "restir-gpu-frame-time",
         "pins-fig3-4",
         "pins-instances",
+        "pins-memory",
     ]
 }
 
@@ -102,6 +104,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "restir-gpu-frame-time" => restir_gpu_frame_time::run(&mut w, trials),
         "pins-fig3-4" => pins_fig3_4::run(&mut w, trials),
         "pins-instances" => pins_instances::run(&mut w, trials),
+        "pins-memory" => pins_memory::run(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",
