@@ -338,3 +338,19 @@ fn pins_memory_rule_matches_the_thesis() {
         );
     }
 }
+
+/// Every setting of seed 004's ablation experiment builds (keys valid, grids
+/// within limits).
+#[test]
+fn pins_ablation_settings_all_build() {
+    use fogbank_eval::experiments::{pins_ablation, restir_protocol::build};
+    let studies = pins_ablation::studies();
+    assert!(studies.len() >= 18);
+    for (fig, label, set) in studies {
+        let small: Vec<String> = set
+            .into_iter()
+            .chain(["media.0.density.resolution=16".to_string()])
+            .collect();
+        build(pins_ablation::SCENE, &small).unwrap_or_else(|e| panic!("{fig} {label}: {e}"));
+    }
+}

@@ -16,6 +16,7 @@ pub mod fig4;
 pub mod fig5;
 pub mod fig7;
 mod fit;
+pub mod pins_ablation;
 pub mod pins_fig3_4;
 pub mod pins_instances;
 pub mod pins_memory;
@@ -70,6 +71,7 @@ pub fn names() -> &'static [&'static str] {
         "pins-fig3-4",
         "pins-instances",
         "pins-memory",
+        "pins-ablation",
     ]
 }
 
@@ -105,6 +107,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "pins-fig3-4" => pins_fig3_4::run(&mut w, trials),
         "pins-instances" => pins_instances::run(&mut w, trials),
         "pins-memory" => pins_memory::run(&mut w, trials),
+        "pins-ablation" => pins_ablation::run(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",
