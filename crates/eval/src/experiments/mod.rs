@@ -17,6 +17,7 @@ pub mod fig5;
 pub mod fig7;
 mod fit;
 pub mod pins_ablation;
+pub mod pins_bias;
 pub mod pins_fig3_4;
 pub mod pins_instances;
 pub mod pins_memory;
@@ -72,6 +73,7 @@ pub fn names() -> &'static [&'static str] {
         "pins-instances",
         "pins-memory",
         "pins-ablation",
+        "pins-bias",
     ]
 }
 
@@ -108,6 +110,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "pins-instances" => pins_instances::run(&mut w, trials),
         "pins-memory" => pins_memory::run(&mut w, trials),
         "pins-ablation" => pins_ablation::run(&mut w, trials),
+        "pins-bias" => pins_bias::run(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",
