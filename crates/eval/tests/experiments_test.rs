@@ -354,3 +354,18 @@ fn pins_ablation_settings_all_build() {
         build(pins_ablation::SCENE, &small).unwrap_or_else(|e| panic!("{fig} {label}: {e}"));
     }
 }
+
+/// Every row of seed 004's bias experiment builds for both lightings.
+#[test]
+fn pins_bias_settings_all_build() {
+    use fogbank_eval::experiments::{pins_bias, restir_protocol::build};
+    for (case, text) in pins_bias::cases() {
+        for (label, set) in pins_bias::settings() {
+            let small: Vec<String> = set
+                .into_iter()
+                .chain(["media.0.density.resolution=16".to_string()])
+                .collect();
+            build(&text, &small).unwrap_or_else(|e| panic!("{case} {label}: {e}"));
+        }
+    }
+}
