@@ -98,12 +98,17 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let reference = Reference::render(&build(SCENE, &[])?, 8 * spp, 0x0442);
     let mean = |img: &[[f32; 3]]| img.iter().map(|p| (p[0] + p[1] + p[2]) as f64).sum::<f64>();
     let ref_mean = mean(&reference.rgb);
+    w.png("reference.png", 64, 48, &reference.rgb, 0.0)?;
     let mut rows = Vec::new();
     let mut lines = Vec::new();
     for (i, (fig, label, set)) in studies().into_iter().enumerate() {
         let scene = build(SCENE, &set).map_err(|e| format!("{label}: {e}"))?;
         let f = independent_frames(&scene, &reference, spp, 1, 0x1000 + i as u32);
         let bias = mean(&f.last) / ref_mean - 1.0;
+        // Images of the pin-usage and representation studies (Figs. 4.3, 4.5).
+        if fig == "baseline" || fig == "4.3" || fig == "4.5" {
+            w.png(&format!("row{i:02}.png"), 64, 48, &f.last, 0.0)?;
+        }
         let ms = f.ms / spp as f64;
         rows.push(vec![
             fig.to_string(),
@@ -127,7 +132,8 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         "Seed 004 ablations on fogbank's CPU: 64×48, 64³ cloud, albedo 1, 8 bounces, sky probe + sun; {spp} spp per row \
          against unbiased `volpath` at {} spp; MSE (reference variance subtracted; includes each row's own noise), \
          relative bias of the image mean, time per sample (one run, noisy ±20 %).\n\n\
-         | fig. | setting | MSE | mean bias | ms/spp |\n|---|---|---|---|---|\n{}\n",
+         | fig. | setting | MSE | mean bias | ms/spp |\n|---|---|---|---|---|\n{}\n\n\
+         Images: `reference.png` and `rowNN.png` (row NN of `ablation.csv`, from 0) for the baseline and Figs. 4.3, 4.5.\n",
         8 * spp,
         lines.join("\n")
     ))

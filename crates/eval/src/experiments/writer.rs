@@ -37,6 +37,21 @@ impl Writer {
         self.files.push(path);
     }
 
+    /// An 8-bit sRGB PNG of linear `rgb` scaled by 2^`exposure`.
+    pub fn png(
+        &mut self,
+        file: &str,
+        width: u32,
+        height: u32,
+        rgb: &[[f32; 3]],
+        exposure: f32,
+    ) -> Result<(), String> {
+        let p = self.out.join(file);
+        fogbank_image::image_io::write_png(&p, width, height, rgb, exposure)?;
+        self.files.push(p);
+        Ok(())
+    }
+
     pub fn figure(&mut self, stem: &str, fig: &crate::plot::Figure) -> Result<(), String> {
         let files = fig.save(&self.out.join(stem))?;
         self.files.extend(files);
