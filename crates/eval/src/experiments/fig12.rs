@@ -16,7 +16,7 @@
 //! (`procedural::cloud_grid`) stands in for it.
 
 use super::writer::Writer;
-use crate::image_io::{linear_to_srgb, Image};
+use crate::image_io::Image;
 use crate::metrics::smape::smape;
 use fogbank_render::integrators::point_mis::Strategy;
 use fogbank_render::{parse_scene, render_observed, Film, Progress, RenderOptions, Scene};
@@ -179,27 +179,6 @@ pub fn compute(reference_spp: u32, bias_spp: u32) -> Result<(Film, Vec<Row>), St
     Ok((reference, rows))
 }
 
-/// An 8-bit sRGB PNG of a linear image scaled by `exposure`.
-fn write_png(
-    w: &mut Writer,
-    file: &str,
-    width: u32,
-    height: u32,
-    rgb: &[[f32; 3]],
-    exposure: f32,
-) -> Result<(), String> {
-    let mut buf = image::RgbImage::new(width, height);
-    for (i, p) in rgb.iter().enumerate() {
-        let px = p.map(|c| (linear_to_srgb((c * exposure).clamp(0.0, 1.0)) * 255.0 + 0.5) as u8);
-        buf.put_pixel(i as u32 % width, i as u32 / width, image::Rgb(px));
-    }
-    let path = w.path(file);
-    buf.save(&path)
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    w.record(path);
-    Ok(())
-}
-
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let reference_spp = trials.unwrap_or(DEFAULT_REFERENCE_SPP).min(1 << 20) as u32;
     let (reference, rows) = compute(reference_spp, BIAS_SPP)?;
@@ -212,17 +191,11 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         .collect();
     lum.sort_by(|a, b| a.total_cmp(b));
     let p99 = lum[(lum.len() as f64 * 0.99) as usize].max(1e-6);
-    let exposure = 1.0 / p99;
-    write_png(w, "reference.png", width, height, &ref_mean, exposure)?;
+    let exposure = (1.0 / p99).log2();
+    w.png("reference.png", width, height, &ref_mean, exposure)?;
     for r in &rows {
-        write_png(
-            w,
-            &format!("{}_{SPP}spp.png", r.strategy.name()),
-            width,
-            height,
-            &r.image,
-            exposure,
-        )?;
+        let name = format!("{}_{SPP}spp.png", r.strategy.name());
+        w.png(&name, width, height, &r.image, exposure)?;
     }
     let image_mean = reference.image_mean().iter().sum::<f64>() / 3.0;
     let csv: Vec<Vec<String>> = rows

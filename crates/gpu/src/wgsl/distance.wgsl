@@ -85,10 +85,11 @@ fn decomposition_tracking_sample(m: MediumGpu, r: Ray, t0: f32, t1: f32,
 }
 
 // Regular tracking: invert the exact optical depth of the nearest-filtered
-// grid voxel by voxel.
-fn regular_tracking_sample(m: MediumGpu, r: Ray, t0: f32, t1: f32,
-                           rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
-    let tau_target = -log(1.0 - pcg32_next_f32(rng));
+// grid voxel by voxel, for the uniform number u (TrackedFlight): (t or
+// NO_HIT, σ_t there, τ to it or over the whole range on escape).
+fn regular_flight(m: MediumGpu, r: Ray, t0: f32, t1: f32, u: f32,
+                  lookups: ptr<function, u32>) -> vec3<f32> {
+    let tau_target = -log(1.0 - u);
     var tau = 0.0;
     // Zero super-voxels hold no collision (occupied.wgsl).
     var spans = spans_new(m, r, t0, t1);
@@ -101,10 +102,15 @@ fn regular_tracking_sample(m: MediumGpu, r: Ray, t0: f32, t1: f32,
             let sigma_t = m.scale * fetch(m, s.cell.x, s.cell.y, s.cell.z);
             let d = sigma_t * (s.t1 - s.t0);
             if (tau + d >= tau_target && sigma_t > 0.0) {
-                return clamp(s.t0 + (tau_target - tau) / sigma_t, s.t0, s.t1);
+                return vec3<f32>(clamp(s.t0 + (tau_target - tau) / sigma_t, s.t0, s.t1), sigma_t, tau_target);
             }
             tau += d;
         }
     }
-    return NO_HIT;
+    return vec3<f32>(NO_HIT, 0.0, tau);
+}
+
+fn regular_tracking_sample(m: MediumGpu, r: Ray, t0: f32, t1: f32,
+                           rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    return regular_flight(m, r, t0, t1, pcg32_next_f32(rng), lookups).x;
 }

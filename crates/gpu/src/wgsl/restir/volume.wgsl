@@ -37,26 +37,8 @@ fn restir_track(mi: u32, world: Ray, rng: ptr<function, Pcg32>, lookups: ptr<fun
         let f = trilinear_flight(m, r, range.x, range.y, u, lookups);
         return Flight(f.x, f.y, f.z);
     }
-    let target_tau = -log(1.0 - u);
-    var tau = 0.0;
-    // Zero super-voxels hold no collision (occupied.wgsl).
-    var spans = spans_new(m, r, range.x, range.y);
-    var span: vec2<f32>;
-    while (spans_next(&spans, m, false, &span)) {
-        var dda = dda_new(r, 1.0, m.dims, span.x, span.y);
-        var s: DdaStep;
-        while (dda_next(&dda, &s)) {
-            *lookups += 1u;
-            let sigma_t = m.scale * fetch(m, s.cell.x, s.cell.y, s.cell.z);
-            let d = sigma_t * (s.t1 - s.t0);
-            if (tau + d >= target_tau && sigma_t > 0.0) {
-                let t = clamp(s.t0 + (target_tau - tau) / sigma_t, s.t0, s.t1);
-                return Flight(t, sigma_t, target_tau);
-            }
-            tau += d;
-        }
-    }
-    return Flight(NO_HIT, 0.0, tau);
+    let f = regular_flight(m, r, range.x, range.y, u, lookups);
+    return Flight(f.x, f.y, f.z);
 }
 
 // deterministic_marching::optical_depth: trilinear midpoints on a fixed
