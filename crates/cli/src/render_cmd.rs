@@ -4,6 +4,7 @@
 use crate::common::{peak_memory_bytes, thread_pool, CliResult};
 use clap::Args;
 use fogbank_image::image_io::{write_exr, write_png};
+use fogbank_render::integrators::shared::pin_params::GridPlan;
 use fogbank_render::{load_scene, render, Progress, RenderOptions};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -283,10 +284,18 @@ pub fn run(a: RenderArgs) -> CliResult {
             "nonfinite_output_pixels": bad_pixels,
             "peak_memory_bytes": peak_memory_bytes(),
             "pin_grids": match &scene.integrator {
-                fogbank_render::integrators::IntegratorKind::VolPath(v) => v.pin_set.as_ref().map(|p| serde_json::json!({
-                    "memory_bytes": p.memory_bytes(),
-                    "positions": p.positions(),
-                })),
+                // From the plan, so a GPU render (which gathers its own
+                // grids) reports the same without a CPU gather.
+                fogbank_render::integrators::IntegratorKind::VolPath(v) => v.pins.plan(&scene.world).ok().flatten().map(|plan| {
+                    let own: Vec<_> = plan.iter().filter_map(|p| match p {
+                        GridPlan::Own { spec, .. } => Some(*spec),
+                        GridPlan::Shared(_) => None,
+                    }).collect();
+                    serde_json::json!({
+                        "memory_bytes": own.iter().map(|s| s.pin_count().unwrap_or(0) * 8).sum::<u64>(),
+                        "positions": own.iter().map(|s| s.positions).collect::<Vec<_>>(),
+                    })
+                }),
                 _ => None,
             },
             "media": scene.media.iter().map(|m| serde_json::json!({

@@ -31,7 +31,9 @@ pub(crate) struct Frame {
     pub(crate) sampler: u32,
     pub(crate) mis_samples: u32,
     pub(crate) integrator_flags: u32,
-    pub(crate) pad: [u32; 3],
+    pub(crate) pin_mode: u32,
+    pub(crate) march_step: f32,
+    pub(crate) pin_mask_iterations: u32,
 }
 
 /// Bind group 1 of every kernel: the frame uniform and the accumulation

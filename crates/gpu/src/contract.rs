@@ -9,6 +9,7 @@ use fogbank_estimators::jackknife::StepMode;
 use fogbank_estimators::optical_depth::Jitter;
 use fogbank_estimators::Estimator;
 use fogbank_render::integrators::point_mis::Strategy;
+use fogbank_render::integrators::shared::pin_params::PinMode;
 use fogbank_render::integrators::shared::{dim, DistanceSampler};
 use fogbank_render::lights::Light;
 use fogbank_render::world::emission::Emission;
@@ -19,10 +20,20 @@ const FLAG_UNIFORM_JITTER: u32 = FLAGS[0].1;
 const FLAG_CLIP: u32 = FLAGS[1].1;
 const FLAG_DOUBLED: u32 = FLAGS[2].1;
 /// Bits of `Frame::integrator_flags` (WGSL `INTEGRATOR_*`).
-pub const INTEGRATOR_FLAGS: [(&str, u32); 1] = [("LIGHT_ONLY", 1)];
+pub const INTEGRATOR_FLAGS: [(&str, u32); 3] =
+    [("LIGHT_ONLY", 1), ("RAY_MARCHING", 2), ("UNQUANTISED", 4)];
 /// volpath's `restir_baseline` preset: light sampling only (no
 /// phase-sampled escape MIS) and Russian roulette by albedo.
 pub const INTEGRATOR_LIGHT_ONLY: u32 = INTEGRATOR_FLAGS[0].1;
+/// Seed 004: rays without pins use fixed-step ray marching (§2.4).
+pub const INTEGRATOR_RAY_MARCHING: u32 = INTEGRATOR_FLAGS[1].1;
+/// Seed 004 Fig. 4.5: pins traced along each query ray, not looked up.
+pub const INTEGRATOR_UNQUANTISED: u32 = INTEGRATOR_FLAGS[2].1;
+
+/// The `PIN_MODE_*` id of volpath's `pins` key.
+pub fn pin_mode_id(m: PinMode) -> u32 {
+    position(&PinMode::NAMES.map(|(n, _)| n), m.name())
+}
 
 /// Emission kinds of a medium (0: none).
 pub const EMISSION_KINDS: [&str; 3] = ["none", "color", "blackbody"];
@@ -182,6 +193,7 @@ pub fn wgsl_prelude() -> String {
     enumeration(&mut s, "LIGHT", &Light::KINDS);
     enumeration(&mut s, "EMISSION", &EMISSION_KINDS);
     enumeration(&mut s, "VELOCITY", &VELOCITY_KINDS);
+    enumeration(&mut s, "PIN_MODE", &PinMode::NAMES.map(|(n, _)| n));
     for (name, bit) in FLAGS {
         s.push_str(&format!("const FLAG_{name}: u32 = {bit}u;\n"));
     }

@@ -47,9 +47,12 @@ fn wgsl_structs_have_the_layout_of_the_rust_structs() {
             ("sampler", offset_of!(Frame, sampler)),
             ("mis_samples", offset_of!(Frame, mis_samples)),
             ("integrator_flags", offset_of!(Frame, integrator_flags)),
-            ("pad0", offset_of!(Frame, pad)),
-            ("pad1", offset_of!(Frame, pad) + 4),
-            ("pad2", offset_of!(Frame, pad) + 8),
+            ("pin_mode", offset_of!(Frame, pin_mode)),
+            ("march_step", offset_of!(Frame, march_step)),
+            (
+                "pin_mask_iterations",
+                offset_of!(Frame, pin_mask_iterations),
+            ),
         ],
     );
     let w2i = offset_of!(MediumGpu, w2i);

@@ -66,3 +66,72 @@ pub fn rng_streams(gpu: &Gpu, keys: &[SampleKey], count: u32) -> Result<Vec<u32>
     let bytes = gpu.read_back(&out)?;
     Ok(bytemuck::cast_slice(&bytes)[..keys.len() * count as usize].to_vec())
 }
+
+/// One pin query along a unit-cube ray (WGSL `ChordQuery`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ChordQuery {
+    pub o: [f32; 3],
+    pub t_start: f32,
+    pub d: [f32; 3],
+    pub max_len: f32,
+    pub mask: u32,
+    pub t_min: f32,
+    pub u: f32,
+    pub iterations: u32,
+}
+
+/// Each query answered by pins.wgsl: [popcount exponent (u32::MAX: no
+/// chord), MSB distance with `mask` as the collision mask and `u`,
+/// `Chord::distance` from Pcg32::new(query index, 7), T̃] — floats as bits,
+/// −1 for no collision.
+pub fn chord_queries(gpu: &Gpu, queries: &[ChordQuery]) -> Result<Vec<[u32; 4]>, GpuError> {
+    let device = &gpu.device;
+    let q = gpu.storage_buffer("queries", bytemuck::cast_slice(queries));
+    let out = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("answers"),
+        size: (queries.len() as u64 * 16).max(16),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let source = [
+        shaders::estimators().as_str(),
+        shaders::PINS,
+        shaders::CHORD_QUERIES_KERNEL,
+    ]
+    .join("\n");
+    let module = gpu.checked("chord queries kernel", || {
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("chord_queries"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        })
+    })?;
+    let pipeline = gpu.checked("chord queries pipeline", || {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("chord_queries"),
+            layout: None,
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    })?;
+    // Group 0 (the media, unused here) is empty but must be bound.
+    let empty = gpu.bind_group_of("empty", &pipeline.get_bind_group_layout(0), &[]);
+    let group = gpu.bind_group_of(
+        "chord_queries",
+        &pipeline.get_bind_group_layout(1),
+        &[&q, &out],
+    );
+    let mut enc = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &empty, &[]);
+        pass.set_bind_group(1, &group, &[]);
+        pass.dispatch_workgroups((queries.len() as u32).div_ceil(64), 1, 1);
+    }
+    gpu.queue.submit([enc.finish()]);
+    let bytes = gpu.read_back(&out)?;
+    Ok(bytemuck::cast_slice(&bytes)[..queries.len()].to_vec())
+}

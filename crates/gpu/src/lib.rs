@@ -15,6 +15,7 @@ pub mod contract;
 mod contract_test;
 pub mod diagnostics;
 pub mod lights;
+pub mod pins;
 pub mod render;
 pub mod restir;
 pub mod scene_buffers;

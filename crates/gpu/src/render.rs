@@ -5,10 +5,12 @@
 
 use crate::accumulation::{after_passes, frame_bind_group_layout, read_film, Frame};
 pub use crate::accumulation::{GpuRender, Observer};
-use crate::contract::{gpu_estimator, sampler_id, strategy_id, GpuEstimator};
+use crate::contract::{gpu_estimator, pin_mode_id, sampler_id, strategy_id, GpuEstimator};
+use crate::pins::PinBuffers;
 use crate::scene_buffers::SceneBuffers;
 use crate::shaders;
 use crate::{Gpu, GpuError};
+use fogbank_render::integrators::shared::pin_params::{PinMode, PinParams, Tracking};
 use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{Progress, RenderOptions, Scene};
 use std::sync::atomic::Ordering;
@@ -29,6 +31,9 @@ pub(crate) struct Kernel {
     mis_samples: u32,
     /// `INTEGRATOR_*` bits.
     flags: u32,
+    /// `volpath`'s seed 004 keys (`pins`, `tracking`, `march_step`,
+    /// `pin_grid`); the default is plain `volpath`.
+    pins: PinParams,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -61,6 +66,7 @@ impl Kernel {
                 max_depth: 0,
                 rr_depth: 0,
                 sampler: 0,
+                pins: PinParams::default(),
             },
             IntegratorKind::Direct(d) => Kernel {
                 source: KernelSource::Scatter,
@@ -72,26 +78,19 @@ impl Kernel {
                 max_depth: 1,
                 rr_depth: u32::MAX,
                 sampler: sampler_id(d.distance),
+                pins: PinParams::default(),
             },
-            IntegratorKind::VolPath(v) if v.pins != Default::default() => return Err(GpuError(
-                "volpath: pins and ray-marching tracking (seed 004) run on the CPU only so far \
-                     (render with --device cpu)"
-                    .into(),
-            )),
             IntegratorKind::VolPath(v) => Kernel {
                 source: KernelSource::Scatter,
                 mis_samples: 0,
-                flags: if v.light_only {
-                    crate::contract::INTEGRATOR_LIGHT_ONLY
-                } else {
-                    0
-                },
+                flags: volpath_flags(v),
                 scatter: true,
                 est,
                 background: glam::Vec3::ZERO,
                 max_depth: v.max_depth,
                 rr_depth: v.rr_depth,
                 sampler: sampler_id(v.distance),
+                pins: v.pins.clone(),
             },
             IntegratorKind::PointMis(p) => Kernel {
                 source: KernelSource::PointMis,
@@ -103,11 +102,28 @@ impl Kernel {
                 sampler: strategy_id(p.strategy),
                 mis_samples: p.mis_samples,
                 flags: 0,
+                pins: PinParams::default(),
             },
             IntegratorKind::Restir(_) => return Err(no_restir()),
         };
         Ok(k)
     }
+}
+
+/// `INTEGRATOR_*` bits of a `volpath`.
+fn volpath_flags(v: &fogbank_render::integrators::volpath::VolPath) -> u32 {
+    use crate::contract::{INTEGRATOR_LIGHT_ONLY, INTEGRATOR_RAY_MARCHING, INTEGRATOR_UNQUANTISED};
+    let mut f = 0;
+    if v.light_only {
+        f |= INTEGRATOR_LIGHT_ONLY;
+    }
+    if v.pins.tracking() == Tracking::RayMarching {
+        f |= INTEGRATOR_RAY_MARCHING;
+    }
+    if v.pins.grid.unquantised {
+        f |= INTEGRATOR_UNQUANTISED;
+    }
+    f
 }
 
 fn no_restir() -> GpuError {
@@ -163,6 +179,18 @@ pub(crate) fn render_kernel(
             gpu,
             scene,
             &media.properties,
+        )?)
+    } else {
+        None
+    };
+    // Group 3 of the scatter kernel: the pin grids, gathered on the device.
+    let pins = if kernel.source == KernelSource::Scatter {
+        let on = kernel.pins.mode != PinMode::Off;
+        Some(PinBuffers::build(
+            gpu,
+            scene,
+            &media,
+            on.then_some(&kernel.pins),
         )?)
     } else {
         None
@@ -226,6 +254,7 @@ pub(crate) fn render_kernel(
             Some(&media.bind_group_layout),
             Some(&frame_layout),
             lights.as_ref().map(|l| &l.bind_group_layout),
+            pins.as_ref().map(|p| &p.layout),
         ],
         immediate_size: 0,
     });
@@ -270,7 +299,9 @@ pub(crate) fn render_kernel(
         sampler: kernel.sampler,
         mis_samples: kernel.mis_samples,
         integrator_flags: kernel.flags,
-        pad: [0; 3],
+        pin_mode: pin_mode_id(kernel.pins.mode),
+        march_step: kernel.pins.march_step,
+        pin_mask_iterations: kernel.pins.grid.mask_iterations,
     };
     let dispatches = opts.spp.div_ceil(SAMPLES_PER_DISPATCH);
     let timed = gpu.timestamps && dispatches <= MAX_TIMED_DISPATCHES && dispatches > 0;
@@ -324,6 +355,9 @@ pub(crate) fn render_kernel(
             if let Some(l) = &lights {
                 pass.set_bind_group(2, &l.bind_group, &[]);
             }
+            if let Some(p) = &pins {
+                pass.set_bind_group(3, &p.bind_group, &[]);
+            }
             pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         }
         gpu.queue.submit([enc.finish()]);
@@ -363,6 +397,6 @@ pub(crate) fn render_kernel(
         seconds,
         gpu_ms,
         interrupted,
-        upload_bytes: media.bytes,
+        upload_bytes: media.bytes + pins.as_ref().map_or(0, |p| p.bytes),
     })
 }

@@ -25,6 +25,12 @@ pub const PHASE: &str = include_str!("wgsl/phase.wgsl");
 pub const LIGHTS: &str = include_str!("wgsl/lights.wgsl");
 pub const PROPERTIES: &str = include_str!("wgsl/properties.wgsl");
 pub const SCATTER_KERNEL: &str = include_str!("wgsl/scatter_kernel.wgsl");
+pub const RAY_MARCHING_STEP: &str = include_str!("wgsl/ray_marching_step.wgsl");
+pub const PINS: &str = include_str!("wgsl/pins.wgsl");
+pub const PIN_GRID: &str = include_str!("wgsl/pin_grid.wgsl");
+pub const TRACKING: &str = include_str!("wgsl/tracking.wgsl");
+pub const PIN_GATHER_KERNEL: &str = include_str!("wgsl/pin_gather_kernel.wgsl");
+pub const CHORD_QUERIES_KERNEL: &str = include_str!("wgsl/chord_queries_kernel.wgsl");
 pub const POINT_MIS_KERNEL: &str = include_str!("wgsl/point_mis_kernel.wgsl");
 pub const ACCUMULATE: &str = include_str!("wgsl/accumulate.wgsl");
 pub const RESTIR_PARAMS: &str = include_str!("wgsl/restir/params.wgsl");
@@ -82,9 +88,15 @@ fn scattering_kernel(kernel: &str) -> String {
     .join("\n")
 }
 
-/// `direct` and `volpath`.
+/// `direct` and `volpath`: with seed 004's ray marching and pins, chosen
+/// per ray (tracking.wgsl).
 pub fn scatter_kernel() -> String {
-    scattering_kernel(SCATTER_KERNEL)
+    scattering_kernel(&[RAY_MARCHING_STEP, PINS, PIN_GRID, TRACKING, SCATTER_KERNEL].join("\n"))
+}
+
+/// Gather population of a pin grid (seed 004 §3.7).
+pub fn pin_gather_kernel() -> String {
+    [&estimators(), PINS, PIN_GRID, PIN_GATHER_KERNEL].join("\n")
 }
 
 /// `point_mis`.

@@ -10,7 +10,7 @@ use std::path::Path;
 mod common;
 use common::image;
 
-fn scene(lights: &str, extra: &[String]) -> Scene {
+pub fn scene(lights: &str, extra: &[String]) -> Scene {
     let text = format!(
         "[camera]\nwidth = 20\nheight = 16\nfov = 30.0\n\
          [[media]]\ndensity = {{ procedural = \"cloud\", resolution = 32, seed = 5 }}\nsigma_t_scale = 12.0\n\
@@ -138,12 +138,6 @@ fn cpu_only_features_are_clear_errors() {
         .err()
         .unwrap();
     assert!(e.0.contains("analytic"), "{e}");
-    // Seed 004's pins and ray marching are CPU-only so far.
-    let s = scene(MIXED, &["integrator.pins=ms".to_string()]);
-    let e = gpu_render::render(&gpu, &s, &opts, &Progress::default())
-        .err()
-        .unwrap();
-    assert!(e.0.contains("pins") && e.0.contains("--device cpu"), "{e}");
 }
 
 #[test]

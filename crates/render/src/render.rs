@@ -64,6 +64,7 @@ pub fn render_observed(
 ) -> RenderResult {
     let (w, h) = (scene.camera.width, scene.camera.height);
     let mut film = Film::new(w, h);
+    scene.integrator.prepare(&scene.world);
     let mut start = Instant::now();
     let mut interrupted = false;
     for pass in 0..opts.spp {

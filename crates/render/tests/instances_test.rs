@@ -83,7 +83,7 @@ fn pins_share_one_grid_across_rigid_instances() {
     let IntegratorKind::VolPath(v) = &s.integrator else {
         panic!()
     };
-    let grids = &v.pin_set.as_ref().unwrap().media;
+    let grids = &v.pin_set(&s.world).unwrap().media;
     let g0 = grids[0].as_ref().unwrap();
     assert!(grids.iter().all(|g| Arc::ptr_eq(g.as_ref().unwrap(), g0)));
     // A scaled copy has other optical depths: its own grid.
@@ -99,7 +99,7 @@ fn pins_share_one_grid_across_rigid_instances() {
     let IntegratorKind::VolPath(v) = &s.integrator else {
         panic!()
     };
-    let grids = &v.pin_set.as_ref().unwrap().media;
+    let grids = &v.pin_set(&s.world).unwrap().media;
     assert!(!Arc::ptr_eq(
         grids[0].as_ref().unwrap(),
         grids[1].as_ref().unwrap()

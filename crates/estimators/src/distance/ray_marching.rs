@@ -37,8 +37,9 @@ pub fn sample<V: VolumeAccess>(
     dt: f32,
     rng: &mut Pcg32,
 ) -> FreeFlight {
-    let target = -(1.0 - rng.next_f64()).ln();
-    let u = rng.next_f64();
+    // f32 draws, as the GPU's (WGSL has no f64).
+    let target = -(1.0 - rng.next_f32() as f64).ln();
+    let u = rng.next_f32() as f64;
     let (n, dt) = steps(t0, t1, dt);
     let mut lookups = 0;
     let mut tau = 0.0f64;
@@ -69,7 +70,7 @@ pub fn transmittance<V: VolumeAccess>(
     dt: f32,
     rng: &mut Pcg32,
 ) -> (f32, u32) {
-    let u = rng.next_f64();
+    let u = rng.next_f32() as f64;
     let (n, dt) = steps(t0, t1, dt);
     let mut lookups = 0;
     let mut tau = 0.0f64;

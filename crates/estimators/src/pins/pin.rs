@@ -41,7 +41,8 @@ impl Pin {
         let mut mask = 0u32;
         for (i, &ti) in t.iter().enumerate() {
             let p = (1.0 - ti.clamp(0.0, 1.0)) / (1.0 - t_min);
-            if rng.next_f64() < p {
+            // One f32 draw per bit, as the GPU's gather kernel draws.
+            if (rng.next_f32() as f64) < p {
                 mask |= 1 << (31 - i);
             }
         }

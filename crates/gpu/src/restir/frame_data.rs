@@ -80,7 +80,9 @@ fn est_frame(scene: &Scene, est: &GpuEstimator) -> Frame {
         sampler: 0,
         mis_samples: 0,
         integrator_flags: 0,
-        pad: [0; 3],
+        pin_mode: 0,
+        march_step: 0.0,
+        pin_mask_iterations: 0,
     }
 }
 

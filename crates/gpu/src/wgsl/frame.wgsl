@@ -30,11 +30,15 @@ struct Frame {
     rr_depth: u32,
     sampler: u32,
     mis_samples: u32,
-    // INTEGRATOR_* bits: LIGHT_ONLY = volpath's restir_baseline preset.
+    // INTEGRATOR_* bits: LIGHT_ONLY = volpath's restir_baseline preset;
+    // RAY_MARCHING = rays without pins march (seed 004's baseline);
+    // UNQUANTISED = pins traced along each query ray (Fig. 4.5).
     integrator_flags: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
+    // Seed 004: which rays read pins (PIN_MODE_*), the ray-marching step in
+    // box edges, k of the majorant masks.
+    pin_mode: u32,
+    march_step: f32,
+    pin_mask_iterations: u32,
 }
 
 @group(1) @binding(0) var<uniform> frame: Frame;

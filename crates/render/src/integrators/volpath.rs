@@ -36,7 +36,7 @@ use crate::world::phase::HenyeyGreenstein;
 use crate::world::World;
 use fogbank_estimators::Estimator;
 use fogbank_math::{Ray, SampleKey, Vec3};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 pub use super::shared::DistanceSampler;
 
@@ -133,8 +133,9 @@ pub struct VolPath {
     pub light_only: bool,
     /// Which rays use pins, ray marching or the unbiased samplers.
     pub pins: PinParams,
-    /// The media's pin grids when pins are on (built once, shared).
-    pub pin_set: Option<Arc<PinSet>>,
+    /// The media's pin grids when pins are on: gathered on the CPU when
+    /// first needed (a GPU render gathers its own in a compute pass).
+    pin_set: OnceLock<Option<Arc<PinSet>>>,
 }
 
 impl VolPath {
@@ -147,9 +148,23 @@ impl VolPath {
             rr_depth: p.rr_depth,
             lights: LightSampler::new(&world.lights, world.radius()),
             light_only: p.scatter.preset == Some(Preset::RestirBaseline),
-            pin_set: p.pins.build(world)?,
+            pin_set: {
+                // Checks every grid's size now; gathering waits.
+                p.pins.plan(world)?;
+                OnceLock::new()
+            },
             pins: p.pins.clone(),
         })
+    }
+
+    /// The pin grids (gathered on first use; `None` with pins off).
+    pub fn pin_set(&self, world: &World) -> Option<&PinSet> {
+        self.pin_set
+            .get_or_init(|| {
+                // The plan was checked in `new`, so the gather cannot fail.
+                self.pins.build(world).unwrap_or_default()
+            })
+            .as_deref()
     }
 
     pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
@@ -157,8 +172,8 @@ impl VolPath {
         let mut ray = primary_ray(world, x, y, key);
         let (mut beta, mut radiance, mut lookups) = (Vec3::ONE, Vec3::ZERO, 0u32);
         let mut phase_pdf: Option<f32> = None;
+        let set = self.pin_set(world);
         for depth in 0..self.max_depth {
-            let set = self.pin_set.as_deref();
             let flight = self.pins.flight(depth, self.distance, set);
             let Some((t, mi)) = next_collision(flight, world, &ray, &mut rng, &mut lookups) else {
                 if !(self.light_only && phase_pdf.is_some()) {

@@ -36,7 +36,7 @@ pub enum PinMode {
 }
 
 impl PinMode {
-    const NAMES: [(&'static str, PinMode); 4] = [
+    pub const NAMES: [(&'static str, PinMode); 4] = [
         ("off", PinMode::Off),
         ("all", PinMode::All),
         ("secondary", PinMode::Secondary),
@@ -189,6 +189,14 @@ impl PinGridParams {
     }
 }
 
+/// One medium's pin grid in a scene: its own (gathered from `seed`), or
+/// the grid of an earlier medium (a rigidly moved instance).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum GridPlan {
+    Own { spec: PinGridSpec, seed: u64 },
+    Shared(usize),
+}
+
 /// `pins`, `tracking`, `march_step` and `pin_grid` of an integrator.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PinParams {
@@ -282,29 +290,60 @@ impl PinParams {
         })
     }
 
-    /// Every medium's grid, gathered (§3.7), when pins are on. Instances of
-    /// one `[[media]]` entry share a grid when they differ by a rigid
-    /// motion (seed 004 §3.10: one grid for all instances); a scaled copy
-    /// has other optical depths and gets its own.
-    pub fn build(&self, world: &World) -> Result<Option<Arc<PinSet>>, SceneError> {
+    /// Every medium's grid as a plan, when pins are on: its spec and seed,
+    /// or the earlier medium whose grid it shares. Instances of one
+    /// `[[media]]` entry share a grid when they differ by a rigid motion
+    /// (seed 004 §3.10: one grid for all instances); a scaled copy has
+    /// other optical depths and gets its own. Every spec is checked here
+    /// (size limits), so building cannot fail later.
+    pub fn plan(&self, world: &World) -> Result<Option<Vec<GridPlan>>, SceneError> {
         if self.mode == PinMode::Off {
             return Ok(None);
         }
-        let mut media: Vec<Option<Arc<PinGrid>>> = Vec::with_capacity(world.media.len());
+        let mut plan: Vec<GridPlan> = Vec::with_capacity(world.media.len());
         for (i, sm) in world.media.iter().enumerate() {
             let m = &sm.medium;
-            let shared = world.media[..i].iter().zip(&media).find_map(|(o, g)| {
-                (o.entry == sm.entry && rigidly_moved(&o.medium, m)).then(|| g.clone())
-            });
-            if let Some(g) = shared {
-                media.push(g);
+            let shared = world.media[..i]
+                .iter()
+                .position(|o| o.entry == sm.entry && rigidly_moved(&o.medium, m));
+            if let Some(j) = shared {
+                // Point at the owner, not at another sharer.
+                plan.push(match plan[j] {
+                    GridPlan::Shared(k) => GridPlan::Shared(k),
+                    GridPlan::Own { .. } => GridPlan::Shared(j),
+                });
                 continue;
             }
             let d = m.dims();
             let voxels = d.iter().map(|&x| x as u64).product();
             let spec = self.grid.spec(self.grid.positions_for(voxels));
+            spec.pin_count()
+                .map_err(|e| SceneError(format!("media.{}: {e}", sm.entry)))?;
+            plan.push(GridPlan::Own {
+                spec,
+                seed: self.grid.seed ^ ((i as u64) << 32),
+            });
+        }
+        Ok(Some(plan))
+    }
+
+    /// Every medium's grid, gathered (§3.7) on the CPU as [`Self::plan`]
+    /// lays them out, when pins are on.
+    pub fn build(&self, world: &World) -> Result<Option<Arc<PinSet>>, SceneError> {
+        let Some(plan) = self.plan(world)? else {
+            return Ok(None);
+        };
+        let mut media: Vec<Option<Arc<PinGrid>>> = Vec::with_capacity(plan.len());
+        for (sm, p) in world.media.iter().zip(&plan) {
+            let (spec, seed) = match *p {
+                GridPlan::Shared(j) => {
+                    media.push(media[j].clone());
+                    continue;
+                }
+                GridPlan::Own { spec, seed } => (spec, seed),
+            };
+            let m = &sm.medium;
             let err = |e: String| SceneError(format!("media.{}: {e}", sm.entry));
-            let seed = self.grid.seed ^ ((i as u64) << 32);
             let cube = unit_cube(m);
             let grid = match m.view() {
                 MediumView::F16(v) => PinGrid::gather(&v, &cube, spec, seed),
