@@ -21,6 +21,7 @@ pub mod pins_bias;
 pub mod pins_fig3_4;
 pub mod pins_instances;
 pub mod pins_memory;
+pub mod pins_runtime;
 pub mod profile;
 pub mod restir_ablation;
 pub mod restir_bias;
@@ -74,6 +75,8 @@ pub fn names() -> &'static [&'static str] {
         "pins-memory",
         "pins-ablation",
         "pins-bias",
+        "pins-runtime",
+        "pins-gpu-runtime",
     ]
 }
 
@@ -111,6 +114,8 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "pins-memory" => pins_memory::run(&mut w, trials),
         "pins-ablation" => pins_ablation::run(&mut w, trials),
         "pins-bias" => pins_bias::run(&mut w, trials),
+        "pins-runtime" => pins_runtime::run(&mut w, trials),
+        "pins-gpu-runtime" => pins_runtime::run_gpu(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",

