@@ -18,6 +18,7 @@ pub mod fig7;
 mod fit;
 pub mod pins_ablation;
 pub mod pins_bias;
+pub mod pins_convergence;
 pub mod pins_fig3_4;
 pub mod pins_instances;
 pub mod pins_memory;
@@ -77,6 +78,7 @@ pub fn names() -> &'static [&'static str] {
         "pins-bias",
         "pins-runtime",
         "pins-gpu-runtime",
+        "pins-convergence",
     ]
 }
 
@@ -116,6 +118,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "pins-bias" => pins_bias::run(&mut w, trials),
         "pins-runtime" => pins_runtime::run(&mut w, trials),
         "pins-gpu-runtime" => pins_runtime::run_gpu(&mut w, trials),
+        "pins-convergence" => pins_convergence::run(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",

@@ -85,7 +85,16 @@ pub const CASES: [Case; 6] = [
         stand_in: "10 instances of cube.vdb as fog, σ_t 20, HG 0.6",
         steps: SMALL,
         thesis: [3.84, 2.12, 1.29],
-        media: || vdb("cube.vdb", 0.4 / 11.2, [0.0; 3], 20.0, 0.6, &cube_instances(10)),
+        media: || {
+            vdb(
+                "cube.vdb",
+                0.4 / 11.2,
+                [0.0; 3],
+                20.0,
+                0.6,
+                &cube_instances(10),
+            )
+        },
     },
 ];
 
@@ -199,10 +208,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             ]);
             cells.push(format!(
                 "**{:.2}×** ({:.2}) · MSE {:.1e}/{:.1e}",
-                m[5],
-                case.thesis[i],
-                m[2],
-                m[3]
+                m[5], case.thesis[i], m[2], m[3]
             ));
         }
         lines.push(format!(
@@ -288,7 +294,10 @@ pub fn run_gpu_on(
             format!("{:.3}", rm / pin),
             format!("{thesis:.2}"),
         ]);
-        Ok(format!("{rm:.2} / {pin:.2} ms → **{:.2}×** ({thesis:.2})", rm / pin))
+        Ok(format!(
+            "{rm:.2} / {pin:.2} ms → **{:.2}×** ({thesis:.2})",
+            rm / pin
+        ))
     };
     for case in cases {
         let text = scene(case, size, size);
@@ -300,9 +309,17 @@ pub fn run_gpu_on(
     let mut instance_lines = Vec::new();
     for &n in counts {
         let text = pins_instances::scene(n, size, size);
-        let i = pins_instances::COUNTS.iter().position(|&c| c == n).unwrap_or(0);
+        let i = pins_instances::COUNTS
+            .iter()
+            .position(|&c| c == n)
+            .unwrap_or(0);
         let thesis = pins_instances::THESIS[i].0 / pins_instances::THESIS[i].1;
-        let cell = row(&format!("{n} instances"), pins_instances::STEP, thesis, &text)?;
+        let cell = row(
+            &format!("{n} instances"),
+            pins_instances::STEP,
+            thesis,
+            &text,
+        )?;
         instance_lines.push(format!("| {n} | {cell} |"));
     }
     w.csv(
@@ -346,8 +363,7 @@ mod smoke_test {
                 // A tiny grid: this checks the scenes, not the gather.
                 let mut set = overrides(case.steps[2], pins);
                 set.push("integrator.pin_grid.positions=2".into());
-                let s = build(&text, &set)
-                    .unwrap_or_else(|e| panic!("{}: {e}", case.name));
+                let s = build(&text, &set).unwrap_or_else(|e| panic!("{}: {e}", case.name));
                 assert!(!s.media.is_empty(), "{}", case.name);
             }
         }

@@ -119,9 +119,14 @@ impl<'a> Accumulator<'a> {
                 a[c] += p[c] as f64;
             }
         }
-        let n = self.n as f64;
-        let mean: Vec<[f32; 3]> = self.acc.iter().map(|a| a.map(|x| (x / n) as f32)).collect();
+        let mean = self.mean();
         self.curve.push((self.seconds, self.reference.mse(&mean)));
+    }
+
+    /// The running mean of the frames so far.
+    fn mean(&self) -> Vec<[f32; 3]> {
+        let n = self.n.max(1) as f64;
+        self.acc.iter().map(|a| a.map(|x| (x / n) as f32)).collect()
     }
 
     fn finish(self, passes: PassTimes, last: Vec<[f32; 3]>) -> Frames {
@@ -194,6 +199,89 @@ pub fn independent_frames(
         acc.add(&last, seconds);
     }
     acc.finish(PassTimes::default(), last)
+}
+
+/// Independent `spp`-sample frames of a per-pixel integrator, one per
+/// [`BudgetRun::step`], until their render time reaches a budget, keeping
+/// the running mean's image at each snapshot time (the first frame ending
+/// at or past it). Several runs stepped in turn share the machine's drift,
+/// so their times compare.
+pub struct BudgetRun<'a> {
+    scene: &'a Scene,
+    acc: Accumulator<'a>,
+    spp: u32,
+    budget: f64,
+    snapshots: Vec<f64>,
+    shots: Vec<Vec<[f32; 3]>>,
+    seed: u32,
+    last: Vec<[f32; 3]>,
+}
+
+impl<'a> BudgetRun<'a> {
+    pub fn new(
+        scene: &'a Scene,
+        reference: &'a Reference,
+        spp: u32,
+        budget: f64,
+        snapshots: &[f64],
+        seed: u32,
+    ) -> Self {
+        BudgetRun {
+            scene,
+            acc: Accumulator::new(reference),
+            spp,
+            budget,
+            snapshots: snapshots.to_vec(),
+            shots: Vec::new(),
+            seed,
+            last: Vec::new(),
+        }
+    }
+
+    /// Renders one more frame unless the budget is spent; false when it is.
+    pub fn step(&mut self) -> bool {
+        if self.acc.seconds >= self.budget {
+            return false;
+        }
+        let opts = RenderOptions {
+            spp: self.spp,
+            seed: self.seed.wrapping_add(self.acc.n),
+            time_budget: None,
+        };
+        let clock = Instant::now();
+        let film = render(self.scene, &opts, &Progress::default()).film;
+        let seconds = clock.elapsed().as_secs_f64();
+        self.last = film.mean();
+        self.acc.add(&self.last, seconds);
+        while self.shots.len() < self.snapshots.len()
+            && self.acc.seconds >= self.snapshots[self.shots.len()]
+        {
+            self.shots.push(self.acc.mean());
+        }
+        true
+    }
+
+    /// The frames and the snapshots (the final mean for those not reached).
+    pub fn finish(mut self) -> (Frames, Vec<Vec<[f32; 3]>>) {
+        while self.shots.len() < self.snapshots.len() {
+            self.shots.push(self.acc.mean());
+        }
+        (self.acc.finish(PassTimes::default(), self.last), self.shots)
+    }
+}
+
+/// [`BudgetRun`] of one scene alone.
+pub fn frames_within(
+    scene: &Scene,
+    reference: &Reference,
+    spp: u32,
+    budget: f64,
+    snapshots: &[f64],
+    seed: u32,
+) -> (Frames, Vec<Vec<[f32; 3]>>) {
+    let mut run = BudgetRun::new(scene, reference, spp, budget, snapshots, seed);
+    while run.step() {}
+    run.finish()
 }
 
 /// Frames `0..n` of the animated scene `text` (with `set` overrides), each
