@@ -5,14 +5,13 @@
 //! (z-test) at equal spp with matching lookup counts, for every pin mode,
 //! unquantised pins and instances sharing one grid.
 
-use fogbank_gpu::{pins::gathered_pins, render as gpu_render, test_gpu};
-use fogbank_image::metrics::ztest;
+use fogbank_gpu::{pins::gathered_pins, test_gpu};
 use fogbank_render::integrators::IntegratorKind;
-use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
+use fogbank_render::{parse_scene, Scene};
 use std::path::Path;
 
 mod common;
-use common::image;
+use common::assert_gpu_matches_cpu;
 
 const LIGHTS: &str = "[[lights]]\ntype = \"constant\"\nradiance = [0.3, 0.4, 0.5]\n\
     [[lights]]\ntype = \"point\"\nposition = [0.05, 0.1, 0.0]\nintensity = [0.3, 0.3, 0.2]\n\
@@ -35,38 +34,9 @@ fn scene(extra: &[&str]) -> Scene {
     Scene::build(parse_scene(&text, "test", &extra).unwrap(), &base).unwrap()
 }
 
-fn opts(spp: u32, seed: u32) -> RenderOptions {
-    RenderOptions {
-        spp,
-        seed,
-        time_budget: None,
-    }
-}
-
 fn compare(extra: &[&str], spp: u32) {
     let Some(gpu) = test_gpu() else { return };
-    let s = scene(extra);
-    let cpu = render(&s, &opts(spp, 1), &Progress::default()).film;
-    let g = gpu_render::render(&gpu, &s, &opts(spp, 2), &Progress::default()).unwrap();
-    assert_eq!(g.film.nan_samples, 0, "{extra:?}");
-    let z = ztest(&image(&cpu), &image(&g.film)).unwrap();
-    assert!(
-        z.pass,
-        "{extra:?}: {} failing pixels, max |z| {:.2} (threshold {:.2}) at {:?}",
-        z.failing_pixels, z.max_abs_z, z.threshold, z.max_abs_z_pixel
-    );
-    let (lc, lg) = (cpu.lookups as f64, g.film.lookups as f64);
-    assert!(
-        (lc - lg).abs() <= 0.03 * lc,
-        "{extra:?}: lookups cpu {lc} gpu {lg}"
-    );
-    assert!(cpu.image_mean()[0] > 0.01, "the scene must be lit");
-    eprintln!(
-        "{extra:?}: max |z| {:.2}, failing {}, lookups gpu/cpu {:.3}",
-        z.max_abs_z,
-        z.failing_pixels,
-        lg / lc
-    );
+    assert_gpu_matches_cpu(&gpu, &scene(extra), spp, &format!("{extra:?}"));
 }
 
 /// The gather kernel reproduces the CPU's `PinGrid::gather`: the same pin

@@ -8,7 +8,7 @@ use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::Path;
 
 mod common;
-use common::image;
+use common::{assert_gpu_matches_cpu, image};
 
 pub fn scene(lights: &str, extra: &[String]) -> Scene {
     let text = format!(
@@ -34,27 +34,7 @@ const PROBE: &str =
 fn compare(lights: &str, extra: &[&str], spp: u32) {
     let Some(gpu) = test_gpu() else { return };
     let extra: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
-    let s = scene(lights, &extra);
-    let opts = |seed| RenderOptions {
-        spp,
-        seed,
-        time_budget: None,
-    };
-    let cpu = render(&s, &opts(1), &Progress::default()).film;
-    let g = gpu_render::render(&gpu, &s, &opts(2), &Progress::default()).unwrap();
-    assert_eq!(g.film.nan_samples, 0, "{extra:?}");
-    let z = ztest(&image(&cpu), &image(&g.film)).unwrap();
-    assert!(
-        z.pass,
-        "{extra:?}: {} failing pixels, max |z| {:.2} (threshold {:.2}) at {:?}",
-        z.failing_pixels, z.max_abs_z, z.threshold, z.max_abs_z_pixel
-    );
-    let (lc, lg) = (cpu.lookups as f64, g.film.lookups as f64);
-    assert!(
-        (lc - lg).abs() <= 0.03 * lc,
-        "{extra:?}: lookups cpu {lc} gpu {lg}"
-    );
-    assert!(cpu.image_mean()[0] > 0.01, "the scene must be lit");
+    assert_gpu_matches_cpu(&gpu, &scene(lights, &extra), spp, &format!("{extra:?}"));
 }
 
 #[test]

@@ -16,10 +16,9 @@
 //! (the thesis builds pins once; no stream).
 
 use super::pins_instances;
-use super::restir_protocol::{build, independent_frames, Reference};
+use super::restir_protocol::{build, gpu_ms_per_spp, independent_frames, Reference};
 use super::writer::Writer;
 use fogbank_math::Pcg32;
-use fogbank_render::{Progress, RenderOptions};
 use std::time::Instant;
 
 /// One of Fig. 4.11's scenes.
@@ -241,26 +240,6 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
          | scene | stand-in | small step | middle step | large step |\n|---|---|---|---|---|\n{}\n",
         lines.join("\n")
     ))
-}
-
-/// Device milliseconds per sample of `text` with `set`, `spp` samples.
-fn gpu_ms_per_spp(
-    gpu: &fogbank_gpu::Gpu,
-    text: &str,
-    set: &[String],
-    spp: u32,
-) -> Result<f64, String> {
-    let scene = build(text, set)?;
-    let opts = RenderOptions {
-        spp,
-        seed: 1,
-        time_budget: None,
-    };
-    let r =
-        fogbank_gpu::render::render(gpu, &scene, &opts, &Progress::default()).map_err(|e| e.0)?;
-    r.gpu_ms
-        .map(|ms| ms / spp as f64)
-        .ok_or_else(|| "the device has no timestamp queries".to_string())
 }
 
 pub fn run_gpu(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {

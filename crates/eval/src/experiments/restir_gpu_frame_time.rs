@@ -10,12 +10,11 @@
 //! GPU with timestamp queries (a CPU Vulkan device such as lavapipe runs
 //! it, slowly, but its times say nothing about a GPU).
 
-use super::restir_protocol::build;
+use super::restir_protocol::{build, gpu_ms_per_spp};
 use super::writer::Writer;
 use fogbank_gpu::restir::{PassMs, RestirGpu, STORED_BYTES};
 use fogbank_gpu::Gpu;
 use fogbank_render::integrators::IntegratorKind;
-use fogbank_render::{Progress, RenderOptions};
 
 const WARM_UP: u32 = 4;
 const WIDTH: u32 = 1920;
@@ -84,17 +83,7 @@ fn baseline_ms(gpu: &Gpu, text: &str, k: u32, spp: u32) -> Result<f64, String> {
         format!("integrator.max_depth={k}"),
         "media.0.supervoxel=8".to_string(),
     ];
-    let scene = build(text, &set)?;
-    let opts = RenderOptions {
-        spp,
-        seed: 1,
-        time_budget: None,
-    };
-    let r =
-        fogbank_gpu::render::render(gpu, &scene, &opts, &Progress::default()).map_err(|e| e.0)?;
-    r.gpu_ms
-        .map(|ms| ms / spp as f64)
-        .ok_or_else(|| "the device has no timestamp queries".to_string())
+    gpu_ms_per_spp(gpu, text, &set, spp)
 }
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {

@@ -342,3 +342,23 @@ pub fn frame_references(
 pub fn rgb(out: &FrameOutput) -> Vec<[f32; 3]> {
     out.radiance.iter().map(|l| l.to_array()).collect()
 }
+
+/// Device milliseconds per sample of `text` with `set`, `spp` samples.
+pub fn gpu_ms_per_spp(
+    gpu: &fogbank_gpu::Gpu,
+    text: &str,
+    set: &[String],
+    spp: u32,
+) -> Result<f64, String> {
+    let scene = build(text, set)?;
+    let opts = RenderOptions {
+        spp,
+        seed: 1,
+        time_budget: None,
+    };
+    let r =
+        fogbank_gpu::render::render(gpu, &scene, &opts, &Progress::default()).map_err(|e| e.0)?;
+    r.gpu_ms
+        .map(|ms| ms / spp as f64)
+        .ok_or_else(|| "the device has no timestamp queries".to_string())
+}

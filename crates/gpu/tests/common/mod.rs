@@ -1,7 +1,9 @@
 //! Shared by the GPU test binaries.
 
+use fogbank_gpu::{render as gpu_render, Gpu};
+use fogbank_image::metrics::ztest;
 use fogbank_image::Image;
-use fogbank_render::Film;
+use fogbank_render::{render, Film, Progress, RenderOptions, Scene};
 
 /// The film as an image for the z-test. The variance gets a floor of
 /// (1e-5 · value)²: GPU rays are transformed in f32 (the CPU uses f64), so
@@ -23,4 +25,37 @@ pub fn image(f: &Film) -> Image {
         variance: Some(variance),
         is_srgb8: false,
     }
+}
+
+/// The GPU's render of `s` against the CPU's at `spp` (independent seeds):
+/// no non-finite sample, the per-pixel z-test passes, lookups within 3 %,
+/// and the scene is lit. `what` names the case in messages.
+#[allow(dead_code)] // not every test binary uses it
+pub fn assert_gpu_matches_cpu(gpu: &Gpu, s: &Scene, spp: u32, what: &str) {
+    let opts = |seed| RenderOptions {
+        spp,
+        seed,
+        time_budget: None,
+    };
+    let cpu = render(s, &opts(1), &Progress::default()).film;
+    let g = gpu_render::render(gpu, s, &opts(2), &Progress::default()).unwrap();
+    assert_eq!(g.film.nan_samples, 0, "{what}");
+    let z = ztest(&image(&cpu), &image(&g.film)).unwrap();
+    assert!(
+        z.pass,
+        "{what}: {} failing pixels, max |z| {:.2} (threshold {:.2}) at {:?}",
+        z.failing_pixels, z.max_abs_z, z.threshold, z.max_abs_z_pixel
+    );
+    let (lc, lg) = (cpu.lookups as f64, g.film.lookups as f64);
+    assert!(
+        (lc - lg).abs() <= 0.03 * lc,
+        "{what}: lookups cpu {lc} gpu {lg}"
+    );
+    assert!(cpu.image_mean()[0] > 0.01, "the scene must be lit");
+    eprintln!(
+        "{what}: max |z| {:.2}, failing {}, lookups gpu/cpu {:.3}",
+        z.max_abs_z,
+        z.failing_pixels,
+        lg / lc
+    );
 }
