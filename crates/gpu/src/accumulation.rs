@@ -3,6 +3,7 @@
 //! options) and the accumulation buffers (Σ radiance with the sample count,
 //! Σ radiance² with the dropped samples, lookups), read back as a film.
 
+use crate::context::buffer_entry;
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
 use fogbank_render::Film;
@@ -39,29 +40,12 @@ pub(crate) struct Frame {
 /// Bind group 1 of every kernel: the frame uniform and the accumulation
 /// buffers (Σ radiance, Σ radiance², lookups).
 pub(crate) fn frame_bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let storage_rw = |binding| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: false },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
+    use wgpu::BufferBindingType::{Storage, Uniform};
+    let storage_rw = |binding| buffer_entry(binding, Storage { read_only: false });
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("frame"),
         entries: &[
-            wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            },
+            buffer_entry(0, Uniform),
             storage_rw(1),
             storage_rw(2),
             storage_rw(3),

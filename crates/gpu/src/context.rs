@@ -162,3 +162,21 @@ impl Gpu {
         Ok(data)
     }
 }
+
+/// A compute-stage layout entry for a whole buffer of kind `ty` (uniform,
+/// storage read-only or read-write) at `binding`.
+pub(crate) fn buffer_entry(
+    binding: u32,
+    ty: wgpu::BufferBindingType,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}

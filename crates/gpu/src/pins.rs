@@ -6,6 +6,7 @@
 //! With pins off the group holds one absent record, so the kernel is the
 //! same for every `volpath`.
 
+use crate::context::buffer_entry;
 use crate::scene_buffers::SceneBuffers;
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
@@ -51,16 +52,7 @@ pub(crate) struct PinBuffers {
 }
 
 fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
+    buffer_entry(binding, wgpu::BufferBindingType::Storage { read_only })
 }
 
 impl PinBuffers {
@@ -169,16 +161,7 @@ fn gather(
     let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("pin gather"),
         entries: &[
-            wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            },
+            buffer_entry(0, wgpu::BufferBindingType::Uniform),
             storage_entry(1, true),
             storage_entry(2, false),
         ],

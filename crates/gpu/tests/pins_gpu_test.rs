@@ -36,7 +36,7 @@ fn scene(extra: &[&str]) -> Scene {
 
 fn compare(extra: &[&str], spp: u32) {
     let Some(gpu) = test_gpu() else { return };
-    assert_gpu_matches_cpu(&gpu, &scene(extra), spp, &format!("{extra:?}"));
+    assert_gpu_matches_cpu(&gpu, &scene(extra), spp, 0.01, &format!("{extra:?}"));
 }
 
 /// The gather kernel reproduces the CPU's `PinGrid::gather`: the same pin

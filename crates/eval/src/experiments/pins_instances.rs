@@ -23,15 +23,14 @@ const REPEATS: u32 = 3;
 /// The thesis's evaluation numbers (RM ms, PinMS ms).
 pub const THESIS: [(f64, f64); 3] = [(1.93, 1.83), (25.57, 20.16), (136.2, 87.41)];
 
-/// Scene text: `n` rigid copies of a 64³ procedural cloud (unit box,
-/// centred) at seeded random places and orientations in a 4.4 × 2.8 × 2.8
-/// slab before the camera, so they overlap; `size` the image width.
-pub fn scene(n: u32, width: u32, height: u32) -> String {
-    let mut rng = Pcg32::new(0x0004_0410, 1);
+/// `n` seeded rigid placements: translations uniform in
+/// [−h.x, h.x] × [−h.y, h.y] × [−h.z, z_max], random axes and angles.
+pub fn placements(n: u32, seed: u64, h: [f32; 3], z_max: f32) -> Vec<String> {
+    let mut rng = Pcg32::new(seed, 1);
     let mut u = |lo: f32, hi: f32| lo + (hi - lo) * rng.next_f32();
-    let places: Vec<String> = (0..n)
+    (0..n)
         .map(|_| {
-            let t = [u(-2.2, 2.2), u(-1.4, 1.4), u(-2.0, 0.8)];
+            let t = [u(-h[0], h[0]), u(-h[1], h[1]), u(-h[2], z_max)];
             let axis = [u(-1.0, 1.0), u(-1.0, 1.0), u(-1.0, 1.0)];
             let deg = u(0.0, 360.0);
             format!(
@@ -39,7 +38,14 @@ pub fn scene(n: u32, width: u32, height: u32) -> String {
                 t[0], t[1], t[2], axis[0], axis[1], axis[2]
             )
         })
-        .collect();
+        .collect()
+}
+
+/// Scene text: `n` rigid copies of a 64³ procedural cloud (unit box,
+/// centred) at seeded random places and orientations in a 4.4 × 2.8 × 2.8
+/// slab before the camera, so they overlap; `size` the image width.
+pub fn scene(n: u32, width: u32, height: u32) -> String {
+    let places = placements(n, 0x0004_0410, [2.2, 1.4, 2.0], 0.8);
     format!(
         "[camera]\nfrom = [0.0, 0.0, 5.0]\nto = [0.0, 0.0, 0.0]\nfov = 50.0\nwidth = {width}\nheight = {height}\n\
          [[media]]\ndensity = {{ procedural = \"cloud\", resolution = 64, seed = 7 }}\n\

@@ -18,7 +18,6 @@
 use super::pins_instances;
 use super::restir_protocol::{build, gpu_ms_per_spp, independent_frames, Reference};
 use super::writer::Writer;
-use fogbank_math::Pcg32;
 use std::time::Instant;
 
 /// One of Fig. 4.11's scenes.
@@ -111,24 +110,7 @@ fn vdb(file: &str, scale: f32, centre: [f32; 3], sigma: f32, g: f32, instances: 
 
 /// `n` rigid copies at seeded places in a 1.6-wide slab, overlapping.
 fn cube_instances(n: u32) -> String {
-    let mut rng = Pcg32::new(0x0004_0411, 1);
-    let mut u = |lo: f32, hi: f32| lo + (hi - lo) * rng.next_f32();
-    let places: Vec<String> = (0..n)
-        .map(|_| {
-            let t = [u(-0.8, 0.8), u(-0.5, 0.5), u(-0.6, 0.3)];
-            let axis = [u(-1.0, 1.0), u(-1.0, 1.0), u(-1.0, 1.0)];
-            format!(
-                "{{ translate = [{:.3}, {:.3}, {:.3}], rotate = [{:.3}, {:.3}, {:.3}, {:.1}] }}",
-                t[0],
-                t[1],
-                t[2],
-                axis[0],
-                axis[1],
-                axis[2],
-                u(0.0, 360.0)
-            )
-        })
-        .collect();
+    let places = pins_instances::placements(n, 0x0004_0411, [0.8, 0.5, 0.6], 0.3);
     format!("instances = [{}]\n", places.join(", "))
 }
 
