@@ -369,3 +369,46 @@ fn pins_bias_settings_all_build() {
         }
     }
 }
+
+/// Seed 004's boundary-bias study: every method builds on both volumes,
+/// and its pixel regions split a disk on the ambient background into
+/// brightness thirds, with the silhouette a one-pixel ring.
+#[test]
+fn pins_boundary_methods_build_and_regions_split_a_disk() {
+    use fogbank_eval::experiments::{pins_boundary, restir_protocol::build};
+    let text = pins_boundary::scene(
+        "[[media]]\ndensity = { procedural = \"cloud\", resolution = 16, seed = 7 }\n",
+    );
+    for (label, set) in pins_boundary::methods(0.08) {
+        build(&text, &set).unwrap_or_else(|e| panic!("{label}: {e}"));
+    }
+    let (w, h) = (64usize, 48usize);
+    let img: Vec<[f32; 3]> = (0..w * h)
+        .map(|i| {
+            let (x, y) = ((i % w) as f32 - 32.0, (i / w) as f32 - 24.0);
+            let v = if x * x + y * y < 100.0 {
+                0.1 + 0.01 * (x + 10.0)
+            } else {
+                0.02
+            };
+            [v; 3]
+        })
+        .collect();
+    let r = pins_boundary::Regions::of(&img);
+    let object = (0..w * h).filter(|&i| img[i][0] != 0.02).count();
+    assert_eq!(r.thirds.iter().map(Vec::len).sum::<usize>(), object);
+    assert!(r.thirds.iter().all(|t| t.len() >= object / 3));
+    // The darkest third is the disk's left part, the brightest its right.
+    let mean_x = |t: &Vec<usize>| t.iter().map(|&i| (i % w) as f64).sum::<f64>() / t.len() as f64;
+    assert!(mean_x(&r.thirds[0]) < 28.0 && mean_x(&r.thirds[2]) > 36.0);
+    for &i in &r.silhouette {
+        let (x, y) = ((i % w) as f32 - 32.0, (i / w) as f32 - 24.0);
+        let d = (x * x + y * y).sqrt();
+        assert!((8.0..10.0).contains(&d), "silhouette pixel at radius {d}");
+    }
+    assert!(
+        r.silhouette.len() > 30 && r.silhouette.len() < 80,
+        "{}",
+        r.silhouette.len()
+    );
+}

@@ -18,6 +18,7 @@ pub mod fig7;
 mod fit;
 pub mod pins_ablation;
 pub mod pins_bias;
+pub mod pins_boundary;
 pub mod pins_convergence;
 pub mod pins_fig3_4;
 pub mod pins_instances;
@@ -76,6 +77,7 @@ pub fn names() -> &'static [&'static str] {
         "pins-memory",
         "pins-ablation",
         "pins-bias",
+        "pins-boundary",
         "pins-runtime",
         "pins-gpu-runtime",
         "pins-convergence",
@@ -116,6 +118,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "pins-memory" => pins_memory::run(&mut w, trials),
         "pins-ablation" => pins_ablation::run(&mut w, trials),
         "pins-bias" => pins_bias::run(&mut w, trials),
+        "pins-boundary" => pins_boundary::run(&mut w, trials),
         "pins-runtime" => pins_runtime::run(&mut w, trials),
         "pins-gpu-runtime" => pins_runtime::run_gpu(&mut w, trials),
         "pins-convergence" => pins_convergence::run(&mut w, trials),

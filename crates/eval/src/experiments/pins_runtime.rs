@@ -108,6 +108,13 @@ fn vdb(file: &str, scale: f32, centre: [f32; 3], sigma: f32, g: f32, instances: 
     )
 }
 
+impl Case {
+    /// The `[[media]]` entries of this case's stand-in.
+    pub fn media(&self) -> String {
+        (self.media)()
+    }
+}
+
 /// `n` rigid copies at seeded places in a 1.6-wide slab, overlapping.
 fn cube_instances(n: u32) -> String {
     let places = pins_instances::placements(n, 0x0004_0411, [0.8, 0.5, 0.6], 0.3);
