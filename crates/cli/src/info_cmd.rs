@@ -74,6 +74,13 @@ pub fn run(a: InfoArgs) -> CliResult {
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
+    let name = a.file.to_string_lossy().to_ascii_lowercase();
+    let scientific = [".nii", ".nii.gz", ".hdr", ".nrrd", ".nhdr"]
+        .iter()
+        .any(|e| name.ends_with(e));
+    if scientific {
+        return scientific_info(&a.file, name.contains(".nii") || name.ends_with(".hdr"));
+    }
     match ext.as_str() {
         "vdb" => {
             let grids = vdb::list_grids(&a.file)?;
@@ -186,11 +193,51 @@ pub fn run(a: InfoArgs) -> CliResult {
         }
         _ => {
             return Err(format!(
-                "{}: unknown volume format (expected .vdb, .vol or .raw)",
+                "{}: unknown volume format (expected .vdb, .vol, .raw, .nii, .nii.gz, .hdr, .nrrd or .nhdr)",
                 a.file.display()
             )
             .into())
         }
     }
+    Ok(())
+}
+
+/// NIfTI / NRRD: format, sample type, placement, value range and a
+/// 16-bin histogram of the file's values (in file units).
+fn scientific_info(file: &std::path::Path, nifti: bool) -> CliResult {
+    use fogbank_volume::loaders::{nifti as nii, nrrd};
+    let v = if nifti {
+        nii::read(file, 0)?
+    } else {
+        nrrd::read(file, 0)?
+    };
+    println!(
+        "{}: {}×{}×{}, {}",
+        file.display(),
+        v.dims[0],
+        v.dims[1],
+        v.dims[2],
+        v.description
+    );
+    match v.range() {
+        Some((lo, hi)) => {
+            let non_zero = v.values.iter().filter(|x| **x != 0.0).count();
+            println!("  value range [{lo}, {hi}], {non_zero} non-zero voxels");
+            let h = v.histogram(16);
+            let peak = h.iter().copied().max().unwrap_or(1).max(1);
+            let w = (hi - lo) / 16.0;
+            for (i, c) in h.iter().enumerate() {
+                let bar = "#".repeat(((*c as f64 / peak as f64) * 40.0).ceil() as usize);
+                println!(
+                    "  [{:>12.4}, {:>12.4}) {c:>10} {bar}",
+                    lo + i as f32 * w,
+                    lo + (i + 1) as f32 * w
+                );
+            }
+        }
+        None => println!("  no finite values"),
+    }
+    print_transform(&v.index_to_world);
+    print_memory(v.normalised_grid()?);
     Ok(())
 }

@@ -3,34 +3,12 @@
 //! fixtures deterministically; a counting allocator records the largest
 //! single allocation the reader makes.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::panic::{catch_unwind, AssertUnwindSafe};
+mod common;
+
+use common::{largest, panic_message, Counting, Rng};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use fogbank_volume::loaders::vdb;
-
-struct Counting;
-
-static LARGEST: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        LARGEST.fetch_max(layout.size(), Ordering::Relaxed);
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        LARGEST.fetch_max(layout.size(), Ordering::Relaxed);
-        System.alloc_zeroed(layout)
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        LARGEST.fetch_max(new_size, Ordering::Relaxed);
-        System.realloc(ptr, layout, new_size)
-    }
-}
 
 #[global_allocator]
 static GLOBAL: Counting = Counting;
@@ -51,7 +29,7 @@ fn fixture(name: &str) -> (PathBuf, Vec<u8>) {
 /// Lists the grids and parses the default float and vec3 grids; returns a
 /// description of a panic, if any.
 fn try_parse(path: &Path, bytes: &[u8]) -> Option<String> {
-    let r = catch_unwind(AssertUnwindSafe(|| {
+    panic_message(|| {
         let _ = vdb::list_grids_from_bytes(path, bytes);
         let stats = |g: &vdb::VdbGrid| {
             let _ = (
@@ -66,24 +44,7 @@ fn try_parse(path: &Path, bytes: &[u8]) -> Option<String> {
         if let Ok(v) = vdb::parse_vec3_grid(path, bytes, None) {
             v.iter().for_each(stats);
         }
-    }));
-    r.err().map(|e| {
-        e.downcast_ref::<String>()
-            .cloned()
-            .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
-            .unwrap_or_default()
     })
-}
-
-/// Deterministic xorshift so that failures reproduce.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
 }
 
 const FILES: [&str; 12] = [
@@ -130,7 +91,7 @@ fn truncated_files_give_errors() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-    let largest = LARGEST.load(Ordering::Relaxed);
+    let largest = largest();
     assert!(largest <= ALLOC_LIMIT, "largest allocation {largest} bytes");
 }
 
@@ -172,7 +133,7 @@ fn corrupted_bytes_never_panic() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-    let largest = LARGEST.load(Ordering::Relaxed);
+    let largest = largest();
     assert!(largest <= ALLOC_LIMIT, "largest allocation {largest} bytes");
 }
 

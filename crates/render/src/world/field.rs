@@ -4,7 +4,7 @@
 
 use crate::error::SceneError;
 use fogbank_math::{DAffine3, Vec3};
-use fogbank_volume::loaders::{raw, vdb, vdb_grid, vol};
+use fogbank_volume::loaders::{self as scalar_files, raw, vdb, vdb_grid, vol};
 use fogbank_volume::{
     explosion, medium::unit_box_transform, plume, procedural, AnalyticField, AnalyticKind,
     BrickGrid, DensityData, Precision,
@@ -13,13 +13,15 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// The source of a scalar field (density, albedo, emission, temperature).
-/// Exactly one source key: `vdb`, `vol`, `raw` or `procedural`.
+/// Exactly one source key: `vdb`, `vol`, `raw`, `nifti`, `nrrd` or `procedural`.
 ///
 /// | source | further keys |
 /// |---|---|
 /// | `vdb = "f.vdb"` | `grid` (default `density`, else the first float grid), `level_set` = `"fog"` (default) or `"raw"` |
 /// | `vol = "f.vol"` | `channel` (default 0) |
 /// | `raw = "f.raw"` | `dims = [x, y, z]`, `type = "u8"/"u16"/"f32"` (or from a `name_XxYxZ_uint8.raw` file name) |
+/// | `nifti = "f.nii.gz"` | `channel` (the 3D volume of a 4D file, 0); placed by the sform/qform in RAS millimetres; values rescaled from their range onto [0, 1] |
+/// | `nrrd = "f.nrrd"` / `"f.nhdr"` | `channel` (entry of a non-spatial axis, 0); placed by `space directions`/`space origin`, LPS turned to RAS; values rescaled onto [0, 1] |
 /// | `procedural = "cloud"` | `resolution` (128), `seed` (7) |
 /// | `procedural = "explosion"` | `resolution` (128), `seed` (7), `quantity` = `"density"` (default) or `"temperature"` (kelvin, for blackbody emission) |
 /// | `procedural = "plume"` | `resolution` (128), `seed` (7), `time` (seconds, 0; an `[animation]` adds frame/fps); rising, swirling smoke with an analytic velocity |
@@ -33,6 +35,14 @@ pub struct FieldDesc {
     pub vol: Option<String>,
     pub channel: Option<u32>,
     pub raw: Option<String>,
+    /// A NIfTI-1/2 file (`.nii`, `.nii.gz`, `.hdr`); `channel` picks the 3D
+    /// volume of a 4D file. Placed by its sform/qform (RAS millimetres).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nifti: Option<String>,
+    /// A NRRD file (`.nrrd`, `.nhdr`); `channel` picks the entry of a
+    /// non-spatial axis. Placed by `space directions`/`space origin` (RAS).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nrrd: Option<String>,
     pub dims: Option<[u32; 3]>,
     #[serde(rename = "type")]
     pub ty: Option<String>,
@@ -210,11 +220,13 @@ pub fn field_data(
         d.vdb.is_some(),
         d.vol.is_some(),
         d.raw.is_some(),
+        d.nifti.is_some(),
+        d.nrrd.is_some(),
         d.procedural.is_some(),
     ];
     if sources.iter().filter(|&&s| s).count() != 1 {
         return Err(SceneError(format!(
-            "{key}: give exactly one of `vdb`, `vol`, `raw`, `procedural`"
+            "{key}: give exactly one of `vdb`, `vol`, `raw`, `nifti`, `nrrd`, `procedural`"
         )));
     }
     if d.quantity.is_some() && d.procedural.as_deref() != Some("explosion") {
@@ -281,6 +293,28 @@ pub fn field_data(
             DensityData::from_f32(grid, precision),
             xf,
             path.display().to_string(),
+        ));
+    }
+    if let Some((f, nifti)) = d
+        .nifti
+        .as_ref()
+        .map(|f| (f, true))
+        .or(d.nrrd.as_ref().map(|f| (f, false)))
+    {
+        let path = base.join(f);
+        let index = d.channel.unwrap_or(0);
+        let v = if nifti {
+            scalar_files::nifti::read(&path, index)
+        } else {
+            scalar_files::nrrd::read(&path, index)
+        }
+        .map_err(err)?;
+        // Without a transfer function the value range maps onto [0, 1].
+        let grid = v.normalised_grid().map_err(err)?;
+        return Ok((
+            DensityData::from_f32(grid, precision),
+            v.index_to_world,
+            format!("{} ({})", path.display(), v.description),
         ));
     }
     let name = d.procedural.as_deref().unwrap_or_default();
