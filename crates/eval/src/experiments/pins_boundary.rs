@@ -127,17 +127,20 @@ impl Regions {
     }
 }
 
+/// Summed luminance of `img` over `set`.
+fn sum(img: &[[f32; 3]], set: &[usize]) -> f64 {
+    set.iter().map(|&k| lum(&img[k])).sum()
+}
+
 /// Relative error of the summed luminance of `img` over `set`.
 fn relative(img: &[[f32; 3]], reference: &[[f32; 3]], set: &[usize]) -> f64 {
-    let s = |i: &[[f32; 3]]| set.iter().map(|&k| lum(&i[k])).sum::<f64>();
-    s(img) / s(reference).max(1e-30) - 1.0
+    sum(img, set) / sum(reference, set).max(1e-30) - 1.0
 }
 
 /// Lit third over shadowed third, relative to the reference's ratio.
 fn contrast(img: &[[f32; 3]], reference: &[[f32; 3]], r: &Regions) -> f64 {
-    let s = |i: &[[f32; 3]], set: &[usize]| set.iter().map(|&k| lum(&i[k])).sum::<f64>();
-    (s(img, &r.thirds[2]) / s(img, &r.thirds[0]))
-        / (s(reference, &r.thirds[2]) / s(reference, &r.thirds[0]))
+    let ratio = |i: &[[f32; 3]]| sum(i, &r.thirds[2]) / sum(i, &r.thirds[0]);
+    ratio(img) / ratio(reference)
 }
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {

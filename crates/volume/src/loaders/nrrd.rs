@@ -33,14 +33,14 @@ pub fn parse_header(path: &Path, b: &[u8]) -> Result<NrrdHeader> {
         ));
     }
     let mut fields = HashMap::new();
-    let mut pos = 0;
-    let mut first = true;
-    loop {
-        if pos >= b.len().min(MAX_HEADER) {
-            if pos >= MAX_HEADER {
-                return Err(VolumeError::format(path, "header longer than 1 MiB"));
-            }
-            break;
+    // The first line is the magic; fields follow until an empty line.
+    let mut pos = b
+        .iter()
+        .position(|&c| c == b'\n')
+        .map_or(b.len(), |e| e + 1);
+    while pos < b.len() {
+        if pos >= MAX_HEADER {
+            return Err(VolumeError::format(path, "header longer than 1 MiB"));
         }
         let end = b[pos..]
             .iter()
@@ -52,10 +52,6 @@ pub fn parse_header(path: &Path, b: &[u8]) -> Result<NrrdHeader> {
             })?
             .trim_end_matches('\r');
         pos = end + 1;
-        if first {
-            first = false;
-            continue;
-        }
         if line.is_empty() {
             break;
         }
@@ -195,22 +191,14 @@ impl NrrdHeader {
                             .copied()
                             .filter(|s| s.is_finite() && *s != 0.0)
                             .unwrap_or(1.0);
-                        DVec3::new(0.0, 0.0, 0.0).with_element(i + spatial - n, s)
+                        let mut v = DVec3::ZERO;
+                        v[i + spatial - n] = s;
+                        v
                     })
                 })
                 .collect()
         };
         Ok((sizes, dirs))
-    }
-}
-
-trait WithElement {
-    fn with_element(self, i: usize, v: f64) -> Self;
-}
-impl WithElement for DVec3 {
-    fn with_element(mut self, i: usize, v: f64) -> Self {
-        self[i] = v;
-        self
     }
 }
 

@@ -5,6 +5,7 @@
 //! `float32`, `float64`). Integer types are normalised to [0, 1] by their
 //! maximum value, so a `sigma_t_scale` means the same for every file.
 
+use super::sample::SampleType;
 use crate::grid::{check_dims, BrickGrid};
 use crate::{Result, VolumeError};
 use std::path::Path;
@@ -31,21 +32,27 @@ impl RawType {
     }
 
     pub fn bytes(self) -> usize {
+        self.sample_type().bytes()
+    }
+
+    fn sample_type(self) -> SampleType {
         match self {
-            RawType::U8 => 1,
-            RawType::U16 | RawType::I16 => 2,
-            RawType::F32 => 4,
-            RawType::F64 => 8,
+            RawType::U8 => SampleType::U8,
+            RawType::U16 => SampleType::U16,
+            RawType::I16 => SampleType::I16,
+            RawType::F32 => SampleType::F32,
+            RawType::F64 => SampleType::F64,
         }
     }
 
+    /// A little-endian sample, integer types normalised by their maximum.
     fn decode(self, b: &[u8]) -> f32 {
+        let v = self.sample_type().decode(b, false);
         match self {
-            RawType::U8 => b[0] as f32 / 255.0,
-            RawType::U16 => u16::from_le_bytes([b[0], b[1]]) as f32 / 65535.0,
-            RawType::I16 => (i16::from_le_bytes([b[0], b[1]]) as f32 / 32767.0).max(0.0),
-            RawType::F32 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]),
-            RawType::F64 => f64::from_le_bytes(b[..8].try_into().unwrap()) as f32,
+            RawType::U8 => (v / 255.0) as f32,
+            RawType::U16 => (v / 65535.0) as f32,
+            RawType::I16 => ((v / 32767.0) as f32).max(0.0),
+            RawType::F32 | RawType::F64 => v as f32,
         }
     }
 }
