@@ -13,6 +13,14 @@ for f in ../../shared/data/*.vol; do
     [ -f "$f" ] && cp "$f" corpus/vol/
 done
 echo "seeded $(ls corpus/vol | wc -l) vol inputs"
+mkdir -p corpus/nifti corpus/nrrd
+for f in ../crates/volume/tests/fixtures/sci/*.nii ../crates/volume/tests/fixtures/sci/*.nii.gz; do
+    [ -f "$f" ] && cp "$f" corpus/nifti/
+done
+for f in ../crates/volume/tests/fixtures/sci/*.nrrd ../crates/volume/tests/fixtures/sci/*.nhdr; do
+    [ -f "$f" ] && cp "$f" corpus/nrrd/
+done
+echo "seeded $(ls corpus/nifti | wc -l) nifti and $(ls corpus/nrrd | wc -l) nrrd inputs"
 # Blosc frames: two little-endian bytes of expected size, then the frame.
 python3 - <<'PY'
 import base64, json, os

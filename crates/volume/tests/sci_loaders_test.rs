@@ -241,3 +241,28 @@ fn errors_name_the_file_and_the_field() {
         "{e}"
     );
 }
+
+/// Inputs the fuzzers (`fuzz/`, targets `nifti` and `nrrd`) found crashing,
+/// kept in `fixtures/sci/fuzz/`: each now gives an error, never a panic.
+#[test]
+fn fuzz_regressions_give_errors() {
+    let dir = path("fuzz");
+    let mut n = 0;
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let p = e.unwrap().path();
+        let name = format!("fuzz/{}", p.file_name().unwrap().to_str().unwrap());
+        let bytes = std::fs::read(&p).unwrap();
+        for data in [None, Some(bytes.as_slice())] {
+            let panic = panic_message(|| {
+                let _ = if name.contains(".nii") {
+                    nifti::parse(&p, &bytes, data, 1)
+                } else {
+                    nrrd::parse(&p, &bytes, data, 1)
+                };
+            });
+            assert_eq!(panic, None, "{name}");
+        }
+        n += 1;
+    }
+    assert!(n >= 1);
+}

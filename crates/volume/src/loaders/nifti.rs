@@ -210,7 +210,12 @@ impl NiftiHeader {
     /// The three spatial sizes and the number of 3D volumes after them.
     pub fn spatial(&self) -> ([u64; 3], u64) {
         let d = |i: usize| self.dims.get(i).copied().unwrap_or(1);
-        let volumes = self.dims.iter().skip(3).product::<u64>();
+        // Saturating: a forged header may give sizes whose product overflows.
+        let volumes = self
+            .dims
+            .iter()
+            .skip(3)
+            .fold(1u64, |a, &d| a.saturating_mul(d));
         ([d(0), d(1), d(2)], volumes.max(1))
     }
 
@@ -321,7 +326,11 @@ pub fn parse(path: &Path, bytes: &[u8], img: Option<&[u8]>, volume: u32) -> Resu
         ));
     }
     let offset = (base as usize)
-        .checked_add(volume as usize * n * ty.bytes())
+        .checked_add(
+            (volume as usize)
+                .checked_mul(n * ty.bytes())
+                .ok_or_else(|| VolumeError::format(path, "data offset overflows"))?,
+        )
         .ok_or_else(|| VolumeError::format(path, "data offset overflows"))?;
     let mut values = decode_samples(path, data, offset, n, ty, h.big_endian)?;
     let scaled = h.scl_slope.is_finite()

@@ -259,7 +259,8 @@ pub fn parse(
     }
     let dims = [sizes[spatial[0]], sizes[spatial[1]], sizes[spatial[2]]];
     let n = check_volume(path, dims)?;
-    let total = n as u64 * count;
+    // Saturating: `sizes` of a forged header may overflow the product.
+    let total = (n as u64).saturating_mul(count);
     if total > MAX_VOXELS {
         return Err(VolumeError::format(
             path,
