@@ -83,6 +83,12 @@ pub fn shifted(ray: &Ray, dims: [u32; 3]) -> (Ray, [u32; 3]) {
 /// a span's end is integrated in pieces, which sum to the same cubic's
 /// integral.
 pub fn optical_depth<T: Voxel>(v: &GridView<'_, T>, ray: &Ray, t0: f32, t1: f32) -> (f64, u32) {
+    // Exact only for the trilinear field itself; scenes refuse this
+    // estimator for media classified by a transfer function.
+    debug_assert!(
+        v.opacity.is_none(),
+        "analytic_trilinear on a classified medium"
+    );
     let (shifted, n) = shifted(ray, v.grid.dims());
     let (o, d) = (shifted.o.as_dvec3(), shifted.d.as_dvec3());
     let mut tau = 0.0f64;

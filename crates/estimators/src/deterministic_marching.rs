@@ -44,7 +44,7 @@ pub fn optical_depth<T: Voxel>(
             let hi = (lo + dt).min(b);
             let mid = 0.5 * (lo + hi);
             let p = ray.at(mid as f32);
-            tau += v.grid.filtered(Filter::Trilinear, p, Vec3::ZERO) as f64 * (hi - lo);
+            tau += v.classify(v.grid.filtered(Filter::Trilinear, p, Vec3::ZERO)) as f64 * (hi - lo);
             lookups += 1;
         }
         next = next.max(end);

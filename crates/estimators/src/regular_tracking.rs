@@ -12,7 +12,7 @@ pub fn optical_depth<T: Voxel>(v: &GridView<'_, T>, ray: &Ray, t0: f32, t1: f32)
     let mut lookups = 0;
     for s in Dda::new(ray, 1.0, v.grid.dims(), t0, t1) {
         lookups += 1;
-        let sigma_t = v.grid.fetch(s.cell[0], s.cell[1], s.cell[2]);
+        let sigma_t = v.classify(v.grid.fetch(s.cell[0], s.cell[1], s.cell[2]));
         tau += sigma_t as f64 * (s.t1 - s.t0) as f64;
     }
     (tau * v.scale as f64, lookups)

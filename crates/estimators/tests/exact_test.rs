@@ -65,6 +65,7 @@ fn analytic_trilinear_matches_fine_quadrature() {
         filter: Filter::Trilinear,
         scale: 1.0,
         supervoxels: &sv,
+        opacity: None,
     };
     let rays = test_rays(n, 1200, 5);
     let mut checked = 0;
@@ -96,6 +97,7 @@ fn regular_tracking_matches_exact_voxel_sums() {
         filter: Filter::Nearest,
         scale: 1.0,
         supervoxels: &sv,
+        opacity: None,
     };
     // Axis-parallel rays through voxel centres: τ is the plain sum of a row.
     for j in 0..n[1] as i32 {

@@ -225,6 +225,11 @@ fn data_address(d: &DensityData) -> Option<usize> {
 }
 
 fn pack_medium(m: &Medium, camera: glam::Vec3, p: &mut Packed) -> Result<MediumGpu, GpuError> {
+    if m.opacity.is_some() {
+        return Err(GpuError(
+            "a post-interpolative transfer function is CPU-only so far; use `--device cpu` or the transfer's `mode = \"pre\"`".into(),
+        ));
+    }
     let address = data_address(&m.data);
     // Instances share data, scale and super-voxel statistics.
     let seen = p

@@ -5,6 +5,7 @@
 
 pub mod bbox;
 pub mod chi2;
+pub mod piecewise;
 pub mod ray;
 pub mod rng;
 pub mod special;
@@ -12,5 +13,6 @@ pub mod testdata;
 
 pub use bbox::Aabb;
 pub use glam::{DAffine3, DVec3, Vec3};
+pub use piecewise::PiecewiseLinear;
 pub use ray::Ray;
 pub use rng::{pcg3d, Pcg32, SampleKey};

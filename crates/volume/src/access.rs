@@ -7,7 +7,7 @@
 
 use crate::grid::{BrickGrid, Voxel};
 use crate::supervoxel::SuperVoxelGrid;
-use fogbank_math::Vec3;
+use fogbank_math::{PiecewiseLinear, Vec3};
 
 /// Reconstruction filter of a voxel grid.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -61,12 +61,15 @@ pub trait VolumeAccess: Sync {
     fn dims(&self) -> [u32; 3];
 }
 
-/// A voxel grid seen through a filter and an extinction scale.
+/// A voxel grid seen through a filter, an optional classification and an
+/// extinction scale.
 pub struct GridView<'a, T> {
     pub grid: &'a BrickGrid<T>,
     pub filter: Filter,
     pub scale: f32,
     pub supervoxels: &'a SuperVoxelGrid,
+    /// Post-interpolative transfer function: σ_t = scale · α(filtered s).
+    pub opacity: Option<&'a PiecewiseLinear<1>>,
 }
 
 /// Trilinear blend of the corner values `c` (order 000, 100, 010, 110, 001,
@@ -201,10 +204,23 @@ impl<T: Voxel> BrickGrid<T> {
     }
 }
 
+impl<T> GridView<'_, T> {
+    /// The classified value α(s) of a stored value s (s itself without a
+    /// transfer function); σ_t = `scale` · α(s). One predictable branch:
+    /// media without a transfer function pay nothing else.
+    #[inline(always)]
+    pub fn classify(&self, s: f32) -> f32 {
+        match self.opacity {
+            None => s,
+            Some(alpha) => alpha.eval(s)[0],
+        }
+    }
+}
+
 impl<T: Voxel> VolumeAccess for GridView<'_, T> {
     #[inline(always)]
     fn sigma_t(&self, p: Vec3, u: Vec3) -> f32 {
-        self.scale * self.grid.filtered(self.filter, p, u)
+        self.scale * self.classify(self.grid.filtered(self.filter, p, u))
     }
     #[inline(always)]
     fn needs_jitter(&self) -> bool {

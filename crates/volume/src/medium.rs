@@ -6,7 +6,7 @@ use crate::access::{Filter, GridView};
 use crate::analytic::{AnalyticField, AnalyticView};
 use crate::grid::{BrickGrid, Precision};
 use crate::supervoxel::SuperVoxelGrid;
-use fogbank_math::{Aabb, DAffine3, DVec3, Ray, Vec3};
+use fogbank_math::{Aabb, DAffine3, DVec3, PiecewiseLinear, Ray, Vec3};
 use half::f16;
 
 /// Density storage; the variant is matched once per ray, never per lookup.
@@ -42,6 +42,37 @@ impl DensityData {
         }
     }
 
+    /// (min, max) of the stored values (of an analytic field: its
+    /// super-voxel bounds at 16³).
+    pub fn value_range(&self) -> (f32, f32) {
+        let fold = |it: &mut dyn Iterator<Item = f32>| {
+            it.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            })
+        };
+        let all = |d: [u32; 3]| {
+            (0..d[2])
+                .flat_map(move |k| (0..d[1]).flat_map(move |j| (0..d[0]).map(move |i| (i, j, k))))
+        };
+        let (lo, hi) = match self {
+            DensityData::F16(g) => {
+                fold(&mut all(g.dims()).map(|(i, j, k)| g.fetch(i as i32, j as i32, k as i32)))
+            }
+            DensityData::F32(g) => {
+                fold(&mut all(g.dims()).map(|(i, j, k)| g.fetch(i as i32, j as i32, k as i32)))
+            }
+            DensityData::Analytic(a) => {
+                let sv = a.supervoxels(16);
+                fold(&mut sv.cells.iter().flat_map(|c| [c.min, c.max]))
+            }
+        };
+        if lo <= hi {
+            (lo, hi)
+        } else {
+            (0.0, 0.0)
+        }
+    }
+
     /// Builds from an f32 grid in the requested precision.
     pub fn from_f32(grid: BrickGrid<f32>, precision: Precision) -> Self {
         match precision {
@@ -66,6 +97,10 @@ pub struct Medium {
     pub world_to_index: DAffine3,
     /// Statistics of σ_t (already multiplied by `sigma_t_scale`).
     pub supervoxels: SuperVoxelGrid,
+    /// Post-interpolative classification: σ_t = scale · α(s), with s the
+    /// filtered voxel value (a transfer function's opacity). `None`:
+    /// σ_t = scale · s.
+    pub opacity: Option<PiecewiseLinear<1>>,
 }
 
 /// A view of the medium for the estimators, one per storage type.
@@ -83,20 +118,42 @@ impl Medium {
         index_to_world: DAffine3,
         supervoxel: u32,
     ) -> Self {
+        Self::classified(
+            data,
+            None,
+            sigma_t_scale,
+            filter,
+            index_to_world,
+            supervoxel,
+        )
+    }
+
+    /// A medium whose extinction is `sigma_t_scale · opacity(s)` of the
+    /// filtered voxel value s (see [`Medium::opacity`]); analytic fields are
+    /// never classified (`opacity` is ignored for them).
+    pub fn classified(
+        data: DensityData,
+        opacity: Option<PiecewiseLinear<1>>,
+        sigma_t_scale: f32,
+        filter: Filter,
+        index_to_world: DAffine3,
+        supervoxel: u32,
+    ) -> Self {
+        let apron = filter.apron();
+        let build = |dims, fetch: &(dyn Fn(i32, i32, i32) -> f32 + Sync)| match &opacity {
+            Some(tf) => SuperVoxelGrid::build_classified(dims, supervoxel, apron, fetch, tf),
+            None => SuperVoxelGrid::build(dims, supervoxel, apron, fetch),
+        };
         let supervoxels = match &data {
-            DensityData::F16(g) => {
-                SuperVoxelGrid::build(g.dims(), supervoxel, filter.apron(), |i, j, k| {
-                    g.fetch(i, j, k)
-                })
-            }
-            DensityData::F32(g) => {
-                SuperVoxelGrid::build(g.dims(), supervoxel, filter.apron(), |i, j, k| {
-                    g.fetch(i, j, k)
-                })
-            }
+            DensityData::F16(g) => build(g.dims(), &|i, j, k| g.fetch(i, j, k)),
+            DensityData::F32(g) => build(g.dims(), &|i, j, k| g.fetch(i, j, k)),
             DensityData::Analytic(a) => a.supervoxels(supervoxel),
         }
         .scaled(sigma_t_scale);
+        let opacity = match data {
+            DensityData::Analytic(_) => None,
+            _ => opacity,
+        };
         Medium {
             data,
             sigma_t_scale,
@@ -104,11 +161,30 @@ impl Medium {
             index_to_world,
             world_to_index: index_to_world.inverse(),
             supervoxels,
+            opacity,
         }
     }
 
     pub fn dims(&self) -> [u32; 3] {
         self.data.dims()
+    }
+
+    /// The stored value (before scale and classification), trilinearly
+    /// interpolated at index point `q`; 0 outside `[0, dims]`.
+    #[inline]
+    pub fn scalar_trilinear(&self, q: Vec3) -> f32 {
+        let d = self.dims();
+        let inside = q.cmpge(Vec3::ZERO).all()
+            && q.cmple(Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32))
+                .all();
+        if !inside {
+            return 0.0;
+        }
+        match &self.data {
+            DensityData::F16(g) => g.trilinear(q),
+            DensityData::F32(g) => g.trilinear(q),
+            DensityData::Analytic(a) => a.density(q / a.n as f32),
+        }
     }
 
     pub fn index_bounds(&self) -> Aabb {
@@ -144,18 +220,21 @@ impl Medium {
 
     pub fn view(&self) -> MediumView<'_> {
         let (filter, scale, sv) = (self.filter, self.sigma_t_scale, &self.supervoxels);
+        let opacity = self.opacity.as_ref();
         match &self.data {
             DensityData::F16(grid) => MediumView::F16(GridView {
                 grid,
                 filter,
                 scale,
                 supervoxels: sv,
+                opacity,
             }),
             DensityData::F32(grid) => MediumView::F32(GridView {
                 grid,
                 filter,
                 scale,
                 supervoxels: sv,
+                opacity,
             }),
             DensityData::Analytic(field) => MediumView::Analytic(AnalyticView {
                 field,

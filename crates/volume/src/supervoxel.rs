@@ -9,6 +9,7 @@
 //! Stored in f32, so bounds computed from the (possibly f16) voxel values are
 //! exact for the stored field.
 
+use fogbank_math::PiecewiseLinear;
 use rayon::prelude::*;
 
 /// One super-voxel, laid out as a `vec4<f32>` for the GPU.
@@ -58,6 +59,39 @@ impl SuperVoxel {
     }
 }
 
+/// The voxel values of one cell and its apron, x fastest.
+pub struct CellValues<'a, F> {
+    fetch: &'a F,
+    lo: [i32; 3],
+    hi: [i32; 3],
+    /// The next voxel to read; `next[2] > hi[2]` when done.
+    next: [i32; 3],
+}
+
+impl<F> Clone for CellValues<'_, F> {
+    fn clone(&self) -> Self {
+        CellValues { ..*self }
+    }
+}
+
+impl<F: Fn(i32, i32, i32) -> f32> Iterator for CellValues<'_, F> {
+    type Item = f32;
+    fn next(&mut self) -> Option<f32> {
+        let [i, j, k] = self.next;
+        if k > self.hi[2] || self.lo[0] > self.hi[0] || self.lo[1] > self.hi[1] {
+            return None;
+        }
+        self.next = if i < self.hi[0] {
+            [i + 1, j, k]
+        } else if j < self.hi[1] {
+            [self.lo[0], j + 1, k]
+        } else {
+            [self.lo[0], self.lo[1], k + 1]
+        };
+        Some((self.fetch)(i, j, k))
+    }
+}
+
 #[derive(Clone, Debug)]
 pub struct SuperVoxelGrid {
     /// Edge length `r` in voxels.
@@ -85,6 +119,43 @@ impl SuperVoxelGrid {
         apron: u32,
         fetch: impl Fn(i32, i32, i32) -> f32 + Sync,
     ) -> Self {
+        Self::build_with(dims, size, apron, fetch, |v| SuperVoxel::from_values(v))
+    }
+
+    /// The statistics of a classified field σ_t = α(s) of the voxel values
+    /// `s` (post-interpolative: a lookup interpolates s, then applies α).
+    /// Interpolated values lie in the cell's [min s, max s], so the bounds
+    /// are α's extrema over that range (not over the voxel values, which
+    /// would miss a peak of α between them); mean and importance come from
+    /// the classified voxels.
+    pub fn build_classified(
+        dims: [u32; 3],
+        size: u32,
+        apron: u32,
+        fetch: impl Fn(i32, i32, i32) -> f32 + Sync,
+        opacity: &PiecewiseLinear<1>,
+    ) -> Self {
+        Self::build_with(dims, size, apron, fetch, |values| {
+            let (lo, hi) = values
+                .clone()
+                .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| {
+                    (lo.min(v), hi.max(v))
+                });
+            let mut sv = SuperVoxel::from_values(values.map(|v| opacity.eval(v)[0]));
+            let (min, max) = opacity.range_over(lo, hi);
+            sv.min = sv.min.min(min);
+            sv.max = sv.max.max(max);
+            sv
+        })
+    }
+
+    /// [`Self::build`] with the statistics of each cell's values (its own
+    /// voxels and the apron) computed by `stats`.
+    fn build_with<F, S>(dims: [u32; 3], size: u32, apron: u32, fetch: F, stats: S) -> Self
+    where
+        F: Fn(i32, i32, i32) -> f32 + Sync,
+        S: Fn(CellValues<'_, F>) -> SuperVoxel + Sync,
+    {
         let size = size.max(1);
         let sdims = dims.map(|d| d.div_ceil(size));
         let n = sdims.iter().map(|&d| d as usize).product::<usize>();
@@ -102,10 +173,12 @@ impl SuperVoxelGrid {
                         .min(dims[a] as i32 - 1 + apron as i32)
                 });
                 let lo = lo.map(|v| v.max(-(apron as i32)));
-                let values = (lo[2]..=hi[2]).flat_map(move |k| {
-                    (lo[1]..=hi[1]).flat_map(move |j| (lo[0]..=hi[0]).map(move |i| (i, j, k)))
-                });
-                SuperVoxel::from_values(values.map(|(i, j, k)| fetch(i, j, k)))
+                stats(CellValues {
+                    fetch: &fetch,
+                    lo,
+                    hi,
+                    next: lo,
+                })
             })
             .collect();
         SuperVoxelGrid::new(size, sdims, cells, apron)

@@ -35,6 +35,12 @@ pub fn sample_tracked<T: Voxel>(
     t1: f32,
     rng: &mut Pcg32,
 ) -> TrackedFlight {
+    // Exact only for the trilinear field itself; scenes refuse this
+    // estimator for media classified by a transfer function.
+    debug_assert!(
+        v.opacity.is_none(),
+        "analytic_trilinear on a classified medium"
+    );
     // The target in units of the unscaled field (∞ for a zero scale).
     let u = -(1.0 - rng.next_f32() as f64).ln();
     let scale = v.scale as f64;

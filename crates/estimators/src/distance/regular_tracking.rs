@@ -34,7 +34,8 @@ pub fn sample_tracked<T: Voxel>(
     for (ta, tb) in Occupied::new(v.supervoxels, ZERO_NEAREST, ray, t0, t1) {
         for s in Dda::new(ray, 1.0, v.grid.dims(), ta, tb) {
             lookups += 1;
-            let sigma_t = v.scale as f64 * v.grid.fetch(s.cell[0], s.cell[1], s.cell[2]) as f64;
+            let s_voxel = v.grid.fetch(s.cell[0], s.cell[1], s.cell[2]);
+            let sigma_t = v.scale as f64 * v.classify(s_voxel) as f64;
             let d = sigma_t * (s.t1 - s.t0) as f64;
             if tau + d >= target && sigma_t > 0.0 {
                 let t = s.t0 as f64 + (target - tau) / sigma_t;

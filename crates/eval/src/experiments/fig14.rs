@@ -141,6 +141,7 @@ pub fn compute(trials: u64, sizes: &[u32]) -> Vec<Row> {
                 filter: Filter::Nearest,
                 scale: 1.0,
                 supervoxels: &svg,
+                opacity: None,
             };
             let v0 = view();
             let prep = prepare(&v0, &ray, 0.0, DIMS[0] as f32, Importance::VarianceAware);

@@ -152,6 +152,15 @@ impl IntegratorDesc {
 
     /// The integrator ready to render `world`.
     pub fn build(&self, world: &World) -> Result<IntegratorKind, SceneError> {
+        let classified = world.media.iter().any(|m| m.medium.opacity.is_some());
+        if classified && self.estimator() == Estimator::AnalyticTrilinear {
+            return Err(SceneError(
+                "integrator.estimator: analytic_trilinear integrates a trilinear field exactly, and a \
+                 medium classified by a transfer function is not one; choose an unbiased estimator \
+                 (ratio_tracking, track_length, …) or the transfer's mode = \"pre\""
+                    .into(),
+            ));
+        }
         Ok(match self {
             IntegratorDesc::Transmittance(p) => IntegratorKind::Transmittance {
                 estimator: p.estimator,

@@ -103,8 +103,8 @@ impl Field {
                 (channels, v.index_to_world(), path.display().to_string())
             }
             _ => {
-                let (data, xf, source) = field_data(d, key, base, Precision::F32)?;
-                (vec![data], xf, source)
+                let f = field_data(d, key, base, Precision::F32)?;
+                (vec![f.data], f.to_world, f.source)
             }
         };
         let xf = to_world * file_xf;
@@ -208,14 +208,35 @@ fn analytic_kind(name: &str, d: &FieldDesc, key: &str) -> Result<AnalyticKind, S
     })
 }
 
-/// Loads the field `d` (scene key `key`): its data, index→world transform
-/// and a description of its source.
+/// A loaded field: its data, index→world transform and a description of
+/// its source.
+pub struct FieldData {
+    pub data: DensityData,
+    pub to_world: DAffine3,
+    pub source: String,
+    /// The file's value range (lo, hi) that the stored [0, 1] stands for
+    /// (scientific files); `None` when the stored values are the file's.
+    pub units: Option<(f32, f32)>,
+}
+
+impl FieldData {
+    fn new(data: DensityData, to_world: DAffine3, source: String) -> Self {
+        FieldData {
+            data,
+            to_world,
+            source,
+            units: None,
+        }
+    }
+}
+
+/// Loads the field `d` (scene key `key`).
 pub fn field_data(
     d: &FieldDesc,
     key: &str,
     base: &Path,
     precision: Precision,
-) -> Result<(DensityData, DAffine3, String), SceneError> {
+) -> Result<FieldData, SceneError> {
     let sources = [
         d.vdb.is_some(),
         d.vol.is_some(),
@@ -258,7 +279,7 @@ pub fn field_data(
         } else {
             grid = grid.map_values(|v| v.max(0.0));
         }
-        return Ok((
+        return Ok(FieldData::new(
             DensityData::from_f32(grid, precision),
             xf,
             format!("{} ({})", path.display(), g.name),
@@ -271,7 +292,7 @@ pub fn field_data(
             .channel_grid(d.channel.unwrap_or(0))
             .map_err(err)?
             .map_values(|x| x.max(0.0));
-        return Ok((
+        return Ok(FieldData::new(
             DensityData::from_f32(grid, precision),
             v.index_to_world(),
             path.display().to_string(),
@@ -289,7 +310,7 @@ pub fn field_data(
         };
         let grid = raw::read_raw(&path, d.dims, ty).map_err(err)?;
         let xf = unit_box_transform(grid.dims());
-        return Ok((
+        return Ok(FieldData::new(
             DensityData::from_f32(grid, precision),
             xf,
             path.display().to_string(),
@@ -309,19 +330,23 @@ pub fn field_data(
             scalar_files::nrrd::read(&path, index)
         }
         .map_err(err)?;
-        // Without a transfer function the value range maps onto [0, 1].
+        // The value range maps onto [0, 1]; a transfer function's points
+        // (in file units) are mapped the same way.
         let grid = v.normalised_grid().map_err(err)?;
-        return Ok((
-            DensityData::from_f32(grid, precision),
-            v.index_to_world,
-            format!("{} ({})", path.display(), v.description),
-        ));
+        return Ok(FieldData {
+            units: Some(v.range().unwrap_or((0.0, 1.0))),
+            ..FieldData::new(
+                DensityData::from_f32(grid, precision),
+                v.index_to_world,
+                format!("{} ({})", path.display(), v.description),
+            )
+        });
     }
     let name = d.procedural.as_deref().unwrap_or_default();
     let res = d.resolution.unwrap_or(128);
     if name == "cloud" {
         let grid: BrickGrid<f32> = procedural::cloud_grid(res, d.seed.unwrap_or(7)).map_err(err)?;
-        return Ok((
+        return Ok(FieldData::new(
             DensityData::from_f32(grid, precision),
             unit_box_transform([res; 3]),
             format!("procedural cloud {res}³"),
@@ -336,7 +361,7 @@ pub fn field_data(
         })?;
         let grid: BrickGrid<f32> =
             explosion::explosion_grid(res, d.seed.unwrap_or(7), quantity).map_err(err)?;
-        return Ok((
+        return Ok(FieldData::new(
             DensityData::from_f32(grid, precision),
             unit_box_transform([res; 3]),
             format!("procedural explosion {q} {res}³"),
@@ -348,14 +373,14 @@ pub fn field_data(
             return Err(SceneError(format!("{key}.time: must be finite")));
         }
         let grid: BrickGrid<f32> = plume::plume_grid(res, d.seed.unwrap_or(7), t).map_err(err)?;
-        return Ok((
+        return Ok(FieldData::new(
             DensityData::from_f32(grid, precision),
             unit_box_transform([res; 3]),
             format!("procedural plume {res}³ at {t} s"),
         ));
     }
     let field = AnalyticField::new(analytic_kind(name, d, key)?, res).map_err(err)?;
-    Ok((
+    Ok(FieldData::new(
         DensityData::Analytic(field),
         unit_box_transform([res; 3]),
         format!("analytic {name}"),

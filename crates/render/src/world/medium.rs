@@ -2,12 +2,13 @@
 //! scattering properties (albedo, emission, phase) integrators use.
 
 use super::emission::{Emission, EmissionDesc};
-use super::field::{field_data, Field, FieldDesc};
+use super::field::{field_data, Field, FieldData, FieldDesc};
 use super::phase::PhaseDesc;
+use super::transfer::{Transfer, TransferDesc, TransferLookup, TransferMode};
 use super::velocity::{Velocity, VelocityDesc};
 use crate::error::SceneError;
-use fogbank_math::{DAffine3, DVec3, Vec3};
-use fogbank_volume::{Filter, Medium, Precision};
+use fogbank_math::{DAffine3, DVec3, PiecewiseLinear, Vec3};
+use fogbank_volume::{DensityData, Filter, Medium, Precision};
 use glam::DQuat;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -16,12 +17,13 @@ use std::path::Path;
 /// |---|---|---|
 /// | `density` | — | data source, see [`FieldDesc`] |
 /// | `sigma_t_scale` | 1 | σ_t = scale · density (per world unit) |
-/// | `albedo` | (0.8, 0.8, 0.8) | single-scattering albedo σ_s/σ_t, each channel in [0, 1] |
+/// | `albedo` | (0.8, 0.8, 0.8); (1, 1, 1) with a `transfer` | single-scattering albedo σ_s/σ_t, each channel in [0, 1] (with a `transfer`, a tint of its colours) |
+/// | `transfer` | none | a transfer function classifying the density's values into extinction, albedo and emission, see [`TransferDesc`] |
 /// | `albedo_grid` | none | a grid (same keys as `density`, placed like it) multiplying `albedo`; a 3-channel `.vol` without `channel` gives RGB; values clamp to [0, 1] |
 /// | `emission` | none | volumetric emission, see [`EmissionDesc`] |
 /// | `phase` | `{ type = "hg", g = 0 }` | phase function |
 /// | `to_world` | identity | placement after the file's own transform |
-/// | `filter` | `"stochastic_trilinear"` | `nearest`, `trilinear`, `stochastic_trilinear` |
+/// | `filter` | `"stochastic_trilinear"`; `"trilinear"` with a post-interpolative `transfer` | `nearest`, `trilinear`, `stochastic_trilinear` (not with a post-interpolative `transfer`: classifying jittered nearest lookups is pre-interpolative in expectation) |
 /// | `supervoxel` | 16 | super-voxel edge in voxels |
 /// | `precision` | `"f16"` | voxel storage, `f16` or `f32` |
 /// | `velocity` | none (a plume's own) | motion for temporal reuse, see [`VelocityDesc`] |
@@ -32,8 +34,10 @@ pub struct MediumDesc {
     pub density: FieldDesc,
     #[serde(default = "one")]
     pub sigma_t_scale: f32,
-    #[serde(default = "default_albedo")]
-    pub albedo: [f32; 3],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub albedo: Option<[f32; 3]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transfer: Option<TransferDesc>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub albedo_grid: Option<FieldDesc>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -42,8 +46,8 @@ pub struct MediumDesc {
     pub phase: PhaseDesc,
     #[serde(default)]
     pub to_world: TransformDesc,
-    #[serde(default = "default_filter")]
-    pub filter: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filter: Option<String>,
     #[serde(default = "default_supervoxel")]
     pub supervoxel: u32,
     #[serde(default = "default_precision")]
@@ -56,12 +60,6 @@ pub struct MediumDesc {
 
 fn one() -> f32 {
     1.0
-}
-fn default_albedo() -> [f32; 3] {
-    [0.8; 3]
-}
-fn default_filter() -> String {
-    "stochastic_trilinear".into()
 }
 fn default_supervoxel() -> u32 {
     16
@@ -97,6 +95,9 @@ pub struct SceneMedium {
     pub albedo: [f32; 3],
     pub albedo_grid: Option<Field>,
     pub emission: Option<Emission>,
+    /// A post-interpolative transfer function's colour and emission,
+    /// evaluated at the interpolated scalar.
+    pub transfer: Option<TransferLookup>,
     pub phase_g: f32,
     /// What the density came from, for `--stats` and messages.
     pub source: String,
@@ -111,10 +112,25 @@ impl SceneMedium {
     #[inline]
     pub fn albedo_at(&self, p: Vec3) -> Vec3 {
         let a = Vec3::from(self.albedo);
+        if let Some(t) = &self.transfer {
+            return (a * t.color(self.scalar_at(p))).clamp(Vec3::ZERO, Vec3::ONE);
+        }
         match &self.albedo_grid {
             Some(g) => (a * g.eval(p)).clamp(Vec3::ZERO, Vec3::ONE),
             None => a,
         }
+    }
+
+    /// The density's value (before classification) at world point `p`,
+    /// trilinearly interpolated; 0 outside the medium's box.
+    #[inline]
+    pub fn scalar_at(&self, p: Vec3) -> f32 {
+        let q = self
+            .medium
+            .world_to_index
+            .transform_point3(p.as_dvec3())
+            .as_vec3();
+        self.medium.scalar_trilinear(q)
     }
 
     /// Radiance emitted at a real collision at `p` with albedo `albedo`:
@@ -122,6 +138,13 @@ impl SceneMedium {
     /// ∫ T σ_a L_e dt in expectation.
     #[inline]
     pub fn emitted(&self, p: Vec3, albedo: Vec3) -> Vec3 {
+        if let Some(e) = self
+            .transfer
+            .as_ref()
+            .and_then(|t| t.emission(self.scalar_at(p)))
+        {
+            return (Vec3::ONE - albedo) * e;
+        }
         match &self.emission {
             Some(e) => (Vec3::ONE - albedo) * e.radiance(p),
             None => Vec3::ZERO,
@@ -173,12 +196,27 @@ impl MediumDesc {
     pub fn build(&self, i: usize, base: &Path) -> Result<SceneMedium, SceneError> {
         let m = self;
         let key = format!("media.{i}");
-        let filter = Filter::parse(&m.filter).ok_or_else(|| {
+        let post = m
+            .transfer
+            .as_ref()
+            .is_some_and(|t| t.mode.as_deref().unwrap_or("post") == "post");
+        let filter_name = m.filter.as_deref().unwrap_or(if post {
+            "trilinear"
+        } else {
+            "stochastic_trilinear"
+        });
+        let filter = Filter::parse(filter_name).ok_or_else(|| {
             SceneError(format!(
-                "{key}.filter: `{}` is not nearest, trilinear or stochastic_trilinear",
-                m.filter
+                "{key}.filter: `{filter_name}` is not nearest, trilinear or stochastic_trilinear"
             ))
         })?;
+        if post && filter == Filter::StochasticTrilinear {
+            return Err(SceneError(format!(
+                "{key}.filter: stochastic_trilinear classifies jittered voxel values, which is \
+                 pre-interpolative in expectation; a post-interpolative transfer needs `trilinear` \
+                 (or `nearest`)"
+            )));
+        }
         let precision = match m.precision.as_str() {
             "f16" => Precision::F16,
             "f32" => Precision::F32,
@@ -211,36 +249,59 @@ impl MediumDesc {
                 m.phase.g
             )));
         }
-        let (data, file_xf, source) =
-            field_data(&m.density, &format!("{key}.density"), base, precision)?;
+        let FieldData {
+            data,
+            to_world: file_xf,
+            source,
+            units,
+        } = field_data(&m.density, &format!("{key}.density"), base, precision)?;
         let placement = transform(&m.to_world);
         let xf = placement * file_xf;
         if xf.matrix3.determinant().abs() < 1e-30 {
             return Err(SceneError(format!("{key}.to_world: transform is singular")));
         }
-        if !m.albedo.iter().all(|a| (0.0..=1.0).contains(a)) {
+        let albedo = m.albedo.unwrap_or(if m.transfer.is_some() {
+            [1.0; 3]
+        } else {
+            [0.8; 3]
+        });
+        if !albedo.iter().all(|a| (0.0..=1.0).contains(a)) {
             return Err(SceneError(format!(
-                "{key}.albedo: each channel must be in [0, 1], got {:?}",
-                m.albedo
+                "{key}.albedo: each channel must be in [0, 1], got {albedo:?}"
             )));
         }
-        let albedo_grid = m
+        let mut albedo_grid = m
             .albedo_grid
             .as_ref()
             .map(|g| Field::load(g, &format!("{key}.albedo_grid"), base, placement))
             .transpose()?;
-        let emission = m
+        let mut emission = m
             .emission
             .as_ref()
             .map(|e| Emission::build(e, &format!("{key}.emission"), base, placement))
             .transpose()?;
+        let (data, opacity, transfer) = match &m.transfer {
+            None => (data, None, None),
+            Some(t) => {
+                let c = classify(t, &key, base, units, data, precision, xf)?;
+                let tkey = format!("{key}.transfer");
+                if albedo_grid.is_some() || emission.is_some() {
+                    return Err(SceneError(format!(
+                        "{tkey}: a transfer function gives albedo and emission; drop `albedo_grid` and `emission`"
+                    )));
+                }
+                (albedo_grid, emission) = (c.albedo_grid, c.emission);
+                (c.data, c.opacity, c.lookup)
+            }
+        };
         let velocity = Velocity::build(m.velocity.as_ref(), &m.density, &key, base, placement, xf)?;
         Ok(SceneMedium {
             velocity,
-            medium: Medium::new(data, m.sigma_t_scale, filter, xf, m.supervoxel),
-            albedo: m.albedo,
+            medium: Medium::classified(data, opacity, m.sigma_t_scale, filter, xf, m.supervoxel),
+            albedo,
             albedo_grid,
             emission,
+            transfer,
             phase_g: if m.phase.ty == "isotropic" {
                 0.0
             } else {
@@ -250,6 +311,64 @@ impl MediumDesc {
             entry: i,
         })
     }
+}
+
+/// A medium's data after its transfer function: post-interpolative keeps
+/// the scalar and classifies per lookup; pre-interpolative replaces it with
+/// classified grids (extinction, albedo and emission fields).
+struct ClassifiedMedium {
+    data: DensityData,
+    opacity: Option<PiecewiseLinear<1>>,
+    lookup: Option<TransferLookup>,
+    albedo_grid: Option<Field>,
+    emission: Option<Emission>,
+}
+
+fn classify(
+    t: &TransferDesc,
+    key: &str,
+    base: &Path,
+    units: Option<(f32, f32)>,
+    data: DensityData,
+    precision: Precision,
+    xf: DAffine3,
+) -> Result<ClassifiedMedium, SceneError> {
+    let tkey = format!("{key}.transfer");
+    if matches!(data, DensityData::Analytic(_)) {
+        return Err(SceneError(format!(
+            "{tkey}: transfer functions classify voxel grids; `{key}.density` is analytic"
+        )));
+    }
+    let tf = Transfer::build(t, &tkey, base, units, data.value_range())?;
+    if tf.mode == TransferMode::Post {
+        return Ok(ClassifiedMedium {
+            data,
+            opacity: Some(tf.opacity.clone()),
+            lookup: Some(tf.lookup()),
+            albedo_grid: None,
+            emission: None,
+        });
+    }
+    let c = tf
+        .classify(&data, precision)
+        .map_err(|e| SceneError(format!("{tkey}: {e}")))?;
+    let source = format!("{tkey} (pre-interpolative)");
+    let albedo_grid = Field::from_channels(c.color.into(), xf, source.clone())?;
+    let emission = c
+        .emission
+        .map(|e| Field::from_channels(e.into(), xf, source.clone()))
+        .transpose()?
+        .map(|grid| Emission::Color {
+            radiance: Vec3::ONE,
+            grid: Some(grid),
+        });
+    Ok(ClassifiedMedium {
+        data: c.sigma,
+        opacity: None,
+        lookup: None,
+        albedo_grid: Some(albedo_grid),
+        emission,
+    })
 }
 
 pub fn transform(t: &TransformDesc) -> DAffine3 {

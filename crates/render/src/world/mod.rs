@@ -9,6 +9,7 @@ pub mod film;
 pub mod media_bvh;
 pub mod medium;
 pub mod phase;
+pub mod transfer;
 pub mod velocity;
 
 use crate::error::SceneError;

@@ -49,6 +49,11 @@ impl Restir {
                 "integrator \"restir\" needs a voxel grid (its mips); procedural \"cloud\" and \"explosion\" and files are grids, analytic media are not".into(),
             ));
         }
+        if m.opacity.is_some() {
+            return Err(SceneError(
+                "integrator \"restir\" does not classify: its mips hold extinction, so give the medium's transfer `mode = \"pre\"` or use volpath".into(),
+            ));
+        }
         Ok(Restir {
             params: p.clone(),
             mips: Mips::build(m, p.reuse_bc4.then_some(p.reuse_mip))?,
