@@ -11,6 +11,7 @@ pub mod point_mis;
 pub mod restir;
 pub mod shared;
 pub mod transmittance;
+pub mod visopt;
 pub mod volpath;
 
 use crate::error::SceneError;
