@@ -48,6 +48,12 @@ impl Kernel {
         if let IntegratorKind::Restir(_) = scene.integrator {
             return Err(no_restir());
         }
+        if let IntegratorKind::VisOpt(_) = scene.integrator {
+            return Err(GpuError(
+                "integrator \"visopt\" is CPU-only so far (issue 20 item 7); use `--device cpu`"
+                    .into(),
+            ));
+        }
         let estimator = scene.integrator.estimator();
         let est = gpu_estimator(estimator).ok_or_else(|| {
             GpuError(format!(
@@ -105,6 +111,7 @@ impl Kernel {
                 pins: PinParams::default(),
             },
             IntegratorKind::Restir(_) => return Err(no_restir()),
+            IntegratorKind::VisOpt(_) => unreachable!("refused above"),
         };
         Ok(k)
     }

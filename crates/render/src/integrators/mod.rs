@@ -24,6 +24,7 @@ use point_mis::{PointMis, PointMisParams};
 use restir::{Restir, RestirParams};
 use shared::PixelSample;
 use transmittance::TransmittanceParams;
+use visopt::{VisOpt, VisOptParams};
 use volpath::{VolPath, VolPathParams};
 
 /// The `[integrator]` table: `type` selects the integrator, every other key
@@ -35,6 +36,7 @@ pub enum IntegratorDesc {
     VolPath(VolPathParams),
     PointMis(PointMisParams),
     Restir(RestirParams),
+    VisOpt(VisOptParams),
 }
 
 impl Default for IntegratorDesc {
@@ -44,12 +46,13 @@ impl Default for IntegratorDesc {
 }
 
 /// Every integrator's `type` and parameter table, in one place.
-pub const REGISTRY: [(&str, &[Param]); 5] = [
+pub const REGISTRY: [(&str, &[Param]); 6] = [
     ("transmittance", &transmittance::PARAMS),
     ("direct", &direct::PARAMS),
     ("volpath", &volpath::PARAMS),
     ("point_mis", &point_mis::PARAMS),
     ("restir", &restir::PARAMS),
+    ("visopt", &visopt::PARAMS),
 ];
 
 impl IntegratorDesc {
@@ -60,6 +63,7 @@ impl IntegratorDesc {
             IntegratorDesc::VolPath(_) => "volpath",
             IntegratorDesc::PointMis(_) => "point_mis",
             IntegratorDesc::Restir(_) => "restir",
+            IntegratorDesc::VisOpt(_) => "visopt",
         }
     }
 
@@ -89,6 +93,7 @@ impl IntegratorDesc {
             "volpath" => IntegratorDesc::VolPath(VolPathParams::read(&mut r)?),
             "point_mis" => IntegratorDesc::PointMis(PointMisParams::read(&mut r)?),
             "restir" => IntegratorDesc::Restir(RestirParams::read(&mut r)?),
+            "visopt" => IntegratorDesc::VisOpt(VisOptParams::read(&mut r)?),
             _ => unreachable!("every registered integrator is read"),
         };
         // The estimator's options may stand flat in the table.
@@ -136,6 +141,7 @@ impl IntegratorDesc {
             IntegratorDesc::VolPath(p) => p.write(&mut t),
             IntegratorDesc::PointMis(p) => p.write(&mut t),
             IntegratorDesc::Restir(p) => p.write(&mut t),
+            IntegratorDesc::VisOpt(p) => p.write(&mut t),
         }
         t
     }
@@ -148,6 +154,8 @@ impl IntegratorDesc {
             IntegratorDesc::VolPath(p) => p.scatter.estimator,
             IntegratorDesc::PointMis(p) => p.estimator,
             IntegratorDesc::Restir(p) => p.estimator,
+            // NEE rays are ratio-tracked through μ' (§5.3).
+            IntegratorDesc::VisOpt(_) => Estimator::RatioTracking,
         }
     }
 
@@ -171,6 +179,7 @@ impl IntegratorDesc {
             IntegratorDesc::VolPath(p) => IntegratorKind::VolPath(VolPath::new(p, world)?),
             IntegratorDesc::PointMis(p) => IntegratorKind::PointMis(PointMis::new(p, world)?),
             IntegratorDesc::Restir(p) => IntegratorKind::Restir(Restir::new(p, world)?),
+            IntegratorDesc::VisOpt(p) => IntegratorKind::VisOpt(VisOpt::new(p, world)?),
         })
     }
 }
@@ -199,6 +208,7 @@ pub enum IntegratorKind {
     VolPath(VolPath),
     PointMis(PointMis),
     Restir(Restir),
+    VisOpt(VisOpt),
 }
 
 impl IntegratorKind {
@@ -209,6 +219,7 @@ impl IntegratorKind {
             IntegratorKind::VolPath(_) => "volpath",
             IntegratorKind::PointMis(_) => "point_mis",
             IntegratorKind::Restir(_) => "restir",
+            IntegratorKind::VisOpt(_) => "visopt",
         }
     }
 
@@ -220,6 +231,7 @@ impl IntegratorKind {
             IntegratorKind::VolPath(v) => v.nee,
             IntegratorKind::PointMis(p) => p.nee,
             IntegratorKind::Restir(r) => r.params.estimator,
+            IntegratorKind::VisOpt(_) => Estimator::RatioTracking,
         }
     }
 
@@ -236,6 +248,8 @@ impl IntegratorKind {
             IntegratorKind::VolPath(v) => v.nee = e,
             IntegratorKind::PointMis(p) => p.nee = e,
             IntegratorKind::Restir(r) => r.params.estimator = e,
+            // Its shadow rays are ratio tracking by construction.
+            IntegratorKind::VisOpt(_) => {}
         }
         k
     }
@@ -243,8 +257,14 @@ impl IntegratorKind {
     /// Builds what the integrator gathers before its first sample (`volpath`'s
     /// pin grids), so a render's timer does not count it.
     pub fn prepare(&self, world: &World) {
-        if let IntegratorKind::VolPath(v) = self {
-            v.pin_set(world);
+        match self {
+            IntegratorKind::VolPath(v) => {
+                v.pin_set(world);
+            }
+            IntegratorKind::VisOpt(v) => {
+                v.lists(world);
+            }
+            _ => {}
         }
     }
 
@@ -259,6 +279,7 @@ impl IntegratorKind {
             IntegratorKind::VolPath(v) => v.sample(world, x, y, key),
             IntegratorKind::PointMis(p) => p.sample(world, x, y, key),
             IntegratorKind::Restir(r) => r.sample(world, x, y, key),
+            IntegratorKind::VisOpt(v) => v.sample(world, x, y, key),
         }
     }
 }

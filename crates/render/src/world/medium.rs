@@ -3,6 +3,7 @@
 
 use super::emission::{Emission, EmissionDesc};
 use super::field::{field_data, Field, FieldData, FieldDesc};
+use super::importance::{Importance, ImportanceRuleDesc};
 use super::phase::PhaseDesc;
 use super::transfer::{Transfer, TransferDesc, TransferLookup, TransferMode};
 use super::velocity::{Velocity, VelocityDesc};
@@ -18,6 +19,7 @@ use std::path::Path;
 /// | `density` | — | data source, see [`FieldDesc`] |
 /// | `sigma_t_scale` | 1 | σ_t = scale · density (per world unit) |
 /// | `albedo` | (0.8, 0.8, 0.8); (1, 1, 1) with a `transfer` | single-scattering albedo σ_s/σ_t, each channel in [0, 1] (with a `transfer`, a tint of its colours) |
+/// | `importance` | none | ordered rules mapping points to importance in [0, 1] for `visopt` (seed 003 §4.2), see [`ImportanceRuleDesc`] |
 /// | `transfer` | none | a transfer function classifying the density's values into extinction, albedo and emission, see [`TransferDesc`] |
 /// | `albedo_grid` | none | a grid (same keys as `density`, placed like it) multiplying `albedo`; a 3-channel `.vol` without `channel` gives RGB; values clamp to [0, 1] |
 /// | `emission` | none | volumetric emission, see [`EmissionDesc`] |
@@ -38,6 +40,8 @@ pub struct MediumDesc {
     pub albedo: Option<[f32; 3]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub transfer: Option<TransferDesc>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub importance: Vec<ImportanceRuleDesc>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub albedo_grid: Option<FieldDesc>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -98,6 +102,8 @@ pub struct SceneMedium {
     /// A post-interpolative transfer function's colour and emission,
     /// evaluated at the interpolated scalar.
     pub transfer: Option<TransferLookup>,
+    /// Where the medium matters for visibility optimisation (seed 003).
+    pub importance: Importance,
     pub phase_g: f32,
     /// What the density came from, for `--stats` and messages.
     pub source: String,
@@ -119,6 +125,34 @@ impl SceneMedium {
             Some(g) => (a * g.eval(p)).clamp(Vec3::ZERO, Vec3::ONE),
             None => a,
         }
+    }
+
+    /// σ_t at world point `p` from the trilinear interpolant (classified
+    /// after interpolation), whatever the medium's filter: the smooth field
+    /// that gradients and importance criteria read.
+    #[inline]
+    pub fn sigma_t_smooth(&self, p: Vec3) -> f32 {
+        let s = self.scalar_at(p);
+        let a = self.medium.opacity.as_ref().map_or(s, |o| o.eval(s)[0]);
+        self.medium.sigma_t_scale * a
+    }
+
+    /// ∇σ_t at world point `p` (seed 003 §3: the gradient of the classified
+    /// extinction), by central differences of one voxel in index space,
+    /// turned into world units with the inverse-transpose Jacobian.
+    pub fn gradient_sigma_t(&self, p: Vec3) -> Vec3 {
+        let w2i = self.medium.world_to_index;
+        let q = w2i.transform_point3(p.as_dvec3()).as_vec3();
+        let at = |o: Vec3| {
+            let s = self.medium.scalar_trilinear(q + o);
+            self.medium.sigma_t_scale * self.medium.opacity.as_ref().map_or(s, |a| a.eval(s)[0])
+        };
+        let g_index = Vec3::new(
+            at(Vec3::X) - at(-Vec3::X),
+            at(Vec3::Y) - at(-Vec3::Y),
+            at(Vec3::Z) - at(-Vec3::Z),
+        ) * 0.5;
+        (w2i.matrix3.transpose() * g_index.as_dvec3()).as_vec3()
     }
 
     /// The density's value (before classification) at world point `p`,
@@ -295,6 +329,20 @@ impl MediumDesc {
             }
         };
         let velocity = Velocity::build(m.velocity.as_ref(), &m.density, &key, base, placement, xf)?;
+        let stored = units.map_or((1.0, 0.0), |(lo, hi)| {
+            if hi > lo {
+                (1.0 / (hi - lo), -lo / (hi - lo))
+            } else {
+                (1.0, -lo)
+            }
+        });
+        let importance = Importance::build(
+            &m.importance,
+            &format!("{key}.importance"),
+            base,
+            stored,
+            placement,
+        )?;
         Ok(SceneMedium {
             velocity,
             medium: Medium::classified(data, opacity, m.sigma_t_scale, filter, xf, m.supervoxel),
@@ -302,6 +350,7 @@ impl MediumDesc {
             albedo_grid,
             emission,
             transfer,
+            importance,
             phase_g: if m.phase.ty == "isotropic" {
                 0.0
             } else {

@@ -6,9 +6,11 @@ pub mod camera;
 pub mod emission;
 pub mod field;
 pub mod film;
+pub mod importance;
 pub mod media_bvh;
 pub mod medium;
 pub mod phase;
+pub mod shading;
 pub mod transfer;
 pub mod velocity;
 

@@ -1,0 +1,258 @@
+//! `visopt`: Monte Carlo volume visualisation with the visibility of
+//! important regions optimised per view (seed 003 §5.4). Delta tracking
+//! with μ' (Eq. 8) on camera rays samples a real collision; its emission
+//! and next-event estimation toward one light (ratio tracking, with μ' of a
+//! fresh light-ray list when `light_samples > 0`) give the pixel; HG plus
+//! the gradient lobe is the phase function at NEE. With `scattering` =
+//! first or all, the path continues by HG sampling through the original μ
+//! (scatter-to-scatter segments are never optimised), with NEE at every
+//! vertex, optimised only with `all`. Light sampling is the only strategy
+//! toward lights (the lobe has no sampling routine), so escaping paths add
+//! nothing.
+
+use super::lists::{light_list, CameraLists};
+use super::optimised::{Optimised, RayList, Weights};
+use super::params::{Scattering, VisOptParams};
+use crate::error::SceneError;
+use crate::integrators::shared::free_flight::next_collision;
+use crate::integrators::shared::next_event::escaped;
+use crate::integrators::shared::{estimator_rng, primary_ray, DistanceSampler, PixelSample};
+use crate::lights::sample::LightSampler;
+use crate::world::medium::SceneMedium;
+use crate::world::phase::HenyeyGreenstein;
+use crate::world::shading::gradient_lobe;
+use crate::world::World;
+use fogbank_estimators::distance::delta_tracking;
+use fogbank_estimators::ratio_tracking;
+use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
+use fogbank_volume::MediumView;
+use std::sync::{Arc, OnceLock};
+
+/// Expands `body` once per storage type with `v` bound to the typed view, so
+/// the tracking loops are monomorphised and the match happens once per ray.
+macro_rules! with_view {
+    ($m:expr, $v:ident => $body:expr) => {
+        match $m.medium.view() {
+            MediumView::F16($v) => $body,
+            MediumView::F32($v) => $body,
+            MediumView::Analytic($v) => $body,
+        }
+    };
+}
+
+#[derive(Clone, Debug)]
+pub struct VisOpt {
+    pub params: VisOptParams,
+    pub lights: LightSampler,
+    /// 2 / the medium's longest world extent: world lengths → [−1, 1]³.
+    pub unit: f32,
+    lists: Arc<OnceLock<CameraLists>>,
+}
+
+impl VisOpt {
+    pub fn new(p: &VisOptParams, world: &World) -> Result<VisOpt, SceneError> {
+        if world.media.len() != 1 {
+            return Err(SceneError(format!(
+                "integrator \"visopt\" renders scenes with exactly one medium (this one has {})",
+                world.media.len()
+            )));
+        }
+        let b = world.media[0].medium.world_bounds();
+        let extent = (b.max - b.min).max_element();
+        if !(extent > 0.0 && extent.is_finite()) {
+            return Err(SceneError(
+                "integrator \"visopt\": the medium has no extent".into(),
+            ));
+        }
+        Ok(VisOpt {
+            params: p.clone(),
+            lights: LightSampler::new(&world.lights, world.radius()),
+            unit: 2.0 / extent,
+            lists: Arc::new(OnceLock::new()),
+        })
+    }
+
+    /// The frozen camera lists (built on first use).
+    pub fn lists(&self, world: &World) -> &CameraLists {
+        self.lists
+            .get_or_init(|| CameraLists::build(world, &self.params, self.unit, 0))
+    }
+
+    pub(crate) fn weights(&self) -> Weights {
+        let p = &self.params;
+        Weights {
+            p: p.p,
+            q: p.q,
+            r: p.r,
+            lambda: p.lambda,
+        }
+    }
+
+    pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+        let mut rng = estimator_rng(key);
+        let ray = primary_ray(world, x, y, key);
+        let mut lookups = 0u32;
+        let m = &world.media[0];
+        let Some((r, t0, t1)) = m.medium.to_index(&ray, 0.0, f32::INFINITY) else {
+            return PixelSample {
+                radiance: escaped(world, &self.lights, ray.d, None),
+                lookups,
+            };
+        };
+        let (list, big_k_z, length) = self.lists(world).get(x, y);
+        let list = RayList {
+            list,
+            big_k_z,
+            length,
+            origin: t0,
+            sign: 1.0,
+        };
+        let flight = if self.params.optimise {
+            with_view!(m, v => {
+                let o = Optimised { inner: &v, medium: m, ray: r, list, weights: self.weights(), unit: self.unit };
+                delta_tracking::sample(&o, &r, t0, t1, &mut rng)
+            })
+        } else {
+            with_view!(m, v => delta_tracking::sample(&v, &r, t0, t1, &mut rng))
+        };
+        lookups += flight.lookups;
+        let Some(t) = flight.t else {
+            return PixelSample {
+                radiance: escaped(world, &self.lights, ray.d, None),
+                lookups,
+            };
+        };
+        let p = ray.at(t);
+        let albedo = m.albedo_at(p);
+        let mut radiance = m.emitted(p, albedo);
+        radiance += albedo
+            * self.next_event(
+                world,
+                p,
+                ray.d,
+                self.params.optimise,
+                &mut rng,
+                &mut lookups,
+            );
+        if self.params.scattering != Scattering::Single {
+            radiance += albedo * self.continue_path(world, m, p, ray.d, &mut rng, &mut lookups);
+        }
+        PixelSample { radiance, lookups }
+    }
+
+    /// Multiple scattering after the first vertex (§5.4 settings 2 and 3):
+    /// HG-sampled directions, free flights through the original μ.
+    fn continue_path(
+        &self,
+        world: &World,
+        m: &SceneMedium,
+        mut p: Vec3,
+        mut d: Vec3,
+        rng: &mut Pcg32,
+        lookups: &mut u32,
+    ) -> Vec3 {
+        let hg = HenyeyGreenstein { g: m.phase_g };
+        let optimise_nee = self.params.optimise && self.params.scattering == Scattering::All;
+        let (mut beta, mut radiance) = (Vec3::ONE, Vec3::ZERO);
+        for depth in 1..self.params.max_depth {
+            let (wi, _) = hg.sample(-d, [rng.next_f32(), rng.next_f32()]);
+            let ray = Ray::new(p, wi);
+            let Some((t, _)) = next_collision(
+                DistanceSampler::DeltaTracking.into(),
+                world,
+                &ray,
+                rng,
+                lookups,
+            ) else {
+                break;
+            };
+            p = ray.at(t);
+            d = wi;
+            let albedo = m.albedo_at(p);
+            radiance += beta * m.emitted(p, albedo);
+            beta *= albedo;
+            if beta == Vec3::ZERO {
+                break;
+            }
+            radiance += beta * self.next_event(world, p, d, optimise_nee, rng, lookups);
+            if depth >= 3 {
+                let q = beta.max_element().min(1.0);
+                if rng.next_f32() >= q {
+                    break;
+                }
+                beta /= q;
+            }
+        }
+        radiance
+    }
+
+    /// L_i f T / pdf toward one light picked by power, f = HG + lobe, T by
+    /// ratio tracking through μ' of a fresh light-ray list (`optimise`) or
+    /// through μ.
+    fn next_event(
+        &self,
+        world: &World,
+        p: Vec3,
+        d: Vec3,
+        optimise: bool,
+        rng: &mut Pcg32,
+        lookups: &mut u32,
+    ) -> Vec3 {
+        let m = &world.media[0];
+        let Some((li, pmf)) = self.lights.pick(rng.next_f32()) else {
+            return Vec3::ZERO;
+        };
+        let Some(ls) = world.lights[li].sample_li(p, [rng.next_f32(), rng.next_f32()]) else {
+            return Vec3::ZERO;
+        };
+        let f = self.phase(m, p, d, ls.wi);
+        if f <= 0.0 || ls.radiance == Vec3::ZERO {
+            return Vec3::ZERO;
+        }
+        let shadow = Ray::new(p, ls.wi);
+        let tr = match m.medium.to_index(&shadow, 0.0, ls.distance) {
+            None => 1.0,
+            Some((r, s0, s1)) => {
+                let est = if optimise && self.params.light_samples > 0 {
+                    let mut list = Vec::new();
+                    let (big_k_z, length) = light_list(
+                        m,
+                        &shadow,
+                        (s0, s1),
+                        &self.params,
+                        self.unit,
+                        rng,
+                        &mut list,
+                    );
+                    let list = RayList {
+                        list: &list,
+                        big_k_z,
+                        length,
+                        origin: s1,
+                        sign: -1.0,
+                    };
+                    with_view!(m, v => {
+                        let o = Optimised { inner: &v, medium: m, ray: r, list, weights: self.weights(), unit: self.unit };
+                        ratio_tracking::transmittance(&o, &r, s0, s1, rng)
+                    })
+                } else {
+                    with_view!(m, v => ratio_tracking::transmittance(&v, &r, s0, s1, rng))
+                };
+                *lookups += est.lookups;
+                est.transmittance
+            }
+        };
+        ls.radiance * (f * tr / (pmf * if ls.is_delta { 1.0 } else { ls.pdf }))
+    }
+
+    /// HG plus, with `shading`, the gradient lobe in normalised units.
+    pub fn phase(&self, m: &SceneMedium, p: Vec3, d: Vec3, wi: Vec3) -> f32 {
+        let hg = HenyeyGreenstein { g: m.phase_g }.eval(d.dot(wi));
+        if !self.params.shading {
+            return hg;
+        }
+        // ∇μ in [−1, 1]³ units: μ and the length each scale by 1/unit.
+        let grad = m.gradient_sigma_t(p) / (self.unit * self.unit);
+        hg + gradient_lobe(grad, d, wi, self.params.n)
+    }
+}
