@@ -267,3 +267,23 @@ fn the_explosion_scene_glows_and_quantity_is_checked() {
         "{e}"
     );
 }
+
+/// The README's MRI scene parses (its data is fetched by tools/fetch_mni.sh,
+/// so CI only checks the keys, and that a missing file is named).
+#[test]
+fn mri_brain_scene_parses_and_names_missing_data() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/mri_brain.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let desc = parse_scene(&text, "mri_brain.toml", &[]).unwrap();
+    assert_eq!(desc.integrator.name(), "visopt");
+    assert_eq!(desc.media[0].importance.len(), 1);
+    let base = Path::new("/nonexistent");
+    let e = Scene::build(desc, base)
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(
+        e.contains("media.0.density") && e.contains("mni_t1.nii.gz"),
+        "{e}"
+    );
+}

@@ -240,27 +240,54 @@ fn settings_are_checked() {
 fn a_scaled_copy_is_optimised_alike() {
     let build = |k: f32| {
         let text = SCENE
-            .replace("from = [0.0, 0.2, 2.0]", &format!("from = [0.0, {}, {}]", 0.2 * k, 2.0 * k))
-            .replace("sigma_t_scale = 12.0", &format!("sigma_t_scale = {}\nto_world = {{ scale = {k} }}", 12.0 / k))
-            .replace("extinction = [4.0, 1e9]", &format!("extinction = [{}, 1e9]", 4.0 / k))
-            .replace("position = [1.5, 1.5, 1.0]", &format!("position = [{}, {}, {}]", 1.5 * k, 1.5 * k, 1.0 * k))
-            .replace("intensity = [6.0, 6.0, 6.0]", &format!("intensity = [{0}, {0}, {0}]", 6.0 * k * k));
+            .replace(
+                "from = [0.0, 0.2, 2.0]",
+                &format!("from = [0.0, {}, {}]", 0.2 * k, 2.0 * k),
+            )
+            .replace(
+                "sigma_t_scale = 12.0",
+                &format!("sigma_t_scale = {}\nto_world = {{ scale = {k} }}", 12.0 / k),
+            )
+            .replace(
+                "extinction = [4.0, 1e9]",
+                &format!("extinction = [{}, 1e9]", 4.0 / k),
+            )
+            .replace(
+                "position = [1.5, 1.5, 1.0]",
+                &format!("position = [{}, {}, {}]", 1.5 * k, 1.5 * k, 1.0 * k),
+            )
+            .replace(
+                "intensity = [6.0, 6.0, 6.0]",
+                &format!("intensity = [{0}, {0}, {0}]", 6.0 * k * k),
+            );
         let desc = parse_scene(&text, "test", &["integrator.type=\"visopt\"".to_string()]).unwrap();
         Scene::build(desc, Path::new(".")).unwrap()
     };
     let (a, b) = (build(1.0), build(100.0));
-    let (IntegratorKind::VisOpt(va), IntegratorKind::VisOpt(vb)) = (&a.integrator, &b.integrator) else { panic!() };
+    let (IntegratorKind::VisOpt(va), IntegratorKind::VisOpt(vb)) = (&a.integrator, &b.integrator)
+    else {
+        panic!()
+    };
     assert!((va.unit / vb.unit - 100.0).abs() < 1e-3);
     let (la, lb) = (va.lists(&a.world), vb.lists(&b.world));
     let mut compared = 0;
     for y in 0..a.camera.height {
         for x in 0..a.camera.width {
             let ((sa, ka, lena), (sb, kb, lenb)) = (la.get(x, y), lb.get(x, y));
-            assert!((lena - lenb).abs() < 1e-4 * lena.max(1.0), "pixel {x},{y}: L {lena} vs {lenb}");
-            assert!((ka - kb).abs() < 1e-3 * ka.max(1e-3), "pixel {x},{y}: K(z) {ka} vs {kb}");
+            assert!(
+                (lena - lenb).abs() < 1e-4 * lena.max(1.0),
+                "pixel {x},{y}: L {lena} vs {lenb}"
+            );
+            assert!(
+                (ka - kb).abs() < 1e-3 * ka.max(1e-3),
+                "pixel {x},{y}: K(z) {ka} vs {kb}"
+            );
             assert_eq!(sa.len(), sb.len(), "pixel {x},{y}");
             for (u, v) in sa.iter().zip(sb) {
-                assert!((u.t - v.t).abs() < 1e-3 && u.k == v.k, "pixel {x},{y}: {u:?} vs {v:?}");
+                assert!(
+                    (u.t - v.t).abs() < 1e-3 && u.k == v.k,
+                    "pixel {x},{y}: {u:?} vs {v:?}"
+                );
             }
             compared += sa.len();
         }
@@ -268,5 +295,8 @@ fn a_scaled_copy_is_optimised_alike() {
     assert!(compared > 50, "only {compared} entries");
     let (fa, fb) = (film(&a, 64, 9), film(&b, 64, 9));
     let (max, pooled) = z(&fa, &fb);
-    assert!(max < 4.6 && pooled.abs() < 4.0, "scaled copy: max |z| {max}, pooled {pooled}");
+    assert!(
+        max < 4.6 && pooled.abs() < 4.0,
+        "scaled copy: max |z| {max}, pooled {pooled}"
+    );
 }
