@@ -111,7 +111,7 @@ impl Kernel {
                 pins: PinParams::default(),
             },
             IntegratorKind::Restir(_) => return Err(no_restir()),
-            IntegratorKind::VisOpt(_) => unreachable!("refused above"),
+            IntegratorKind::VisOpt(_) | IntegratorKind::Ament(_) => unreachable!("refused above"),
         };
         Ok(k)
     }

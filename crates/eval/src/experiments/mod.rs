@@ -34,6 +34,9 @@ pub mod restir_protocol;
 pub mod restir_scenes;
 pub mod table1;
 pub mod trials;
+pub mod visopt_fig2;
+pub mod visopt_fig7;
+pub mod visopt_overhead;
 mod writer;
 
 use std::path::{Path, PathBuf};
@@ -81,6 +84,9 @@ pub fn names() -> &'static [&'static str] {
         "pins-runtime",
         "pins-gpu-runtime",
         "pins-convergence",
+        "visopt-fig2",
+        "visopt-fig7",
+        "visopt-overhead",
     ]
 }
 
@@ -122,6 +128,9 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "pins-runtime" => pins_runtime::run(&mut w, trials),
         "pins-gpu-runtime" => pins_runtime::run_gpu(&mut w, trials),
         "pins-convergence" => pins_convergence::run(&mut w, trials),
+        "visopt-fig2" => visopt_fig2::run(&mut w, trials),
+        "visopt-fig7" => visopt_fig7::run(&mut w, trials),
+        "visopt-overhead" => visopt_overhead::run(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",

@@ -6,6 +6,7 @@
 //! Adding an integrator: a variant in [`IntegratorDesc`] and
 //! [`IntegratorKind`] and a line in each `match` below.
 
+pub mod ament;
 pub mod direct;
 pub mod point_mis;
 pub mod restir;
@@ -17,6 +18,7 @@ pub mod volpath;
 use crate::error::SceneError;
 use crate::params::{Param, ParamReader};
 use crate::world::World;
+use ament::{Ament, AmentParams};
 use direct::{Direct, DirectParams};
 use fogbank_estimators::Estimator;
 use fogbank_math::{SampleKey, Vec3};
@@ -37,6 +39,7 @@ pub enum IntegratorDesc {
     PointMis(PointMisParams),
     Restir(RestirParams),
     VisOpt(VisOptParams),
+    Ament(AmentParams),
 }
 
 impl Default for IntegratorDesc {
@@ -46,13 +49,14 @@ impl Default for IntegratorDesc {
 }
 
 /// Every integrator's `type` and parameter table, in one place.
-pub const REGISTRY: [(&str, &[Param]); 6] = [
+pub const REGISTRY: [(&str, &[Param]); 7] = [
     ("transmittance", &transmittance::PARAMS),
     ("direct", &direct::PARAMS),
     ("volpath", &volpath::PARAMS),
     ("point_mis", &point_mis::PARAMS),
     ("restir", &restir::PARAMS),
     ("visopt", &visopt::PARAMS),
+    ("ament", &ament::PARAMS),
 ];
 
 impl IntegratorDesc {
@@ -64,6 +68,7 @@ impl IntegratorDesc {
             IntegratorDesc::PointMis(_) => "point_mis",
             IntegratorDesc::Restir(_) => "restir",
             IntegratorDesc::VisOpt(_) => "visopt",
+            IntegratorDesc::Ament(_) => "ament",
         }
     }
 
@@ -94,6 +99,7 @@ impl IntegratorDesc {
             "point_mis" => IntegratorDesc::PointMis(PointMisParams::read(&mut r)?),
             "restir" => IntegratorDesc::Restir(RestirParams::read(&mut r)?),
             "visopt" => IntegratorDesc::VisOpt(VisOptParams::read(&mut r)?),
+            "ament" => IntegratorDesc::Ament(AmentParams::read(&mut r)?),
             _ => unreachable!("every registered integrator is read"),
         };
         // The estimator's options may stand flat in the table.
@@ -142,6 +148,7 @@ impl IntegratorDesc {
             IntegratorDesc::PointMis(p) => p.write(&mut t),
             IntegratorDesc::Restir(p) => p.write(&mut t),
             IntegratorDesc::VisOpt(p) => p.write(&mut t),
+            IntegratorDesc::Ament(p) => p.write(&mut t),
         }
         t
     }
@@ -156,6 +163,8 @@ impl IntegratorDesc {
             IntegratorDesc::Restir(p) => p.estimator,
             // NEE rays are ratio-tracked through μ' (§5.3).
             IntegratorDesc::VisOpt(_) => Estimator::RatioTracking,
+            // Deterministic marching; the estimator is not used.
+            IntegratorDesc::Ament(_) => Estimator::RatioTracking,
         }
     }
 
@@ -180,6 +189,7 @@ impl IntegratorDesc {
             IntegratorDesc::PointMis(p) => IntegratorKind::PointMis(PointMis::new(p, world)?),
             IntegratorDesc::Restir(p) => IntegratorKind::Restir(Restir::new(p, world)?),
             IntegratorDesc::VisOpt(p) => IntegratorKind::VisOpt(VisOpt::new(p, world)?),
+            IntegratorDesc::Ament(p) => IntegratorKind::Ament(Ament::new(p, world)?),
         })
     }
 }
@@ -209,6 +219,7 @@ pub enum IntegratorKind {
     PointMis(PointMis),
     Restir(Restir),
     VisOpt(VisOpt),
+    Ament(Ament),
 }
 
 impl IntegratorKind {
@@ -220,6 +231,7 @@ impl IntegratorKind {
             IntegratorKind::PointMis(_) => "point_mis",
             IntegratorKind::Restir(_) => "restir",
             IntegratorKind::VisOpt(_) => "visopt",
+            IntegratorKind::Ament(_) => "ament",
         }
     }
 
@@ -231,7 +243,7 @@ impl IntegratorKind {
             IntegratorKind::VolPath(v) => v.nee,
             IntegratorKind::PointMis(p) => p.nee,
             IntegratorKind::Restir(r) => r.params.estimator,
-            IntegratorKind::VisOpt(_) => Estimator::RatioTracking,
+            IntegratorKind::VisOpt(_) | IntegratorKind::Ament(_) => Estimator::RatioTracking,
         }
     }
 
@@ -249,7 +261,7 @@ impl IntegratorKind {
             IntegratorKind::PointMis(p) => p.nee = e,
             IntegratorKind::Restir(r) => r.params.estimator = e,
             // Its shadow rays are ratio tracking by construction.
-            IntegratorKind::VisOpt(_) => {}
+            IntegratorKind::VisOpt(_) | IntegratorKind::Ament(_) => {}
         }
         k
     }
@@ -280,6 +292,7 @@ impl IntegratorKind {
             IntegratorKind::PointMis(p) => p.sample(world, x, y, key),
             IntegratorKind::Restir(r) => r.sample(world, x, y, key),
             IntegratorKind::VisOpt(v) => v.sample(world, x, y, key),
+            IntegratorKind::Ament(a) => a.sample(world, x, y, key),
         }
     }
 }

@@ -91,22 +91,30 @@ pub fn adaptive(
     out
 }
 
+/// The analytic importance of the Fig. 7 study (shared by its test and
+/// `fogbank experiment visopt-fig7`): on a ray of length 10, importance 1
+/// on [2, 2.05] and [7.01, 7.02] and ½ on [5, 5.3] — narrow peaks, the
+/// thinnest a thousandth of the ray.
+pub fn fig7_importance(t: f32) -> f32 {
+    if (2.0..2.05).contains(&t) || (7.01..7.02).contains(&t) {
+        1.0
+    } else if (5.0..5.3).contains(&t) {
+        0.5
+    } else {
+        0.0
+    }
+}
+
+/// ∫₀¹⁰ k² of [`fig7_importance`], and ∫₀⁵ k².
+pub const FIG7_EXACT: (f64, f64) = (0.05 + 0.3 * 0.25 + 0.01, 0.05);
+
 #[cfg(test)]
 mod sampling_test {
     use super::super::segments::{integral_at, merge};
     use super::*;
 
-    /// Fig. 7's setting: an analytic importance with narrow peaks.
-    fn k(t: f32) -> f32 {
-        if (2.0..2.05).contains(&t) || (7.01..7.02).contains(&t) {
-            1.0
-        } else if (5.0..5.3).contains(&t) {
-            0.5
-        } else {
-            0.0
-        }
-    }
-    const EXACT: f64 = 0.05 + 0.3 * 0.25 + 0.01;
+    use super::super::sampling::{fig7_importance as k, FIG7_EXACT};
+    const EXACT: f64 = FIG7_EXACT.0;
 
     #[test]
     fn strata_are_sorted_inside_the_ray_and_one_per_stratum() {
