@@ -23,8 +23,7 @@ use super::visopt::segments::mu_factor;
 use crate::error::SceneError;
 use crate::params::{Param, ParamReader};
 use crate::world::medium::SceneMedium;
-use crate::world::phase::HenyeyGreenstein;
-use crate::world::shading::gradient_lobe;
+use crate::world::shading::dvr_phase;
 use crate::world::World;
 use fogbank_math::{Ray, SampleKey, Vec3};
 
@@ -322,7 +321,6 @@ impl Ament {
         };
         let mk = self.march(m, &ray, t0, t1, start);
         let mu = self.optimised(&mk, false);
-        let hg = HenyeyGreenstein { g: m.phase_g };
         let (mut transmittance, mut radiance) = (1.0f32, Vec3::ZERO);
         let mut lookups = mk.points.len() as u32;
         for (i, &p) in mk.points.iter().enumerate() {
@@ -336,11 +334,8 @@ impl Ament {
                 let Some(ls) = light.sample_li(p, [0.5, 0.5]) else {
                     continue;
                 };
-                let mut f = hg.eval(ray.d.dot(ls.wi));
-                if self.params.shading {
-                    let grad = m.gradient_sigma_t(p) / (self.unit * self.unit);
-                    f += gradient_lobe(grad, ray.d, ls.wi, self.params.n);
-                }
+                let lobe = self.params.shading.then_some(self.params.n);
+                let f = dvr_phase(m, p, ray.d, ls.wi, lobe, self.unit);
                 if f > 0.0 {
                     lit += ls.radiance * f * self.shadow(m, p, ls.wi, ls.distance);
                     lookups += 1;

@@ -252,20 +252,25 @@ fn label_mask(f: &Field, label: f32) -> Result<Field, String> {
 mod importance_test {
     use super::*;
 
-    fn rules(text: &str) -> Importance {
+    /// The rules of a `[[importance]]` TOML text, built as `media.0.importance`.
+    fn build(text: &str) -> Result<Importance, SceneError> {
         #[derive(Deserialize)]
         struct T {
             importance: Vec<ImportanceRuleDesc>,
         }
         let t: T = toml::from_str(text).unwrap();
+        let key = "media.0.importance";
         Importance::build(
             &t.importance,
-            "media.0.importance",
+            key,
             Path::new("."),
             (1.0, 0.0),
             DAffine3::IDENTITY,
         )
-        .unwrap()
+    }
+
+    fn rules(text: &str) -> Importance {
+        build(text).unwrap()
     }
 
     fn at(imp: &Importance, p: Vec3, sigma_t: f32) -> f32 {
@@ -302,22 +307,7 @@ mod importance_test {
 
     #[test]
     fn bad_rules_name_the_key() {
-        #[derive(Deserialize)]
-        struct T {
-            importance: Vec<ImportanceRuleDesc>,
-        }
-        let err = |text: &str| {
-            let t: T = toml::from_str(text).unwrap();
-            Importance::build(
-                &t.importance,
-                "media.0.importance",
-                Path::new("."),
-                (1.0, 0.0),
-                DAffine3::IDENTITY,
-            )
-            .unwrap_err()
-            .0
-        };
+        let err = |text: &str| build(text).unwrap_err().0;
         assert!(err("[[importance]]\nvalue = 2.0").contains("media.0.importance.0.value"));
         assert!(
             err("[[importance]]\n[[importance]]\nextinction = [3.0, 1.0]")

@@ -20,7 +20,7 @@ use crate::integrators::shared::{estimator_rng, primary_ray, DistanceSampler, Pi
 use crate::lights::sample::LightSampler;
 use crate::world::medium::SceneMedium;
 use crate::world::phase::HenyeyGreenstein;
-use crate::world::shading::gradient_lobe;
+use crate::world::shading::dvr_phase;
 use crate::world::World;
 use fogbank_estimators::distance::delta_tracking;
 use fogbank_estimators::ratio_tracking;
@@ -247,12 +247,7 @@ impl VisOpt {
 
     /// HG plus, with `shading`, the gradient lobe in normalised units.
     pub fn phase(&self, m: &SceneMedium, p: Vec3, d: Vec3, wi: Vec3) -> f32 {
-        let hg = HenyeyGreenstein { g: m.phase_g }.eval(d.dot(wi));
-        if !self.params.shading {
-            return hg;
-        }
-        // ∇μ in [−1, 1]³ units: μ and the length each scale by 1/unit.
-        let grad = m.gradient_sigma_t(p) / (self.unit * self.unit);
-        hg + gradient_lobe(grad, d, wi, self.params.n)
+        let lobe = self.params.shading.then_some(self.params.n);
+        dvr_phase(m, p, d, wi, lobe, self.unit)
     }
 }
