@@ -5,6 +5,7 @@ pub mod access;
 pub mod analytic;
 pub mod bc4;
 pub mod dda;
+pub mod distance;
 pub mod error;
 pub mod explosion;
 pub mod grid;

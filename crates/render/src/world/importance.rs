@@ -18,13 +18,14 @@
 //! | `box` | none | `[[x0, y0, z0], [x1, y1, z1]]`: the point lies in this world box |
 //! | `half_space` | none | `[nx, ny, nz, c]`: n·x ≥ c (world) |
 //! | `mask` | none | a second volume (keys as `density`, placed like it): its trilinear value ≥ `mask_threshold` |
-//! | `mask_label` | none | the mask is a label volume: voxels equal to this label become 1, others 0 (then interpolated; threshold ½ is the boundary, cf. Green 2007) |
+//! | `mask_label` | none | the mask is a label volume: the voxels with this label are the segment, turned into a signed distance encoded so that ½ is its boundary (§6.6, Green 2007), interpolated trilinearly |
 //! | `mask_threshold` | 0.5 | see `mask` |
 
 use super::field::{Field, FieldDesc};
 use crate::error::SceneError;
 use fogbank_math::{DAffine3, Vec3};
-use fogbank_volume::{BrickGrid, DensityData};
+use fogbank_volume::distance::encoded_signed_distance;
+use fogbank_volume::DensityData;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -227,25 +228,34 @@ fn build_rule(
     })
 }
 
-/// The indicator of `label` in a label volume (1 where equal, else 0),
-/// interpolated trilinearly at lookup: ½ is then the label's boundary.
+/// The segment `label` of a label volume as a signed distance encoded so
+/// that ½ is its boundary (seed 003 §6.6, Green 2007; spread 4 voxels),
+/// interpolated trilinearly at lookup.
 fn label_mask(f: &Field, label: f32) -> Result<Field, String> {
     let (channels, w2i) = f.parts();
-    let one = |c: &DensityData| -> Result<DensityData, String> {
-        let g = match c {
-            DensityData::F16(g) => BrickGrid::<f32>::from_fn(g.dims(), |i, j, k| {
-                (g.fetch(i as i32, j as i32, k as i32) == label) as u8 as f32
-            }),
-            DensityData::F32(g) => BrickGrid::<f32>::from_fn(g.dims(), |i, j, k| {
-                (g.fetch(i as i32, j as i32, k as i32) == label) as u8 as f32
-            }),
-            DensityData::Analytic(_) => return Err("a label mask needs a voxel grid".into()),
-        }
-        .map_err(|e| e.to_string())?;
-        Ok(DensityData::F32(g))
+    let dims = channels[0].dims();
+    let inside: Vec<bool> = match &channels[0] {
+        DensityData::F16(g) => cells(dims)
+            .map(|(i, j, k)| g.fetch(i, j, k) == label)
+            .collect(),
+        DensityData::F32(g) => cells(dims)
+            .map(|(i, j, k)| g.fetch(i, j, k) == label)
+            .collect(),
+        DensityData::Analytic(_) => return Err("a label mask needs a voxel grid".into()),
     };
-    let c = one(&channels[0])?;
-    Field::from_channels(vec![c], w2i.inverse(), f.source.clone()).map_err(|e| e.0)
+    if !inside.iter().any(|&b| b) {
+        return Err(format!("no voxel has the label {label}"));
+    }
+    let g = encoded_signed_distance(dims, &inside, 4.0).map_err(|e| e.to_string())?;
+    Field::from_channels(vec![DensityData::F32(g)], w2i.inverse(), f.source.clone())
+        .map_err(|e| e.0)
+}
+
+/// Voxel indices, x fastest.
+fn cells(d: [u32; 3]) -> impl Iterator<Item = (i32, i32, i32)> {
+    (0..d[2] as i32).flat_map(move |k| {
+        (0..d[1] as i32).flat_map(move |j| (0..d[0] as i32).map(move |i| (i, j, k)))
+    })
 }
 
 #[cfg(test)]
@@ -303,6 +313,57 @@ mod importance_test {
         let imp = rules("[[importance]]\nbox = [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]\n");
         let v = imp.eval(Vec3::splat(0.5), || panic!("no data predicate, no lookup"));
         assert_eq!(v, 1.0);
+    }
+
+    /// A label volume (Mitsuba .vol, labels 0, 1 and 2) whose label 2 is a
+    /// ball: the rule holds inside it, to within half a voxel of its radius.
+    #[test]
+    fn label_masks_follow_the_segment_boundary() {
+        let (n, r) = (16u32, 5.2f32);
+        let c = n as f32 / 2.0;
+        let mut bytes = b"VOL\x03".to_vec();
+        for v in [1i32, n as i32, n as i32, n as i32, 1] {
+            bytes.extend(v.to_le_bytes());
+        }
+        for v in [0.0f32, 0.0, 0.0, n as f32, n as f32, n as f32] {
+            bytes.extend(v.to_le_bytes());
+        }
+        for i in 0..n * n * n {
+            let p = [i % n, (i / n) % n, i / (n * n)].map(|v| v as f32 + 0.5 - c);
+            let d = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+            let label = if d < r {
+                2.0f32
+            } else if p[0] > 0.0 {
+                1.0
+            } else {
+                0.0
+            };
+            bytes.extend(label.to_le_bytes());
+        }
+        let dir = std::env::temp_dir().join(format!("fogbank-label-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("labels.vol"), bytes).unwrap();
+        #[derive(Deserialize)]
+        struct T {
+            importance: Vec<ImportanceRuleDesc>,
+        }
+        let t: T =
+            toml::from_str("[[importance]]\nmask = { vol = \"labels.vol\" }\nmask_label = 2.0")
+                .unwrap();
+        let imp =
+            Importance::build(&t.importance, "i", &dir, (1.0, 0.0), DAffine3::IDENTITY).unwrap();
+        let k = |x: f32| at(&imp, Vec3::new(c + x, c, c), 0.0);
+        assert_eq!(k(0.0), 1.0);
+        assert_eq!(k(r - 0.6), 1.0);
+        assert_eq!(k(r + 0.6), 0.0);
+        assert_eq!(k(-(r + 0.6)), 0.0);
+        let t: T =
+            toml::from_str("[[importance]]\nmask = { vol = \"labels.vol\" }\nmask_label = 7.0")
+                .unwrap();
+        let e = Importance::build(&t.importance, "i", &dir, (1.0, 0.0), DAffine3::IDENTITY)
+            .unwrap_err();
+        assert!(e.0.contains("no voxel has the label 7"), "{}", e.0);
+        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]
