@@ -125,7 +125,7 @@ mod distance_test {
         let mut rng = Pcg32::new(5, 5);
         for dims in [[7u32, 5, 4], [1, 9, 3], [12, 1, 1]] {
             let n = dims.iter().product::<u32>() as usize;
-            let feature: Vec<bool> = (0..n).map(|_| rng.next_u32() % 7 == 0).collect();
+            let feature: Vec<bool> = (0..n).map(|_| rng.next_u32().is_multiple_of(7)).collect();
             let d = squared_distance(dims, &feature);
             let [nx, ny, _] = dims.map(|v| v as usize);
             let at = |i: usize| {
@@ -135,7 +135,7 @@ mod distance_test {
                     (i / (nx * ny)) as f32,
                 ]
             };
-            for a in 0..n {
+            for (a, &got) in d.iter().enumerate() {
                 let best = (0..n)
                     .filter(|&b| feature[b])
                     .map(|b| {
@@ -143,7 +143,7 @@ mod distance_test {
                         (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)
                     })
                     .fold(f32::INFINITY, f32::min);
-                assert_eq!(d[a], best, "{dims:?} voxel {a}");
+                assert_eq!(got, best, "{dims:?} voxel {a}");
             }
         }
     }
