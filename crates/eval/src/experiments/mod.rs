@@ -36,6 +36,7 @@ pub mod table1;
 pub mod trials;
 pub mod visopt_fig2;
 pub mod visopt_fig7;
+pub mod visopt_head;
 pub mod visopt_overhead;
 mod writer;
 
@@ -87,6 +88,7 @@ pub fn names() -> &'static [&'static str] {
         "visopt-fig2",
         "visopt-fig7",
         "visopt-overhead",
+        "visopt-head",
     ]
 }
 
@@ -131,6 +133,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "visopt-fig2" => visopt_fig2::run(&mut w, trials),
         "visopt-fig7" => visopt_fig7::run(&mut w, trials),
         "visopt-overhead" => visopt_overhead::run(&mut w, trials),
+        "visopt-head" => visopt_head::run(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",

@@ -13,7 +13,7 @@
 //! | `jitter` | false | one random start offset in [0, Δx) per pixel sample (Fig. 6's jittered variant) |
 //! | `p`, `q`, `r`, `lambda` | 1, 70, 30, 1 | as `visopt` |
 //! | `optimise` | true | false: plain ray-marched DVR |
-//! | `shading`, `n` | true, 40 | HG plus the gradient lobe, as `visopt` |
+//! | `shading`, `n` | false, 40 | HG plus the gradient lobe, as `visopt` |
 //!
 //! Importance is the medium's `[[media.importance]]` (post-interpolative,
 //! as the paper's comparison replaces AZD17's own).
@@ -105,7 +105,7 @@ impl Default for AmentParams {
             r: 30.0,
             lambda: 1.0,
             optimise: true,
-            shading: true,
+            shading: false,
             n: 40.0,
         }
     }

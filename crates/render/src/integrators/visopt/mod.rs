@@ -11,7 +11,7 @@
 //! | `light_samples` | 200 | samples of each NEE ray's list (0: light rays unoptimised) |
 //! | `scattering` | `single` | `single`, `first` (optimised first NEE + plain MS), `all` (every NEE optimised) |
 //! | `max_depth` | 64 | path length with `first`/`all` |
-//! | `shading` | true | HG plus the gradient lobe at NEE (§3) |
+//! | `shading` | false | HG plus the gradient lobe at NEE (§3; the paper enables it in Figs. 6 and 9) |
 //! | `n` | 40 | the lobe's exponent |
 //! | `optimise` | true | false: plain DVR (μ' = μ) with the same sampler |
 //!

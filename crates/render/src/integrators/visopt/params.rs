@@ -10,8 +10,8 @@ use crate::params::{Param, ParamReader};
 
 pub const PARAMS: [Param; 14] = [
     Param { key: "p", default: "1", meaning: "Eq. 8: weight of the data term (> 0)" },
-    Param { key: "q", default: "70", meaning: "Eq. 7: weight of important matter behind a point (clutter)" },
-    Param { key: "r", default: "30", meaning: "Eq. 7: weight of important matter before a point (occlusion)" },
+    Param { key: "q", default: "70", meaning: "Eq. 7: weight of important matter behind a point: thins occluders" },
+    Param { key: "r", default: "30", meaning: "Eq. 7: weight of important matter in front of a point: thins background clutter" },
     Param { key: "lambda", default: "1", meaning: "Eq. 8: exponent of (1 − g)^{2λ}" },
     Param { key: "samples", default: "64", meaning: "N, importance samples per camera ray and pass" },
     Param { key: "passes", default: "4", meaning: "camera-list passes: 1 uniform + (passes − 1) adaptive, then frozen" },
@@ -20,7 +20,7 @@ pub const PARAMS: [Param; 14] = [
     Param { key: "light_samples", default: "200", meaning: "importance samples per NEE ray list (0: light rays unoptimised)" },
     Param { key: "scattering", default: "single", meaning: "single; first (optimised first NEE, plain multiple scattering); all (every NEE optimised)" },
     Param { key: "max_depth", default: "64", meaning: "longest path in scattering vertices (not with single)" },
-    Param { key: "shading", default: "true", meaning: "add the gradient lobe ‖∇μ_t‖ (H·N)^n (N·ω_L)₊ to HG at NEE (§3)" },
+    Param { key: "shading", default: "false", meaning: "add the gradient lobe ‖∇μ_t‖ (H·N)^n (N·ω_L)₊ to HG at NEE (§3; Figs. 6, 9 enable it)" },
     Param { key: "n", default: "40", meaning: "Blinn–Phong exponent of the lobe" },
     Param { key: "optimise", default: "true", meaning: "false renders plain DVR (μ' = μ) with the same sampler" },
 ];
@@ -78,7 +78,7 @@ impl Default for VisOptParams {
             light_samples: 200,
             scattering: Scattering::Single,
             max_depth: 64,
-            shading: true,
+            shading: false,
             n: 40.0,
             optimise: true,
         }
