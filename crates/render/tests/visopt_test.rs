@@ -300,3 +300,57 @@ fn a_scaled_copy_is_optimised_alike() {
         "scaled copy: max |z| {max}, pooled {pooled}"
     );
 }
+
+/// Pre-interpolative importance (Figs. 3, 11) classifies voxel centres:
+/// there it equals the post-interpolative importance; between voxels the
+/// trilinear variant blends values the rules never give (e.g. ½), and the
+/// lists merge them only within 10⁻³.
+#[test]
+fn pre_interpolative_importance_classifies_voxel_centres() {
+    let build = |pre: &str| {
+        let text = SCENE.replace(
+            "[[media.importance]]",
+            &format!("{pre}\n[[media.importance]]"),
+        );
+        let desc = parse_scene(&text, "test", &["integrator.type=\"visopt\"".to_string()]).unwrap();
+        Scene::build(desc, Path::new(".")).unwrap()
+    };
+    let post = build("");
+    let pre = build("importance_pre = { filter = \"trilinear\" }");
+    let (mp, mq) = (&post.world.media[0], &pre.world.media[0]);
+    let xf = mp.medium.index_to_world;
+    let at = |m: &fogbank_render::world::medium::SceneMedium, p: fogbank_math::Vec3| {
+        fogbank_render::integrators::visopt::optimised::importance_at(m, p, m.sigma_t_smooth(p))
+    };
+    let (mut between, mut important) = (0, 0);
+    for i in 0..23 {
+        for (j, k) in [(12, 12), (10, 13), (11, 9)] {
+            let c = xf
+                .transform_point3(glam::DVec3::new(
+                    i as f64 + 0.5,
+                    j as f64 + 0.5,
+                    k as f64 + 0.5,
+                ))
+                .as_vec3();
+            // (The world → index round trip lands within an ulp of the centre.)
+            assert!((at(mp, c) - at(mq, c)).abs() < 1e-5, "voxel {i},{j},{k}");
+            important += (at(mp, c) > 0.0) as u32;
+            let h = xf
+                .transform_point3(glam::DVec3::new(
+                    i as f64 + 1.0,
+                    j as f64 + 0.5,
+                    k as f64 + 0.5,
+                ))
+                .as_vec3();
+            let v = at(mq, h);
+            between += (v > 0.0 && v < 1.0) as u32;
+        }
+    }
+    assert!(
+        important > 3,
+        "only {important} important voxels on the lines"
+    );
+    assert!(between > 0, "no blended importance between voxels");
+    assert_eq!(pre.world.media[0].importance.tolerance(), 1e-3);
+    assert_eq!(post.world.media[0].importance.tolerance(), 0.0);
+}

@@ -38,6 +38,7 @@ pub mod visopt_fig2;
 pub mod visopt_fig7;
 pub mod visopt_head;
 pub mod visopt_overhead;
+pub mod visopt_pre;
 mod writer;
 
 use std::path::{Path, PathBuf};
@@ -89,6 +90,7 @@ pub fn names() -> &'static [&'static str] {
         "visopt-fig7",
         "visopt-overhead",
         "visopt-head",
+        "visopt-pre",
     ]
 }
 
@@ -134,6 +136,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "visopt-fig7" => visopt_fig7::run(&mut w, trials),
         "visopt-overhead" => visopt_overhead::run(&mut w, trials),
         "visopt-head" => visopt_head::run(&mut w, trials),
+        "visopt-pre" => visopt_pre::run(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",

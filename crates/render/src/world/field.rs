@@ -154,9 +154,19 @@ impl Field {
         self.channels.len()
     }
 
+    /// The value of the voxel containing world point `p` (no
+    /// interpolation); zero outside the grid's box.
+    pub fn eval_nearest(&self, p: Vec3) -> Vec3 {
+        self.lookup(p, true)
+    }
+
     /// Trilinearly interpolated value at world point `p`; zero outside the
     /// grid's box, like the density.
     pub fn eval(&self, p: Vec3) -> Vec3 {
+        self.lookup(p, false)
+    }
+
+    fn lookup(&self, p: Vec3, nearest: bool) -> Vec3 {
         let q = self.world_to_index.transform_point3(p.as_dvec3()).as_vec3();
         let d = Vec3::new(
             self.dims[0] as f32,
@@ -166,10 +176,12 @@ impl Field {
         if !(q.cmpge(Vec3::ZERO).all() && q.cmple(d).all()) {
             return Vec3::ZERO;
         }
-        let one = |c: &DensityData| match c {
-            DensityData::F16(g) => g.trilinear(q),
-            DensityData::F32(g) => g.trilinear(q),
-            DensityData::Analytic(a) => a.density(q / a.n as f32),
+        let one = |c: &DensityData| match (c, nearest) {
+            (DensityData::F16(g), false) => g.trilinear(q),
+            (DensityData::F32(g), false) => g.trilinear(q),
+            (DensityData::F16(g), true) => g.nearest(q),
+            (DensityData::F32(g), true) => g.nearest(q),
+            (DensityData::Analytic(a), _) => a.density(q / a.n as f32),
         };
         match self.channels.as_slice() {
             [c] => Vec3::splat(one(c)),

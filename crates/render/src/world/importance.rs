@@ -22,10 +22,11 @@
 //! | `mask_threshold` | 0.5 | see `mask` |
 
 use super::field::{Field, FieldDesc};
+use super::medium::SceneMedium;
 use crate::error::SceneError;
-use fogbank_math::{DAffine3, Vec3};
+use fogbank_math::{DAffine3, DVec3, Vec3};
 use fogbank_volume::distance::encoded_signed_distance;
-use fogbank_volume::DensityData;
+use fogbank_volume::{BrickGrid, DensityData};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -77,6 +78,28 @@ pub struct ImportanceInputs {
 #[derive(Clone, Debug, Default)]
 pub struct Importance {
     pub rules: Vec<ImportanceRule>,
+    /// Pre-interpolative mode: the rules classified per voxel.
+    pub pre: Option<PreImportance>,
+}
+
+/// `importance_pre` of a medium: classify the importance per voxel, then
+/// look it up with `filter` (`"trilinear"`, default, or `"nearest"`) after an
+/// optional 3³ `box` filter — the previous work's pipeline seed 003 compares
+/// against (Figs. 3, 11). Absent: post-interpolative (the paper's).
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ImportancePreDesc {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filter: Option<String>,
+    #[serde(default, rename = "box", skip_serializing_if = "Option::is_none")]
+    pub box_filter: Option<bool>,
+}
+
+/// Importance classified at voxel centres, placed like the medium.
+#[derive(Clone, Debug)]
+pub struct PreImportance {
+    field: Field,
+    nearest: bool,
 }
 
 impl Importance {
@@ -95,7 +118,71 @@ impl Importance {
             .enumerate()
             .map(|(i, r)| build_rule(r, &format!("{key}.{i}"), base, units, to_world))
             .collect::<Result<_, _>>()?;
-        Ok(Importance { rules })
+        Ok(Importance { rules, pre: None })
+    }
+
+    /// The pre-interpolative version of these rules for medium `m` (which
+    /// must hold them): each voxel centre classified from its own data, then
+    /// box-filtered if asked.
+    pub fn preclassified(
+        &self,
+        m: &SceneMedium,
+        d: &ImportancePreDesc,
+        key: &str,
+    ) -> Result<Importance, SceneError> {
+        let nearest = match d.filter.as_deref().unwrap_or("trilinear") {
+            "trilinear" => false,
+            "nearest" => true,
+            other => {
+                return Err(SceneError(format!(
+                    "{key}.filter: `{other}` is not trilinear or nearest"
+                )))
+            }
+        };
+        let dims = m.medium.dims();
+        let xf = m.medium.index_to_world;
+        let at = |i: u32, j: u32, k: u32| {
+            let p = xf
+                .transform_point3(DVec3::new(i as f64 + 0.5, j as f64 + 0.5, k as f64 + 0.5))
+                .as_vec3();
+            self.eval(p, || ImportanceInputs {
+                p,
+                sigma_t: m.sigma_t_smooth(p),
+                scalar: m.scalar_at(p),
+                gradient: if self.needs_gradient() {
+                    m.gradient_sigma_t(p).length()
+                } else {
+                    0.0
+                },
+            })
+        };
+        let err = |e: fogbank_volume::VolumeError| SceneError(format!("{key}: {e}"));
+        let mut grid = BrickGrid::<f32>::from_fn(dims, at).map_err(err)?;
+        if d.box_filter.unwrap_or(false) {
+            let c = grid;
+            grid = BrickGrid::from_fn(dims, |i, j, k| {
+                let sum: f32 = (0..27)
+                    .map(|n| {
+                        c.fetch(
+                            i as i32 + n % 3 - 1,
+                            j as i32 + (n / 3) % 3 - 1,
+                            k as i32 + n / 9 - 1,
+                        )
+                    })
+                    .sum();
+                sum / 27.0
+            })
+            .map_err(err)?;
+        }
+        let field = Field::from_channels(
+            vec![DensityData::F32(grid)],
+            xf,
+            format!("{key} (pre-interpolative)"),
+        )?;
+        Ok(Importance {
+            rules: self.rules.clone(),
+            pre: Some(PreImportance { field, nearest }),
+        })
     }
 
     pub fn is_empty(&self) -> bool {
@@ -103,12 +190,31 @@ impl Importance {
     }
 
     pub fn needs_gradient(&self) -> bool {
-        self.rules.iter().any(|r| r.gradient.is_some())
+        self.pre.is_none() && self.rules.iter().any(|r| r.gradient.is_some())
+    }
+
+    /// How far apart two importance values may be and still merge in a list:
+    /// exact for the post-interpolative step function, 10⁻³ for the
+    /// continuous pre-interpolative one (checklist §1).
+    pub fn tolerance(&self) -> f32 {
+        if self.pre.is_some() {
+            1e-3
+        } else {
+            0.0
+        }
     }
 
     /// The importance at a point: the first rule that holds, else 0.
     /// `inputs` is called at most once, when a rule needs more than `p`.
     pub fn eval(&self, p: Vec3, inputs: impl FnOnce() -> ImportanceInputs) -> f32 {
+        if let Some(pre) = &self.pre {
+            let v = if pre.nearest {
+                pre.field.eval_nearest(p)
+            } else {
+                pre.field.eval(p)
+            };
+            return v.x.clamp(0.0, 1.0);
+        }
         let mut inputs = Some(inputs);
         let mut got: Option<ImportanceInputs> = None;
         for r in &self.rules {

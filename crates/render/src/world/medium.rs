@@ -3,7 +3,7 @@
 
 use super::emission::{Emission, EmissionDesc};
 use super::field::{field_data, Field, FieldData, FieldDesc};
-use super::importance::{Importance, ImportanceRuleDesc};
+use super::importance::{Importance, ImportancePreDesc, ImportanceRuleDesc};
 use super::phase::PhaseDesc;
 use super::transfer::{Transfer, TransferDesc, TransferLookup, TransferMode};
 use super::velocity::{Velocity, VelocityDesc};
@@ -20,6 +20,7 @@ use std::path::Path;
 /// | `sigma_t_scale` | 1 | σ_t = scale · density (per world unit) |
 /// | `albedo` | (0.8, 0.8, 0.8); (1, 1, 1) with a `transfer` | single-scattering albedo σ_s/σ_t, each channel in [0, 1] (with a `transfer`, a tint of its colours) |
 /// | `importance` | none | ordered rules mapping points to importance in [0, 1] for `visopt` (seed 003 §4.2), see [`ImportanceRuleDesc`] |
+/// | `importance_pre` | none (post-interpolative) | classify the importance per voxel instead, see [`ImportancePreDesc`] (seed 003 Figs. 3, 11) |
 /// | `transfer` | none | a transfer function classifying the density's values into extinction, albedo and emission, see [`TransferDesc`] |
 /// | `albedo_grid` | none | a grid (same keys as `density`, placed like it) multiplying `albedo`; a 3-channel `.vol` without `channel` gives RGB; values clamp to [0, 1] |
 /// | `emission` | none | volumetric emission, see [`EmissionDesc`] |
@@ -42,6 +43,8 @@ pub struct MediumDesc {
     pub transfer: Option<TransferDesc>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub importance: Vec<ImportanceRuleDesc>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub importance_pre: Option<ImportancePreDesc>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub albedo_grid: Option<FieldDesc>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -343,7 +346,7 @@ impl MediumDesc {
             stored,
             placement,
         )?;
-        Ok(SceneMedium {
+        let mut sm = SceneMedium {
             velocity,
             medium: Medium::classified(data, opacity, m.sigma_t_scale, filter, xf, m.supervoxel),
             albedo,
@@ -358,7 +361,17 @@ impl MediumDesc {
             },
             source,
             entry: i,
-        })
+        };
+        if let Some(pre) = &m.importance_pre {
+            let pkey = format!("{key}.importance_pre");
+            if matches!(sm.medium.data, DensityData::Analytic(_)) {
+                return Err(SceneError(format!(
+                    "{pkey}: analytic media have no voxels to classify"
+                )));
+            }
+            sm.importance = sm.importance.preclassified(&sm, pre, &pkey)?;
+        }
+        Ok(sm)
     }
 }
 

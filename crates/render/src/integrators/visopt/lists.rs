@@ -97,7 +97,14 @@ pub fn camera_list(
             sampling::adaptive(&list, length, p.samples, p.gap_share, rng)
         };
         let samples: Vec<(f32, f32)> = ts.iter().map(|&t| (t, k_at(t))).collect();
-        kz = segments::merge(&list, &samples, d, length, &mut next);
+        kz = segments::merge_within(
+            &list,
+            &samples,
+            d,
+            m.importance.tolerance(),
+            length,
+            &mut next,
+        );
         std::mem::swap(&mut list, &mut next);
     }
     (list, kz, length)
@@ -125,7 +132,8 @@ pub fn light_list(
             (t, importance_at(m, w, m.sigma_t_smooth(w)))
         })
         .collect();
-    let kz = segments::merge(&[], &pts, merge_distance(p, length, samples), length, out);
+    let d = merge_distance(p, length, samples);
+    let kz = segments::merge_within(&[], &pts, d, m.importance.tolerance(), length, out);
     (kz, length)
 }
 

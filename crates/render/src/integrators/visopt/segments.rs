@@ -68,13 +68,13 @@ impl PartialOrd for Queued {
 
 /// Alg. 1 (corrected) for one candidate against the last entry of `list`;
 /// returns the entry to re-queue after a split.
-fn insert(list: &mut Vec<Segment>, cand: Segment, d: f32) -> Option<Segment> {
+fn insert(list: &mut Vec<Segment>, cand: Segment, d: f32, tolerance: f32) -> Option<Segment> {
     let Some(curr) = list.last_mut() else {
         list.push(cand);
         return None;
     };
     let inside = cand.t >= curr.t && cand.right() <= curr.right();
-    if curr.k == cand.k {
+    if (curr.k - cand.k).abs() <= tolerance {
         if inside {
             return None; // redundant: already covered (Alg. 1 l. 10–12)
         }
@@ -106,6 +106,20 @@ pub fn merge(
     length: f32,
     out: &mut Vec<Segment>,
 ) -> f32 {
+    merge_within(old, samples, d, 0.0, length, out)
+}
+
+/// [`merge`] for a continuous importance (pre-interpolative classification,
+/// checklist §1): entries whose importance differs by at most `tolerance`
+/// count as equal (the first one's value is kept).
+pub fn merge_within(
+    old: &[Segment],
+    samples: &[(f32, f32)],
+    d: f32,
+    tolerance: f32,
+    length: f32,
+    out: &mut Vec<Segment>,
+) -> f32 {
     out.clear();
     let mut requeued = BinaryHeap::new();
     let (mut i, mut j) = (0, 0);
@@ -129,7 +143,7 @@ pub fn merge(
             None
         };
         let Some(cand) = next else { break };
-        if let Some(temp) = insert(out, cand, d) {
+        if let Some(temp) = insert(out, cand, d, tolerance) {
             requeued.push(Queued(temp));
         }
     }
