@@ -34,6 +34,7 @@ pub mod restir_protocol;
 pub mod restir_scenes;
 pub mod table1;
 pub mod trials;
+pub mod visopt_equal_time;
 pub mod visopt_fig2;
 pub mod visopt_fig7;
 pub mod visopt_head;
@@ -91,6 +92,7 @@ pub fn names() -> &'static [&'static str] {
         "visopt-overhead",
         "visopt-head",
         "visopt-pre",
+        "visopt-equal-time",
     ]
 }
 
@@ -137,6 +139,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "visopt-overhead" => visopt_overhead::run(&mut w, trials),
         "visopt-head" => visopt_head::run(&mut w, trials),
         "visopt-pre" => visopt_pre::run(&mut w, trials),
+        "visopt-equal-time" => visopt_equal_time::run(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",
