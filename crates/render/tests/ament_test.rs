@@ -108,7 +108,7 @@ fn unoptimised_marching_is_the_dvr_visopt_estimates() {
         assert!(top > 0.01);
         for i in 0..w * h {
             let expected = vo
-                .expected_pixel(&v.world, i % w, i / w, 1.0 / 2048.0, 1.0 / 512.0)
+                .expected_pixel(&v.world, i % w, i / w, 1.0 / 1024.0, 1.0 / 256.0)
                 .unwrap()
                 .x;
             let got = image[i as usize][0];

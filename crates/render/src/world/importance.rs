@@ -22,7 +22,6 @@
 //! | `mask_threshold` | 0.5 | see `mask` |
 
 use super::field::{Field, FieldDesc};
-use super::medium::SceneMedium;
 use crate::error::SceneError;
 use fogbank_math::{DAffine3, DVec3, Vec3};
 use fogbank_volume::distance::encoded_signed_distance;
@@ -121,12 +120,15 @@ impl Importance {
         Ok(Importance { rules, pre: None })
     }
 
-    /// The pre-interpolative version of these rules for medium `m` (which
-    /// must hold them): each voxel centre classified from its own data, then
-    /// box-filtered if asked.
+    /// The pre-interpolative version of these rules for a grid of `dims`
+    /// voxels placed by `index_to_world`: each voxel centre classified from
+    /// its own data (`inputs` at a world point: the medium's σ_t, scalar and
+    /// gradient there), then box-filtered if asked.
     pub fn preclassified(
         &self,
-        m: &SceneMedium,
+        dims: [u32; 3],
+        index_to_world: DAffine3,
+        inputs: impl Fn(Vec3) -> ImportanceInputs + Sync,
         d: &ImportancePreDesc,
         key: &str,
     ) -> Result<Importance, SceneError> {
@@ -139,22 +141,12 @@ impl Importance {
                 )))
             }
         };
-        let dims = m.medium.dims();
-        let xf = m.medium.index_to_world;
+        let xf = index_to_world;
         let at = |i: u32, j: u32, k: u32| {
             let p = xf
                 .transform_point3(DVec3::new(i as f64 + 0.5, j as f64 + 0.5, k as f64 + 0.5))
                 .as_vec3();
-            self.eval(p, || ImportanceInputs {
-                p,
-                sigma_t: m.sigma_t_smooth(p),
-                scalar: m.scalar_at(p),
-                gradient: if self.needs_gradient() {
-                    m.gradient_sigma_t(p).length()
-                } else {
-                    0.0
-                },
-            })
+            self.eval(p, || inputs(p))
         };
         let err = |e: fogbank_volume::VolumeError| SceneError(format!("{key}: {e}"));
         let mut grid = BrickGrid::<f32>::from_fn(dims, at).map_err(err)?;

@@ -3,7 +3,7 @@
 
 use super::emission::{Emission, EmissionDesc};
 use super::field::{field_data, Field, FieldData, FieldDesc};
-use super::importance::{Importance, ImportancePreDesc, ImportanceRuleDesc};
+use super::importance::{Importance, ImportanceInputs, ImportancePreDesc, ImportanceRuleDesc};
 use super::phase::PhaseDesc;
 use super::transfer::{Transfer, TransferDesc, TransferLookup, TransferMode};
 use super::velocity::{Velocity, VelocityDesc};
@@ -369,7 +369,19 @@ impl MediumDesc {
                     "{pkey}: analytic media have no voxels to classify"
                 )));
             }
-            sm.importance = sm.importance.preclassified(&sm, pre, &pkey)?;
+            let gradient = sm.importance.needs_gradient();
+            let inputs = |p: Vec3| ImportanceInputs {
+                p,
+                sigma_t: sm.sigma_t_smooth(p),
+                scalar: sm.scalar_at(p),
+                gradient: if gradient {
+                    sm.gradient_sigma_t(p).length()
+                } else {
+                    0.0
+                },
+            };
+            let (dims, xf) = (sm.medium.dims(), sm.medium.index_to_world);
+            sm.importance = sm.importance.preclassified(dims, xf, inputs, pre, &pkey)?;
         }
         Ok(sm)
     }

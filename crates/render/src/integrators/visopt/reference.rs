@@ -47,6 +47,7 @@ impl VisOpt {
         let Some((_, t0, t1)) = m.medium.to_index(&ray, 0.0, f32::INFINITY) else {
             return Ok(Vec3::ZERO);
         };
+        let (step, shadow_step) = (step / self.unit, shadow_step / self.unit);
         let (list, big_k_z, length) = self.lists(world).get(x, y);
         let list = RayList {
             list,
