@@ -7,31 +7,17 @@
 //! 0.02 / 0.01 / 0.005 whose frame fits the budget; its image differs from
 //! the reference by the ray-marched h as well as by discretisation.
 
+use super::visopt_overhead::heptane_standin;
 use super::writer::Writer;
 use fogbank_image::metrics::{flip, rmse, Image};
-use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
-use std::path::Path;
+use fogbank_render::{render, Progress, RenderOptions, Scene};
 use std::time::Duration;
 
 pub const DEFAULT_REFERENCE_SPP: u64 = 1024;
 const WIDTH: u32 = 64;
 
-fn scene(extra: &[String]) -> Result<Scene, String> {
-    let text = format!(
-        "[camera]\nfrom = [0.0, 0.4, 3.2]\nto = [0.0, 0.0, 0.0]\nfov = 40.0\nwidth = {WIDTH}\nheight = {WIDTH}\n\
-         [[media]]\ndensity = {{ procedural = \"cloud\", resolution = 128, seed = 11 }}\nsigma_t_scale = 6.0\n\
-         albedo = [0.9, 0.9, 0.9]\nfilter = \"trilinear\"\nto_world = {{ scale = 2.0 }}\n\
-         [[media.importance]]\nextinction = [3.0, 1e9]\n\
-         [[lights]]\ntype = \"point\"\nposition = [2.5, 2.5, 2.0]\nintensity = [20.0, 18.0, 16.0]\n\
-         [[lights]]\ntype = \"point\"\nposition = [-2.5, 1.0, 2.0]\nintensity = [8.0, 9.0, 12.0]\n\
-         [render]\npixel_jitter = false\n"
-    );
-    let desc = parse_scene(&text, "visopt-equal-time", extra).map_err(|e| e.to_string())?;
-    Scene::build(desc, Path::new(".")).map_err(|e| e.to_string())
-}
-
-fn set(kv: &[&str]) -> Vec<String> {
-    kv.iter().map(|s| s.to_string()).collect()
+fn scene(extra: &[&str]) -> Result<Scene, String> {
+    heptane_standin(WIDTH, extra)
 }
 
 fn image(rgb: Vec<[f32; 3]>) -> Image {
@@ -45,7 +31,7 @@ fn errors(reference: &Image, test: &Image) -> Result<(f64, f64), String> {
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let ref_spp = trials.unwrap_or(DEFAULT_REFERENCE_SPP) as u32;
-    let visopt = scene(&set(&["integrator.type=\"visopt\""]))?;
+    let visopt = scene(&["integrator.type=\"visopt\""])?;
     visopt.integrator.prepare(&visopt.world);
     let reference = render(
         &visopt,
@@ -87,10 +73,10 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let mut eq = Vec::new();
     let mut chosen = None;
     for step in [0.02f32, 0.01, 0.005] {
-        let a = scene(&set(&[
+        let a = scene(&[
             "integrator.type=\"ament\"",
             &format!("integrator.step={step}"),
-        ]))?;
+        ])?;
         let r = render(
             &a,
             &RenderOptions {
