@@ -418,6 +418,34 @@ mod transfer_test {
         }
     }
 
+    /// Truncations and byte flips of a valid colour map give a result or
+    /// an error, never a panic (the parser sits on serde_json; this covers
+    /// fogbank's own checks on what it returns).
+    #[test]
+    fn mangled_colour_maps_never_panic() {
+        let good = br#"[{"Name": "m", "RGBPoints": [-1, 0, 0, 0, 0, 0.5, 0.2, 0.1, 1, 1, 1, 1],
+            "Points": [-1, 0, 0.5, 0, 1, 1, 0.5, 0]}]"#;
+        let mut rng = fogbank_math::Pcg32::new(9, 9);
+        let mut tried = 0;
+        for n in 0..good.len() {
+            let _ = paraview(&String::from_utf8_lossy(&good[..n]), None);
+            tried += 1;
+        }
+        for _ in 0..5000 {
+            let mut b = good.to_vec();
+            for _ in 0..1 + rng.next_u32() % 4 {
+                let i = rng.next_u32() as usize % b.len();
+                let alphabet = b"0123456789-.e,[]{}\": naN";
+                b[i] = alphabet[rng.next_u32() as usize % alphabet.len()];
+            }
+            let text = String::from_utf8_lossy(&b);
+            let r = std::panic::catch_unwind(|| paraview(&text, Some("m")).map(|_| ()));
+            assert!(r.is_ok(), "panic on {text}");
+            tried += 1;
+        }
+        assert!(tried > 5000);
+    }
+
     fn desc(text: &str) -> TransferDesc {
         toml::from_str(text).unwrap()
     }
