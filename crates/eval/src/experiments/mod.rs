@@ -40,6 +40,7 @@ pub mod visopt_fig7;
 pub mod visopt_head;
 pub mod visopt_overhead;
 pub mod visopt_pre;
+pub mod visopt_teaser;
 mod writer;
 
 use std::path::{Path, PathBuf};
@@ -93,6 +94,7 @@ pub fn names() -> &'static [&'static str] {
         "visopt-head",
         "visopt-pre",
         "visopt-equal-time",
+        "visopt-teaser",
     ]
 }
 
@@ -140,6 +142,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "visopt-head" => visopt_head::run(&mut w, trials),
         "visopt-pre" => visopt_pre::run(&mut w, trials),
         "visopt-equal-time" => visopt_equal_time::run(&mut w, trials),
+        "visopt-teaser" => visopt_teaser::run(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",
