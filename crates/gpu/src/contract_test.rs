@@ -56,7 +56,6 @@ fn wgsl_structs_have_the_layout_of_the_rust_structs() {
         ],
     );
     let w2i = offset_of!(MediumGpu, w2i);
-    let pad = offset_of!(MediumGpu, pad);
     check_layout(
         &scatter,
         "MediumGpu",
@@ -76,9 +75,9 @@ fn wgsl_structs_have_the_layout_of_the_rust_structs() {
             ("constants_offset", offset_of!(MediumGpu, constants_offset)),
             ("data_offset", offset_of!(MediumGpu, data_offset)),
             ("sv_offset", offset_of!(MediumGpu, sv_offset)),
-            ("pad0", pad),
-            ("pad1", pad + 4),
-            ("pad2", pad + 8),
+            ("tf_offset", offset_of!(MediumGpu, tf_offset)),
+            ("tf_counts", offset_of!(MediumGpu, tf_counts)),
+            ("tf_emission", offset_of!(MediumGpu, tf_emission)),
             ("camera_index", offset_of!(MediumGpu, camera_index)),
         ],
     );

@@ -24,7 +24,12 @@ pub struct MediumGpu {
     pub constants_offset: u32,
     pub data_offset: u32,
     pub sv_offset: u32,
-    pub pad: [u32; 3],
+    /// A post-interpolative transfer function's points in the constants
+    /// buffer: where they start, (opacity count | colour count << 16) and
+    /// the emission count; all 0 without one (see [`pack_transfer`]).
+    pub tf_offset: u32,
+    pub tf_counts: u32,
+    pub tf_emission: u32,
     pub camera_index: [f32; 4],
 }
 
@@ -104,10 +109,10 @@ impl SceneBuffers {
         let mut p = Packed::default();
         let mut media = Vec::new();
         for (i, sm) in scene.media.iter().enumerate() {
-            media.push(
-                pack_medium(&sm.medium, scene.camera.origin, &mut p)
-                    .map_err(|e| GpuError(format!("media.{i} ({}): {}", sm.source, e.0)))?,
-            );
+            let err = |e: GpuError| GpuError(format!("media.{i} ({}): {}", sm.source, e.0));
+            let mut record = pack_medium(&sm.medium, scene.camera.origin, &mut p).map_err(err)?;
+            pack_transfer(&mut record, &sm.medium, sm.transfer.as_ref(), &mut p).map_err(err)?;
+            media.push(record);
         }
         let mut properties = Vec::new();
         for (i, sm) in scene.media.iter().enumerate() {
@@ -225,11 +230,6 @@ fn data_address(d: &DensityData) -> Option<usize> {
 }
 
 fn pack_medium(m: &Medium, camera: glam::Vec3, p: &mut Packed) -> Result<MediumGpu, GpuError> {
-    if m.opacity.is_some() {
-        return Err(GpuError(
-            "a post-interpolative transfer function is CPU-only so far; use `--device cpu` or the transfer's `mode = \"pre\"`".into(),
-        ));
-    }
     let address = data_address(&m.data);
     // Instances share data, scale and super-voxel statistics.
     let seen = p
@@ -276,12 +276,57 @@ fn pack_medium(m: &Medium, camera: glam::Vec3, p: &mut Packed) -> Result<MediumG
         constants_offset: offsets.1,
         data_offset: offsets.2,
         sv_offset,
-        pad: [0; 3],
+        tf_offset: 0,
+        tf_counts: 0,
+        tf_emission: 0,
         camera_index: {
             let c = a.transform_point3(camera.as_dvec3()).as_vec3();
             [c.x, c.y, c.z, 1.0]
         },
     })
+}
+
+/// Most points a transfer-function curve may have on the device (counts
+/// share one word).
+const MAX_TF_POINTS: usize = 0xffff;
+
+/// Appends a post-interpolative transfer function to the constants buffer
+/// and records it in the medium's record: opacity as (x, α) pairs, then
+/// colour and emission as (x, r, g, b) quads, in the grid's stored units
+/// (`medium.wgsl` `classify`, `properties.wgsl`).
+fn pack_transfer(
+    record: &mut MediumGpu,
+    m: &Medium,
+    lookup: Option<&fogbank_render::world::transfer::TransferLookup>,
+    p: &mut Packed,
+) -> Result<(), GpuError> {
+    let Some(opacity) = &m.opacity else {
+        return Ok(());
+    };
+    let color = lookup.map(|l| &l.color);
+    let emission = lookup.and_then(|l| l.emission.as_ref());
+    let counts = [
+        opacity.len(),
+        color.map_or(0, |c| c.len()),
+        emission.map_or(0, |e| e.len()),
+    ];
+    if counts.iter().any(|&n| n > MAX_TF_POINTS) {
+        return Err(GpuError(format!(
+            "a transfer-function curve has more than {MAX_TF_POINTS} points"
+        )));
+    }
+    record.tf_offset = p.constants.len() as u32;
+    record.tf_counts = counts[0] as u32 | (counts[1] as u32) << 16;
+    record.tf_emission = counts[2] as u32;
+    for (x, [a]) in opacity.points() {
+        p.constants.extend([x, a]);
+    }
+    for curve in color.into_iter().chain(emission) {
+        for (x, [r, g, b]) in curve.points() {
+            p.constants.extend([x, r, g, b]);
+        }
+    }
+    Ok(())
 }
 
 /// A property grid channel as a record of the media buffer: trilinear,
@@ -311,7 +356,9 @@ fn pack_property(
         constants_offset: offsets.1,
         data_offset: offsets.2,
         sv_offset,
-        pad: [0; 3],
+        tf_offset: 0,
+        tf_counts: 0,
+        tf_emission: 0,
         camera_index: [0.0; 4],
     })
 }

@@ -99,7 +99,7 @@ fn regular_flight(m: MediumGpu, r: Ray, t0: f32, t1: f32, u: f32,
         var s: DdaStep;
         while (dda_next(&dda, &s)) {
             *lookups += 1u;
-            let sigma_t = m.scale * fetch(m, s.cell.x, s.cell.y, s.cell.z);
+            let sigma_t = m.scale * classify(m, fetch(m, s.cell.x, s.cell.y, s.cell.z));
             let d = sigma_t * (s.t1 - s.t0);
             if (tau + d >= tau_target && sigma_t > 0.0) {
                 return vec3<f32>(clamp(s.t0 + (tau_target - tau) / sigma_t, s.t0, s.t1), sigma_t, tau_target);

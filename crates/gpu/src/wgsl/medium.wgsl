@@ -17,9 +17,11 @@ struct MediumGpu {
     constants_offset: u32,
     data_offset: u32,   // in 32-bit words
     sv_offset: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
+    // A post-interpolative transfer function (scene_buffers::pack_transfer):
+    // its points in brick_constants, (opacity | colour << 16), emission.
+    tf_offset: u32,
+    tf_counts: u32,
+    tf_emission: u32,
     // The camera position in index space, transformed in f64 on the host
     // exactly as the CPU transforms every primary ray's origin.
     camera_index: vec4<f32>,
@@ -49,6 +51,55 @@ fn fetch(m: MediumGpu, i: i32, j: i32, k: i32) -> f32 {
         return unpack2x16float(word)[idx & 1u];
     }
     return bitcast<f32>(brick_data[m.data_offset + idx]);
+}
+
+// math::PiecewiseLinear over brick_constants[offset..]: `count` points of
+// `stride` floats, x first. pl_find is partition_point(x <= s) (NaN → 0).
+fn pl_find(offset: u32, count: u32, stride: u32, s: f32) -> u32 {
+    var lo = 0u;
+    var hi = count;
+    while (lo < hi) {
+        let mid = (lo + hi) / 2u;
+        if (brick_constants[offset + mid * stride] <= s) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+// PiecewiseLinear::eval, channel c, at s whose partition point is i:
+// clamped outside, each segment clamped to its end values.
+fn pl_channel(offset: u32, count: u32, stride: u32, i: u32, c: u32, s: f32) -> f32 {
+    if (i == 0u) {
+        return brick_constants[offset + 1u + c];
+    }
+    if (i == count) {
+        return brick_constants[offset + (count - 1u) * stride + 1u + c];
+    }
+    let a = offset + (i - 1u) * stride;
+    let b = a + stride;
+    let x0 = brick_constants[a];
+    let y0 = brick_constants[a + 1u + c];
+    let y1 = brick_constants[b + 1u + c];
+    let t = (s - x0) / (brick_constants[b] - x0);
+    return clamp(y0 + t * (y1 - y0), min(y0, y1), max(y0, y1));
+}
+
+fn pl_rgb(offset: u32, count: u32, s: f32) -> vec3<f32> {
+    let i = pl_find(offset, count, 4u, s);
+    return vec3<f32>(pl_channel(offset, count, 4u, i, 0u, s), pl_channel(offset, count, 4u, i, 1u, s),
+                     pl_channel(offset, count, 4u, i, 2u, s));
+}
+
+// GridView::classify: the transfer function's opacity α(s), or s itself.
+fn classify(m: MediumGpu, s: f32) -> f32 {
+    let n = m.tf_counts & 0xffffu;
+    if (n == 0u) {
+        return s;
+    }
+    return pl_channel(m.tf_offset, n, 2u, pl_find(m.tf_offset, n, 2u, s), 0u, s);
 }
 
 fn nearest(m: MediumGpu, p: vec3<f32>) -> f32 {
@@ -85,12 +136,12 @@ fn sigma_t_at(m: MediumGpu, p: vec3<f32>, rng: ptr<function, Pcg32>, lookups: pt
     if (m.filter_mode == 2u) {
         let h = pcg3d(vec3<u32>(pcg32_next_u32(rng), *lookups, 0x9e3779b9u));
         let u = vec3<f32>(unit_f32(h.x), unit_f32(h.y), unit_f32(h.z));
-        return m.scale * nearest(m, p + u - vec3<f32>(0.5));
+        return m.scale * classify(m, nearest(m, p + u - vec3<f32>(0.5)));
     }
     if (m.filter_mode == 1u) {
-        return m.scale * trilinear(m, p);
+        return m.scale * classify(m, trilinear(m, p));
     }
-    return m.scale * nearest(m, p);
+    return m.scale * classify(m, nearest(m, p));
 }
 
 fn supervoxel(m: MediumGpu, c: vec3<i32>) -> vec4<f32> {

@@ -27,8 +27,24 @@ fn field_eval(first: u32, channels: u32, p: vec3<f32>) -> vec3<f32> {
     return out;
 }
 
+// SceneMedium::scalar_at: the density's stored value, trilinear, 0 outside.
+fn scalar_at(m: MediumGpu, p: vec3<f32>) -> f32 {
+    let o = vec4<f32>(p, 1.0);
+    let q = vec3<f32>(dot(m.w2i0, o), dot(m.w2i1, o), dot(m.w2i2, o));
+    if (any(q < vec3<f32>(0.0)) || any(q > vec3<f32>(m.dims))) {
+        return 0.0;
+    }
+    return trilinear(m, q);
+}
+
 fn albedo_at(mi: u32, p: vec3<f32>) -> vec3<f32> {
     let a = shading[mi].xyz;
+    let m = media[mi];
+    let colours = m.tf_counts >> 16u;
+    if (colours != 0u) {
+        let offset = m.tf_offset + 2u * (m.tf_counts & 0xffffu);
+        return clamp(a * pl_rgb(offset, colours, scalar_at(m, p)), vec3<f32>(0.0), vec3<f32>(1.0));
+    }
     let ext = medium_ext[3u * mi];
     if (ext.x == 0.0) {
         return a;
@@ -50,6 +66,11 @@ fn blackbody_rgb(t: f32) -> vec3<f32> {
 
 // SceneMedium::emitted: (1 − albedo) L_e.
 fn emitted(mi: u32, p: vec3<f32>, albedo: vec3<f32>) -> vec3<f32> {
+    let m = media[mi];
+    if (m.tf_emission != 0u) {
+        let offset = m.tf_offset + 2u * (m.tf_counts & 0xffffu) + 4u * (m.tf_counts >> 16u);
+        return (vec3<f32>(1.0) - albedo) * pl_rgb(offset, m.tf_emission, scalar_at(m, p));
+    }
     let ext = medium_ext[3u * mi];
     let e = medium_ext[3u * mi + 1u];
     var le = e.xyz;

@@ -7,7 +7,7 @@ fn regular_tracking(m: MediumGpu, r: Ray, t0: f32, t1: f32, lookups: ptr<functio
     var s: DdaStep;
     while (dda_next(&dda, &s)) {
         *lookups += 1u;
-        tau += fetch(m, s.cell.x, s.cell.y, s.cell.z) * (s.t1 - s.t0);
+        tau += classify(m, fetch(m, s.cell.x, s.cell.y, s.cell.z)) * (s.t1 - s.t0);
     }
     return exp(-tau * m.scale);
 }

@@ -17,6 +17,9 @@
 //! | `mode` | `"post"` | `"post"`-interpolative or `"pre"`-interpolative |
 //! | `prefilter` | `"none"` | `"pre"` mode only: `"box"` averages the classified voxels over 3³ before interpolation |
 //!
+//! Both backends classify (the GPU keeps the points in its constants
+//! buffer, `gpu/src/wgsl/medium.wgsl` `classify`).
+//!
 //! Values are in the file's units (Hounsfield units for CT, after NIfTI's
 //! `scl_slope`/`scl_inter`); points are linear segments, clamped outside
 //! their range; two points at one value make a step. Colours interpolate
