@@ -187,6 +187,35 @@ impl Medium {
         }
     }
 
+    /// σ_t of the trilinear interpolant at index point `q`, classified
+    /// after interpolation (the smooth field gradients and importance
+    /// criteria read); 0 outside `[0, dims]`, and without a lookup in
+    /// super-voxels where the field is zero.
+    #[inline]
+    pub fn sigma_t_smooth(&self, q: Vec3) -> f32 {
+        let d = self.dims();
+        let inside = q.cmpge(Vec3::ZERO).all()
+            && q.cmple(Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32))
+                .all();
+        if !inside {
+            return 0.0;
+        }
+        let sv = &self.supervoxels;
+        let c = (q / sv.size as f32)
+            .floor()
+            .as_ivec3()
+            .min(glam::IVec3::from(sv.dims.map(|v| v as i32 - 1)));
+        if sv.is_zero(c.into(), crate::supervoxel::ZERO_TRILINEAR) {
+            return 0.0;
+        }
+        let s = match &self.data {
+            DensityData::F16(g) => g.trilinear(q),
+            DensityData::F32(g) => g.trilinear(q),
+            DensityData::Analytic(a) => a.density(q / a.n as f32),
+        };
+        self.sigma_t_scale * self.opacity.as_ref().map_or(s, |o| o.eval(s)[0])
+    }
+
     pub fn index_bounds(&self) -> Aabb {
         let d = self.dims();
         Aabb::new(Vec3::ZERO, Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32))

@@ -135,9 +135,12 @@ impl SceneMedium {
     /// that gradients and importance criteria read.
     #[inline]
     pub fn sigma_t_smooth(&self, p: Vec3) -> f32 {
-        let s = self.scalar_at(p);
-        let a = self.medium.opacity.as_ref().map_or(s, |o| o.eval(s)[0]);
-        self.medium.sigma_t_scale * a
+        let q = self
+            .medium
+            .world_to_index
+            .transform_point3(p.as_dvec3())
+            .as_vec3();
+        self.medium.sigma_t_smooth(q)
     }
 
     /// ∇σ_t at world point `p` (seed 003 §3: the gradient of the classified
