@@ -169,15 +169,20 @@ impl Medium {
         self.data.dims()
     }
 
+    /// Whether index point `q` lies in `[0, dims]`.
+    #[inline]
+    fn contains_index(&self, q: Vec3) -> bool {
+        let d = self.dims();
+        q.cmpge(Vec3::ZERO).all()
+            && q.cmple(Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32))
+                .all()
+    }
+
     /// The stored value (before scale and classification), trilinearly
     /// interpolated at index point `q`; 0 outside `[0, dims]`.
     #[inline]
     pub fn scalar_trilinear(&self, q: Vec3) -> f32 {
-        let d = self.dims();
-        let inside = q.cmpge(Vec3::ZERO).all()
-            && q.cmple(Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32))
-                .all();
-        if !inside {
+        if !self.contains_index(q) {
             return 0.0;
         }
         match &self.data {
@@ -193,11 +198,7 @@ impl Medium {
     /// super-voxels where the field is zero.
     #[inline]
     pub fn sigma_t_smooth(&self, q: Vec3) -> f32 {
-        let d = self.dims();
-        let inside = q.cmpge(Vec3::ZERO).all()
-            && q.cmple(Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32))
-                .all();
-        if !inside {
+        if !self.contains_index(q) {
             return 0.0;
         }
         let sv = &self.supervoxels;
@@ -208,11 +209,7 @@ impl Medium {
         if sv.is_zero(c.into(), crate::supervoxel::ZERO_TRILINEAR) {
             return 0.0;
         }
-        let s = match &self.data {
-            DensityData::F16(g) => g.trilinear(q),
-            DensityData::F32(g) => g.trilinear(q),
-            DensityData::Analytic(a) => a.density(q / a.n as f32),
-        };
+        let s = self.scalar_trilinear(q);
         self.sigma_t_scale * self.opacity.as_ref().map_or(s, |o| o.eval(s)[0])
     }
 

@@ -14,6 +14,7 @@
 //! Images are small (the CPU has 2 cores); the paper renders 800² on a GPU.
 
 use super::writer::Writer;
+use fogbank_image::metrics::{self, Image};
 use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::{Path, PathBuf};
 
@@ -55,8 +56,9 @@ fn set(kv: &[&str]) -> Vec<String> {
     kv.iter().map(|s| s.to_string()).collect()
 }
 
-/// (seconds per pass, image) of `spp` passes with seed `seed`.
-fn timed(s: &Scene, spp: u32, seed: u32) -> (f64, Vec<[f32; 3]>) {
+/// (seconds per pass, image) of `spp` passes with seed `seed`, the
+/// integrator prepared before timing.
+pub(super) fn timed(s: &Scene, spp: u32, seed: u32) -> (f64, Vec<[f32; 3]>) {
     s.integrator.prepare(&s.world);
     let r = render(
         s,
@@ -70,13 +72,9 @@ fn timed(s: &Scene, spp: u32, seed: u32) -> (f64, Vec<[f32; 3]>) {
     (r.seconds / spp as f64, r.film.mean())
 }
 
-fn rmse(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
-    let sum: f64 = a
-        .iter()
-        .zip(b)
-        .flat_map(|(p, q)| (0..3).map(move |c| ((p[c] - q[c]) as f64).powi(2)))
-        .sum();
-    (sum / (3 * a.len()) as f64).sqrt()
+fn rmse(a: &[[f32; 3]], b: &[[f32; 3]]) -> Result<f64, String> {
+    let image = |rgb: &[[f32; 3]]| Image::new(WIDTH as usize, WIDTH as usize, rgb.to_vec());
+    metrics::rmse(&image(b), &image(a))
 }
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
@@ -159,7 +157,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             &set(&[&format!("integrator.light_samples={n}")]),
         )?;
         let (secs, img) = timed(&s, spp, 3);
-        let e = rmse(&img, &ref_img);
+        let e = rmse(&img, &ref_img)?;
         rows.push(vec![n.to_string(), format!("{secs:.4}"), format!("{e:.5}")]);
         lines.push(format!("| {n} | {secs:.3} | {e:.4} |"));
     }

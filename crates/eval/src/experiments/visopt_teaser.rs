@@ -5,9 +5,10 @@
 //! RECONNECTION (512³) is replaced by a 160³ procedural cloud with a
 //! transfer function whose densest quarter is important.
 
+use super::visopt_head::timed;
 use super::writer::Writer;
 use fogbank_image::metrics::{flip, rmse, Image};
-use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
+use fogbank_render::{parse_scene, Scene};
 use std::path::Path;
 
 pub const DEFAULT_REFERENCE_SPP: u64 = 512;
@@ -32,19 +33,10 @@ fn scene(extra: &[&str]) -> Result<Scene, String> {
 
 /// (seconds, image) of `spp` passes.
 fn run_one(s: &Scene, spp: u32, seed: u32) -> (f64, Image) {
-    s.integrator.prepare(&s.world);
-    let r = render(
-        s,
-        &RenderOptions {
-            spp,
-            seed,
-            time_budget: None,
-        },
-        &Progress::default(),
-    );
+    let (per_pass, rgb) = timed(s, spp, seed);
     (
-        r.seconds,
-        Image::new(WIDTH as usize, WIDTH as usize, r.film.mean()),
+        per_pass * spp as f64,
+        Image::new(WIDTH as usize, WIDTH as usize, rgb),
     )
 }
 

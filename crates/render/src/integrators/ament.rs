@@ -18,6 +18,7 @@
 //! Importance is the medium's `[[media.importance]]` (post-interpolative,
 //! as the paper's comparison replaces AZD17's own).
 
+use super::shared::next_event::delta_lights;
 use super::shared::{estimator_rng, primary_ray, PixelSample};
 use super::visopt::segments::mu_factor;
 use crate::error::SceneError;
@@ -329,18 +330,12 @@ impl Ament {
                 continue;
             }
             let albedo = m.albedo_at(p);
-            let mut lit = Vec3::ZERO;
-            for light in &world.lights {
-                let Some(ls) = light.sample_li(p, [0.5, 0.5]) else {
-                    continue;
-                };
-                let lobe = self.params.shading.then_some(self.params.n);
-                let f = dvr_phase(m, p, ray.d, ls.wi, lobe, self.unit);
-                if f > 0.0 {
-                    lit += ls.radiance * f * self.shadow(m, p, ls.wi, ls.distance);
-                    lookups += 1;
-                }
-            }
+            let lobe = self.params.shading.then_some(self.params.n);
+            let f = |wi| dvr_phase(m, p, ray.d, wi, lobe, self.unit);
+            let lit = delta_lights(world, p, f, |wi, distance| {
+                lookups += 1;
+                self.shadow(m, p, wi, distance)
+            });
             radiance += transmittance * alpha * (m.emitted(p, albedo) + albedo * lit);
             transmittance *= 1.0 - alpha;
             if transmittance < 1e-4 {

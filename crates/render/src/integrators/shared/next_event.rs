@@ -61,6 +61,29 @@ pub fn light_sample_weighted(
     }
 }
 
+/// Σ over the delta lights of L_l f(ω_l) T(ω_l, distance) at `p`, each
+/// light's direction sampled once (delta lights have no other): the direct
+/// light of the deterministic evaluators (`ament`, visopt's reference).
+/// `f` gives the scatter function, `tr` the transmittance toward a light.
+pub fn delta_lights(
+    world: &World,
+    p: Vec3,
+    f: impl Fn(Vec3) -> f32,
+    mut tr: impl FnMut(Vec3, f32) -> f32,
+) -> Vec3 {
+    let mut lit = Vec3::ZERO;
+    for light in &world.lights {
+        let Some(ls) = light.sample_li(p, [0.5, 0.5]) else {
+            continue;
+        };
+        let fv = f(ls.wi);
+        if fv > 0.0 {
+            lit += ls.radiance * fv * tr(ls.wi, ls.distance);
+        }
+    }
+    lit
+}
+
 /// Radiance of the environment lights seen along `d` by a path that left
 /// its last vertex by phase sampling with pdf `phase_pdf` (`None`: a camera
 /// ray, which no light strategy could have produced).

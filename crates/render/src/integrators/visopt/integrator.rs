@@ -13,6 +13,7 @@
 use super::lists::{light_list, CameraLists};
 use super::optimised::{Optimised, RayList, Weights};
 use super::params::{Scattering, VisOptParams};
+use super::segments::Segment;
 use crate::error::SceneError;
 use crate::integrators::shared::free_flight::next_collision;
 use crate::integrators::shared::next_event::escaped;
@@ -38,6 +39,11 @@ macro_rules! with_view {
             MediumView::Analytic($v) => $body,
         }
     };
+}
+
+thread_local! {
+    /// Scratch for one NEE ray's importance list (no allocation per sample).
+    static LIGHT_LIST: std::cell::RefCell<Vec<Segment>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 #[derive(Clone, Debug)]
@@ -214,26 +220,21 @@ impl VisOpt {
             None => 1.0,
             Some((r, s0, s1)) => {
                 let est = if optimise && self.params.light_samples > 0 {
-                    let mut list = Vec::new();
-                    let (big_k_z, length) = light_list(
-                        m,
-                        &shadow,
-                        (s0, s1),
-                        &self.params,
-                        self.unit,
-                        rng,
-                        &mut list,
-                    );
-                    let list = RayList {
-                        list: &list,
-                        big_k_z,
-                        length,
-                        origin: s1,
-                        sign: -1.0,
-                    };
-                    with_view!(m, v => {
-                        let o = Optimised { inner: &v, medium: m, ray: r, list, weights: self.weights(), unit: self.unit };
-                        ratio_tracking::transmittance(&o, &r, s0, s1, rng)
+                    // The NEE ray's list lives in per-thread scratch.
+                    LIGHT_LIST.with_borrow_mut(|scratch| {
+                        let (big_k_z, length) =
+                            light_list(m, &shadow, (s0, s1), &self.params, self.unit, rng, scratch);
+                        let list = RayList {
+                            list: scratch,
+                            big_k_z,
+                            length,
+                            origin: s1,
+                            sign: -1.0,
+                        };
+                        with_view!(m, v => {
+                            let o = Optimised { inner: &v, medium: m, ray: r, list, weights: self.weights(), unit: self.unit };
+                            ratio_tracking::transmittance(&o, &r, s0, s1, rng)
+                        })
                     })
                 } else {
                     with_view!(m, v => ratio_tracking::transmittance(&v, &r, s0, s1, rng))

@@ -124,17 +124,18 @@ pub fn light_list(
 ) -> (f32, f32) {
     let length = (s1 - s0) * unit;
     let samples = p.light_samples;
-    let ts = sampling::uniform(length, samples, rng);
-    let pts: Vec<(f32, f32)> = ts
-        .iter()
-        .map(|&t| {
+    let d = merge_distance(p, length, samples);
+    // Per-thread scratch: one list per NEE ray, no allocation per sample.
+    thread_local!(static POINTS: std::cell::RefCell<Vec<(f32, f32)>> = const { std::cell::RefCell::new(Vec::new()) });
+    POINTS.with_borrow_mut(|pts| {
+        pts.clear();
+        pts.extend(sampling::strata(length, samples, rng).map(|t| {
             let w = ray.at(s1 - t / unit);
             (t, importance_at(m, w, m.sigma_t_smooth(w)))
-        })
-        .collect();
-    let d = merge_distance(p, length, samples);
-    let kz = segments::merge_within(&[], &pts, d, m.importance.tolerance(), length, out);
-    (kz, length)
+        }));
+        let kz = segments::merge_within(&[], pts, d, m.importance.tolerance(), length, out);
+        (kz, length)
+    })
 }
 
 /// d of Alg. 1: the key, or 2·L/N so that neighbouring strata merge.

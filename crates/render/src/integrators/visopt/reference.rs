@@ -15,6 +15,7 @@
 use super::integrator::VisOpt;
 use super::optimised::{factor, RayList};
 use super::params::Scattering;
+use crate::integrators::shared::next_event::delta_lights;
 use crate::world::World;
 use fogbank_math::{Ray, Vec3};
 
@@ -76,15 +77,12 @@ impl VisOpt {
                 continue;
             }
             let albedo = m.albedo_at(p);
-            let mut lit = Vec3::ZERO;
-            for light in &world.lights {
-                let Some(ls) = light.sample_li(p, [0.5, 0.5]) else {
-                    continue;
-                };
-                let f = self.phase(m, p, ray.d, ls.wi);
-                lit +=
-                    ls.radiance * f * shadow(world, &Ray::new(p, ls.wi), ls.distance, shadow_step);
-            }
+            let lit = delta_lights(
+                world,
+                p,
+                |wi| self.phase(m, p, ray.d, wi),
+                |wi, distance| shadow(world, &Ray::new(p, wi), distance, shadow_step),
+            );
             radiance += absorbed * (m.emitted(p, albedo) + albedo * lit);
         }
         Ok(radiance)

@@ -17,9 +17,12 @@ use fogbank_math::Pcg32;
 /// Pass 1: one jittered sample in each of `n` equal strata of [0, length],
 /// sorted.
 pub fn uniform(length: f32, n: u32, rng: &mut Pcg32) -> Vec<f32> {
-    (0..n)
-        .map(|j| ((j as f32 + rng.next_f32()) / n as f32 * length).min(length))
-        .collect()
+    strata(length, n, rng).collect()
+}
+
+/// [`uniform`] without collecting.
+pub fn strata(length: f32, n: u32, rng: &mut Pcg32) -> impl Iterator<Item = f32> + '_ {
+    (0..n).map(move |j| ((j as f32 + rng.next_f32()) / n as f32 * length).min(length))
 }
 
 /// An adaptive pass: `n` sorted sample positions for the list `list` of a
