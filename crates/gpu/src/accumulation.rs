@@ -35,6 +35,10 @@ pub(crate) struct Frame {
     pub(crate) pin_mode: u32,
     pub(crate) march_step: f32,
     pub(crate) pin_mask_iterations: u32,
+    /// First image row of this dispatch (kernels with per-invocation
+    /// scratch render in bands of rows; 0 otherwise).
+    pub(crate) tile_y: u32,
+    pub(crate) pad: [u32; 3],
 }
 
 /// Bind group 1 of every kernel: the frame uniform and the accumulation

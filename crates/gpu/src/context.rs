@@ -19,7 +19,13 @@ pub struct Gpu {
     pub info: wgpu::AdapterInfo,
     /// Timestamp queries inside compute passes are available (`gpu_ms`).
     pub timestamps: bool,
+    /// Most bytes of per-invocation scratch a kernel may allocate (visopt's
+    /// NEE lists); kernels that need more render in bands of rows.
+    pub scratch_budget: u64,
 }
+
+/// The default [`Gpu::scratch_budget`] (seed 003's static scratch is 156 MB).
+pub const SCRATCH_BUDGET: u64 = 128 << 20;
 
 impl Gpu {
     /// The first high-performance adapter wgpu finds (Vulkan, Metal, DX12 or
@@ -70,6 +76,7 @@ impl Gpu {
             queue,
             info,
             timestamps,
+            scratch_budget: SCRATCH_BUDGET,
         })
     }
 

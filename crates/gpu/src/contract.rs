@@ -11,6 +11,7 @@ use fogbank_estimators::Estimator;
 use fogbank_render::integrators::point_mis::Strategy;
 use fogbank_render::integrators::shared::pin_params::PinMode;
 use fogbank_render::integrators::shared::{dim, DistanceSampler};
+use fogbank_render::integrators::visopt::params::Scattering;
 use fogbank_render::lights::Light;
 use fogbank_render::world::emission::Emission;
 
@@ -29,6 +30,33 @@ pub const INTEGRATOR_LIGHT_ONLY: u32 = INTEGRATOR_FLAGS[0].1;
 pub const INTEGRATOR_RAY_MARCHING: u32 = INTEGRATOR_FLAGS[1].1;
 /// Seed 004 Fig. 4.5: pins traced along each query ray, not looked up.
 pub const INTEGRATOR_UNQUANTISED: u32 = INTEGRATOR_FLAGS[2].1;
+
+/// Bits of a seed 003 importance rule's `flags` (WGSL `RULE_*`): which of
+/// its predicates it has (world/importance.rs `ImportanceRule`).
+pub const RULE_FLAGS: [(&str, u32); 6] = [
+    ("EXTINCTION", 1),
+    ("SCALAR", 2),
+    ("GRADIENT", 4),
+    ("BOX", 8),
+    ("HALF_SPACE", 16),
+    ("MASK", 32),
+];
+/// Bits of `VisOptUniform::flags` (WGSL `VISOPT_*`) for `visopt` and
+/// `ament`: optimise (else plain DVR), the gradient lobe, Ament's printed
+/// form, Ament's jittered start, nearest lookups of a pre-classified
+/// importance.
+pub const VISOPT_FLAGS: [(&str, u32); 5] = [
+    ("OPTIMISE", 1),
+    ("SHADING", 2),
+    ("PRINTED", 4),
+    ("JITTER", 8),
+    ("PRE_NEAREST", 16),
+];
+
+/// The `SCATTERING_*` id of visopt's `scattering` key.
+pub fn scattering_id(s: Scattering) -> u32 {
+    position(&Scattering::ALL.map(Scattering::name), s.name())
+}
 
 /// The `PIN_MODE_*` id of volpath's `pins` key.
 pub fn pin_mode_id(m: PinMode) -> u32 {
@@ -197,8 +225,15 @@ pub fn wgsl_prelude() -> String {
     for (name, bit) in FLAGS {
         s.push_str(&format!("const FLAG_{name}: u32 = {bit}u;\n"));
     }
-    for (name, bit) in INTEGRATOR_FLAGS {
-        s.push_str(&format!("const INTEGRATOR_{name}: u32 = {bit}u;\n"));
+    enumeration(&mut s, "SCATTERING", &Scattering::ALL.map(Scattering::name));
+    for (prefix, bits) in [
+        ("INTEGRATOR", &INTEGRATOR_FLAGS[..]),
+        ("RULE", &RULE_FLAGS[..]),
+        ("VISOPT", &VISOPT_FLAGS[..]),
+    ] {
+        for (name, bit) in bits {
+            s.push_str(&format!("const {prefix}_{name}: u32 = {bit}u;\n"));
+        }
     }
     s.push_str(&format!(
         "const DIM_CAMERA: u32 = {}u;\nconst DIM_ESTIMATOR: u32 = {}u;\n",

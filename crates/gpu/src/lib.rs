@@ -20,6 +20,7 @@ pub mod render;
 pub mod restir;
 pub mod scene_buffers;
 pub mod shaders;
+pub mod visopt;
 
 pub use context::{Gpu, GpuError};
 

@@ -48,16 +48,25 @@ impl LightBuffers {
         scene: &Scene,
         properties: &[[u32; 3]],
     ) -> Result<LightBuffers, GpuError> {
+        // `ament` marches to every light and picks none: any sampler does.
+        let unpicked;
         let sampler = match &scene.integrator {
             IntegratorKind::Direct(d) => &d.lights,
+            IntegratorKind::VisOpt(v) => &v.lights,
+            IntegratorKind::Ament(_) => {
+                unpicked = fogbank_render::lights::sample::LightSampler::new(
+                    &scene.world.lights,
+                    scene.world.radius(),
+                );
+                &unpicked
+            }
             IntegratorKind::VolPath(v) => &v.lights,
             IntegratorKind::PointMis(p) => &p.lights,
             IntegratorKind::Restir(r) => &r.lights,
-            _ => {
-                return Err(GpuError(
-                    "lights are uploaded for direct, volpath, point_mis and restir only".into(),
-                ))
-            }
+            _ => return Err(GpuError(
+                "lights are uploaded for direct, volpath, point_mis, restir, visopt and ament only"
+                    .into(),
+            )),
         };
         let cdf = sampler.cdf();
         let mut env = EnvParams {

@@ -1,5 +1,6 @@
 //! The progressive render loop on the GPU for the integrators with a WGSL
-//! kernel (`transmittance`, `direct`, `volpath`): the same image as the
+//! kernel (`transmittance`, `direct`, `volpath`, `point_mis`, `visopt`,
+//! `ament`): the same image as the
 //! CPU's (same scene, seed, sample indices and random streams), accumulated
 //! on the device and read back once.
 
@@ -9,6 +10,7 @@ use crate::contract::{gpu_estimator, pin_mode_id, sampler_id, strategy_id, GpuEs
 use crate::pins::PinBuffers;
 use crate::scene_buffers::SceneBuffers;
 use crate::shaders;
+use crate::visopt::{importance_fields, VisOptBuffers};
 use crate::{Gpu, GpuError};
 use fogbank_render::integrators::shared::pin_params::{PinMode, PinParams, Tracking};
 use fogbank_render::integrators::IntegratorKind;
@@ -41,18 +43,15 @@ enum KernelSource {
     Transmittance,
     Scatter,
     PointMis,
+    /// Seed 003: `visopt` and `ament`, group 3 their [`VisOptBuffers`].
+    VisOpt,
+    Ament,
 }
 
 impl Kernel {
     pub(crate) fn of(scene: &Scene) -> Result<Kernel, GpuError> {
         if let IntegratorKind::Restir(_) = scene.integrator {
             return Err(no_restir());
-        }
-        if let IntegratorKind::VisOpt(_) = scene.integrator {
-            return Err(GpuError(
-                "integrator \"visopt\" is CPU-only so far (issue 20 item 7); use `--device cpu`"
-                    .into(),
-            ));
         }
         let estimator = scene.integrator.estimator();
         let est = gpu_estimator(estimator).ok_or_else(|| {
@@ -111,7 +110,22 @@ impl Kernel {
                 pins: PinParams::default(),
             },
             IntegratorKind::Restir(_) => return Err(no_restir()),
-            IntegratorKind::VisOpt(_) | IntegratorKind::Ament(_) => unreachable!("refused above"),
+            IntegratorKind::VisOpt(_) | IntegratorKind::Ament(_) => Kernel {
+                source: if let IntegratorKind::Ament(_) = scene.integrator {
+                    KernelSource::Ament
+                } else {
+                    KernelSource::VisOpt
+                },
+                scatter: true,
+                est,
+                background: glam::Vec3::ZERO,
+                max_depth: 1,
+                rr_depth: u32::MAX,
+                sampler: 0,
+                mis_samples: 0,
+                flags: 0,
+                pins: PinParams::default(),
+            },
         };
         Ok(k)
     }
@@ -179,7 +193,13 @@ pub(crate) fn render_kernel(
     mut after: Option<Observer<'_>>,
 ) -> Result<GpuRender, GpuError> {
     let est = &kernel.est;
-    let media = SceneBuffers::upload(gpu, scene)?;
+    let seed003 = matches!(kernel.source, KernelSource::VisOpt | KernelSource::Ament);
+    let fields = if seed003 {
+        importance_fields(scene)
+    } else {
+        Vec::new()
+    };
+    let media = SceneBuffers::upload_with(gpu, scene, &[], &fields)?;
     let device = &gpu.device;
     let lights = if kernel.scatter {
         Some(crate::lights::LightBuffers::upload(
@@ -202,10 +222,23 @@ pub(crate) fn render_kernel(
     } else {
         None
     };
+    let visopt = if seed003 {
+        Some(VisOptBuffers::build(gpu, scene, &media.field_first)?)
+    } else {
+        None
+    };
+    // Group 3: the pin grids or seed 003's data.
+    let group3 = match (&pins, &visopt) {
+        (Some(p), _) => Some((&p.layout, &p.bind_group)),
+        (_, Some(v)) => Some((&v.layout, &v.bind_group)),
+        _ => None,
+    };
     let source = match kernel.source {
         KernelSource::Transmittance => shaders::transmittance_kernel(),
         KernelSource::Scatter => shaders::scatter_kernel(),
         KernelSource::PointMis => shaders::point_mis_kernel(),
+        KernelSource::VisOpt => shaders::visopt_kernel(),
+        KernelSource::Ament => shaders::ament_kernel(),
     };
     let module = gpu.checked("kernel", || {
         device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -261,7 +294,7 @@ pub(crate) fn render_kernel(
             Some(&media.bind_group_layout),
             Some(&frame_layout),
             lights.as_ref().map(|l| &l.bind_group_layout),
-            pins.as_ref().map(|p| &p.layout),
+            group3.map(|g| g.0),
         ],
         immediate_size: 0,
     });
@@ -309,7 +342,12 @@ pub(crate) fn render_kernel(
         pin_mode: pin_mode_id(kernel.pins.mode),
         march_step: kernel.pins.march_step,
         pin_mask_iterations: kernel.pins.grid.mask_iterations,
+        tile_y: 0,
+        pad: [0; 3],
     };
+    // Bands of rows, one dispatch each (visopt's NEE-list scratch holds a
+    // band); the whole image otherwise.
+    let band = visopt.as_ref().map_or(h, |v| v.band_rows).max(1);
     let dispatches = opts.spp.div_ceil(SAMPLES_PER_DISPATCH);
     let timed = gpu.timestamps && dispatches <= MAX_TIMED_DISPATCHES && dispatches > 0;
     let queries = timed.then(|| {
@@ -341,31 +379,43 @@ pub(crate) fn render_kernel(
         let n = SAMPLES_PER_DISPATCH.min(opts.spp - done);
         frame.first_sample = done;
         frame.sample_count = n;
-        gpu.queue
-            .write_buffer(&frame_buf, 0, bytemuck::bytes_of(&frame));
         let mut enc = device.create_command_encoder(&Default::default());
-        {
+        let bands = h.div_ceil(band);
+        for b in 0..bands {
+            frame.tile_y = b * band;
+            // A write lands before the next submission, so each band is
+            // submitted with its own frame.
+            gpu.queue
+                .write_buffer(&frame_buf, 0, bytemuck::bytes_of(&frame));
+            // The dispatch's kernel time spans its first to its last band.
             let tw = queries
                 .as_ref()
+                .filter(|_| b == 0 || b + 1 == bands)
                 .map(|(set, _)| wgpu::ComputePassTimestampWrites {
                     query_set: set,
-                    beginning_of_pass_write_index: Some(2 * issued),
-                    end_of_pass_write_index: Some(2 * issued + 1),
+                    beginning_of_pass_write_index: (b == 0).then_some(2 * issued),
+                    end_of_pass_write_index: (b + 1 == bands).then_some(2 * issued + 1),
                 });
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("render"),
-                timestamp_writes: tw,
-            });
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &media.bind_group, &[]);
-            pass.set_bind_group(1, &frame_group, &[]);
-            if let Some(l) = &lights {
-                pass.set_bind_group(2, &l.bind_group, &[]);
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("render"),
+                    timestamp_writes: tw,
+                });
+                pass.set_pipeline(&pipeline);
+                pass.set_bind_group(0, &media.bind_group, &[]);
+                pass.set_bind_group(1, &frame_group, &[]);
+                if let Some(l) = &lights {
+                    pass.set_bind_group(2, &l.bind_group, &[]);
+                }
+                if let Some((_, group)) = group3 {
+                    pass.set_bind_group(3, group, &[]);
+                }
+                pass.dispatch_workgroups(w.div_ceil(8), band.min(h - frame.tile_y).div_ceil(8), 1);
             }
-            if let Some(p) = &pins {
-                pass.set_bind_group(3, &p.bind_group, &[]);
+            if b + 1 < bands {
+                gpu.queue.submit([enc.finish()]);
+                enc = device.create_command_encoder(&Default::default());
             }
-            pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         }
         gpu.queue.submit([enc.finish()]);
         // Wait, so progress, cancellation and the time budget see real time.
@@ -404,6 +454,8 @@ pub(crate) fn render_kernel(
         seconds,
         gpu_ms,
         interrupted,
-        upload_bytes: media.bytes + pins.as_ref().map_or(0, |p| p.bytes),
+        upload_bytes: media.bytes
+            + pins.as_ref().map_or(0, |p| p.bytes)
+            + visopt.as_ref().map_or(0, |v| v.bytes),
     })
 }

@@ -42,6 +42,11 @@ pub const RESTIR_COMBINE: &str = include_str!("wgsl/restir/combine.wgsl");
 pub const RESTIR_TEMPORAL: &str = include_str!("wgsl/restir/temporal.wgsl");
 pub const RESTIR_SPATIAL: &str = include_str!("wgsl/restir/spatial.wgsl");
 pub const RESTIR_SHADE: &str = include_str!("wgsl/restir/shade.wgsl");
+pub const VISOPT_PARAMS: &str = include_str!("wgsl/visopt/params.wgsl");
+pub const VISOPT_IMPORTANCE: &str = include_str!("wgsl/visopt/importance.wgsl");
+pub const VISOPT_SEGMENTS: &str = include_str!("wgsl/visopt/segments.wgsl");
+pub const VISOPT_KERNEL: &str = include_str!("wgsl/visopt/visopt_kernel.wgsl");
+pub const AMENT_KERNEL: &str = include_str!("wgsl/visopt/ament_kernel.wgsl");
 pub const TRANSMITTANCE_KERNEL: &str = include_str!("wgsl/transmittance_kernel.wgsl");
 
 /// Every estimator's source, after the generated contract constants
@@ -102,6 +107,24 @@ pub fn pin_gather_kernel() -> String {
 /// `point_mis`.
 pub fn point_mis_kernel() -> String {
     scattering_kernel(POINT_MIS_KERNEL)
+}
+
+/// `visopt` (seed 003 §5.4): importance rules, lists, the optimised view.
+pub fn visopt_kernel() -> String {
+    scattering_kernel(
+        &[
+            VISOPT_PARAMS,
+            VISOPT_IMPORTANCE,
+            VISOPT_SEGMENTS,
+            VISOPT_KERNEL,
+        ]
+        .join("\n"),
+    )
+}
+
+/// `ament` (seed 003's ray-marched baseline).
+pub fn ament_kernel() -> String {
+    scattering_kernel(&[VISOPT_PARAMS, VISOPT_IMPORTANCE, AMENT_KERNEL].join("\n"))
 }
 
 /// `restir`: the scattering prelude without the per-sample entry point,

@@ -83,6 +83,8 @@ fn est_frame(scene: &Scene, est: &GpuEstimator) -> Frame {
         pin_mode: 0,
         march_step: 0.0,
         pin_mask_iterations: 0,
+        tile_y: 0,
+        pad: [0; 3],
     }
 }
 

@@ -4,10 +4,11 @@
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x >= frame.width || gid.y >= frame.height) {
+    let y = gid.y + frame.tile_y;
+    if (gid.x >= frame.width || y >= frame.height) {
         return;
     }
-    let pixel = gid.y * frame.width + gid.x;
+    let pixel = y * frame.width + gid.x;
     var sum = vec3<f32>(0.0);
     var sq = vec3<f32>(0.0);
     var lookups = 0u;
@@ -15,7 +16,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var nonfinite = 0.0;
     for (var k = 0u; k < frame.sample_count; k++) {
         sample_invalid = false;
-        let v = pixel_sample(pixel, gid.x, gid.y, frame.first_sample + k, &lookups);
+        let v = pixel_sample(pixel, gid.x, y, frame.first_sample + k, &lookups);
         if (is_finite3(v) && !sample_invalid) {
             sum += v;
             sq += v * v;

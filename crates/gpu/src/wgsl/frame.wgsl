@@ -39,6 +39,13 @@ struct Frame {
     pin_mode: u32,
     march_step: f32,
     pin_mask_iterations: u32,
+    // First image row of this dispatch: kernels with per-invocation scratch
+    // (visopt's NEE lists) render in bands of rows, one scratch slot per
+    // pixel of the band.
+    tile_y: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 @group(1) @binding(0) var<uniform> frame: Frame;

@@ -101,6 +101,14 @@ pub struct PreImportance {
     nearest: bool,
 }
 
+impl PreImportance {
+    /// The classified field and whether it is looked up nearest (else
+    /// trilinearly): what a GPU port uploads.
+    pub fn parts(&self) -> (&Field, bool) {
+        (&self.field, self.nearest)
+    }
+}
+
 impl Importance {
     /// Builds `rules` (scene key `key`, e.g. `media.0.importance`); the
     /// medium's data stores file values `v` as `a·v + b` (`units`), masks

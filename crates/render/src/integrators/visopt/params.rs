@@ -37,6 +37,8 @@ pub enum Scattering {
 }
 
 impl Scattering {
+    pub const ALL: [Scattering; 3] = [Scattering::Single, Scattering::First, Scattering::All];
+
     pub fn name(self) -> &'static str {
         match self {
             Scattering::Single => "single",
