@@ -36,7 +36,7 @@ enum Command {
     Estimators,
     /// Primary-ray transmittance throughput per estimator.
     Bench(bench_cmd::BenchArgs),
-    /// Run one of the seeds' experiments (seed 000: fig1 … fig14, table1; seed 002: restir-equal-time, restir-ablation, restir-dynamic, restir-bias, restir-gpu-frame-time).
+    /// Run one of the seeds' experiments (seeds 000, 002, 003 and 004; NAME's help lists them).
     Experiment(experiment_cmd::ExperimentArgs),
     /// Compare two images (rmse, relmse, smape, flip, ztest).
     Compare(compare_cmd::CompareArgs),

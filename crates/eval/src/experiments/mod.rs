@@ -37,6 +37,7 @@ pub mod trials;
 pub mod visopt_equal_time;
 pub mod visopt_fig2;
 pub mod visopt_fig7;
+pub mod visopt_gpu_frame_time;
 pub mod visopt_head;
 pub mod visopt_overhead;
 pub mod visopt_pre;
@@ -95,6 +96,7 @@ pub fn names() -> &'static [&'static str] {
         "visopt-pre",
         "visopt-equal-time",
         "visopt-teaser",
+        "visopt-gpu-frame-time",
     ]
 }
 
@@ -143,6 +145,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "visopt-pre" => visopt_pre::run(&mut w, trials),
         "visopt-equal-time" => visopt_equal_time::run(&mut w, trials),
         "visopt-teaser" => visopt_teaser::run(&mut w, trials),
+        "visopt-gpu-frame-time" => visopt_gpu_frame_time::run(&mut w, trials),
         _ => {
             return Err(format!(
                 "unknown experiment '{name}' (known: {})",

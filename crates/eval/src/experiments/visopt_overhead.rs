@@ -24,8 +24,13 @@ const REPEATS: usize = 3;
 /// procedural cloud in [−1, 1]³ with its dense core important and two
 /// point lights, seen at `width`² through pixel centres.
 pub fn heptane_standin(width: u32, extra: &[&str]) -> Result<Scene, String> {
+    heptane_standin_sized(width, width, extra)
+}
+
+/// [`heptane_standin`] at `width`×`height`.
+pub fn heptane_standin_sized(width: u32, height: u32, extra: &[&str]) -> Result<Scene, String> {
     let text = format!(
-        "[camera]\nfrom = [0.0, 0.4, 3.2]\nto = [0.0, 0.0, 0.0]\nfov = 40.0\nwidth = {width}\nheight = {width}\n\
+        "[camera]\nfrom = [0.0, 0.4, 3.2]\nto = [0.0, 0.0, 0.0]\nfov = 40.0\nwidth = {width}\nheight = {height}\n\
          [[media]]\ndensity = {{ procedural = \"cloud\", resolution = 128, seed = 11 }}\nsigma_t_scale = 6.0\n\
          albedo = [0.9, 0.9, 0.9]\nfilter = \"trilinear\"\nto_world = {{ scale = 2.0 }}\n\
          [[media.importance]]\nextinction = [3.0, 1e9]\n\

@@ -1,0 +1,286 @@
+//! What one per-sample kernel needs before its first dispatch: the scene's
+//! bind groups (media; lights; pins or seed 003's data), the frame uniform
+//! and accumulation buffers, the compute pipeline, and timestamp queries
+//! for its device time.
+
+use crate::accumulation::{frame_bind_group_layout, Frame};
+use crate::contract::pin_mode_id;
+use crate::lights::LightBuffers;
+use crate::pins::PinBuffers;
+use crate::render::{Kernel, KernelSource};
+use crate::scene_buffers::SceneBuffers;
+use crate::shaders;
+use crate::visopt::{importance_fields, VisOptBuffers};
+use crate::{Gpu, GpuError};
+use fogbank_render::integrators::shared::pin_params::PinMode;
+use fogbank_render::{RenderOptions, Scene};
+
+/// The scene's bind groups 0, 2 and 3.
+pub(crate) struct SceneGroups {
+    pub(crate) media: SceneBuffers,
+    pub(crate) lights: Option<LightBuffers>,
+    /// Group 3 of the scatter kernel: the pin grids, gathered on the device.
+    pub(crate) pins: Option<PinBuffers>,
+    /// Group 3 of `visopt` and `ament`.
+    pub(crate) visopt: Option<VisOptBuffers>,
+}
+
+impl SceneGroups {
+    pub(crate) fn upload(gpu: &Gpu, scene: &Scene, kernel: &Kernel) -> Result<Self, GpuError> {
+        let seed003 = matches!(kernel.source, KernelSource::VisOpt | KernelSource::Ament);
+        let fields = if seed003 {
+            importance_fields(scene)
+        } else {
+            Vec::new()
+        };
+        let media = SceneBuffers::upload_with(gpu, scene, &[], &fields)?;
+        let lights = if kernel.scatter {
+            Some(LightBuffers::upload(gpu, scene, &media.properties)?)
+        } else {
+            None
+        };
+        let pins = if kernel.source == KernelSource::Scatter {
+            let on = kernel.pins.mode != PinMode::Off;
+            Some(PinBuffers::build(
+                gpu,
+                scene,
+                &media,
+                on.then_some(&kernel.pins),
+            )?)
+        } else {
+            None
+        };
+        let visopt = if seed003 {
+            Some(VisOptBuffers::build(gpu, scene, &media.field_first)?)
+        } else {
+            None
+        };
+        Ok(SceneGroups {
+            media,
+            lights,
+            pins,
+            visopt,
+        })
+    }
+
+    /// Group 3: the pin grids or seed 003's data.
+    pub(crate) fn group3(&self) -> Option<(&wgpu::BindGroupLayout, &wgpu::BindGroup)> {
+        match (&self.pins, &self.visopt) {
+            (Some(p), _) => Some((&p.layout, &p.bind_group)),
+            (_, Some(v)) => Some((&v.layout, &v.bind_group)),
+            _ => None,
+        }
+    }
+
+    /// Rows per dispatch: a band when the kernel has per-pixel scratch.
+    pub(crate) fn band_rows(&self, height: u32) -> u32 {
+        self.visopt.as_ref().map_or(height, |v| v.band_rows).max(1)
+    }
+
+    pub(crate) fn bytes(&self) -> u64 {
+        self.media.bytes
+            + self.pins.as_ref().map_or(0, |p| p.bytes)
+            + self.visopt.as_ref().map_or(0, |v| v.bytes)
+    }
+
+    /// Binds groups 0, 2 and 3 (group 1 is the frame's).
+    pub(crate) fn bind(&self, pass: &mut wgpu::ComputePass<'_>) {
+        pass.set_bind_group(0, &self.media.bind_group, &[]);
+        if let Some(l) = &self.lights {
+            pass.set_bind_group(2, &l.bind_group, &[]);
+        }
+        if let Some((_, group)) = self.group3() {
+            pass.set_bind_group(3, group, &[]);
+        }
+    }
+}
+
+/// Group 1: the frame uniform and the device accumulation buffers.
+pub(crate) struct Accumulators {
+    pub(crate) frame: wgpu::Buffer,
+    pub(crate) sum: wgpu::Buffer,
+    pub(crate) sq: wgpu::Buffer,
+    pub(crate) lookups: wgpu::Buffer,
+    pub(crate) layout: wgpu::BindGroupLayout,
+    pub(crate) group: wgpu::BindGroup,
+}
+
+impl Accumulators {
+    pub(crate) fn new(gpu: &Gpu, pixels: u64) -> Accumulators {
+        let device = &gpu.device;
+        let frame = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame"),
+            size: std::mem::size_of::<Frame>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let zeroed = |label: &str, size: u64| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        let sum = zeroed("accum_sum", pixels * 16);
+        let sq = zeroed("accum_sq", pixels * 16);
+        let lookups = zeroed("accum_lookups", pixels * 4);
+        let layout = frame_bind_group_layout(device);
+        let group = gpu.bind_group_of("frame", &layout, &[&frame, &sum, &sq, &lookups]);
+        Accumulators {
+            frame,
+            sum,
+            sq,
+            lookups,
+            layout,
+            group,
+        }
+    }
+}
+
+/// The kernel's compute pipeline over `groups` and the frame layout.
+pub(crate) fn pipeline(
+    gpu: &Gpu,
+    scene: &Scene,
+    kernel: &Kernel,
+    groups: &SceneGroups,
+    frame_layout: &wgpu::BindGroupLayout,
+) -> Result<wgpu::ComputePipeline, GpuError> {
+    let device = &gpu.device;
+    let source = match kernel.source {
+        KernelSource::Transmittance => shaders::transmittance_kernel(),
+        KernelSource::Scatter => shaders::scatter_kernel(),
+        KernelSource::PointMis => shaders::point_mis_kernel(),
+        KernelSource::VisOpt => shaders::visopt_kernel(),
+        KernelSource::Ament => shaders::ament_kernel(),
+    };
+    let module = gpu.checked("kernel", || {
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(scene.integrator.name()),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        })
+    })?;
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(scene.integrator.name()),
+        bind_group_layouts: &[
+            Some(&groups.media.bind_group_layout),
+            Some(frame_layout),
+            groups.lights.as_ref().map(|l| &l.bind_group_layout),
+            groups.group3().map(|g| g.0),
+        ],
+        immediate_size: 0,
+    });
+    let mut constants = vec![("ESTIMATOR", kernel.est.id as f64)];
+    if kernel.source == KernelSource::PointMis {
+        constants.push(("STRATEGY", kernel.sampler as f64));
+    }
+    gpu.checked("kernel pipeline", || {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(scene.integrator.name()),
+            layout: Some(&layout),
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
+            },
+            cache: None,
+        })
+    })
+}
+
+/// The frame uniform before the first dispatch.
+pub(crate) fn initial_frame(scene: &Scene, kernel: &Kernel, opts: &RenderOptions) -> Frame {
+    let est = &kernel.est;
+    let (origin, forward, right, up, tan_half) = scene.camera.basis();
+    let v4 = |v: glam::Vec3| [v.x, v.y, v.z, 0.0];
+    Frame {
+        cam_origin: v4(origin),
+        cam_forward: v4(forward),
+        cam_right: v4(right),
+        cam_up: v4(up),
+        background: v4(kernel.background),
+        tan_half,
+        width: scene.camera.width,
+        height: scene.camera.height,
+        seed: opts.seed,
+        first_sample: 0,
+        sample_count: 0,
+        media_count: scene.media.len() as u32,
+        pixel_jitter: scene.pixel_jitter as u32,
+        est_samples: est.samples,
+        est_step: est.step,
+        est_flags: est.flags,
+        max_depth: kernel.max_depth,
+        rr_depth: kernel.rr_depth,
+        sampler: kernel.sampler,
+        mis_samples: kernel.mis_samples,
+        integrator_flags: kernel.flags,
+        pin_mode: pin_mode_id(kernel.pins.mode),
+        march_step: kernel.pins.march_step,
+        pin_mask_iterations: kernel.pins.grid.mask_iterations,
+        tile_y: 0,
+        pad: [0; 3],
+    }
+}
+
+/// Timestamp queries around each dispatch (the device time of a render).
+pub(crate) struct KernelTimer {
+    set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+}
+
+impl KernelTimer {
+    /// For `dispatches` dispatches, if the device has timestamp queries
+    /// and there are not too many.
+    pub(crate) fn new(gpu: &Gpu, dispatches: u32, most: u32) -> Option<KernelTimer> {
+        if !gpu.timestamps || dispatches == 0 || dispatches > most {
+            return None;
+        }
+        let set = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("kernel time"),
+            ty: wgpu::QueryType::Timestamp,
+            count: 2 * dispatches,
+        });
+        let resolve = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamps"),
+            size: 16 * dispatches as u64,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        Some(KernelTimer { set, resolve })
+    }
+
+    /// The writes of dispatch `i`'s pass `b` of `bands`: its time spans
+    /// the first pass's start to the last pass's end.
+    pub(crate) fn writes(
+        &self,
+        i: u32,
+        b: u32,
+        bands: u32,
+    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        (b == 0 || b + 1 == bands).then(|| wgpu::ComputePassTimestampWrites {
+            query_set: &self.set,
+            beginning_of_pass_write_index: (b == 0).then_some(2 * i),
+            end_of_pass_write_index: (b + 1 == bands).then_some(2 * i + 1),
+        })
+    }
+
+    /// Milliseconds summed over the first `issued` dispatches.
+    pub(crate) fn total_ms(&self, gpu: &Gpu, issued: u32) -> Result<Option<f64>, GpuError> {
+        if issued == 0 {
+            return Ok(None);
+        }
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        enc.resolve_query_set(&self.set, 0..2 * issued, &self.resolve, 0);
+        gpu.queue.submit([enc.finish()]);
+        let raw = gpu.read_back(&self.resolve)?;
+        let ticks: &[u64] = bytemuck::cast_slice(&raw[..16 * issued as usize]);
+        let period = gpu.queue.get_timestamp_period() as f64;
+        let ticks: f64 = ticks
+            .chunks(2)
+            .map(|c| c[1].saturating_sub(c[0]) as f64)
+            .sum();
+        Ok(Some(ticks * period * 1e-6))
+    }
+}
