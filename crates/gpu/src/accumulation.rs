@@ -41,6 +41,47 @@ pub(crate) struct Frame {
     pub(crate) pad: [u32; 3],
 }
 
+impl Frame {
+    /// The camera, image and media count of `scene` with the transmittance
+    /// estimator's options `est`; every integrator option 0 (kernels set
+    /// theirs with struct-update syntax).
+    pub(crate) fn of_scene(
+        scene: &fogbank_render::Scene,
+        est: &crate::contract::GpuEstimator,
+    ) -> Frame {
+        let (origin, forward, right, up, tan_half) = scene.camera.basis();
+        let v4 = |v: glam::Vec3| [v.x, v.y, v.z, 0.0];
+        Frame {
+            cam_origin: v4(origin),
+            cam_forward: v4(forward),
+            cam_right: v4(right),
+            cam_up: v4(up),
+            background: [0.0; 4],
+            tan_half,
+            width: scene.camera.width,
+            height: scene.camera.height,
+            seed: 0,
+            first_sample: 0,
+            sample_count: 0,
+            media_count: scene.media.len() as u32,
+            pixel_jitter: 0,
+            est_samples: est.samples,
+            est_step: est.step,
+            est_flags: est.flags,
+            max_depth: 0,
+            rr_depth: 0,
+            sampler: 0,
+            mis_samples: 0,
+            integrator_flags: 0,
+            pin_mode: 0,
+            march_step: 0.0,
+            pin_mask_iterations: 0,
+            tile_y: 0,
+            pad: [0; 3],
+        }
+    }
+}
+
 /// Bind group 1 of every kernel: the frame uniform and the accumulation
 /// buffers (Σ radiance, Σ radiance², lookups).
 pub(crate) fn frame_bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {

@@ -191,26 +191,11 @@ pub(crate) fn pipeline(
 
 /// The frame uniform before the first dispatch.
 pub(crate) fn initial_frame(scene: &Scene, kernel: &Kernel, opts: &RenderOptions) -> Frame {
-    let est = &kernel.est;
-    let (origin, forward, right, up, tan_half) = scene.camera.basis();
-    let v4 = |v: glam::Vec3| [v.x, v.y, v.z, 0.0];
+    let b = kernel.background;
     Frame {
-        cam_origin: v4(origin),
-        cam_forward: v4(forward),
-        cam_right: v4(right),
-        cam_up: v4(up),
-        background: v4(kernel.background),
-        tan_half,
-        width: scene.camera.width,
-        height: scene.camera.height,
+        background: [b.x, b.y, b.z, 0.0],
         seed: opts.seed,
-        first_sample: 0,
-        sample_count: 0,
-        media_count: scene.media.len() as u32,
         pixel_jitter: scene.pixel_jitter as u32,
-        est_samples: est.samples,
-        est_step: est.step,
-        est_flags: est.flags,
         max_depth: kernel.max_depth,
         rr_depth: kernel.rr_depth,
         sampler: kernel.sampler,
@@ -219,8 +204,7 @@ pub(crate) fn initial_frame(scene: &Scene, kernel: &Kernel, opts: &RenderOptions
         pin_mode: pin_mode_id(kernel.pins.mode),
         march_step: kernel.pins.march_step,
         pin_mask_iterations: kernel.pins.grid.mask_iterations,
-        tile_y: 0,
-        pad: [0; 3],
+        ..Frame::of_scene(scene, &kernel.est)
     }
 }
 

@@ -54,40 +54,6 @@ impl FrameGpu {
     }
 }
 
-/// The frame uniform of `scene` with the shading estimator's options.
-fn est_frame(scene: &Scene, est: &GpuEstimator) -> Frame {
-    let (origin, forward, right, up, tan_half) = scene.camera.basis();
-    let v4 = |v: glam::Vec3| [v.x, v.y, v.z, 0.0];
-    Frame {
-        cam_origin: v4(origin),
-        cam_forward: v4(forward),
-        cam_right: v4(right),
-        cam_up: v4(up),
-        background: [0.0; 4],
-        tan_half,
-        width: scene.camera.width,
-        height: scene.camera.height,
-        seed: 0,
-        first_sample: 0,
-        sample_count: 0,
-        media_count: scene.media.len() as u32,
-        pixel_jitter: 0,
-        est_samples: est.samples,
-        est_step: est.step,
-        est_flags: est.flags,
-        max_depth: 0,
-        rr_depth: 0,
-        sampler: 0,
-        mis_samples: 0,
-        integrator_flags: 0,
-        pin_mode: 0,
-        march_step: 0.0,
-        pin_mask_iterations: 0,
-        tile_y: 0,
-        pad: [0; 3],
-    }
-}
-
 pub(super) fn upload_frame(
     gpu: &Gpu,
     scene: &Scene,
@@ -97,7 +63,7 @@ pub(super) fn upload_frame(
     lookups: &wgpu::Buffer,
 ) -> Result<FrameGpu, GpuError> {
     let restir = restir_of(scene)?;
-    let frame = est_frame(scene, &shading_estimator(scene)?);
+    let frame = Frame::of_scene(scene, &shading_estimator(scene)?);
     let full = &scene.media[0].medium;
     let mut extra: Vec<&fogbank_volume::Medium> =
         (1..=3).map(|l| restir.mips.level(full, l)).collect();

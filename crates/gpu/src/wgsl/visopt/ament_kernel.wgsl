@@ -32,10 +32,19 @@ fn march_importance(m: MediumGpu, ray: Ray, s0: f32, n: u32, start: f32) -> f32 
         return total;
     }
     for (var i = 0u; i < n; i++) {
-        let p = ray_at(ray, s0 + (f32(i) + start) * march_dt());
-        total += importance_weight(importance_at(p, sigma_smooth(m, p)));
+        total += ament_sample(m, ray_at(ray, s0 + (f32(i) + start) * march_dt())).z;
     }
     return total;
+}
+
+// (σ_t, g, g² w) at world point p (g = 0 when not optimising).
+fn ament_sample(m: MediumGpu, p: vec3<f32>) -> vec3<f32> {
+    let sigma = sigma_smooth(m, p);
+    if (!vo_flag(VISOPT_OPTIMISE)) {
+        return vec3<f32>(sigma, 0.0, 0.0);
+    }
+    let g = importance_at(p, sigma);
+    return vec3<f32>(sigma, g, importance_weight(g));
 }
 
 // μ'_i of a sample with μ_t = sigma, importance g and Σ g² w before (in
@@ -64,16 +73,9 @@ fn ament_shadow(m: MediumGpu, p: vec3<f32>, wi: vec3<f32>, distance: f32) -> f32
     var tau = 0.0;
     for (var j = 0u; j < n; j++) {
         let i = n - 1u - j;
-        let q = ray_at(world, range.x + (f32(i) + 0.5) * march_dt());
-        let sigma = sigma_smooth(m, q);
-        var g = 0.0;
-        var sq = 0.0;
-        if (vo_flag(VISOPT_OPTIMISE)) {
-            g = importance_at(q, sigma);
-            sq = importance_weight(g);
-        }
-        tau += ament_mu(sigma, g, before, max(total - before - sq, 0.0)) * march_dt();
-        before += sq;
+        let x = ament_sample(m, ray_at(world, range.x + (f32(i) + 0.5) * march_dt()));
+        tau += ament_mu(x.x, x.y, before, max(total - before - x.z, 0.0)) * march_dt();
+        before += x.z;
     }
     return exp(-tau);
 }
@@ -117,15 +119,9 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
     var before = 0.0;
     for (var i = 0u; i < n; i++) {
         let p = ray_at(ray, range.x + (f32(i) + start) * march_dt());
-        let sigma = sigma_smooth(m, p);
-        var g = 0.0;
-        var sq = 0.0;
-        if (vo_flag(VISOPT_OPTIMISE)) {
-            g = importance_at(p, sigma);
-            sq = importance_weight(g);
-        }
-        let mu = ament_mu(sigma, g, before, max(total - before - sq, 0.0));
-        before += sq;
+        let x = ament_sample(m, p);
+        let mu = ament_mu(x.x, x.y, before, max(total - before - x.z, 0.0));
+        before += x.z;
         let alpha = 1.0 - exp(-mu * march_dt());
         if (alpha <= 0.0) {
             continue;
