@@ -5,8 +5,9 @@
 
 use crate::accumulation::Frame;
 use crate::contract::{wgsl_prelude, EMISSION_KINDS};
+use crate::kernel::Kernel;
 use crate::lights::{EnvParams, LightGpu};
-use crate::render::{render_kernel, Kernel};
+use crate::render::render_kernel;
 use crate::scene_buffers::MediumGpu;
 use crate::shaders::{self, check_layout};
 use fogbank_estimators::Estimator;

@@ -5,9 +5,9 @@
 
 use crate::accumulation::{frame_bind_group_layout, Frame};
 use crate::contract::pin_mode_id;
+use crate::kernel::{Kernel, KernelSource};
 use crate::lights::LightBuffers;
 use crate::pins::PinBuffers;
-use crate::render::{Kernel, KernelSource};
 use crate::scene_buffers::SceneBuffers;
 use crate::shaders;
 use crate::visopt::{importance_fields, VisOptBuffers};

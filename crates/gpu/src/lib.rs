@@ -14,6 +14,7 @@ pub mod contract;
 #[cfg(test)]
 mod contract_test;
 pub mod diagnostics;
+mod kernel;
 mod kernel_setup;
 pub mod lights;
 pub mod pins;

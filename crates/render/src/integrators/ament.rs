@@ -71,7 +71,7 @@ pub const PARAMS: [Param; 10] = [
     },
     Param {
         key: "shading",
-        default: "true",
+        default: "false",
         meaning: "HG plus the gradient lobe",
     },
     Param {

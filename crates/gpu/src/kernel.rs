@@ -1,0 +1,144 @@
+//! Which per-sample kernel an integrator runs and what it asks of it
+//! (source, bind groups, frame options): the one place the GPU's
+//! integrators are registered.
+
+use crate::contract::{gpu_estimator, sampler_id, strategy_id, GpuEstimator};
+use crate::GpuError;
+use fogbank_render::integrators::shared::pin_params::{PinParams, Tracking};
+use fogbank_render::integrators::IntegratorKind;
+use fogbank_render::Scene;
+
+/// What the integrator asks of the kernels.
+pub(crate) struct Kernel {
+    pub(crate) source: KernelSource,
+    /// Needs bind group 2 (lights, environment, shading).
+    pub(crate) scatter: bool,
+    /// The transmittance estimator's `EST_*` id and frame options.
+    pub(crate) est: GpuEstimator,
+    pub(crate) background: glam::Vec3,
+    pub(crate) max_depth: u32,
+    pub(crate) rr_depth: u32,
+    /// `SAMPLER_*` id, or for `point_mis` the `STRATEGY_*` id.
+    pub(crate) sampler: u32,
+    pub(crate) mis_samples: u32,
+    /// `INTEGRATOR_*` bits.
+    pub(crate) flags: u32,
+    /// `volpath`'s seed 004 keys (`pins`, `tracking`, `march_step`,
+    /// `pin_grid`); the default is plain `volpath`.
+    pub(crate) pins: PinParams,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum KernelSource {
+    Transmittance,
+    Scatter,
+    PointMis,
+    /// Seed 003: `visopt` and `ament`, group 3 their [`VisOptBuffers`].
+    VisOpt,
+    Ament,
+}
+
+impl Kernel {
+    pub(crate) fn of(scene: &Scene) -> Result<Kernel, GpuError> {
+        if let IntegratorKind::Restir(_) = scene.integrator {
+            return Err(no_restir());
+        }
+        let estimator = scene.integrator.estimator();
+        let est = gpu_estimator(estimator).ok_or_else(|| {
+            GpuError(format!(
+                "estimator `{}` has no GPU kernel",
+                estimator.name()
+            ))
+        })?;
+        let k = match &scene.integrator {
+            IntegratorKind::Transmittance { background, .. } => Kernel {
+                source: KernelSource::Transmittance,
+                mis_samples: 0,
+                flags: 0,
+                scatter: false,
+                est,
+                background: *background,
+                max_depth: 0,
+                rr_depth: 0,
+                sampler: 0,
+                pins: PinParams::default(),
+            },
+            IntegratorKind::Direct(d) => Kernel {
+                source: KernelSource::Scatter,
+                mis_samples: 0,
+                flags: 0,
+                scatter: true,
+                est,
+                background: glam::Vec3::ZERO,
+                max_depth: 1,
+                rr_depth: u32::MAX,
+                sampler: sampler_id(d.distance),
+                pins: PinParams::default(),
+            },
+            IntegratorKind::VolPath(v) => Kernel {
+                source: KernelSource::Scatter,
+                mis_samples: 0,
+                flags: volpath_flags(v),
+                scatter: true,
+                est,
+                background: glam::Vec3::ZERO,
+                max_depth: v.max_depth,
+                rr_depth: v.rr_depth,
+                sampler: sampler_id(v.distance),
+                pins: v.pins.clone(),
+            },
+            IntegratorKind::PointMis(p) => Kernel {
+                source: KernelSource::PointMis,
+                scatter: true,
+                est,
+                background: glam::Vec3::ZERO,
+                max_depth: 1,
+                rr_depth: u32::MAX,
+                sampler: strategy_id(p.strategy),
+                mis_samples: p.mis_samples,
+                flags: 0,
+                pins: PinParams::default(),
+            },
+            IntegratorKind::Restir(_) => return Err(no_restir()),
+            IntegratorKind::VisOpt(_) | IntegratorKind::Ament(_) => Kernel {
+                source: if let IntegratorKind::Ament(_) = scene.integrator {
+                    KernelSource::Ament
+                } else {
+                    KernelSource::VisOpt
+                },
+                scatter: true,
+                est,
+                background: glam::Vec3::ZERO,
+                max_depth: 1,
+                rr_depth: u32::MAX,
+                sampler: 0,
+                mis_samples: 0,
+                flags: 0,
+                pins: PinParams::default(),
+            },
+        };
+        Ok(k)
+    }
+}
+
+/// `INTEGRATOR_*` bits of a `volpath`.
+fn volpath_flags(v: &fogbank_render::integrators::volpath::VolPath) -> u32 {
+    use crate::contract::{INTEGRATOR_LIGHT_ONLY, INTEGRATOR_RAY_MARCHING, INTEGRATOR_UNQUANTISED};
+    let mut f = 0;
+    if v.light_only {
+        f |= INTEGRATOR_LIGHT_ONLY;
+    }
+    if v.pins.tracking() == Tracking::RayMarching {
+        f |= INTEGRATOR_RAY_MARCHING;
+    }
+    if v.pins.grid.unquantised {
+        f |= INTEGRATOR_UNQUANTISED;
+    }
+    f
+}
+
+fn no_restir() -> GpuError {
+    GpuError(
+        "integrator `restir` runs its own passes (crate::restir), not a per-sample kernel".into(),
+    )
+}
