@@ -52,6 +52,17 @@ pub const VISOPT_FLAGS: [(&str, u32); 5] = [
     ("JITTER", 8),
     ("PRE_NEAREST", 16),
 ];
+pub const RULE_EXTINCTION: u32 = RULE_FLAGS[0].1;
+pub const RULE_SCALAR: u32 = RULE_FLAGS[1].1;
+pub const RULE_GRADIENT: u32 = RULE_FLAGS[2].1;
+pub const RULE_BOX: u32 = RULE_FLAGS[3].1;
+pub const RULE_HALF_SPACE: u32 = RULE_FLAGS[4].1;
+pub const RULE_MASK: u32 = RULE_FLAGS[5].1;
+pub const VISOPT_OPTIMISE: u32 = VISOPT_FLAGS[0].1;
+pub const VISOPT_SHADING: u32 = VISOPT_FLAGS[1].1;
+pub const VISOPT_PRINTED: u32 = VISOPT_FLAGS[2].1;
+pub const VISOPT_JITTER: u32 = VISOPT_FLAGS[3].1;
+pub const VISOPT_PRE_NEAREST: u32 = VISOPT_FLAGS[4].1;
 
 /// The `SCATTERING_*` id of visopt's `scattering` key.
 pub fn scattering_id(s: Scattering) -> u32 {

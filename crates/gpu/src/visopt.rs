@@ -5,7 +5,11 @@
 //! on the CPU ([`CameraLists`]) and only read on the device.
 
 use crate::context::buffer_entry;
-use crate::contract::{scattering_id, RULE_FLAGS, VISOPT_FLAGS};
+use crate::contract::{
+    scattering_id, RULE_BOX, RULE_EXTINCTION, RULE_GRADIENT, RULE_HALF_SPACE, RULE_MASK,
+    RULE_SCALAR, VISOPT_JITTER, VISOPT_OPTIMISE, VISOPT_PRE_NEAREST, VISOPT_PRINTED,
+    VISOPT_SHADING,
+};
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
 use fogbank_render::integrators::visopt::lists::CameraLists;
@@ -52,14 +56,6 @@ pub(crate) struct ImportanceRuleGpu {
     pub half_space: [f32; 4],
 }
 
-fn bit(table: &[(&str, u32)], name: &str) -> u32 {
-    table
-        .iter()
-        .find(|(n, _)| *n == name)
-        .map(|&(_, b)| b)
-        .expect("a registered bit")
-}
-
 /// The fields the rules of the scene's one medium read on the device, in
 /// the order [`VisOptBuffers::build`] expects them as property records:
 /// every rule's mask, then a pre-classified importance.
@@ -88,30 +84,30 @@ fn pack_rules(imp: &Importance, first: &[u32]) -> Vec<ImportanceRuleGpu> {
                 value: r.value,
                 ..Default::default()
             };
-            let mut set = |name: &str| g.flags |= bit(&RULE_FLAGS, name);
+            let mut set = |bit: u32| g.flags |= bit;
             if let Some([lo, hi]) = r.extinction {
-                set("EXTINCTION");
+                set(RULE_EXTINCTION);
                 g.ranges[..2].copy_from_slice(&[lo, hi]);
             }
             if let Some([lo, hi]) = r.scalar {
-                set("SCALAR");
+                set(RULE_SCALAR);
                 g.ranges[2..].copy_from_slice(&[lo, hi]);
             }
             if let Some([lo, hi]) = r.gradient {
-                set("GRADIENT");
+                set(RULE_GRADIENT);
                 g.gradient[..2].copy_from_slice(&[lo, hi]);
             }
             if let Some([lo, hi]) = r.region {
-                set("BOX");
+                set(RULE_BOX);
                 g.box_lo = lo.extend(0.0).into();
                 g.box_hi = hi.extend(0.0).into();
             }
             if let Some((n, c)) = r.half_space {
-                set("HALF_SPACE");
+                set(RULE_HALF_SPACE);
                 g.half_space = n.extend(c).into();
             }
             if let Some((_, threshold)) = &r.mask {
-                set("MASK");
+                set(RULE_MASK);
                 g.mask = *masks.next().expect("one record per mask");
                 g.mask_threshold = *threshold;
             }
@@ -129,6 +125,16 @@ pub(crate) struct VisOptBuffers {
     /// Rows per dispatch: the scratch holds one NEE list per pixel of a
     /// band of this many rows (a multiple of 8, the workgroup height).
     pub(crate) band_rows: u32,
+}
+
+/// (rows per band, bytes) of the NEE-list scratch `visopt` allocates at
+/// `width`×`height` with `light_samples` entries per list: bands fit
+/// [`Gpu::scratch_budget`] and the device's storage-buffer limit.
+pub fn scratch(gpu: &Gpu, width: u32, height: u32, light_samples: u32) -> (u32, u64) {
+    let limit = gpu.device.limits().max_storage_buffer_binding_size;
+    let rows = band_rows(width, height, light_samples, gpu.scratch_budget.min(limit));
+    let bytes = width as u64 * rows as u64 * light_samples as u64 * 16;
+    (rows, bytes.max(16))
 }
 
 /// Rows per band so that `width` × rows lists of `entries` fit `budget`
@@ -155,7 +161,7 @@ impl VisOptBuffers {
             .first()
             .ok_or_else(|| GpuError("seed 003's integrators need one medium".into()))?;
         let imp = &sm.importance;
-        let flag = |name: &str, on: bool| if on { bit(&VISOPT_FLAGS, name) } else { 0 };
+        let flag = |bit: u32, on: bool| if on { bit } else { 0 };
         let mut u = VisOptUniform {
             rule_count: imp.rules.len() as u32,
             tolerance: imp.tolerance(),
@@ -164,7 +170,7 @@ impl VisOptBuffers {
         if let Some(pre) = &imp.pre {
             let masks = field_first.len() - 1;
             u.pre_field = field_first[masks] + 1;
-            u.flags |= flag("PRE_NEAREST", pre.parts().1);
+            u.flags |= flag(VISOPT_PRE_NEAREST, pre.parts().1);
         }
         let empty = CameraLists::default();
         let lists = match &scene.integrator {
@@ -176,7 +182,7 @@ impl VisOptBuffers {
                 u.light_samples = p.light_samples;
                 u.scattering = scattering_id(p.scattering);
                 u.max_depth = p.max_depth;
-                u.flags |= flag("OPTIMISE", p.optimise) | flag("SHADING", p.shading);
+                u.flags |= flag(VISOPT_OPTIMISE, p.optimise) | flag(VISOPT_SHADING, p.shading);
                 if p.optimise {
                     v.lists(&scene.world)
                 } else {
@@ -188,10 +194,10 @@ impl VisOptBuffers {
                 (u.p, u.q, u.r, u.lambda, u.n) = (p.p, p.q, p.r, p.lambda, p.n);
                 u.unit = a.unit;
                 u.step = p.step;
-                u.flags |= flag("OPTIMISE", p.optimise)
-                    | flag("SHADING", p.shading)
-                    | flag("PRINTED", p.printed)
-                    | flag("JITTER", p.jitter);
+                u.flags |= flag(VISOPT_OPTIMISE, p.optimise)
+                    | flag(VISOPT_SHADING, p.shading)
+                    | flag(VISOPT_PRINTED, p.printed)
+                    | flag(VISOPT_JITTER, p.jitter);
                 &empty
             }
             other => {
@@ -221,9 +227,7 @@ impl VisOptBuffers {
         );
         let (w, h) = (scene.camera.width, scene.camera.height);
         let limit = gpu.device.limits().max_storage_buffer_binding_size;
-        let budget = gpu.scratch_budget.min(limit);
-        let rows = band_rows(w, h, u.light_samples, budget);
-        let scratch_bytes = (w as u64 * rows as u64 * u.light_samples as u64 * 16).max(16);
+        let (rows, scratch_bytes) = scratch(gpu, w, h, u.light_samples);
         if scratch_bytes > limit || (data.len() as u64) * 16 > limit {
             return Err(GpuError(format!(
                 "visopt: the lists need more than the device's storage-buffer limit of {} MiB \

@@ -88,7 +88,9 @@ pub fn run_on(
                 let px = (width * height) as f64;
                 let pool_mb = lists.memory_bytes() as f64 / 1e6;
                 let scratch_mb =
-                    scratch_bytes(gpu, width, height, v.params.light_samples) as f64 / 1e6;
+                    fogbank_gpu::visopt::scratch(gpu, width, height, v.params.light_samples).1
+                        as f64
+                        / 1e6;
                 memory = format!(
                     "{pool_mb:.1} | {:.1} | {scratch_mb:.1} | {build:.2}",
                     lists.pool.len() as f64 / px
@@ -148,19 +150,6 @@ pub fn run_on(
         rayon::current_num_threads(),
         table.join("\n")
     ))
-}
-
-/// The NEE-list scratch `visopt` allocates at `width`×`height`.
-fn scratch_bytes(gpu: &Gpu, width: u32, height: u32, light_samples: u32) -> u64 {
-    let per_row = width as u64 * light_samples as u64 * 16;
-    if per_row == 0 {
-        return 0;
-    }
-    let budget = gpu
-        .scratch_budget
-        .min(gpu.device.limits().max_storage_buffer_binding_size);
-    let rows = ((budget / per_row).max(8) / 8 * 8).min(height.div_ceil(8) as u64 * 8);
-    rows * per_row
 }
 
 #[cfg(test)]

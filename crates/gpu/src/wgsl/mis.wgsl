@@ -1,3 +1,6 @@
+// integrators::shared::balance and next_event::escaped, shared by the
+// scattering kernels.
+
 // integrators::shared::balance: the balance-heuristic weight a / (a + b);
 // a zero or non-finite sum weighs nothing rather than NaN.
 fn balance(a: f32, b: f32) -> f32 {
@@ -6,4 +9,20 @@ fn balance(a: f32, b: f32) -> f32 {
         return a / d;
     }
     return 0.0;
+}
+
+// next_event::escaped; phase_pdf < 0 means a camera ray.
+fn escaped(d: vec3<f32>, phase_pdf: f32) -> vec3<f32> {
+    var l = vec3<f32>(0.0);
+    for (var i = 0u; i < env.light_count; i++) {
+        let light = lights[i];
+        if (is_environment(light)) {
+            var w = 1.0;
+            if (phase_pdf >= 0.0) {
+                w = balance(phase_pdf, light.d.w * light_pdf_li(light, d));
+            }
+            l += light_le(light, d) * w;
+        }
+    }
+    return l;
 }

@@ -80,22 +80,6 @@ fn shadow(world: Ray, distance: f32, vertex: u32, rng: ptr<function, Pcg32>,
     return tr;
 }
 
-// next_event::escaped; phase_pdf < 0 means a camera ray.
-fn escaped(d: vec3<f32>, phase_pdf: f32) -> vec3<f32> {
-    var l = vec3<f32>(0.0);
-    for (var i = 0u; i < env.light_count; i++) {
-        let light = lights[i];
-        if (is_environment(light)) {
-            var w = 1.0;
-            if (phase_pdf >= 0.0) {
-                w = balance(phase_pdf, light.d.w * light_pdf_li(light, d));
-            }
-            l += light_le(light, d) * w;
-        }
-    }
-    return l;
-}
-
 fn has_environment() -> bool {
     for (var i = 0u; i < env.light_count; i++) {
         if (is_environment(lights[i])) {

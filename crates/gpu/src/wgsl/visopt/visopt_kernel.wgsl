@@ -57,17 +57,6 @@ fn visopt_walk(m: MediumGpu, r: Ray, world: Ray, t0: f32, t1: f32, l: RayList, o
     return tr;
 }
 
-// next_event::escaped for a camera ray: the environment seen along d.
-fn environment_seen(d: vec3<f32>) -> vec3<f32> {
-    var l = vec3<f32>(0.0);
-    for (var i = 0u; i < env.light_count; i++) {
-        if (is_environment(lights[i])) {
-            l += light_le(lights[i], d);
-        }
-    }
-    return l;
-}
-
 // VisOpt::next_event: L_i f T / pdf toward one light picked by power;
 // `slot` is the invocation's scratch slot for the NEE list.
 fn visopt_next_event(p: vec3<f32>, d: vec3<f32>, optimise: bool, slot: u32,
@@ -148,7 +137,7 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
         }
         if (t < 0.0) {
             if (depth == 0u) {
-                radiance = environment_seen(ray.d);
+                radiance = escaped(ray.d, -1.0);
             }
             break;
         }
