@@ -7,12 +7,12 @@ use clap::Args;
 use fogbank_estimators::Estimator;
 use fogbank_eval::converge::{convergence, time_to_reach, write_csv, Curve};
 use fogbank_eval::{exact_reference, Backend};
-use fogbank_render::load_scene;
+use fogbank_render::{load_scene_or, TRANSMITTANCE_SCENE};
 use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct ConvergeArgs {
-    /// Scene file (TOML); the built-in scene when omitted.
+    /// Scene file (TOML); the cumulus's transmittance view (`scenes/transmittance.toml`) when omitted.
     pub scene: Option<PathBuf>,
     /// Estimators to compare, comma separated (options via --set apply to all).
     #[arg(long, value_delimiter = ',', required = true)]
@@ -48,13 +48,13 @@ pub fn run(a: ConvergeArgs) -> CliResult {
         })?;
     let gpu = a.run.gpu()?;
     let backend = Backend::from(gpu.as_ref());
-    let base = load_scene(a.scene.as_deref(), &overrides)?;
+    let base = load_scene_or(a.scene.as_deref(), TRANSMITTANCE_SCENE, &overrides)?;
     let reference = pool.install(|| exact_reference(&base, reference_estimator));
     let mut curves = Vec::new();
     for name in &a.estimators {
         let mut o = overrides.clone();
         o.push(format!("integrator.estimator={name}"));
-        let scene = load_scene(a.scene.as_deref(), &o)?;
+        let scene = load_scene_or(a.scene.as_deref(), TRANSMITTANCE_SCENE, &o)?;
         eprintln!("{name}: {} s ...", a.seconds);
         let points = pool
             .install(|| convergence(backend, &scene, a.seconds, &reference, a.run.seed))

@@ -72,7 +72,7 @@ pub struct FramesArgs<'a> {
     pub outputs: Vec<PathBuf>,
     pub spp: u32,
     pub seed: u32,
-    pub exposure: f32,
+    pub tone: fogbank_image::ToneMapping,
     pub quiet: bool,
     /// `--device gpu`: the device every frame renders on.
     pub gpu: Option<&'a fogbank_gpu::Gpu>,
@@ -177,7 +177,7 @@ pub fn run(
         for pattern in &a.outputs {
             let out = frame_output(pattern, f);
             match out.extension().and_then(|e| e.to_str()) {
-                Some("png") => write_png(&out, w, h, &rgb, a.exposure)?,
+                Some("png") => write_png(&out, w, h, &rgb, &a.tone)?,
                 _ => write_exr(&out, w, h, &rgb, variance.as_deref())?,
             }
             written.push(out.display().to_string());

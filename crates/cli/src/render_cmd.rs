@@ -37,9 +37,12 @@ pub struct RenderArgs {
     /// Override a scene key: `--set integrator.estimator=track_length`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// PNG exposure in stops.
-    #[arg(long, default_value_t = 0.0)]
-    pub exposure: f32,
+    /// PNG exposure in stops (overrides `render.exposure`).
+    #[arg(long, allow_hyphen_values = true)]
+    pub exposure: Option<f32>,
+    /// PNG tone curve: linear, aces or agx (overrides `render.tonemap`).
+    #[arg(long)]
+    pub tonemap: Option<String>,
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
@@ -68,6 +71,13 @@ pub fn run(a: RenderArgs) -> CliResult {
     }
     if let Some(s) = a.seed {
         overrides.push(format!("render.seed={s}"));
+    }
+    if let Some(e) = a.exposure {
+        overrides.push(format!("render.exposure={e:?}"));
+    }
+    if let Some(t) = &a.tonemap {
+        fogbank_image::ToneCurve::parse(t).map_err(|e| format!("--tonemap: {e}"))?;
+        overrides.push(format!("render.tonemap={t}"));
     }
     let outputs: Vec<PathBuf> = match &a.output {
         None if a.frames.is_some() => vec![PathBuf::from("fogbank_{frame:04}.exr")],
@@ -121,7 +131,7 @@ pub fn run(a: RenderArgs) -> CliResult {
                 outputs,
                 spp,
                 seed: opts.seed,
-                exposure: a.exposure,
+                tone: scene.desc.render.tone_mapping(),
                 quiet: a.quiet,
                 gpu: gpu.as_ref(),
             },
@@ -225,7 +235,13 @@ pub fn run(a: RenderArgs) -> CliResult {
                 &mean,
                 (min_spp > 1).then_some(&variance[..]),
             )?,
-            _ => write_png(out, film.width, film.height, &mean, a.exposure)?,
+            _ => write_png(
+                out,
+                film.width,
+                film.height,
+                &mean,
+                &scene.desc.render.tone_mapping(),
+            )?,
         }
     }
     let samples = film.total_samples();

@@ -8,12 +8,12 @@ use clap::Args;
 use fogbank_estimators::Estimator;
 use fogbank_eval::{exact_reference, frame_stats, Backend};
 use fogbank_image::image_io::{read_image, write_exr_channels};
-use fogbank_render::load_scene;
+use fogbank_render::{load_scene_or, TRANSMITTANCE_SCENE};
 use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct StatsArgs {
-    /// Scene file (TOML); the built-in scene when omitted.
+    /// Scene file (TOML); the cumulus's transmittance view (`scenes/transmittance.toml`) when omitted.
     pub scene: Option<PathBuf>,
     /// Estimator to measure (sets `integrator.estimator`; options via --set).
     #[arg(long)]
@@ -43,7 +43,7 @@ pub fn run(a: StatsArgs) -> CliResult {
     if let Some(e) = &a.estimator {
         overrides.push(format!("integrator.estimator={e}"));
     }
-    let scene = load_scene(a.scene.as_deref(), &overrides)?;
+    let scene = load_scene_or(a.scene.as_deref(), TRANSMITTANCE_SCENE, &overrides)?;
     let reference = match &a.reference_estimator {
         Some(n) => {
             let e = Estimator::parse(n)

@@ -7,6 +7,7 @@
 //! decoder panics are caught and turned into errors, because a comparison
 //! run over hundreds of renders must report a bad file, not abort.
 
+use crate::tonemap::ToneMapping;
 use std::io::Read;
 use std::path::Path;
 
@@ -278,27 +279,16 @@ pub fn write_exr(
     write_exr_channels(path, width, height, &layers, None)
 }
 
-/// sRGB encoding of a linear value clamped to [0, 1] (non-finite values to
-/// 0), as an 8-bit value.
-fn srgb8(v: f32) -> u8 {
-    let v = if v.is_finite() {
-        v.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (linear_to_srgb(v) * 255.0 + 0.5) as u8
-}
-
-/// Writes an 8-bit sRGB PNG of the linear values scaled by 2^`exposure`.
+/// Writes an 8-bit sRGB PNG of the linear values through `tone` (exposure
+/// and curve; `ToneMapping::default()` is the plain clamped sRGB encoding).
 pub fn write_png(
     path: &Path,
     width: u32,
     height: u32,
     rgb: &[[f32; 3]],
-    exposure: f32,
+    tone: &ToneMapping,
 ) -> Result<(), String> {
-    let k = 2f32.powf(exposure);
-    let bytes: Vec<u8> = rgb.iter().flat_map(|p| p.map(|c| srgb8(c * k))).collect();
+    let bytes: Vec<u8> = rgb.iter().flat_map(|&p| tone.display8(p)).collect();
     image::save_buffer(path, &bytes, width, height, image::ColorType::Rgb8)
         .map_err(|e| format!("{}: {e}", path.display()))
 }

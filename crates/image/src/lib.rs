@@ -5,5 +5,7 @@
 
 pub mod image_io;
 pub mod metrics;
+pub mod tonemap;
 
 pub use image_io::Image;
+pub use tonemap::{ToneCurve, ToneMapping};

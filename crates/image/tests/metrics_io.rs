@@ -210,7 +210,7 @@ fn written_exr_and_png_read_back() {
     assert!(read_image(d.join("b.exr")).unwrap().variance.is_none());
 
     // 8-bit sRGB, clamped to [0, 1]: back within a quantisation step.
-    write_png(&d.join("a.png"), 3, 2, &rgb, 0.0).unwrap();
+    write_png(&d.join("a.png"), 3, 2, &rgb, &Default::default()).unwrap();
     let png = read_image(d.join("a.png")).unwrap();
     assert!(png.is_srgb8);
     for (p, q) in png.rgb.iter().zip(&rgb) {

@@ -202,6 +202,7 @@ impl AnimationDesc {
             let allowed: &[&str] = match l {
                 LightDesc::Constant { .. } => &["radiance"],
                 LightDesc::Envmap { .. } => &["rotate"],
+                LightDesc::Sky { .. } => &[],
                 LightDesc::Point { .. } => &["position", "intensity"],
                 LightDesc::Directional { .. } => &["direction", "irradiance"],
                 LightDesc::Spot { .. } => &["position", "direction", "intensity"],
@@ -297,6 +298,7 @@ impl AnimationDesc {
                     *rotate = Some(v);
                 }
             }
+            LightDesc::Sky { .. } => {}
             LightDesc::Point {
                 position,
                 intensity,
@@ -330,6 +332,7 @@ fn light_type(l: &LightDesc) -> &'static str {
     match l {
         LightDesc::Constant { .. } => "constant",
         LightDesc::Envmap { .. } => "envmap",
+        LightDesc::Sky { .. } => "sky",
         LightDesc::Point { .. } => "point",
         LightDesc::Directional { .. } => "directional",
         LightDesc::Spot { .. } => "spot",

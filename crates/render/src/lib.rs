@@ -20,6 +20,8 @@ pub mod world;
 
 pub use error::SceneError;
 pub use render::{render, render_observed, Progress, RenderOptions, RenderResult};
-pub use scene::{load_scene, parse_scene, Scene, SceneDesc, DEFAULT_SCENE};
+pub use scene::{
+    load_scene, load_scene_or, parse_scene, Scene, SceneDesc, DEFAULT_SCENE, TRANSMITTANCE_SCENE,
+};
 pub use world::film::Film;
 pub use world::World;

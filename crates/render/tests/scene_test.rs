@@ -1,7 +1,9 @@
 //! Scene files: the built-in scene, round-tripping, and errors that name the
 //! key at fault.
 
-use fogbank_render::{parse_scene, Scene, SceneDesc, DEFAULT_SCENE};
+use fogbank_render::{
+    parse_scene, Scene, SceneDesc, DEFAULT_SCENE, TRANSMITTANCE_SCENE as TRANSMITTANCE,
+};
 use std::path::Path;
 
 #[test]
@@ -16,13 +18,21 @@ fn default_scene_builds_and_round_trips() {
         &["media.0.density.resolution=24".into()],
     )
     .unwrap();
-    Scene::build(small, Path::new(".")).unwrap();
+    let scene = Scene::build(small, Path::new(".")).unwrap();
+    // The first impression: a lit cloud, multiple scattering under a sky
+    // and the sun, tone-mapped for display.
+    assert_eq!(scene.integrator.name(), "volpath");
+    let kinds: Vec<&str> = scene.lights.iter().map(|l| l.kind()).collect();
+    assert_eq!(kinds, ["envmap", "directional"]);
+    assert_eq!(desc.render.tonemap, fogbank_image::ToneCurve::Agx);
+    let t = parse_scene(TRANSMITTANCE, "scenes/transmittance.toml", &[]).unwrap();
+    assert_eq!(t.integrator.name(), "transmittance");
 }
 
 #[test]
 fn overrides_set_nested_keys_and_array_entries() {
     let d = parse_scene(
-        DEFAULT_SCENE,
+        TRANSMITTANCE,
         "built-in",
         &[
             "integrator.estimator=track_length".into(),
@@ -38,7 +48,7 @@ fn overrides_set_nested_keys_and_array_entries() {
 
 fn err(overrides: &[&str]) -> String {
     let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    match parse_scene(DEFAULT_SCENE, "built-in", &o) {
+    match parse_scene(TRANSMITTANCE, "built-in", &o) {
         Ok(d) => match Scene::build(d, Path::new(".")) {
             Ok(_) => panic!("{overrides:?} should fail"),
             Err(e) => e.to_string(),
@@ -84,7 +94,7 @@ fn missing_files_name_the_file() {
 
 /// A scene with `[integrator]` as given, parsed from the file's text.
 fn file_err(integrator: &str) -> String {
-    let text = format!("{DEFAULT_SCENE}\n").replace(
+    let text = format!("{TRANSMITTANCE}\n").replace(
         "[integrator]\ntype = \"transmittance\"\nestimator = \"ratio_tracking\"\n",
         &format!("[integrator]\n{integrator}\n"),
     );
@@ -166,7 +176,7 @@ fn misplaced_and_misspelt_integrator_keys_are_refused() {
 fn estimators_take_their_options_flat_or_as_a_table() {
     let parse = |o: &[&str]| {
         let o: Vec<String> = o.iter().map(|s| s.to_string()).collect();
-        parse_scene(DEFAULT_SCENE, "built-in", &o).unwrap()
+        parse_scene(TRANSMITTANCE, "built-in", &o).unwrap()
     };
     let flat = parse(&["integrator.estimator=jackknife", "integrator.samples=20"]);
     let table = parse(&["integrator.estimator={ type = \"jackknife\", samples = 20 }"]);
@@ -203,7 +213,7 @@ fn estimators_take_their_options_flat_or_as_a_table() {
 
 #[test]
 fn switching_the_integrator_with_set_drops_the_old_integrators_keys() {
-    let volpath = DEFAULT_SCENE.replace(
+    let volpath = TRANSMITTANCE.replace(
         "[integrator]\ntype = \"transmittance\"\nestimator = \"ratio_tracking\"\n",
         "[integrator]\ntype = \"volpath\"\nmax_depth = 5\nrr_depth = 2\nestimator = \"jackknife\"\nsamples = 4\n",
     );

@@ -133,7 +133,7 @@ fn png(
     img: &[[f32; 3]],
 ) -> Result<(), String> {
     let path = w.path(file);
-    write_png(&path, width, height, img, 0.0).map_err(|e| e.to_string())?;
+    write_png(&path, width, height, img, &Default::default()).map_err(|e| e.to_string())?;
     w.record(path);
     Ok(())
 }

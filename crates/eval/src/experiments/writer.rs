@@ -47,7 +47,11 @@ impl Writer {
         exposure: f32,
     ) -> Result<(), String> {
         let p = self.out.join(file);
-        fogbank_image::image_io::write_png(&p, width, height, rgb, exposure)?;
+        let tone = fogbank_image::ToneMapping {
+            exposure,
+            ..Default::default()
+        };
+        fogbank_image::image_io::write_png(&p, width, height, rgb, &tone)?;
         self.files.push(p);
         Ok(())
     }

@@ -2,6 +2,7 @@
 
 pub mod envmap;
 pub mod sample;
+pub mod sky;
 
 use crate::error::SceneError;
 use fogbank_math::Vec3;
@@ -15,6 +16,7 @@ use std::path::Path;
 /// | `point` | `position`, `intensity` (RGB) |
 /// | `directional` | `direction` (towards which light travels), `irradiance` (RGB) |
 /// | `spot` | `position`, `direction`, `intensity` (RGB), `cone_angle` (30°), `falloff_start` (25°) |
+/// | `sky` | `zenith`, `horizon`, `ground` (RGB), `scale` (1): a procedural gradient sky, rendered as an environment map |
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum LightDesc {
@@ -36,6 +38,14 @@ pub enum LightDesc {
     Directional {
         direction: [f32; 3],
         irradiance: [f32; 3],
+    },
+    /// A procedural gradient sky (see [`sky`]); built as an environment map.
+    Sky {
+        zenith: [f32; 3],
+        horizon: [f32; 3],
+        ground: [f32; 3],
+        #[serde(default = "one")]
+        scale: f32,
     },
     /// A point light emitting into a cone around `direction`: full intensity
     /// within `falloff_start` degrees of the axis, smoothly down to zero at
@@ -126,6 +136,16 @@ impl LightDesc {
                 };
                 let env = envmap::Envmap::load(&path, *scale, rotation)
                     .map_err(|e| SceneError(format!("lights.{i}: {e}")))?;
+                Light::Envmap(std::sync::Arc::new(env))
+            }
+            LightDesc::Sky {
+                zenith,
+                horizon,
+                ground,
+                scale,
+            } => {
+                let env = sky::sky_envmap(*zenith, *horizon, *ground, *scale)
+                    .map_err(|e| SceneError(format!("lights.{i} (sky): {e}")))?;
                 Light::Envmap(std::sync::Arc::new(env))
             }
             LightDesc::Point {
