@@ -11,6 +11,7 @@ mod render_cmd;
 mod report_cmd;
 mod run_args;
 mod stats_cmd;
+mod view_cmd;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -46,6 +47,8 @@ enum Command {
     Converge(converge_cmd::ConvergeArgs),
     /// Gather a folder of outputs into one offline HTML page.
     Report(report_cmd::ReportArgs),
+    /// Open the interactive viewer (progressive rendering in a window).
+    View(view_cmd::ViewArgs),
 }
 
 fn main() -> ExitCode {
@@ -69,6 +72,7 @@ fn main() -> ExitCode {
         Command::Stats(a) => stats_cmd::run(a),
         Command::Converge(a) => converge_cmd::run(a),
         Command::Report(a) => report_cmd::run(a),
+        Command::View(a) => view_cmd::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -8,6 +8,7 @@
 //! run over hundreds of renders must report a bad file, not abort.
 
 use crate::tonemap::ToneMapping;
+pub use crate::tonemap::{linear_to_srgb, srgb_to_linear};
 use std::io::Read;
 use std::path::Path;
 
@@ -61,24 +62,6 @@ impl Image {
     /// True for a 0×0 (or 0×n) image.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
-    }
-}
-
-/// The sRGB decoding function (IEC 61966-2-1) of an encoded value in [0, 1].
-pub fn srgb_to_linear(s: f32) -> f32 {
-    if s <= 0.04045 {
-        s / 12.92
-    } else {
-        ((s + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-/// The sRGB encoding function of a linear value, not clamped.
-pub fn linear_to_srgb(l: f32) -> f32 {
-    if l <= 0.003_130_8 {
-        l * 12.92
-    } else {
-        1.055 * l.powf(1.0 / 2.4) - 0.055
     }
 }
 

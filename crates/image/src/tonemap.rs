@@ -10,7 +10,6 @@
 //!
 //! Non-finite input shows as black, so no NaN reaches a file.
 
-use crate::image_io::linear_to_srgb;
 use serde::{Deserialize, Serialize};
 
 /// The tone curve (see the module docs).
@@ -31,6 +30,15 @@ impl ToneCurve {
             ToneCurve::Linear => "linear",
             ToneCurve::Aces => "aces",
             ToneCurve::Agx => "agx",
+        }
+    }
+
+    /// The next curve in [`ToneCurve::NAMES`] order, wrapping around.
+    pub fn next(self) -> ToneCurve {
+        match self {
+            ToneCurve::Linear => ToneCurve::Aces,
+            ToneCurve::Aces => ToneCurve::Agx,
+            ToneCurve::Agx => ToneCurve::Linear,
         }
     }
 
@@ -87,6 +95,24 @@ impl ToneMapping {
     }
 }
 
+/// The sRGB decoding function (IEC 61966-2-1) of an encoded value in [0, 1].
+pub fn srgb_to_linear(s: f32) -> f32 {
+    if s <= 0.04045 {
+        s / 12.92
+    } else {
+        ((s + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// The sRGB encoding function of a linear value, not clamped.
+pub fn linear_to_srgb(l: f32) -> f32 {
+    if l <= 0.003_130_8 {
+        l * 12.92
+    } else {
+        1.055 * l.powf(1.0 / 2.4) - 0.055
+    }
+}
+
 /// Narkowicz 2016, "ACES Filmic Tone Mapping Curve", with the 0.6 scale
 /// his post recommends so that 1.0 in maps near the reference's mid-range.
 fn aces_narkowicz(x: f32) -> f32 {
@@ -99,7 +125,7 @@ fn aces_narkowicz(x: f32) -> f32 {
 const AGX_INSET: [[f32; 3]; 3] = [
     [0.842_479_06, 0.078_433_6, 0.079_223_745],
     [0.042_328_242, 0.878_468_6, 0.079_166_13],
-    [0.042_375_654, 0.078_433_6, 0.879_142_97],
+    [0.042_375_655, 0.078_433_6, 0.879_143],
 ];
 /// Its inverse, applied after the sigmoid (the "outset" of the base look).
 const AGX_OUTSET: [[f32; 3]; 3] = [
