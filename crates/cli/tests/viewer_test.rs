@@ -109,7 +109,7 @@ fn scripted_session(device: &str) {
     assert!(out.status.success(), "fogbank view failed: {err}");
 
     // Screenshots: the window, with the volume in view, changing each step.
-    let shots: Vec<_> = (0..3)
+    let shots: Vec<_> = (0..4)
         .map(|i| shot(&dir.join(format!("shot_{i}.png"))))
         .collect();
     for (i, s) in shots.iter().enumerate() {
