@@ -210,10 +210,18 @@ pub(super) fn axes<'a, DB: DrawingBackend>(
         VPos::Bottom,
         true,
     )?;
+    let (aw, _) = area.dim_in_pixel();
+    let (title, scale) = ink.fitted(title, 2, aw as i32 - 8);
+    let centre = {
+        // Centred over the plot, moved in when that would cut the text.
+        let half = ink.width(&title, scale) / 2;
+        let (x0, x1) = (area.get_base_pixel().0, area.get_base_pixel().0 + aw as i32);
+        cx.clamp(x0 + 4 + half, (x1 - 4 - half).max(x0 + 4 + half))
+    };
     ink.text(
-        title,
-        (cx, py.start - 26),
-        2,
+        &title,
+        (centre, py.start - 26),
+        scale,
         HPos::Center,
         VPos::Top,
         false,

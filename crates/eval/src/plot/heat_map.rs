@@ -154,12 +154,17 @@ pub(super) fn draw_heat_map<DB: DrawingBackend>(
             .map_err(err)?;
         ink.text(l, (x1 + 9, y), 1, HPos::Left, VPos::Center, false)?;
     }
+    // The bar's label reads upwards right of its tick labels (as in
+    // matplotlib), where no panel title can run into it.
+    let tick_w = bt.labels.iter().map(|l| ink.width(l, 1)).max().unwrap_or(0);
+    let (bar_w, _) = bar.dim_in_pixel();
+    let label_x = (x1 + 9 + tick_w + 4).min(bx + bar_w as i32 - 17);
     ink.text(
         &h.bar_label,
-        ((x0 + x1) / 2, py.start - 8),
+        (label_x, (py.start + py.end) / 2),
         1,
         HPos::Center,
-        VPos::Bottom,
-        false,
+        VPos::Top,
+        true,
     )
 }

@@ -5,12 +5,14 @@
 //! plotters is built without fonts, so its bitmap backend cannot draw text.
 //! Every piece of text (titles, tick labels, axis descriptions, legends) is
 //! therefore placed by this module itself, at the same pixel positions in
-//! both outputs: as `<text>` elements in the SVG and with a built-in 5×7
-//! bitmap font in the PNG. plotters draws only lines, marks and fills.
+//! both outputs: as `<text>` elements in the SVG and, in the PNG, in an
+//! embedded proportional font (Ubuntu Light, anti-aliased by `ab_glyph`;
+//! see `font.rs`), measured with the same metrics so titles fit. plotters
+//! draws only lines, marks and fills.
 
 mod area;
 mod axes;
-mod bitmap_font;
+mod font;
 mod heat_map;
 mod histogram;
 mod line;
@@ -114,7 +116,15 @@ impl Figure {
         let ink = Ink { root, target };
         let body = if let Some(t) = &self.title {
             let (w, _) = self.size();
-            ink.text(t, ((w / 2) as i32, 8), 2, HPos::Center, VPos::Top, false)?;
+            let (t, scale) = ink.fitted(t, 2, w as i32 - 16);
+            ink.text(
+                &t,
+                ((w / 2) as i32, 8),
+                scale,
+                HPos::Center,
+                VPos::Top,
+                false,
+            )?;
             root.split_vertically(TITLE_H).1
         } else {
             root.clone()

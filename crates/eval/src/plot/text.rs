@@ -1,11 +1,11 @@
-//! Text at pixel positions: `<text>` elements in the SVG, the built-in
-//! bitmap font in the PNG.
+//! Text at pixel positions: `<text>` elements in the SVG, the embedded
+//! proportional font ([`super::font`]) anti-aliased into the PNG.
 
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::area::{err, Area};
-use super::bitmap_font;
+use super::font;
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(super) enum Target {
@@ -36,7 +36,8 @@ impl<DB: DrawingBackend> Ink<'_, DB> {
         }
         match self.target {
             Target::Svg => {
-                let style = TextStyle::from(("sans-serif", 12.0 * 1.24 * scale as f64).into_font())
+                let family = format!("{}, sans-serif", font::FAMILY);
+                let style = TextStyle::from((family.as_str(), font::px(scale) as f64).into_font())
                     .pos(Pos::new(h, v))
                     .transform(if vertical {
                         FontTransform::Rotate270
@@ -49,7 +50,7 @@ impl<DB: DrawingBackend> Ink<'_, DB> {
                     .map_err(err)
             }
             Target::Png => {
-                let (w, ht) = bitmap_font::text_size(s, scale);
+                let (w, ht) = font::text_size(s, scale);
                 let dx = match h {
                     HPos::Left => 0,
                     HPos::Center => -(w as i32) / 2,
@@ -61,7 +62,7 @@ impl<DB: DrawingBackend> Ink<'_, DB> {
                     VPos::Bottom => -(ht as i32),
                 };
                 let mut res = Ok(());
-                bitmap_font::rasterise(s, scale, |x, y| {
+                font::rasterise(s, scale, |x, y, coverage| {
                     let (lx, ly) = (x as i32 + dx, y as i32 + dy);
                     let p = if vertical {
                         (pos.0 + ly, pos.1 - lx)
@@ -69,7 +70,10 @@ impl<DB: DrawingBackend> Ink<'_, DB> {
                         (pos.0 + lx, pos.1 + ly)
                     };
                     if res.is_ok() {
-                        res = self.root.draw_pixel(p, &BLACK).map_err(err);
+                        res = self
+                            .root
+                            .draw_pixel(p, &BLACK.mix(coverage as f64))
+                            .map_err(err);
                     }
                 });
                 res
@@ -77,7 +81,27 @@ impl<DB: DrawingBackend> Ink<'_, DB> {
         }
     }
 
+    /// A title that fits in `max_w` pixels: at `scale` when it fits, else
+    /// at tick-label size, else cut with an ellipsis at tick-label size.
+    pub(super) fn fitted(&self, s: &str, scale: u32, max_w: i32) -> (String, u32) {
+        if self.width(s, scale) <= max_w {
+            return (s.to_string(), scale);
+        }
+        if self.width(s, 1) <= max_w {
+            return (s.to_string(), 1);
+        }
+        let mut cut: Vec<char> = s.chars().collect();
+        while !cut.is_empty() {
+            cut.pop();
+            let t: String = cut.iter().collect::<String>().trim_end().to_string() + "…";
+            if self.width(&t, 1) <= max_w {
+                return (t, 1);
+            }
+        }
+        (String::new(), 1)
+    }
+
     pub(super) fn width(&self, s: &str, scale: u32) -> i32 {
-        bitmap_font::text_size(s, scale).0 as i32
+        font::text_size(s, scale).0 as i32
     }
 }
