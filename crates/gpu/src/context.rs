@@ -88,6 +88,12 @@ impl Gpu {
         )
     }
 
+    /// Whether the device is a CPU rasteriser such as lavapipe (its times
+    /// say nothing about a GPU).
+    pub fn is_cpu(&self) -> bool {
+        self.info.device_type == wgpu::DeviceType::Cpu
+    }
+
     /// Runs `f` (creating shader modules, pipelines) and turns a validation
     /// error into a `GpuError` instead of wgpu's default panic.
     pub fn checked<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T, GpuError> {

@@ -304,7 +304,7 @@ pub fn run_gpu_on(
     )?;
     Ok(format!(
         "Seed 004 Figs. 4.10 and 4.11 on {} at {size}², 8 bounces, sky probe: device time per sample (timestamp \
-         queries, mean of {spp} spp) of ray marching / PinMS, pin gathering (one compute pass before rendering) \
+         queries, median of 5 renders of {spp} spp after a warm-up) of ray marching / PinMS, pin gathering (one compute pass before rendering) \
          excluded. In brackets the thesis's ratio (RTX 2070 Super).\n\n\
          | scene | small step | middle step | large step |\n|---|---|---|---|\n{}\n\n\
          | instances (step {}) | RM / PinMS |\n|---|---|\n{}\n",
