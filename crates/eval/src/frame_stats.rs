@@ -60,9 +60,8 @@ fn centred(scene: &Scene) -> Scene {
 
 /// Runs `runs` frames of the scene's integrator through pixel centres on
 /// `backend`. The GPU runs the same frames (sample indices, streams),
-/// accumulated on the device; its sums are f32 there, so the variance of
-/// nearly constant pixels carries a relative error of about
-/// 1e-5 · runs · mean²/var.
+/// accumulated on the device as running means and M2 in f32, so a constant
+/// pixel's variance is 0 there too.
 pub fn frame_stats(
     backend: Backend,
     scene: &Scene,

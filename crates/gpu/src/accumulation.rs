@@ -150,8 +150,15 @@ pub(crate) fn read_film(
     let looks: Vec<u32> = bytemuck::cast_slice(&gpu.read_back(lookups)?).to_vec();
     let mut film = Film::new(w, h);
     for i in 0..pixels as usize {
-        film.sum[i] = [0, 1, 2].map(|c| sums[i][c] as f64);
-        film.sum_sq[i] = [0, 1, 2].map(|c| sqs[i][c] as f64);
+        // The device keeps the mean and M2 (frame.wgsl); the film keeps
+        // Σx and Σx², here in f64, where the conversion loses nothing a
+        // variance needs.
+        let n = sums[i][3] as f64;
+        film.sum[i] = [0, 1, 2].map(|c| sums[i][c] as f64 * n);
+        film.sum_sq[i] = [0, 1, 2].map(|c| {
+            let mean = sums[i][c] as f64;
+            sqs[i][c] as f64 + n * mean * mean
+        });
         film.count[i] = sums[i][3] as u32;
         film.nan_samples += sqs[i][3] as u64;
         film.lookups += looks[i] as u64;

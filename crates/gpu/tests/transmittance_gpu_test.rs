@@ -177,7 +177,7 @@ fn same_seed_gives_mostly_identical_samples() {
         .filter(|&i| (cpu.sum[i][0] - g.film.sum[i][0]).abs() <= 1e-3)
         .count();
     assert!(
-        close * 10 >= cpu.sum.len() * 9,
+        close * 100 >= cpu.sum.len() * 99,
         "{close} of {} pixels agree",
         cpu.sum.len()
     );
@@ -192,4 +192,82 @@ fn unsupported_work_is_a_clear_error() {
         .err()
         .unwrap();
     assert!(e.0.contains("analytic"), "{e}");
+}
+
+/// Issue 21: with the stochastic filter the GPU hashed a lookup count
+/// carried over from earlier samples and media into its jitter, so only
+/// sample 0 of each pixel shared the CPU's stream, and the heavy tail of
+/// `unbiased_ray_marching` came out differently on the two sides. Now every
+/// sample of every pixel matches: the per-pixel mean and variance over 64
+/// samples (a variance is carried by the tail samples) agree to float
+/// rounding, on the Houdini dragon, whose pixels hold estimates far outside
+/// [0, 1].
+#[test]
+fn unbiased_ray_marching_matches_the_cpu_sample_for_sample() {
+    let Some(gpu) = test_gpu() else { return };
+    let Some(vdb) = fogbank_math::testdata::shared_data("dragon.vdb") else {
+        return;
+    };
+    // The dragon seen as in scenes/dragon.toml: its sparse smoke against
+    // mean-importance super-voxels gives the estimator a heavy tail.
+    let text = format!(
+        "[camera]\nfrom = [3.0, 4.5, 13.0]\nto = [5.0, 2.5, 5.0]\nfov = 40.0\nwidth = 32\nheight = 20\n\
+         [[media]]\ndensity = {{ vdb = {:?}, grid = \"density\" }}\nsigma_t_scale = 8.0\n\
+         filter = \"stochastic_trilinear\"\n\
+         [integrator]\ntype = \"transmittance\"\nestimator = \"unbiased_ray_marching\"\n\
+         [render]\npixel_jitter = false\n",
+        vdb.display().to_string()
+    );
+    let s = Scene::build(parse_scene(&text, "test", &[]).unwrap(), Path::new(".")).unwrap();
+    let cpu = render(&s, &opts(64, 11), &Progress::default()).film;
+    let g = gpu_render::render(&gpu, &s, &opts(64, 11), &Progress::default())
+        .unwrap()
+        .film;
+    let (mc, mg) = (cpu.mean(), g.mean());
+    let (vc, vg) = (cpu.variance_of_mean(), g.variance_of_mean());
+    let (mut covered, mut agree, mut tail) = (0, 0, 0);
+    for i in 0..mc.len() {
+        if mc[i][0] == 1.0 && mg[i][0] == 1.0 {
+            continue;
+        }
+        covered += 1;
+        // Mean square of the pixel's samples above 4: some |T| > 2.
+        tail += (cpu.sum_sq[i][0] / 64.0 > 4.0) as u32;
+        let mean_ok = (mc[i][0] - mg[i][0]).abs() <= 1e-4 * mc[i][0].abs().max(0.1);
+        let var_ok = (vc[i][0] - vg[i][0]).abs() <= 1e-3 * vc[i][0].max(1e-9);
+        agree += (mean_ok && var_ok) as u32;
+    }
+    assert!(covered > 200, "the cloud must cover the image ({covered})");
+    assert!(tail >= 5, "too few pixels with tail samples ({tail})");
+    assert!(
+        agree * 100 >= covered * 99,
+        "{agree} of {covered} covered pixels agree in mean and variance"
+    );
+}
+
+/// Issue 21: the GPU film's moments were f32 Σx and Σx², so a constant
+/// pixel's variance came out as 3e-4² after a few thousand samples. With
+/// running means and M2 a deterministic estimator's variance stays 0 up to
+/// the f64 conversion.
+#[test]
+fn deterministic_estimator_has_zero_variance_after_4096_samples() {
+    let Some(gpu) = test_gpu() else { return };
+    let s = scene(&[
+        "integrator.estimator=analytic_trilinear",
+        "media.0.filter=trilinear",
+        "media.1.filter=trilinear",
+        "render.pixel_jitter=false",
+    ]);
+    let g = gpu_render::render(&gpu, &s, &opts(4096, 2), &Progress::default())
+        .unwrap()
+        .film;
+    let (m, v) = (g.mean(), g.variance_of_mean());
+    for i in 0..m.len() {
+        let std = (v[i][0] as f64 * 4096.0).sqrt();
+        assert!(
+            std <= 1e-6 * (m[i][0] as f64).max(1e-3),
+            "pixel {i}: mean {} single-sample std {std}",
+            m[i][0]
+        );
+    }
 }

@@ -49,11 +49,50 @@ struct Frame {
 }
 
 @group(1) @binding(0) var<uniform> frame: Frame;
-// Per pixel: Σ radiance (rgb) and the finite sample count (w); Σ radiance²
-// (rgb) and the dropped non-finite samples (w).
+// Per pixel: the mean radiance (rgb) and the finite sample count (w); the
+// sum of squared deviations from the mean, M2 (rgb), and the dropped
+// non-finite samples (w). Running moments rather than Σx and Σx²: in f32,
+// Σx² − (Σx)²/n loses every digit of a nearly constant pixel's variance
+// after a few thousand samples (issue 21: a deterministic estimator showed
+// std 3e-4 where the CPU has 0), while M2 of a constant stays exactly 0.
 @group(1) @binding(1) var<storage, read_write> accum_sum: array<vec4<f32>>;
 @group(1) @binding(2) var<storage, read_write> accum_sq: array<vec4<f32>>;
 @group(1) @binding(3) var<storage, read_write> accum_lookups: array<u32>;
+
+// One invocation's samples of a pixel: count, mean and M2 (Welford).
+struct Moments {
+    n: f32,
+    mean: vec3<f32>,
+    m2: vec3<f32>,
+}
+
+fn moments_empty() -> Moments {
+    return Moments(0.0, vec3<f32>(0.0), vec3<f32>(0.0));
+}
+
+fn moments_add(m: ptr<function, Moments>, v: vec3<f32>) {
+    (*m).n += 1.0;
+    let d = v - (*m).mean;
+    (*m).mean += d / (*m).n;
+    (*m).m2 += d * (v - (*m).mean);
+}
+
+// Merges `b` into the pixel's accumulated moments (Chan, Golub and LeVeque's
+// pairwise update) and counts `nonfinite` dropped samples.
+fn accumulate_moments(pixel: u32, b: Moments, nonfinite: f32) {
+    let a_mean = accum_sum[pixel];
+    let a_m2 = accum_sq[pixel];
+    let n = a_mean.w + b.n;
+    var mean = a_mean.xyz;
+    var m2 = a_m2.xyz;
+    if (b.n > 0.0) {
+        let d = b.mean - mean;
+        mean += d * (b.n / n);
+        m2 += b.m2 + d * d * (a_mean.w * b.n / n);
+    }
+    accum_sum[pixel] = vec4<f32>(mean, n);
+    accum_sq[pixel] = vec4<f32>(m2, a_m2.w + nonfinite);
+}
 
 // Set by a kernel that meets an id it has no branch for: the sample is
 // then dropped and counted with the non-finite ones instead of running
@@ -91,8 +130,21 @@ fn primary_ray(x: u32, y: u32, pixel: u32, sample: u32) -> Ray {
     return r;
 }
 
+// The scene's transmittance estimator on [t0, t1]. Each call counts its
+// lookups from 0, as each CPU estimator call does: the stochastic filter's
+// jitter hashes the running count (medium.wgsl), so a count carried over
+// from earlier calls, media or samples gave the GPU other jitters than the
+// CPU for the same random streams (issue 21).
 fn estimate(m: MediumGpu, r: Ray, t0: f32, t1: f32,
             rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    var count = 0u;
+    let t = estimate_with(m, r, t0, t1, rng, &count);
+    *lookups += count;
+    return t;
+}
+
+fn estimate_with(m: MediumGpu, r: Ray, t0: f32, t1: f32,
+                 rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
     let uniform = (frame.est_flags & FLAG_UNIFORM_JITTER) != 0u;
     switch ESTIMATOR {
         case EST_REGULAR_TRACKING: {

@@ -16,6 +16,15 @@ fn light_only() -> bool {
 // tracking::sampler_flight: fogbank's unbiased free-flight samplers.
 fn unbiased_flight(m: MediumGpu, r: Ray, t0: f32, t1: f32,
                    rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+    // Lookups counted from 0 per call, as on the CPU (see `estimate`).
+    var count = 0u;
+    let t = unbiased_flight_with(m, r, t0, t1, rng, &count);
+    *lookups += count;
+    return t;
+}
+
+fn unbiased_flight_with(m: MediumGpu, r: Ray, t0: f32, t1: f32,
+                        rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
     switch frame.sampler {
         case SAMPLER_DELTA_TRACKING: {
             return delta_tracking_sample(m, r, t0, t1, rng, lookups);

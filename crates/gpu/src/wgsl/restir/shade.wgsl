@@ -32,9 +32,7 @@ fn reduce(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let pixel = gid.y * frame.width + gid.x;
-    var sum = vec3<f32>(0.0);
-    var sq = vec3<f32>(0.0);
-    var count = 0.0;
+    var m = moments_empty();
     var nonfinite = 0.0;
     var lookups = 0u;
     for (var s = 0u; s < rp.batch; s++) {
@@ -42,16 +40,13 @@ fn reduce(@builtin(global_invocation_id) gid: vec3<u32>) {
         lookups += st.head.w;
         let v = st.shaded.xyz;
         if (is_finite3(v) && st.shaded.w > 0.5) {
-            sum += v;
-            sq += v * v;
-            count += 1.0;
+            moments_add(&m, v);
         } else {
             nonfinite += 1.0;
         }
     }
     if (rp.accumulate != 0u) {
-        accum_sum[pixel] += vec4<f32>(sum, count);
-        accum_sq[pixel] += vec4<f32>(sq, nonfinite);
+        accumulate_moments(pixel, m, nonfinite);
     }
     accum_lookups[pixel] += lookups;
 }
