@@ -196,21 +196,21 @@ pub fn run(a: RenderArgs) -> CliResult {
         let r = match &gpu {
             None => Ok((pool.install(|| render(&scene, &opts, &progress)), None)),
             Some(g) => fogbank_gpu::render::render(g, &scene, &opts, &progress).map(|r| {
-                let gpu_ms = r.gpu_ms;
+                let gpu = (r.gpu_ms, r.submits);
                 (
                     fogbank_render::RenderResult {
                         film: r.film,
                         seconds: r.seconds,
                         interrupted: r.interrupted,
                     },
-                    Some(gpu_ms),
+                    Some(gpu),
                 )
             }),
         };
         done.store(true, Ordering::Relaxed);
         r
     });
-    let (result, gpu_ms) = result.map_err(|e| format!("--device gpu: {e}"))?;
+    let (result, gpu_run) = result.map_err(|e| format!("--device gpu: {e}"))?;
     bar.finish_and_clear();
 
     let film = &result.film;
@@ -290,7 +290,8 @@ pub fn run(a: RenderArgs) -> CliResult {
             "seed": opts.seed,
             "threads": threads,
             "device": gpu.as_ref().map_or("cpu".to_string(), |g| format!("gpu: {}", g.describe())),
-            "gpu_ms": gpu_ms.flatten(),
+            "gpu_ms": gpu_run.and_then(|g| g.0),
+            "gpu_submits": gpu_run.map(|g| g.1),
             "render_seconds": result.seconds,
             "interrupted": result.interrupted,
             "mean": m,

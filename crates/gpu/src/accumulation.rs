@@ -1,7 +1,8 @@
 //! Bind group 1 of every kernel: the frame uniform (`Frame` in
 //! `wgsl/frame.wgsl`: camera, image, seed, estimator and integrator
-//! options) and the accumulation buffers (Σ radiance with the sample count,
-//! Σ radiance² with the dropped samples, lookups), read back as a film.
+//! options) and the accumulation buffers (running mean with the sample
+//! count, M2 with the dropped samples, lookups; the chunk slots a dispatch
+//! merges from), read back as a film.
 
 use crate::context::buffer_entry;
 use crate::{Gpu, GpuError};
@@ -38,8 +39,18 @@ pub(crate) struct Frame {
     /// First image row of this dispatch (kernels with per-invocation
     /// scratch render in bands of rows; 0 otherwise).
     pub(crate) tile_y: u32,
-    pub(crate) pad: [u32; 3],
+    /// Chunks of [`SAMPLES_PER_CHUNK`] samples this dispatch runs side by
+    /// side (the z dimension of the grid).
+    pub(crate) chunks: u32,
+    /// Pixels of this dispatch's band (width × its rows).
+    pub(crate) band_pixels: u32,
+    pub(crate) pad: u32,
 }
+
+/// Samples one invocation takes in a row and merges into the pixel's
+/// moments at once: the unit of the device's accumulation order, so images
+/// are the same however many chunks a dispatch runs side by side.
+pub const SAMPLES_PER_CHUNK: u32 = 4;
 
 impl Frame {
     /// The camera, image and media count of `scene` with the transmittance
@@ -77,13 +88,16 @@ impl Frame {
             march_step: 0.0,
             pin_mask_iterations: 0,
             tile_y: 0,
-            pad: [0; 3],
+            chunks: 1,
+            band_pixels: 0,
+            pad: 0,
         }
     }
 }
 
-/// Bind group 1 of every kernel: the frame uniform and the accumulation
-/// buffers (Σ radiance, Σ radiance², lookups).
+/// Bind group 1 of every kernel: the frame uniform, the accumulation
+/// buffers (mean radiance and count, M2 and dropped samples, lookups) and
+/// the chunk slots of a dispatch.
 pub(crate) fn frame_bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     use wgpu::BufferBindingType::{Storage, Uniform};
     let storage_rw = |binding| buffer_entry(binding, Storage { read_only: false });
@@ -133,6 +147,8 @@ pub struct GpuRender {
     pub gpu_ms: Option<f64>,
     pub interrupted: bool,
     pub upload_bytes: u64,
+    /// Command buffers submitted to the queue.
+    pub submits: u32,
 }
 
 /// The device accumulation buffers as a film (sums widened to f64).
@@ -140,13 +156,13 @@ pub(crate) fn read_film(
     gpu: &Gpu,
     w: u32,
     h: u32,
-    sum: &wgpu::Buffer,
-    sq: &wgpu::Buffer,
+    moments: &wgpu::Buffer,
     lookups: &wgpu::Buffer,
 ) -> Result<Film, GpuError> {
     let pixels = w as u64 * h as u64;
-    let sums: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_back(sum)?).to_vec();
-    let sqs: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_back(sq)?).to_vec();
+    let both: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_back(moments)?).to_vec();
+    let sums: Vec<[f32; 4]> = both.iter().step_by(2).copied().collect();
+    let sqs: Vec<[f32; 4]> = both.iter().skip(1).step_by(2).copied().collect();
     let looks: Vec<u32> = bytemuck::cast_slice(&gpu.read_back(lookups)?).to_vec();
     let mut film = Film::new(w, h);
     for i in 0..pixels as usize {

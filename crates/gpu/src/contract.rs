@@ -251,5 +251,9 @@ pub fn wgsl_prelude() -> String {
         dim::CAMERA,
         dim::ESTIMATOR
     ));
+    s.push_str(&format!(
+        "const SAMPLES_PER_CHUNK: u32 = {}u;\n",
+        crate::accumulation::SAMPLES_PER_CHUNK
+    ));
     s
 }

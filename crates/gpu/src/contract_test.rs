@@ -55,9 +55,9 @@ fn wgsl_structs_have_the_layout_of_the_rust_structs() {
                 offset_of!(Frame, pin_mask_iterations),
             ),
             ("tile_y", offset_of!(Frame, tile_y)),
-            ("pad0", offset_of!(Frame, pad)),
-            ("pad1", offset_of!(Frame, pad) + 4),
-            ("pad2", offset_of!(Frame, pad) + 8),
+            ("chunks", offset_of!(Frame, chunks)),
+            ("band_pixels", offset_of!(Frame, band_pixels)),
+            ("pad2", offset_of!(Frame, pad)),
         ],
     );
     let w2i = offset_of!(MediumGpu, w2i);

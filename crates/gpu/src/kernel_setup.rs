@@ -98,15 +98,19 @@ impl SceneGroups {
 /// Group 1: the frame uniform and the device accumulation buffers.
 pub(crate) struct Accumulators {
     pub(crate) frame: wgpu::Buffer,
-    pub(crate) sum: wgpu::Buffer,
-    pub(crate) sq: wgpu::Buffer,
+    /// Per pixel (mean, n) and (M2, dropped samples).
+    pub(crate) moments: wgpu::Buffer,
     pub(crate) lookups: wgpu::Buffer,
     pub(crate) layout: wgpu::BindGroupLayout,
     pub(crate) group: wgpu::BindGroup,
 }
 
+/// Bytes of one chunk slot: (mean, n), (M2, non-finite), (lookups).
+const SLOT_BYTES: u64 = 48;
+
 impl Accumulators {
-    pub(crate) fn new(gpu: &Gpu, pixels: u64) -> Accumulators {
+    /// For `pixels` pixels and `slots` chunk slots.
+    pub(crate) fn new(gpu: &Gpu, pixels: u64, slots: u64) -> Accumulators {
         let device = &gpu.device;
         let frame = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("frame"),
@@ -122,15 +126,14 @@ impl Accumulators {
                 mapped_at_creation: false,
             })
         };
-        let sum = zeroed("accum_sum", pixels * 16);
-        let sq = zeroed("accum_sq", pixels * 16);
+        let moments = zeroed("accum_moments", pixels * 32);
         let lookups = zeroed("accum_lookups", pixels * 4);
+        let chunks = zeroed("accum_chunks", slots.max(1) * SLOT_BYTES);
         let layout = frame_bind_group_layout(device);
-        let group = gpu.bind_group_of("frame", &layout, &[&frame, &sum, &sq, &lookups]);
+        let group = gpu.bind_group_of("frame", &layout, &[&frame, &moments, &lookups, &chunks]);
         Accumulators {
             frame,
-            sum,
-            sq,
+            moments,
             lookups,
             layout,
             group,
@@ -138,14 +141,15 @@ impl Accumulators {
     }
 }
 
-/// The kernel's compute pipeline over `groups` and the frame layout.
+/// The kernel's compute pipelines over `groups` and the frame layout:
+/// `main` (the samples of each chunk) and `merge` (the chunks into the film).
 pub(crate) fn pipeline(
     gpu: &Gpu,
     scene: &Scene,
     kernel: &Kernel,
     groups: &SceneGroups,
     frame_layout: &wgpu::BindGroupLayout,
-) -> Result<wgpu::ComputePipeline, GpuError> {
+) -> Result<(wgpu::ComputePipeline, wgpu::ComputePipeline), GpuError> {
     let device = &gpu.device;
     let source = match kernel.source {
         KernelSource::Transmittance => shaders::transmittance_kernel(),
@@ -174,19 +178,22 @@ pub(crate) fn pipeline(
     if kernel.source == KernelSource::PointMis {
         constants.push(("STRATEGY", kernel.sampler as f64));
     }
-    gpu.checked("kernel pipeline", || {
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(scene.integrator.name()),
-            layout: Some(&layout),
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &constants,
-                ..Default::default()
-            },
-            cache: None,
+    let entry = |name: &str| {
+        gpu.checked("kernel pipeline", || {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(scene.integrator.name()),
+                layout: Some(&layout),
+                module: &module,
+                entry_point: Some(name),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &constants,
+                    ..Default::default()
+                },
+                cache: None,
+            })
         })
-    })
+    };
+    Ok((entry("main")?, entry("merge")?))
 }
 
 /// The frame uniform before the first dispatch.

@@ -19,6 +19,8 @@ mod kernel_setup;
 pub mod lights;
 pub mod pins;
 pub mod render;
+#[cfg(test)]
+mod render_test;
 pub mod restir;
 pub mod scene_buffers;
 pub mod shaders;

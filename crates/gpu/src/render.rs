@@ -4,7 +4,7 @@
 //! CPU's (same scene, seed, sample indices and random streams), accumulated
 //! on the device and read back once.
 
-use crate::accumulation::{after_passes, read_film};
+use crate::accumulation::{after_passes, read_film, SAMPLES_PER_CHUNK};
 pub use crate::accumulation::{GpuRender, Observer};
 use crate::kernel::Kernel;
 use crate::kernel_setup::{self, Accumulators, KernelTimer, SceneGroups};
@@ -14,10 +14,39 @@ use fogbank_render::{Progress, RenderOptions, Scene};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
-/// Samples per pixel per dispatch: short dispatches keep the desktop
-/// responsive and cancellation prompt.
-const SAMPLES_PER_DISPATCH: u32 = 4;
+/// Invocations (pixel × chunk) one dispatch aims for: about what an H100
+/// keeps resident (132 SMs × 2048 threads), so a small image runs many
+/// chunks of samples side by side instead of leaving the device idle.
+const TARGET_INVOCATIONS: u64 = 1 << 18;
+/// At most this many bytes of chunk slots.
+const MAX_SLOT_BYTES: u64 = 64 << 20;
 const MAX_TIMED_DISPATCHES: u32 = 2048;
+/// Submissions in flight before the host waits for the oldest.
+const IN_FLIGHT: usize = 2;
+
+/// How a render's samples are split into dispatches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Schedule {
+    /// Chunks side by side up to [`TARGET_INVOCATIONS`], several
+    /// submissions in flight (the default).
+    Filled,
+    /// One chunk per dispatch and a wait after each (the scheduling before
+    /// issue 21; kept for observers, which read the film after every
+    /// dispatch, and for the test that the two give the same image).
+    Sequential,
+}
+
+/// Chunks per dispatch for `band_pixels` pixels per band.
+fn chunks_per_dispatch(schedule: Schedule, kernel: &Kernel, band_pixels: u64) -> u32 {
+    // visopt's NEE lists are per-invocation scratch indexed by pixel: one
+    // chunk at a time.
+    if schedule == Schedule::Sequential || kernel.source == crate::kernel::KernelSource::VisOpt {
+        return 1;
+    }
+    let by_target = TARGET_INVOCATIONS.div_ceil(band_pixels.max(1));
+    let by_memory = MAX_SLOT_BYTES / (48 * band_pixels.max(1));
+    by_target.min(by_memory).clamp(1, 4096) as u32
+}
 
 pub fn render(
     gpu: &Gpu,
@@ -51,63 +80,89 @@ pub(crate) fn render_kernel(
     kernel: &Kernel,
     opts: &RenderOptions,
     progress: &Progress,
+    after: Option<Observer<'_>>,
+) -> Result<GpuRender, GpuError> {
+    let schedule = match after {
+        Some(_) => Schedule::Sequential,
+        None => Schedule::Filled,
+    };
+    render_scheduled(gpu, scene, kernel, opts, progress, after, schedule)
+}
+
+/// [`render_kernel`] with an explicit [`Schedule`]. The image is the same
+/// for both: chunks of [`SAMPLES_PER_CHUNK`] samples merge into the film in
+/// sample order either way.
+pub(crate) fn render_scheduled(
+    gpu: &Gpu,
+    scene: &Scene,
+    kernel: &Kernel,
+    opts: &RenderOptions,
+    progress: &Progress,
     mut after: Option<Observer<'_>>,
+    schedule: Schedule,
 ) -> Result<GpuRender, GpuError> {
     let groups = SceneGroups::upload(gpu, scene, kernel)?;
     let (w, h) = (scene.camera.width, scene.camera.height);
     let pixels = (w as u64) * (h as u64);
-    let acc = Accumulators::new(gpu, pixels);
-    let pipeline = kernel_setup::pipeline(gpu, scene, kernel, &groups, &acc.layout)?;
-    let mut frame = kernel_setup::initial_frame(scene, kernel, opts);
     let band = groups.band_rows(h);
-    let timer = KernelTimer::new(
-        gpu,
-        opts.spp.div_ceil(SAMPLES_PER_DISPATCH),
-        MAX_TIMED_DISPATCHES,
-    );
+    let band_pixels = w as u64 * band.min(h) as u64;
+    let chunks = chunks_per_dispatch(schedule, kernel, band_pixels);
+    let acc = Accumulators::new(gpu, pixels, chunks as u64 * band_pixels);
+    let (main, merge) = kernel_setup::pipeline(gpu, scene, kernel, &groups, &acc.layout)?;
+    let mut frame = kernel_setup::initial_frame(scene, kernel, opts);
+    let per_dispatch = chunks * SAMPLES_PER_CHUNK;
+    let timer = KernelTimer::new(gpu, opts.spp.div_ceil(per_dispatch), MAX_TIMED_DISPATCHES);
     let mut start = Instant::now();
     let mut interrupted = false;
-    let (mut done, mut issued) = (0u32, 0u32);
-    while done < opts.spp {
-        if progress.cancel.load(Ordering::Relaxed) {
-            interrupted = true;
+    let (mut submitted, mut issued, mut submits) = (0u32, 0u32, 0u32);
+    // Submitted dispatches not yet waited for: (last submission, samples).
+    let mut in_flight = std::collections::VecDeque::new();
+    let in_flight_limit = match schedule {
+        Schedule::Filled => IN_FLIGHT,
+        Schedule::Sequential => 1,
+    };
+    loop {
+        let stop = progress.cancel.load(Ordering::Relaxed)
+            || opts.time_budget.is_some_and(|b| start.elapsed() >= b);
+        interrupted |= progress.cancel.load(Ordering::Relaxed);
+        if !stop && submitted < opts.spp {
+            let n = per_dispatch.min(opts.spp - submitted);
+            frame.first_sample = submitted;
+            frame.sample_count = n;
+            frame.chunks = n.div_ceil(SAMPLES_PER_CHUNK);
+            let index = submit_dispatch(
+                gpu,
+                &acc,
+                &groups,
+                (&main, &merge),
+                &mut frame,
+                band,
+                timer.as_ref(),
+                issued,
+            );
+            submits += h.div_ceil(band);
+            in_flight.push_back((index, n));
+            submitted += n;
+            issued += 1;
+        }
+        let drain = stop || submitted >= opts.spp;
+        if in_flight.is_empty() {
             break;
         }
-        if opts.time_budget.is_some_and(|b| start.elapsed() >= b) {
-            break;
+        if in_flight.len() < in_flight_limit && !drain {
+            continue;
         }
-        let n = SAMPLES_PER_DISPATCH.min(opts.spp - done);
-        frame.first_sample = done;
-        frame.sample_count = n;
-        // Bands of rows, one pass each (visopt's NEE-list scratch holds a
-        // band); a write lands before the next submission, so each band is
-        // submitted with its own frame.
-        let bands = h.div_ceil(band);
-        for b in 0..bands {
-            frame.tile_y = b * band;
-            gpu.queue
-                .write_buffer(&acc.frame, 0, bytemuck::bytes_of(&frame));
-            let mut enc = gpu.device.create_command_encoder(&Default::default());
-            {
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("render"),
-                    timestamp_writes: timer.as_ref().and_then(|t| t.writes(issued, b, bands)),
-                });
-                pass.set_pipeline(&pipeline);
-                pass.set_bind_group(1, &acc.group, &[]);
-                groups.bind(&mut pass);
-                pass.dispatch_workgroups(w.div_ceil(8), band.min(h - frame.tile_y).div_ceil(8), 1);
-            }
-            gpu.queue.submit([enc.finish()]);
-        }
-        // Wait, so progress, cancellation and the time budget see real time.
+        // Wait for the oldest, so progress, cancellation and the time
+        // budget see real time while the next one runs.
+        let (index, n) = in_flight.pop_front().expect("in flight");
         gpu.device
-            .poll(wgpu::PollType::wait_indefinitely())
+            .poll(wgpu::PollType::Wait {
+                submission_index: Some(index),
+                timeout: None,
+            })
             .map_err(|e| GpuError(format!("device poll failed: {e}")))?;
-        issued += 1;
-        done += n;
         after_passes(progress, n, pixels, &mut after, &mut start, || {
-            read_film(gpu, w, h, &acc.sum, &acc.sq, &acc.lookups)
+            read_film(gpu, w, h, &acc.moments, &acc.lookups)
         })?;
     }
     let seconds = start.elapsed().as_secs_f64();
@@ -116,10 +171,80 @@ pub(crate) fn render_kernel(
         None => None,
     };
     Ok(GpuRender {
-        film: read_film(gpu, w, h, &acc.sum, &acc.sq, &acc.lookups)?,
+        film: read_film(gpu, w, h, &acc.moments, &acc.lookups)?,
         seconds,
         gpu_ms,
         interrupted,
         upload_bytes: groups.bytes(),
+        submits,
     })
+}
+
+/// Submits one dispatch of `frame` (its samples and chunks set): per band
+/// of rows, the chunks side by side and then their merge, each band in its
+/// own submission (a band's frame uniform lands before it). Returns the
+/// last submission.
+/// One end of a timed span as a pass's timestamp writes.
+fn pass_writes(
+    at: Option<(&wgpu::QuerySet, u32)>,
+    begin: bool,
+) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+    at.map(|(query_set, i)| wgpu::ComputePassTimestampWrites {
+        query_set,
+        beginning_of_pass_write_index: begin.then_some(i),
+        end_of_pass_write_index: (!begin).then_some(i),
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+fn submit_dispatch(
+    gpu: &Gpu,
+    acc: &Accumulators,
+    groups: &SceneGroups,
+    (main, merge): (&wgpu::ComputePipeline, &wgpu::ComputePipeline),
+    frame: &mut crate::accumulation::Frame,
+    band: u32,
+    timer: Option<&KernelTimer>,
+    issued: u32,
+) -> wgpu::SubmissionIndex {
+    let (w, h) = (frame.width, frame.height);
+    let bands = h.div_ceil(band);
+    let mut index = None;
+    for b in 0..bands {
+        frame.tile_y = b * band;
+        let rows = band.min(h - frame.tile_y);
+        frame.band_pixels = w * rows;
+        gpu.queue
+            .write_buffer(&acc.frame, 0, bytemuck::bytes_of(frame));
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        let (begin, end) = match timer.and_then(|t| t.writes(issued, b, bands)) {
+            Some(t) => (
+                t.beginning_of_pass_write_index.map(|i| (t.query_set, i)),
+                t.end_of_pass_write_index.map(|i| (t.query_set, i)),
+            ),
+            None => (None, None),
+        };
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("render"),
+                timestamp_writes: pass_writes(begin, true),
+            });
+            pass.set_pipeline(main);
+            pass.set_bind_group(1, &acc.group, &[]);
+            groups.bind(&mut pass);
+            pass.dispatch_workgroups(w.div_ceil(8), rows.div_ceil(8), frame.chunks);
+        }
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("merge"),
+                timestamp_writes: pass_writes(end, false),
+            });
+            pass.set_pipeline(merge);
+            pass.set_bind_group(1, &acc.group, &[]);
+            groups.bind(&mut pass);
+            pass.dispatch_workgroups(frame.band_pixels.div_ceil(64), 1, 1);
+        }
+        index = Some(gpu.queue.submit([enc.finish()]));
+    }
+    index.expect("an image has at least one band")
 }

@@ -58,8 +58,7 @@ pub(super) fn upload_frame(
     gpu: &Gpu,
     scene: &Scene,
     frame_layout: &wgpu::BindGroupLayout,
-    sum: &wgpu::Buffer,
-    sq: &wgpu::Buffer,
+    moments: &wgpu::Buffer,
     lookups: &wgpu::Buffer,
 ) -> Result<FrameGpu, GpuError> {
     let restir = restir_of(scene)?;
@@ -90,7 +89,19 @@ pub(super) fn upload_frame(
     });
     gpu.queue
         .write_buffer(&frame_buf, 0, bytemuck::bytes_of(&frame));
-    let frame_group = gpu.bind_group_of("frame", frame_layout, &[&frame_buf, sum, sq, lookups]);
+    // ReSTIR reduces into the film itself (shade.wgsl): the chunk slots of
+    // the per-sample kernels are bound empty.
+    let chunks = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("accum_chunks (unused)"),
+        size: 48,
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    });
+    let frame_group = gpu.bind_group_of(
+        "frame",
+        frame_layout,
+        &[&frame_buf, moments, lookups, &chunks],
+    );
     Ok(FrameGpu {
         media,
         lights,

@@ -43,8 +43,7 @@ pub struct RestirGpu {
     uniform: RestirUniform,
     uniform_buf: wgpu::Buffer,
     restir_group: wgpu::BindGroup,
-    sum: wgpu::Buffer,
-    sq: wgpu::Buffer,
+    moments: wgpu::Buffer,
     lookups: wgpu::Buffer,
     frame_layout: wgpu::BindGroupLayout,
     width: u32,
@@ -79,9 +78,8 @@ impl RestirGpu {
             })
         };
         let reservoirs = zeroed("reservoirs", REGIONS * batch as u64 * pixels * STORED_BYTES);
-        let (sum, sq, lookups) = (
-            zeroed("accum_sum", pixels * 16),
-            zeroed("accum_sq", pixels * 16),
+        let (moments, lookups) = (
+            zeroed("accum_moments", pixels * 32),
             zeroed("accum_lookups", pixels * 4),
         );
         let uniform_buf = device.create_buffer(&wgpu::BufferDescriptor {
@@ -95,7 +93,7 @@ impl RestirGpu {
             gpu.bind_group_of("restir", &restir_layout, &[&uniform_buf, &reservoirs]);
         let frame_layout = frame_bind_group_layout(device);
         // The layouts of groups 0 and 2 are those every upload makes.
-        let first = upload_frame(gpu, scene, &frame_layout, &sum, &sq, &lookups)?;
+        let first = upload_frame(gpu, scene, &frame_layout, &moments, &lookups)?;
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("restir"),
             bind_group_layouts: &[
@@ -115,8 +113,7 @@ impl RestirGpu {
             uniform: RestirUniform::new(p, &mips, batch),
             uniform_buf,
             restir_group,
-            sum,
-            sq,
+            moments,
             lookups,
             frame_layout,
             width: w,
@@ -139,14 +136,7 @@ impl RestirGpu {
                 self.width, self.height
             )));
         }
-        upload_frame(
-            gpu,
-            scene,
-            &self.frame_layout,
-            &self.sum,
-            &self.sq,
-            &self.lookups,
-        )
+        upload_frame(gpu, scene, &self.frame_layout, &self.moments, &self.lookups)
     }
 
     /// Starts new sequences `first..first + n` (n ≤ `batch`; the next frame
@@ -250,7 +240,7 @@ impl RestirGpu {
     /// Empties the accumulation buffers.
     pub fn clear_film(&self, gpu: &Gpu) {
         let mut enc = gpu.device.create_command_encoder(&Default::default());
-        for b in [&self.sum, &self.sq, &self.lookups] {
+        for b in [&self.moments, &self.lookups] {
             enc.clear_buffer(b, 0, None);
         }
         gpu.queue.submit([enc.finish()]);
@@ -258,14 +248,7 @@ impl RestirGpu {
 
     /// The accumulation buffers as a film.
     pub fn film(&self, gpu: &Gpu) -> Result<Film, GpuError> {
-        read_film(
-            gpu,
-            self.width,
-            self.height,
-            &self.sum,
-            &self.sq,
-            &self.lookups,
-        )
+        read_film(gpu, self.width, self.height, &self.moments, &self.lookups)
     }
 }
 

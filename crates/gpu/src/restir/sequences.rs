@@ -31,7 +31,7 @@ pub fn render(
     let pixels = (scene.camera.width * scene.camera.height) as u64;
     let mut start = Instant::now();
     let mut interrupted = false;
-    let mut done = 0;
+    let (mut done, mut frames) = (0, 0);
     'sequences: while done < opts.spp {
         if opts.time_budget.is_some_and(|b| start.elapsed() >= b) {
             break;
@@ -44,6 +44,7 @@ pub fn render(
                 break 'sequences;
             }
             kernels.frame(gpu, &data, &data, f, f + 1 == p.frames, p.reuse)?;
+            frames += 1;
         }
         done += n;
         after_passes(progress, n, pixels, &mut after, &mut start, || {
@@ -61,6 +62,8 @@ pub fn render(
         gpu_ms,
         interrupted,
         upload_bytes: kernels.upload_bytes,
+        // One submission per frame of a batch.
+        submits: frames,
     })
 }
 

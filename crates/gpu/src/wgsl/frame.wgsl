@@ -43,8 +43,10 @@ struct Frame {
     // (visopt's NEE lists) render in bands of rows, one scratch slot per
     // pixel of the band.
     tile_y: u32,
-    pad0: u32,
-    pad1: u32,
+    // Chunks of SAMPLES_PER_CHUNK samples run side by side (grid z), and
+    // the pixels of this dispatch's band.
+    chunks: u32,
+    band_pixels: u32,
     pad2: u32,
 }
 
@@ -55,9 +57,15 @@ struct Frame {
 // Σx² − (Σx)²/n loses every digit of a nearly constant pixel's variance
 // after a few thousand samples (issue 21: a deterministic estimator showed
 // std 3e-4 where the CPU has 0), while M2 of a constant stays exactly 0.
-@group(1) @binding(1) var<storage, read_write> accum_sum: array<vec4<f32>>;
-@group(1) @binding(2) var<storage, read_write> accum_sq: array<vec4<f32>>;
-@group(1) @binding(3) var<storage, read_write> accum_lookups: array<u32>;
+// The two vec4 of pixel p are accum_moments[2p] and [2p + 1] (one binding:
+// the scatter kernel is at the 16 storage buffers a stage may have).
+@group(1) @binding(1) var<storage, read_write> accum_moments: array<vec4<f32>>;
+@group(1) @binding(2) var<storage, read_write> accum_lookups: array<u32>;
+// Per chunk and pixel of a band: (mean, n), (M2, non-finite), (lookups) —
+// written by the chunks of a dispatch side by side, then merged into the
+// pixel's moments in chunk order (accumulate.wgsl), so the result is the
+// same as one chunk per dispatch.
+@group(1) @binding(3) var<storage, read_write> accum_chunks: array<vec4<f32>>;
 
 // One invocation's samples of a pixel: count, mean and M2 (Welford).
 struct Moments {
@@ -80,8 +88,8 @@ fn moments_add(m: ptr<function, Moments>, v: vec3<f32>) {
 // Merges `b` into the pixel's accumulated moments (Chan, Golub and LeVeque's
 // pairwise update) and counts `nonfinite` dropped samples.
 fn accumulate_moments(pixel: u32, b: Moments, nonfinite: f32) {
-    let a_mean = accum_sum[pixel];
-    let a_m2 = accum_sq[pixel];
+    let a_mean = accum_moments[2u * pixel];
+    let a_m2 = accum_moments[2u * pixel + 1u];
     let n = a_mean.w + b.n;
     var mean = a_mean.xyz;
     var m2 = a_m2.xyz;
@@ -90,8 +98,8 @@ fn accumulate_moments(pixel: u32, b: Moments, nonfinite: f32) {
         mean += d * (b.n / n);
         m2 += b.m2 + d * d * (a_mean.w * b.n / n);
     }
-    accum_sum[pixel] = vec4<f32>(mean, n);
-    accum_sq[pixel] = vec4<f32>(m2, a_m2.w + nonfinite);
+    accum_moments[2u * pixel] = vec4<f32>(mean, n);
+    accum_moments[2u * pixel + 1u] = vec4<f32>(m2, a_m2.w + nonfinite);
 }
 
 // Set by a kernel that meets an id it has no branch for: the sample is
