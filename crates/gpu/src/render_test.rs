@@ -61,3 +61,70 @@ fn small_image_renders_1024_spp_in_at_most_16_submits() {
     assert!(r.film.count.iter().all(|&c| c == 1024));
     assert!(r.submits <= 16, "{} submits", r.submits);
 }
+
+/// A time budget and a cancellation both stop a long render between
+/// submissions with whole chunks accumulated: every pixel has the same
+/// count, a multiple of the chunk size, short of the spp asked for.
+#[test]
+fn time_budget_and_cancel_stop_between_submissions() {
+    let Some(gpu) = test_gpu() else { return };
+    let s = scene(
+        32,
+        "type = \"transmittance\"\nestimator = \"ratio_tracking\"",
+    );
+    let kernel = Kernel::of(&s).unwrap();
+    let spp = 1 << 24;
+    let budget = RenderOptions {
+        spp,
+        seed: 1,
+        time_budget: Some(std::time::Duration::from_millis(200)),
+    };
+    let r = render_scheduled(
+        &gpu,
+        &s,
+        &kernel,
+        &budget,
+        &Progress::default(),
+        None,
+        Schedule::Filled,
+    )
+    .unwrap();
+    let n = r.film.count[0];
+    assert!(n > 0 && n < spp && !r.interrupted, "{n}");
+    assert!(r.film.count.iter().all(|&c| c == n));
+
+    let progress = Progress::default();
+    let unlimited = RenderOptions {
+        time_budget: None,
+        ..budget
+    };
+    let r = std::thread::scope(|t| {
+        t.spawn(|| {
+            // Cancel once some samples are done (as Ctrl-C would).
+            while progress
+                .samples_done
+                .load(std::sync::atomic::Ordering::Relaxed)
+                == 0
+            {
+                std::thread::yield_now();
+            }
+            progress
+                .cancel
+                .store(true, std::sync::atomic::Ordering::Relaxed);
+        });
+        render_scheduled(
+            &gpu,
+            &s,
+            &kernel,
+            &unlimited,
+            &progress,
+            None,
+            Schedule::Filled,
+        )
+        .unwrap()
+    });
+    let n = r.film.count[0];
+    assert!(r.interrupted && n > 0 && n < spp, "{n}");
+    assert!(r.film.count.iter().all(|&c| c == n));
+    assert_eq!(n % crate::accumulation::SAMPLES_PER_CHUNK, 0);
+}
