@@ -47,10 +47,7 @@ pub(crate) struct Frame {
     pub(crate) pad: u32,
 }
 
-/// Samples one invocation takes in a row and merges into the pixel's
-/// moments at once: the unit of the device's accumulation order, so images
-/// are the same however many chunks a dispatch runs side by side.
-pub const SAMPLES_PER_CHUNK: u32 = 4;
+pub use crate::contract::SAMPLES_PER_CHUNK;
 
 impl Frame {
     /// The camera, image and media count of `scene` with the transmittance

@@ -216,6 +216,11 @@ fn enumeration(out: &mut String, prefix: &str, names: &[&str]) {
     out.push_str(&format!("const {prefix}_COUNT: u32 = {}u;\n", names.len()));
 }
 
+/// Samples one invocation takes in a row and merges into the pixel's
+/// moments at once: the unit of the device's accumulation order, so images
+/// are the same however many chunks a dispatch runs side by side.
+pub const SAMPLES_PER_CHUNK: u32 = 4;
+
 /// The WGSL prelude of every kernel: the contract's ids and flag bits.
 pub fn wgsl_prelude() -> String {
     let mut s = String::from(
@@ -253,7 +258,7 @@ pub fn wgsl_prelude() -> String {
     ));
     s.push_str(&format!(
         "const SAMPLES_PER_CHUNK: u32 = {}u;\n",
-        crate::accumulation::SAMPLES_PER_CHUNK
+        SAMPLES_PER_CHUNK
     ));
     s
 }

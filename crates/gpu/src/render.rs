@@ -155,12 +155,7 @@ pub(crate) fn render_scheduled(
         // Wait for the oldest, so progress, cancellation and the time
         // budget see real time while the next one runs.
         let (index, n) = in_flight.pop_front().expect("in flight");
-        gpu.device
-            .poll(wgpu::PollType::Wait {
-                submission_index: Some(index),
-                timeout: None,
-            })
-            .map_err(|e| GpuError(format!("device poll failed: {e}")))?;
+        wait_for(gpu, index)?;
         after_passes(progress, n, pixels, &mut after, &mut start, || {
             read_film(gpu, w, h, &acc.moments, &acc.lookups)
         })?;
@@ -184,6 +179,17 @@ pub(crate) fn render_scheduled(
 /// of rows, the chunks side by side and then their merge, each band in its
 /// own submission (a band's frame uniform lands before it). Returns the
 /// last submission.
+/// Blocks until submission `index` has run.
+fn wait_for(gpu: &Gpu, index: wgpu::SubmissionIndex) -> Result<(), GpuError> {
+    gpu.device
+        .poll(wgpu::PollType::Wait {
+            submission_index: Some(index),
+            timeout: None,
+        })
+        .map(|_| ())
+        .map_err(|e| GpuError(format!("device poll failed: {e}")))
+}
+
 /// One end of a timed span as a pass's timestamp writes.
 fn pass_writes(
     at: Option<(&wgpu::QuerySet, u32)>,
