@@ -14,6 +14,7 @@ pub mod integrators;
 pub mod lights;
 pub mod overrides;
 pub mod params;
+pub mod rebase;
 pub mod render;
 pub mod scene;
 pub mod world;

@@ -321,12 +321,12 @@ impl Viewer {
         }
         desc.render.exposure = self.tone.exposure;
         desc.render.tonemap = self.tone.curve;
-        let text = toml::to_string(&desc).map_err(|e| e.to_string())?;
-        let header = format!(
-            "# Saved by `fogbank view` from {}; relative file names resolve against {}.\n",
-            self.origin,
-            self.base.display()
-        );
+        let mut value = toml::Value::try_from(&desc).map_err(|e| e.to_string())?;
+        // Relative file names resolve against the saved file's folder.
+        let to = path.parent().filter(|p| !p.as_os_str().is_empty());
+        fogbank_render::rebase::rebase_paths(&mut value, &self.base, to.unwrap_or(Path::new(".")));
+        let text = toml::to_string(&value).map_err(|e| e.to_string())?;
+        let header = format!("# Saved by `fogbank view` from {}.\n", self.origin);
         let r =
             std::fs::write(path, header + &text).map_err(|e| format!("{}: {e}", path.display()));
         self.message = match &r {
