@@ -157,23 +157,23 @@ pub(crate) fn read_film(
     lookups: &wgpu::Buffer,
 ) -> Result<Film, GpuError> {
     let pixels = w as u64 * h as u64;
-    let both: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_back(moments)?).to_vec();
-    let sums: Vec<[f32; 4]> = both.iter().step_by(2).copied().collect();
-    let sqs: Vec<[f32; 4]> = both.iter().skip(1).step_by(2).copied().collect();
+    let raw = gpu.read_back(moments)?;
+    // Pixel i: (mean, n) at 2i, (M2, dropped) at 2i + 1.
+    let both: &[[[f32; 4]; 2]] = bytemuck::cast_slice(&raw);
     let looks: Vec<u32> = bytemuck::cast_slice(&gpu.read_back(lookups)?).to_vec();
     let mut film = Film::new(w, h);
     for i in 0..pixels as usize {
         // The device keeps the mean and M2 (frame.wgsl); the film keeps
         // Σx and Σx², here in f64, where the conversion loses nothing a
         // variance needs.
-        let n = sums[i][3] as f64;
-        film.sum[i] = [0, 1, 2].map(|c| sums[i][c] as f64 * n);
+        let n = both[i][0][3] as f64;
+        film.sum[i] = [0, 1, 2].map(|c| both[i][0][c] as f64 * n);
         film.sum_sq[i] = [0, 1, 2].map(|c| {
-            let mean = sums[i][c] as f64;
-            sqs[i][c] as f64 + n * mean * mean
+            let mean = both[i][0][c] as f64;
+            both[i][1][c] as f64 + n * mean * mean
         });
-        film.count[i] = sums[i][3] as u32;
-        film.nan_samples += sqs[i][3] as u64;
+        film.count[i] = both[i][0][3] as u32;
+        film.nan_samples += both[i][1][3] as u64;
         film.lookups += looks[i] as u64;
     }
     Ok(film)

@@ -106,7 +106,7 @@ pub(crate) struct Accumulators {
 }
 
 /// Bytes of one chunk slot: (mean, n), (M2, non-finite), (lookups).
-const SLOT_BYTES: u64 = 48;
+pub(crate) const SLOT_BYTES: u64 = 48;
 
 impl Accumulators {
     /// For `pixels` pixels and `slots` chunk slots.

@@ -44,7 +44,7 @@ fn chunks_per_dispatch(schedule: Schedule, kernel: &Kernel, band_pixels: u64) ->
         return 1;
     }
     let by_target = TARGET_INVOCATIONS.div_ceil(band_pixels.max(1));
-    let by_memory = MAX_SLOT_BYTES / (48 * band_pixels.max(1));
+    let by_memory = MAX_SLOT_BYTES / (kernel_setup::SLOT_BYTES * band_pixels.max(1));
     by_target.min(by_memory).clamp(1, 4096) as u32
 }
 
@@ -122,9 +122,9 @@ pub(crate) fn render_scheduled(
         Schedule::Sequential => 1,
     };
     loop {
-        let stop = progress.cancel.load(Ordering::Relaxed)
-            || opts.time_budget.is_some_and(|b| start.elapsed() >= b);
-        interrupted |= progress.cancel.load(Ordering::Relaxed);
+        let cancelled = progress.cancel.load(Ordering::Relaxed);
+        interrupted |= cancelled;
+        let stop = cancelled || opts.time_budget.is_some_and(|b| start.elapsed() >= b);
         if !stop && submitted < opts.spp {
             let n = per_dispatch.min(opts.spp - submitted);
             frame.first_sample = submitted;
