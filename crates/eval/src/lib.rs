@@ -5,6 +5,7 @@
 
 pub mod backend;
 pub mod converge;
+pub mod denoise;
 pub mod experiments;
 pub mod frame_stats;
 pub mod maps;

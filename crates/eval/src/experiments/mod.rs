@@ -34,6 +34,7 @@ pub mod restir_protocol;
 pub mod restir_scenes;
 pub mod table1;
 pub mod trials;
+pub mod visopt_denoise;
 pub mod visopt_equal_time;
 pub mod visopt_fig2;
 pub mod visopt_fig7;
@@ -96,6 +97,7 @@ pub fn names() -> &'static [&'static str] {
         "visopt-pre",
         "visopt-equal-time",
         "visopt-teaser",
+        "visopt-denoise",
         "visopt-gpu-frame-time",
     ]
 }
@@ -145,6 +147,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "visopt-pre" => visopt_pre::run(&mut w, trials),
         "visopt-equal-time" => visopt_equal_time::run(&mut w, trials),
         "visopt-teaser" => visopt_teaser::run(&mut w, trials),
+        "visopt-denoise" => visopt_denoise::run(&mut w, trials),
         "visopt-gpu-frame-time" => visopt_gpu_frame_time::run(&mut w, trials),
         _ => {
             return Err(format!(

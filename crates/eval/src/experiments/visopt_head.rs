@@ -19,9 +19,9 @@ use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::{Path, PathBuf};
 
 pub const DEFAULT_SPP: u64 = 16;
-const WIDTH: u32 = 96;
+pub(super) const WIDTH: u32 = 96;
 
-fn data() -> Result<PathBuf, String> {
+pub(super) fn data() -> Result<PathBuf, String> {
     let d = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/mni");
     if d.join("mni_t1.nii.gz").exists() {
         Ok(d)
@@ -33,7 +33,7 @@ fn data() -> Result<PathBuf, String> {
     }
 }
 
-fn scene(importance: &str, extra: &[String]) -> Result<Scene, String> {
+pub(super) fn scene(importance: &str, extra: &[String]) -> Result<Scene, String> {
     let d = data()?;
     let text = format!(
         "camera = {{ from = [-260.0, 60.0, 120.0], to = [0.0, -18.0, 10.0], width = {WIDTH}, height = {WIDTH} }}\n\
@@ -47,12 +47,12 @@ fn scene(importance: &str, extra: &[String]) -> Result<Scene, String> {
     Scene::build(desc, &d).map_err(|e| e.to_string())
 }
 
-const WHITE_MATTER: &str = "importance = [{ mask = { nifti = \"mni_wm.nii.gz\" } }]";
+pub(super) const WHITE_MATTER: &str = "importance = [{ mask = { nifti = \"mni_wm.nii.gz\" } }]";
 /// Fig. 10's two-valued importance: the right half (x ≥ 0 in RAS) 0.75.
 const TWO_VALUED: &str = "importance = [{ value = 0.75, mask = { nifti = \"mni_wm.nii.gz\" }, half_space = [1.0, 0.0, 0.0, 0.0] }, \
                           { value = 1.0, mask = { nifti = \"mni_wm.nii.gz\" } }]";
 
-fn set(kv: &[&str]) -> Vec<String> {
+pub(super) fn set(kv: &[&str]) -> Vec<String> {
     kv.iter().map(|s| s.to_string()).collect()
 }
 

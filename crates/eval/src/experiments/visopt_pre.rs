@@ -10,7 +10,12 @@
 //!   [0.30, 0.32] are important — thin shells that few voxels hold;
 //! - head (Fig. 3 stand-in, when `tools/fetch_mni.sh` has run): the MNI152
 //!   T1 brain with extinction ≥ 0.4 per mm important.
+//!
+//! Each study also renders the four classifications side by side, lit by a
+//! directional light, at [`IMAGE_WIDTH`]² and `--trials` spp (default 16):
+//! the paper's visual comparison.
 
+use super::visopt_head::timed;
 use super::writer::Writer;
 use fogbank_render::integrators::visopt::optimised::importance_at;
 use fogbank_render::integrators::IntegratorKind;
@@ -18,6 +23,12 @@ use fogbank_render::{parse_scene, Scene};
 use std::path::{Path, PathBuf};
 
 const WIDTH: u32 = 48;
+/// Width of the side-by-side renders.
+const IMAGE_WIDTH: u32 = 96;
+pub const DEFAULT_IMAGE_SPP: u64 = 16;
+/// Lights for the side-by-side renders (the ∫k² study needs none).
+const LIT: &str = "lights = [{ type = \"directional\", direction = [0.6, -0.5, -0.6], irradiance = [1.6, 1.6, 1.6] }, \
+                   { type = \"constant\", radiance = [0.05, 0.05, 0.06] }]";
 
 const VARIANTS: [(&str, &str); 4] = [
     ("post-interpolative (ours)", ""),
@@ -113,8 +124,43 @@ fn list_integrals(s: &Scene) -> Result<Vec<f64>, String> {
         .collect())
 }
 
+/// The four classifications rendered side by side into `file`.
+fn side_by_side(
+    w: &mut Writer,
+    file: &str,
+    make: &dyn Fn(&str) -> String,
+    base: &Path,
+    spp: u32,
+) -> Result<(), String> {
+    let mut images = Vec::new();
+    for (_, pre) in VARIANTS {
+        let text = format!("{LIT}\n{}", make(pre)).replace(
+            &format!("width = {WIDTH}, height = {WIDTH}"),
+            &format!("width = {IMAGE_WIDTH}, height = {IMAGE_WIDTH}"),
+        );
+        images.push(timed(&build(&text, base)?, spp, 3).1);
+    }
+    let panels: Vec<&[[f32; 3]]> = images.iter().map(|i| i.as_slice()).collect();
+    let exposure = Writer::auto_exposure(&images[0]);
+    w.png_strip(file, IMAGE_WIDTH, IMAGE_WIDTH, &panels, exposure)
+}
+
+/// ∫k² per pixel of each classification as grey levels side by side
+/// (white = the post-interpolative maximum): where each finds the region.
+fn k2_strip(w: &mut Writer, file: &str, maps: &[Vec<f64>]) -> Result<(), String> {
+    let max = maps[0].iter().cloned().fold(1e-30, f64::max);
+    let grey: Vec<Vec<[f32; 3]>> = maps
+        .iter()
+        .map(|m| m.iter().map(|v| [(v / max) as f32; 3]).collect())
+        .collect();
+    let panels: Vec<&[[f32; 3]]> = grey.iter().map(|g| g.as_slice()).collect();
+    // The writer's default curve is linear: 1 is white.
+    w.png_strip(file, WIDTH, WIDTH, &panels, 0.0)
+}
+
 fn study(
-    name: &str,
+    w: &mut Writer,
+    (name, stem): (&str, &str),
     make: &dyn Fn(&str) -> String,
     base: &Path,
     rows: &mut Vec<Vec<String>>,
@@ -122,9 +168,12 @@ fn study(
     let post = build(&make(""), base)?;
     let truth = exact(&post)?;
     let mut lines = Vec::new();
+    let mut maps = Vec::new();
     for (label, pre) in VARIANTS {
         let s = build(&make(pre), base)?;
-        let (rel, found) = compare(&exact(&s)?, &truth);
+        let map = exact(&s)?;
+        let (rel, found) = compare(&map, &truth);
+        maps.push(map);
         rows.push(vec![
             name.into(),
             label.into(),
@@ -134,6 +183,7 @@ fn study(
         ]);
         lines.push(format!("| {label} | {rel:.3} | {:.1} % |", 100.0 * found));
     }
+    k2_strip(w, &format!("{stem}_k2.png"), &maps)?;
     let mut list_lines = Vec::new();
     for passes in [4, 16, 64] {
         let s = build(
@@ -164,36 +214,60 @@ fn study(
     ))
 }
 
-pub fn run(w: &mut Writer, _trials: Option<u64>) -> Result<String, String> {
+pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
+    let spp = trials.unwrap_or(DEFAULT_IMAGE_SPP) as u32;
     let mut rows = Vec::new();
     let mut out = format!(
         "Seed 003 Figs. 3 and 11: post- vs pre-interpolative importance at {WIDTH}², measured as ∫k² along each \
          pixel-centre ray (fine march) against the post-interpolative importance the rules define.\n\n"
     );
     out += &study(
-        "thin band (Fig. 11 stand-in: values in [0.30, 0.32] of a 64³ cloud)",
+        w,
+        (
+            "thin band (Fig. 11 stand-in: values in [0.30, 0.32] of a 64³ cloud)",
+            "fig11_band",
+        ),
         &band,
         Path::new("."),
         &mut rows,
     )?;
+    side_by_side(w, "fig11_band.png", &band, Path::new("."), spp)?;
     let mni: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/mni");
     if mni.join("mni_t1.nii.gz").exists() {
         out += "\n";
         out += &study(
-            "head (Fig. 3 stand-in: MNI152 T1, extinction ≥ 0.4/mm)",
+            w,
+            (
+                "head (Fig. 3 stand-in: MNI152 T1, extinction ≥ 0.4/mm)",
+                "fig3_head",
+            ),
             &head,
             &mni,
             &mut rows,
         )?;
+        side_by_side(w, "fig3_head.png", &head, &mni, spp)?;
     } else {
         out += "\n(The head study needs the MNI152 templates: run tools/fetch_mni.sh.)\n";
     }
     w.csv(
         "pre_vs_post.csv",
-        &["study", "importance", "rel_error_Kz", "found_share"],
+        &[
+            "study",
+            "importance",
+            "integral",
+            "rel_error_Kz",
+            "found_share",
+        ],
         &rows,
     )?;
-    out += "\nThe paper: only post-interpolative importance keeps fine detail; pre-interpolative classification \
-            with trilinear interpolation and/or filtering misses the thin band (Fig. 11).";
+    let order: Vec<&str> = VARIANTS.iter().map(|v| v.0).collect();
+    out += &format!(
+        "\nThe paper: only post-interpolative importance keeps fine detail; pre-interpolative classification \
+         with trilinear interpolation and/or filtering misses the thin band (Fig. 11).\n\n\
+         Side by side ({IMAGE_WIDTH}², {spp} spp, a directional light added), left to right: {}: \
+         fig11_band.png and, with the MNI data, fig3_head.png; \
+         the exact ∫k² per pixel of each ({WIDTH}², white = the post-interpolative maximum): *_k2.png.",
+        order.join("; ")
+    );
     Ok(out)
 }
