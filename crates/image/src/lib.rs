@@ -8,4 +8,4 @@ pub mod metrics;
 pub mod tonemap;
 
 pub use image_io::Image;
-pub use tonemap::{ToneCurve, ToneMapping};
+pub use tonemap::{luminance, ToneCurve, ToneMapping};

@@ -55,6 +55,13 @@ impl ToneCurve {
     }
 }
 
+/// Rec. 709 luminance of linear RGB (the weights every display-side
+/// measure of fogbank uses: error overlays, automatic exposure).
+#[inline]
+pub fn luminance(rgb: [f32; 3]) -> f32 {
+    0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
+}
+
 /// Exposure (stops) and curve: what turns a linear image into display
 /// values.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -59,6 +59,9 @@ pub struct Viewer {
     pub(crate) save_image_path: String,
     pub(crate) save_scene_path: String,
     texture: Option<egui::TextureHandle>,
+    /// What the texture shows, so a repaint that changes nothing (a mouse
+    /// move, a finished render) does not tone-map the image again.
+    shown: Option<Shown>,
     script: Option<VecDeque<Action>>,
     script_started: Instant,
     script_timeout: Duration,
@@ -66,6 +69,30 @@ pub struct Viewer {
     screenshot_pending: Option<ScreenshotSlot>,
     failure: Arc<Mutex<Option<String>>>,
     repaint: Option<Arc<dyn Fn() + Send + Sync>>,
+}
+
+/// The inputs of the displayed texture.
+struct Shown {
+    left: Arc<Snapshot>,
+    right: Option<Arc<Snapshot>>,
+    tone: ToneMapping,
+    overlay: Overlay,
+}
+
+impl Shown {
+    /// Same snapshots (the very same objects, held here so that their
+    /// addresses cannot be reused) and the same display settings.
+    fn same(&self, o: &Shown) -> bool {
+        let right = match (&self.right, &o.right) {
+            (None, None) => true,
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            _ => false,
+        };
+        Arc::ptr_eq(&self.left, &o.left)
+            && right
+            && self.tone == o.tone
+            && self.overlay == o.overlay
+    }
 }
 
 impl Viewer {
@@ -91,6 +118,7 @@ impl Viewer {
             save_image_path: "fogbank_view.exr".into(),
             save_scene_path: "fogbank_view.toml".into(),
             texture: None,
+            shown: None,
             script: cfg.script,
             script_started: Instant::now(),
             script_timeout: cfg.script_timeout,
@@ -180,7 +208,7 @@ impl Viewer {
         }
     }
 
-    pub(crate) fn snapshot(&self) -> Option<Snapshot> {
+    pub(crate) fn snapshot(&self) -> Option<Arc<Snapshot>> {
         self.session.as_ref().and_then(|s| s.snapshot())
     }
 
@@ -367,8 +395,20 @@ impl Viewer {
     fn upload(&mut self, ctx: &egui::Context) -> Option<(egui::TextureId, [usize; 2])> {
         let left = self.snapshot()?;
         let right = self.split_session.as_ref().and_then(|s| s.snapshot());
-        let rgba = display::pixels(&left, right.as_ref(), &self.tone, self.overlay);
         let size = [left.width as usize, left.height as usize];
+        let now = Shown {
+            left,
+            right,
+            tone: self.tone,
+            overlay: self.overlay,
+        };
+        if let (Some(t), Some(before)) = (&self.texture, &self.shown) {
+            if before.same(&now) {
+                return Some((t.id(), size));
+            }
+        }
+        let rgba = display::pixels(&now.left, now.right.as_deref(), &self.tone, self.overlay);
+        self.shown = Some(now);
         let image = egui::ColorImage::from_rgba_unmultiplied(size, &rgba);
         match &mut self.texture {
             Some(t) => t.set(image, egui::TextureOptions::NEAREST),

@@ -4,7 +4,7 @@
 //! other).
 
 use crate::session::Snapshot;
-use fogbank_image::ToneMapping;
+use fogbank_image::{luminance, ToneMapping};
 
 /// What the image area shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -19,10 +19,6 @@ pub enum Overlay {
 
 /// The top of the relative-error colour scale.
 pub const REL_ERR_MAX: f32 = 0.2;
-
-fn luminance(c: [f32; 3]) -> f32 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
-}
 
 /// Viridis at `t` ∈ [0, 1], from five of its stops, linearly between.
 pub fn viridis(t: f32) -> [u8; 3] {

@@ -9,7 +9,6 @@ use fogbank_render::{render_observed, Progress, RenderOptions, Scene};
 use std::sync::atomic::Ordering;
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
-use std::time::Duration;
 
 /// Where a session renders.
 #[derive(Clone)]
@@ -77,7 +76,7 @@ impl Snapshot {
 
 pub struct Session {
     progress: Arc<Progress>,
-    latest: Arc<Mutex<Option<Snapshot>>>,
+    latest: Arc<Mutex<Option<Arc<Snapshot>>>>,
     error: Arc<Mutex<Option<String>>>,
     worker: Option<JoinHandle<()>>,
 }
@@ -103,7 +102,7 @@ impl Session {
                 time_budget: None,
             };
             let mut publish = |film: &Film, seconds: f64| {
-                *l.lock().unwrap() = Some(Snapshot::of(film, seconds));
+                *l.lock().unwrap() = Some(Arc::new(Snapshot::of(film, seconds)));
                 on_pass();
             };
             let result = match &backend {
@@ -133,8 +132,9 @@ impl Session {
         }
     }
 
-    /// The newest snapshot (None before the first pass).
-    pub fn snapshot(&self) -> Option<Snapshot> {
+    /// The newest snapshot (None before the first pass); shared, so a
+    /// repaint copies no pixels and can tell whether it changed.
+    pub fn snapshot(&self) -> Option<Arc<Snapshot>> {
         self.latest.lock().unwrap().clone()
     }
 
@@ -154,9 +154,6 @@ impl Session {
     pub fn stop(&mut self) {
         self.progress.cancel.store(true, Ordering::SeqCst);
         if let Some(w) = self.worker.take() {
-            while !w.is_finished() {
-                std::thread::sleep(Duration::from_millis(2));
-            }
             let _ = w.join();
         }
     }

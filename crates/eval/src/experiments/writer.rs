@@ -61,7 +61,7 @@ impl Writer {
     pub fn auto_exposure(rgb: &[[f32; 3]]) -> f32 {
         let mut lum: Vec<f32> = rgb
             .iter()
-            .map(|c| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2])
+            .map(|&c| fogbank_image::luminance(c))
             .filter(|l| l.is_finite() && *l > 0.0)
             .collect();
         if lum.is_empty() {
