@@ -1,0 +1,13 @@
+//! Surfaces: triangle meshes, watertight ray–triangle intersection and the
+//! BVH (one flat node array for the CPU and the GPU). A layer beside
+//! `fogbank-volume`, on top of `fogbank-math`.
+
+pub mod accel;
+pub mod bvh;
+pub mod mesh;
+pub mod triangle;
+
+pub use accel::{MeshAccel, MeshHit};
+pub use bvh::{Bvh, BvhNode};
+pub use mesh::TriangleMesh;
+pub use triangle::{intersect, RayFrame, TriangleHit};
