@@ -32,3 +32,18 @@ for i, fr in enumerate(v["frames"]):
         f.write(n.to_bytes(2, "little") + base64.b64decode(fr["frame"]))
 print("seeded %d blosc frames" % len(v["frames"]))
 PY
+# Meshes: small OBJ and PLY (ASCII and binary) files.
+mkdir -p corpus/obj corpus/ply
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1 4/4/1\n' > corpus/obj/quad.obj
+printf 'o a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\ng b\nv 0 0 1\nf 1 2 4\n' > corpus/obj/groups.obj
+printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float u\nproperty float v\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n1 1 0 0 0 1 1 1\n0 1 0 0 0 1 0 1\n4 0 1 2 3\n' > corpus/ply/quad_ascii.ply
+python3 - <<'PY'
+import struct
+h = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar uint vertex_indices\nend_header\n"
+body = b"".join(struct.pack("<3f", *p) for p in [(0, 0, 0), (1, 0, 0), (0, 1, 0)]) + struct.pack("<B3I", 3, 0, 1, 2)
+open("corpus/ply/tri_le.ply", "wb").write(h + body)
+hb = h.replace(b"binary_little_endian", b"binary_big_endian")
+body = b"".join(struct.pack(">3f", *p) for p in [(0, 0, 0), (1, 0, 0), (0, 1, 0)]) + struct.pack(">B3I", 3, 0, 1, 2)
+open("corpus/ply/tri_be.ply", "wb").write(hb + body)
+PY
+echo "seeded $(ls corpus/obj | wc -l) obj and $(ls corpus/ply | wc -l) ply inputs"

@@ -4,10 +4,12 @@
 
 pub mod accel;
 pub mod bvh;
+pub mod loaders;
 pub mod mesh;
 pub mod triangle;
 
 pub use accel::{MeshAccel, MeshHit};
 pub use bvh::{Bvh, BvhNode};
+pub use loaders::load_mesh;
 pub use mesh::TriangleMesh;
 pub use triangle::{intersect, RayFrame, TriangleHit};
