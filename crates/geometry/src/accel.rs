@@ -3,7 +3,7 @@
 use crate::bvh::Bvh;
 use crate::mesh::TriangleMesh;
 use crate::triangle::{intersect, RayFrame, TriangleHit};
-use fogbank_math::Ray;
+use fogbank_math::{Ray, Vec3};
 
 /// The closest triangle a ray meets.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -16,17 +16,25 @@ pub struct MeshHit {
 pub struct MeshAccel {
     pub mesh: TriangleMesh,
     pub bvh: Bvh,
+    /// The corners of each triangle in the BVH's leaf order: a leaf's
+    /// triangles lie side by side, read without going through the indices.
+    corners: Vec<[Vec3; 3]>,
 }
 
 impl MeshAccel {
     pub fn new(mesh: TriangleMesh) -> MeshAccel {
         let bounds: Vec<_> = (0..mesh.len()).map(|i| mesh.triangle_bounds(i)).collect();
         let bvh = Bvh::new(&bounds);
-        MeshAccel { mesh, bvh }
+        let corners = bvh
+            .order
+            .iter()
+            .map(|&i| mesh.corners(i as usize))
+            .collect();
+        MeshAccel { mesh, bvh, corners }
     }
 
-    fn test(&self, frame: &RayFrame, i: u32, t_max: f32) -> Option<TriangleHit> {
-        let [p0, p1, p2] = self.mesh.corners(i as usize);
+    fn test(&self, frame: &RayFrame, slot: u32, t_max: f32) -> Option<TriangleHit> {
+        let [p0, p1, p2] = self.corners[slot as usize];
         intersect(frame, p0, p1, p2, t_max)
     }
 
@@ -34,10 +42,10 @@ impl MeshAccel {
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<MeshHit> {
         let frame = RayFrame::new(ray);
         let mut best = None;
-        self.bvh.closest_hit(ray, t_max, |i, t_max| {
-            let h = self.test(&frame, i, t_max)?;
+        self.bvh.closest_hit(ray, t_max, |slot, t_max| {
+            let h = self.test(&frame, slot, t_max)?;
             best = Some(MeshHit {
-                triangle: i,
+                triangle: self.bvh.order[slot as usize],
                 hit: h,
             });
             Some(h.t)
@@ -48,8 +56,8 @@ impl MeshAccel {
     /// Whether any triangle lies on the ray in `(0, t_max)`.
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let frame = RayFrame::new(ray);
-        self.bvh.any_hit(ray, t_max, |i, t_max| {
-            self.test(&frame, i, t_max).map(|h| h.t)
+        self.bvh.any_hit(ray, t_max, |slot, t_max| {
+            self.test(&frame, slot, t_max).map(|h| h.t)
         })
     }
 }

@@ -5,6 +5,7 @@
 //! numbers. Every run is deterministic (fixed seeds, chunked parallel
 //! streams) and its trial count can be overridden.
 
+pub mod bvh_perf;
 pub mod distributions;
 pub mod fig1;
 pub mod fig12;
@@ -99,6 +100,7 @@ pub fn names() -> &'static [&'static str] {
         "visopt-teaser",
         "visopt-denoise",
         "visopt-gpu-frame-time",
+        "bvh-perf",
     ]
 }
 
@@ -148,6 +150,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "visopt-equal-time" => visopt_equal_time::run(&mut w, trials),
         "visopt-teaser" => visopt_teaser::run(&mut w, trials),
         "visopt-denoise" => visopt_denoise::run(&mut w, trials),
+        "bvh-perf" => bvh_perf::run(&mut w, trials),
         "visopt-gpu-frame-time" => visopt_gpu_frame_time::run(&mut w, trials),
         _ => {
             return Err(format!(

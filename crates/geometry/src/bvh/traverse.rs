@@ -45,9 +45,11 @@ impl Traversal {
 }
 
 impl Bvh {
-    /// The closest hit in `(0, t_max)`: `test(primitive, t_max)` returns the
-    /// primitive's hit distance if it is below `t_max`. Returns the
-    /// primitive and its distance.
+    /// The closest hit in `(0, t_max)`: `test(slot, t_max)` returns the hit
+    /// distance of the primitive in leaf slot `slot` (primitive
+    /// `order[slot]`) if it is below `t_max`. Returns the slot and the
+    /// distance. Slots let callers keep primitive data in leaf order, one
+    /// indirection and cache miss fewer per test.
     pub fn closest_hit(
         &self,
         ray: &Ray,
@@ -66,7 +68,8 @@ impl Bvh {
         best
     }
 
-    /// Whether anything is hit in `(0, t_max)`.
+    /// Whether anything is hit in `(0, t_max)` (`test` as for
+    /// [`Bvh::closest_hit`]).
     pub fn any_hit(
         &self,
         ray: &Ray,
@@ -82,9 +85,8 @@ impl Bvh {
         hit
     }
 
-    /// Visits the primitives of every leaf the ray enters before `t_max`,
-    /// nearer child first; `visit` may lower `t_max` and returns true to
-    /// stop.
+    /// Visits the slots of every leaf the ray enters before `t_max`, nearer
+    /// child first; `visit` may lower `t_max` and returns true to stop.
     fn walk(&self, ray: &Ray, t_max: &mut f32, mut visit: impl FnMut(u32, &mut f32) -> bool) {
         if self.nodes.is_empty() {
             return;
@@ -100,9 +102,8 @@ impl Bvh {
         loop {
             let n = &self.nodes[node];
             if n.is_leaf() {
-                let first = n.index as usize;
-                for &p in &self.order[first..first + n.count as usize] {
-                    if visit(p, t_max) {
+                for slot in n.index..n.index + n.count {
+                    if visit(slot, t_max) {
                         return;
                     }
                 }
