@@ -45,8 +45,52 @@ fn faulty_line(text: &str) -> usize {
     bad
 }
 
+/// Checks every face's vertex, texture-coordinate and normal references
+/// against what the file has defined before it (1-based, or negative and
+/// relative). `tobj` 4.0.5 multiplies unchecked indices (a relative
+/// texture index before the first `vt` overflows), so references are
+/// checked here first; errors name the line.
+fn check_references(text: &str, what: &str) -> Result<(), String> {
+    let mut counts = [0i64; 3]; // v, vt, vn
+    for (i, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => counts[0] += 1,
+            Some("vt") => counts[1] += 1,
+            Some("vn") => counts[2] += 1,
+            Some("f") if !line.trim_end().ends_with('\\') => {
+                for word in words {
+                    for (k, part) in word.split('/').enumerate().take(3) {
+                        if part.is_empty() {
+                            continue;
+                        }
+                        let kind = ["vertex", "texture coordinate", "normal"][k];
+                        let bad = || {
+                            format!(
+                                "{what}:{}: face refers to {kind} {part} of {}",
+                                i + 1,
+                                counts[k]
+                            )
+                        };
+                        let Ok(idx) = part.parse::<i64>() else {
+                            // Not a number: tobj reports it (with our line).
+                            continue;
+                        };
+                        if idx == 0 || idx > counts[k] || idx < -counts[k] {
+                            return Err(bad());
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
 /// Parses OBJ text; `what` names it in errors.
 pub fn parse_obj(text: &str, what: &str) -> Result<TriangleMesh, String> {
+    check_references(text, what)?;
     let models = parse(text).map_err(|e| format!("{what}:{}: {e}", faulty_line(text)))?;
     let (mut positions, mut triangles, mut normals, mut uvs) = (vec![], vec![], vec![], vec![]);
     let (mut all_normals, mut all_uvs) = (true, true);
@@ -121,6 +165,16 @@ mod obj_test {
         let oob = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n";
         let e = parse_obj(oob, "oob.obj").unwrap_err();
         assert!(e.starts_with("oob.obj:5: "), "{e}");
+        // A relative texture index before any `vt` (tobj 4.0.5 overflowed on
+        // it; found by the fuzzer).
+        let rel = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/-91 2 3\n";
+        let e = parse_obj(rel, "rel.obj").unwrap_err();
+        assert!(
+            e.starts_with("rel.obj:4: ") && e.contains("texture coordinate -91 of 0"),
+            "{e}"
+        );
+        let fuzz = "0 0 0\nv 1 0 0\n 1\n 1 01\nf 1/-91 2/ 0\nvt 1 1\nvt 0 1\nvn 01 1/2/1 4 7/4/1\n";
+        assert!(parse_obj(fuzz, "fuzz.obj").is_err());
         let e = parse_obj("v 0 0 0\n", "points.obj").unwrap_err();
         assert!(e.contains("no faces"), "{e}");
     }
