@@ -2,6 +2,7 @@
 //! fields and emission, and lights. Nothing here knows the integrators.
 
 pub mod blackbody;
+pub mod bsdf;
 pub mod camera;
 pub mod emission;
 pub mod field;

@@ -1,0 +1,173 @@
+//! Surface scattering: BSDFs in the local shading frame (z along the
+//! shading normal), in pbrt-v4's conventions — `wo` and `wi` both point
+//! away from the surface, `wo` towards where the path came from — and
+//! Mitsuba 3's plugin names and parameters. Values are radiance-transport
+//! BSDF values f(wo, wi) (transmission through an IOR change carries
+//! 1/η², pbrt-v4 §9.5.2); `pdf` is in solid angle of `wi`; delta lobes
+//! (smooth surfaces) have `eval` and `pdf` 0 and are reached only by
+//! `sample`, which reports them.
+//!
+//! | variant | Mitsuba plugin | lobes |
+//! |---|---|---|
+//! | `Diffuse` | `diffuse` | Lambertian reflection, one-sided |
+//! | `Conductor` | `conductor`, `roughconductor` | Fresnel of complex IOR, smooth (α < [`Ggx::SMOOTH`]) or GGX, one-sided |
+//! | `Dielectric` | `dielectric`, `roughdielectric` | reflection + refraction, smooth or GGX, both sides |
+//! | `ThinDielectric` | `thindielectric` | mirror reflection + straight transmission through a thin slab |
+//! | `Null` | `null` | straight through (index-matched medium boundaries) |
+//!
+//! Not used by the renderer yet (issue 23: shapes come next).
+
+pub mod fresnel;
+pub mod microfacet;
+
+mod conductor;
+mod dielectric;
+
+use glam::Vec3;
+use microfacet::Ggx;
+use std::f32::consts::PI;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Bsdf {
+    Diffuse {
+        reflectance: Vec3,
+    },
+    Conductor {
+        eta: Vec3,
+        k: Vec3,
+        /// GGX roughness α; below [`Ggx::SMOOTH`] a mirror.
+        alpha: f32,
+        /// Mitsuba's `specular_reflectance`, a tint on the Fresnel term.
+        specular: Vec3,
+    },
+    Dielectric {
+        /// Interior IOR over exterior IOR.
+        eta: f32,
+        alpha: f32,
+    },
+    ThinDielectric {
+        eta: f32,
+    },
+    Null,
+}
+
+/// A sampled direction with its BSDF value and pdf (for a delta lobe: the
+/// lobe's discrete probability, and `f` the value that makes
+/// f·|cos θi|/pdf the path weight).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BsdfSample {
+    pub wi: Vec3,
+    pub f: Vec3,
+    pub pdf: f32,
+    pub delta: bool,
+}
+
+impl BsdfSample {
+    /// The path throughput factor f·|cos θi|/pdf.
+    pub fn weight(&self) -> Vec3 {
+        self.f * self.wi.z.abs() / self.pdf
+    }
+}
+
+fn same_hemisphere(a: Vec3, b: Vec3) -> bool {
+    a.z * b.z > 0.0
+}
+
+/// Cosine-weighted direction in the upper hemisphere (Malley's method with
+/// a concentric disk map, pbrt-v4 §A.5.3).
+pub fn sample_cosine(u: [f32; 2]) -> Vec3 {
+    let (a, b) = (2.0 * u[0] - 1.0, 2.0 * u[1] - 1.0);
+    let (x, y) = if a == 0.0 && b == 0.0 {
+        (0.0, 0.0)
+    } else if a.abs() > b.abs() {
+        let phi = PI / 4.0 * (b / a);
+        (a * phi.cos(), a * phi.sin())
+    } else {
+        let phi = PI / 2.0 - PI / 4.0 * (a / b);
+        (b * phi.cos(), b * phi.sin())
+    };
+    Vec3::new(x, y, (1.0 - x * x - y * y).max(0.0).sqrt())
+}
+
+impl Bsdf {
+    /// Whether every lobe is a delta (no `eval`, no MIS with light sampling).
+    pub fn is_delta(&self) -> bool {
+        match *self {
+            Bsdf::Diffuse { .. } => false,
+            Bsdf::Conductor { alpha, .. } | Bsdf::Dielectric { alpha, .. } => alpha < Ggx::SMOOTH,
+            Bsdf::ThinDielectric { .. } | Bsdf::Null => true,
+        }
+    }
+
+    /// f(wo, wi) (0 for delta lobes).
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        match *self {
+            Bsdf::Diffuse { reflectance } => {
+                if wo.z > 0.0 && wi.z > 0.0 {
+                    reflectance / PI
+                } else {
+                    Vec3::ZERO
+                }
+            }
+            Bsdf::Conductor {
+                eta,
+                k,
+                alpha,
+                specular,
+            } => conductor::eval(wo, wi, eta, k, alpha) * specular,
+            Bsdf::Dielectric { eta, alpha } => Vec3::splat(dielectric::eval(wo, wi, eta, alpha)),
+            Bsdf::ThinDielectric { .. } | Bsdf::Null => Vec3::ZERO,
+        }
+    }
+
+    /// The solid-angle pdf of `sample` choosing `wi` (0 for delta lobes).
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match *self {
+            Bsdf::Diffuse { .. } => {
+                if wo.z > 0.0 && wi.z > 0.0 {
+                    wi.z / PI
+                } else {
+                    0.0
+                }
+            }
+            Bsdf::Conductor { alpha, .. } => conductor::pdf(wo, wi, alpha),
+            Bsdf::Dielectric { eta, alpha } => dielectric::pdf(wo, wi, eta, alpha),
+            Bsdf::ThinDielectric { .. } | Bsdf::Null => 0.0,
+        }
+    }
+
+    /// Samples `wi` from three uniform numbers (`uc` picks the lobe).
+    pub fn sample(&self, wo: Vec3, uc: f32, u: [f32; 2]) -> Option<BsdfSample> {
+        match *self {
+            Bsdf::Diffuse { reflectance } => {
+                if wo.z <= 0.0 {
+                    return None;
+                }
+                let wi = sample_cosine(u);
+                (wi.z > 0.0).then(|| BsdfSample {
+                    wi,
+                    f: reflectance / PI,
+                    pdf: wi.z / PI,
+                    delta: false,
+                })
+            }
+            Bsdf::Conductor {
+                eta,
+                k,
+                alpha,
+                specular,
+            } => conductor::sample(wo, u, eta, k, alpha).map(|mut s| {
+                s.f *= specular;
+                s
+            }),
+            Bsdf::Dielectric { eta, alpha } => dielectric::sample(wo, uc, u, eta, alpha),
+            Bsdf::ThinDielectric { eta } => dielectric::sample_thin(wo, uc, eta),
+            Bsdf::Null => (wo.z != 0.0).then(|| BsdfSample {
+                wi: -wo,
+                f: Vec3::splat(1.0 / wo.z.abs()),
+                pdf: 1.0,
+                delta: true,
+            }),
+        }
+    }
+}
