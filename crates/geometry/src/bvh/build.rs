@@ -4,7 +4,7 @@
 //! beats intersecting its primitives directly. Deterministic: the same
 //! boxes give the same nodes.
 
-use super::{Bvh, BvhNode};
+use super::node::{Bvh, BvhNode};
 use fogbank_math::{Aabb, Vec3};
 
 const BINS: usize = 16;

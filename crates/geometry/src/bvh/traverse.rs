@@ -4,7 +4,7 @@
 //! against brute force share one traversal; the WGSL mirror reads the same
 //! nodes.
 
-use super::Bvh;
+use super::node::Bvh;
 use fogbank_math::{Ray, Vec3};
 
 const STACK: usize = 64;

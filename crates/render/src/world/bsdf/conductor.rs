@@ -4,7 +4,7 @@
 
 use super::fresnel::{conductor, reflect};
 use super::microfacet::Ggx;
-use super::{same_hemisphere, BsdfSample};
+use super::sample::{same_hemisphere, BsdfSample};
 use glam::Vec3;
 
 pub(super) fn eval(wo: Vec3, wi: Vec3, eta: Vec3, k: Vec3, alpha: f32) -> Vec3 {

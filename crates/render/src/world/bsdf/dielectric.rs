@@ -8,7 +8,7 @@
 
 use super::fresnel::{dielectric as fresnel, reflect, refract};
 use super::microfacet::Ggx;
-use super::{same_hemisphere, BsdfSample};
+use super::sample::{same_hemisphere, BsdfSample};
 use glam::Vec3;
 
 /// The generalised half vector of (wo, wi) in the upper hemisphere and the
