@@ -33,6 +33,12 @@ impl MeshAccel {
         MeshAccel { mesh, bvh, corners }
     }
 
+    /// The triangles' corners in leaf order (what the GPU's
+    /// `surface_triangles` holds, slot for slot).
+    pub fn leaf_corners(&self) -> &[[Vec3; 3]] {
+        &self.corners
+    }
+
     fn test(&self, frame: &RayFrame, slot: u32, t_max: f32) -> Option<TriangleHit> {
         let [p0, p1, p2] = self.corners[slot as usize];
         intersect(frame, p0, p1, p2, t_max)

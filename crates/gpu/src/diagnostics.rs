@@ -135,3 +135,95 @@ pub fn chord_queries(gpu: &Gpu, queries: &[ChordQuery]) -> Result<Vec<[u32; 4]>,
     let bytes = gpu.read_back(&out)?;
     Ok(bytemuck::cast_slice(&bytes)[..queries.len()].to_vec())
 }
+
+/// One ray for [`bvh_queries`]: origin and t_max, direction.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct BvhQuery {
+    pub o: [f32; 3],
+    pub t_max: f32,
+    pub d: [f32; 3],
+    pub pad: f32,
+}
+
+/// Each query answered by bvh.wgsl against `accel`'s nodes and leaf-order
+/// triangles: [leaf slot of the closest hit (u32::MAX: none), t bits, b1
+/// bits, 1 if the any-hit query hit].
+pub fn bvh_queries(
+    gpu: &Gpu,
+    accel: &fogbank_geometry::MeshAccel,
+    queries: &[BvhQuery],
+) -> Result<Vec<[u32; 4]>, GpuError> {
+    let device = &gpu.device;
+    // An empty hierarchy is one node with an empty box (bindings cannot be
+    // empty): the root test fails and nothing is hit.
+    let empty = [fogbank_geometry::BvhNode {
+        min: [f32::INFINITY; 3],
+        count: 0,
+        max: [f32::NEG_INFINITY; 3],
+        index: 0,
+    }];
+    let nodes = if accel.bvh.nodes.is_empty() {
+        &empty[..]
+    } else {
+        &accel.bvh.nodes[..]
+    };
+    let mut tris: Vec<[f32; 12]> = accel
+        .leaf_corners()
+        .iter()
+        .map(|c| {
+            let mut t = [0.0f32; 12];
+            // A non-finite corner: a point (never hit, as on the CPU).
+            if c.iter().all(|p| p.is_finite()) {
+                for (k, p) in c.iter().enumerate() {
+                    t[4 * k..4 * k + 3].copy_from_slice(&p.to_array());
+                }
+            }
+            t
+        })
+        .collect();
+    if tris.is_empty() {
+        tris.push([0.0; 12]);
+    }
+    let n = gpu.storage_buffer("bvh_nodes", bytemuck::cast_slice(nodes));
+    let t = gpu.storage_buffer("surface_triangles", bytemuck::cast_slice(&tris));
+    let q = gpu.storage_buffer("bvh_queries", bytemuck::cast_slice(queries));
+    let out = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("bvh_answers"),
+        size: (queries.len() as u64 * 16).max(16),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let source = [shaders::BVH, shaders::BVH_QUERIES_KERNEL].join("\n");
+    let module = gpu.checked("bvh queries kernel", || {
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("bvh_queries"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        })
+    })?;
+    let pipeline = gpu.checked("bvh queries pipeline", || {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("bvh_queries"),
+            layout: None,
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    })?;
+    let group = gpu.bind_group_of(
+        "bvh_queries",
+        &pipeline.get_bind_group_layout(0),
+        &[&n, &t, &q, &out],
+    );
+    let mut enc = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups((queries.len() as u32).div_ceil(64), 1, 1);
+    }
+    gpu.queue.submit([enc.finish()]);
+    let bytes = gpu.read_back(&out)?;
+    Ok(bytemuck::cast_slice(&bytes)[..queries.len()].to_vec())
+}

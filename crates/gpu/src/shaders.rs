@@ -31,6 +31,9 @@ pub const PIN_GRID: &str = include_str!("wgsl/pin_grid.wgsl");
 pub const TRACKING: &str = include_str!("wgsl/tracking.wgsl");
 pub const PIN_GATHER_KERNEL: &str = include_str!("wgsl/pin_gather_kernel.wgsl");
 pub const CHORD_QUERIES_KERNEL: &str = include_str!("wgsl/chord_queries_kernel.wgsl");
+/// Surfaces: watertight triangles and BVH traversal.
+pub const BVH: &str = include_str!("wgsl/bvh.wgsl");
+pub const BVH_QUERIES_KERNEL: &str = include_str!("wgsl/bvh_queries_kernel.wgsl");
 pub const POINT_MIS_KERNEL: &str = include_str!("wgsl/point_mis_kernel.wgsl");
 pub const ACCUMULATE: &str = include_str!("wgsl/accumulate.wgsl");
 pub const RESTIR_PARAMS: &str = include_str!("wgsl/restir/params.wgsl");

@@ -1,0 +1,27 @@
+// Diagnostics: closest and any hit of each query ray against one mesh's
+// BVH (bvh.wgsl), to compare with fogbank_geometry::MeshAccel ray by ray.
+// Per query: [leaf slot of the closest hit (u32 max: none), its t as bits,
+// b1 as bits, 1 if the any-hit query found something].
+
+struct BvhQuery {
+    // xyz origin, w t_max.
+    o: vec4<f32>,
+    d: vec4<f32>,
+}
+
+@group(0) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
+@group(0) @binding(1) var<storage, read> surface_triangles: array<SurfaceTriangle>;
+@group(0) @binding(2) var<storage, read> bvh_queries: array<BvhQuery>;
+@group(0) @binding(3) var<storage, read_write> bvh_answers: array<vec4<u32>>;
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= arrayLength(&bvh_queries)) {
+        return;
+    }
+    let q = bvh_queries[i];
+    let c = bvh_trace(q.o.xyz, q.d.xyz, q.o.w, false);
+    let a = bvh_trace(q.o.xyz, q.d.xyz, q.o.w, true);
+    bvh_answers[i] = vec4<u32>(c.slot, bitcast<u32>(c.t), bitcast<u32>(c.b1), select(0u, 1u, a.slot != 0xffffffffu));
+}
