@@ -6,6 +6,7 @@ pub mod accel;
 pub mod bvh;
 pub mod loaders;
 pub mod mesh;
+pub mod shapes;
 pub mod triangle;
 
 pub use accel::{MeshAccel, MeshHit};
