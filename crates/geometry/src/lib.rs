@@ -3,6 +3,7 @@
 //! `fogbank-volume`, on top of `fogbank-math`.
 
 pub mod accel;
+pub mod analytic;
 pub mod bvh;
 pub mod loaders;
 pub mod mesh;
