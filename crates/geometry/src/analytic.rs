@@ -87,8 +87,7 @@ mod analytic_test {
                     );
                 }
                 None => assert!(
-                    !started_inside
-                        && (dist2 >= (r * r) as f64 * 0.999 || o64.dot(d64) > 0.0),
+                    !started_inside && (dist2 >= (r * r) as f64 * 0.999 || o64.dot(d64) > 0.0),
                     "ray {k} missed at distance² {dist2}"
                 ),
             }

@@ -62,6 +62,35 @@ pub fn cube() -> TriangleMesh {
     TriangleMesh::new("cube", p, t, n, uv).expect("valid indices")
 }
 
+/// A latitude–longitude sphere of 2·n·2n triangles about the origin with
+/// radius `radius(θ, φ)` (bumps for benchmarks): the test and benchmark
+/// mesh of the BVH. Rings at the poles are degenerate (zero-area
+/// triangles), as such meshes have in the wild.
+pub fn uv_sphere(n: usize, radius: impl Fn(f32, f32) -> f32) -> TriangleMesh {
+    let mut p = Vec::with_capacity((n + 1) * 2 * n);
+    for i in 0..=n {
+        let theta = std::f32::consts::PI * i as f32 / n as f32;
+        for j in 0..2 * n {
+            let phi = std::f32::consts::PI * j as f32 / n as f32;
+            let dir = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
+            p.push(radius(theta, phi) * dir);
+        }
+    }
+    let idx = |i: usize, j: usize| (i * 2 * n + j % (2 * n)) as u32;
+    let mut t = Vec::with_capacity(4 * n * n);
+    for i in 0..n {
+        for j in 0..2 * n {
+            t.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
+            t.push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
+        }
+    }
+    TriangleMesh::new("uv sphere", p, t, vec![], vec![]).expect("valid indices")
+}
+
 #[cfg(test)]
 mod shapes_test {
     use super::*;

@@ -5,34 +5,13 @@
 //! triangle. CI runs 5000 rays; `cargo test -p fogbank-geometry --release
 //! -- --ignored` runs the 10⁵.
 
+use fogbank_geometry::shapes::uv_sphere;
 use fogbank_geometry::{intersect, MeshAccel, RayFrame, TriangleMesh};
 use fogbank_math::{Pcg32, Ray, Vec3};
 
-fn sphere(n: usize, positions: &mut Vec<Vec3>, triangles: &mut Vec<[u32; 3]>) {
-    let base = positions.len() as u32;
-    for i in 0..=n {
-        let theta = std::f32::consts::PI * i as f32 / n as f32;
-        for j in 0..2 * n {
-            let phi = std::f32::consts::PI * j as f32 / n as f32;
-            positions.push(Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.sin() * phi.sin(),
-                theta.cos(),
-            ));
-        }
-    }
-    let idx = |i: usize, j: usize| base + (i * 2 * n + j % (2 * n)) as u32;
-    for i in 0..n {
-        for j in 0..2 * n {
-            triangles.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
-            triangles.push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
-        }
-    }
-}
-
 fn test_mesh() -> TriangleMesh {
-    let (mut p, mut t) = (Vec::new(), Vec::new());
-    sphere(100, &mut p, &mut t); // 40 000 triangles
+    let sphere = uv_sphere(100, |_, _| 1.0); // 40 000 triangles
+    let (mut p, mut t) = (sphere.positions, sphere.triangles);
     let mut rng = Pcg32::new(11, 3);
     let v = |rng: &mut Pcg32| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
     while t.len() < 100_000 {

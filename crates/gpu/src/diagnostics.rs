@@ -6,65 +6,87 @@ use wgpu::util::DeviceExt;
 
 /// The first `count` words of each key's PCG32 stream, computed on the GPU.
 pub fn rng_streams(gpu: &Gpu, keys: &[SampleKey], count: u32) -> Result<Vec<u32>, GpuError> {
-    let device = &gpu.device;
     let key_words: Vec<[u32; 4]> = keys
         .iter()
         .map(|k| [k.seed, k.pixel, k.sample, k.dimension])
         .collect();
     let keys_buf = gpu.storage_buffer("keys", bytemuck::cast_slice(&key_words));
-    let out = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("out"),
-        size: (keys.len() as u64 * count as u64 * 4).max(16),
+    let out = output_buffer(gpu, "out", keys.len() as u64 * count as u64 * 4);
+    let params = gpu
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("params"),
+            contents: bytemuck::cast_slice(&[keys.len() as u32, count, 0, 0]),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+    let source = format!("{}\n{}", shaders::RNG, shaders::RNG_STREAMS_KERNEL);
+    let bytes = run_once(
+        gpu,
+        "rng_streams",
+        source,
+        &[&[&keys_buf, &out, &params]],
+        keys.len(),
+        &out,
+    )?;
+    Ok(bytemuck::cast_slice(&bytes)[..keys.len() * count as usize].to_vec())
+}
+
+/// A storage buffer the kernel writes and the CPU reads back.
+fn output_buffer(gpu: &Gpu, label: &str, bytes: u64) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(16),
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
-    });
-    let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("params"),
-        contents: bytemuck::cast_slice(&[keys.len() as u32, count, 0, 0]),
-        usage: wgpu::BufferUsages::UNIFORM,
-    });
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("rng_streams"),
-        source: wgpu::ShaderSource::Wgsl(
-            format!("{}\n{}", shaders::RNG, shaders::RNG_STREAMS_KERNEL).into(),
-        ),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("rng_streams"),
-        layout: None,
-        module: &module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("rng_streams"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: keys_buf.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: out.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: params.as_entire_binding(),
-            },
-        ],
-    });
+    })
+}
+
+/// Compiles `source` (entry point `main`, workgroups of 64), binds
+/// `groups[g][i]` at group g binding i, runs one invocation per item and
+/// reads `out` back.
+fn run_once(
+    gpu: &Gpu,
+    label: &str,
+    source: String,
+    groups: &[&[&wgpu::Buffer]],
+    items: usize,
+    out: &wgpu::Buffer,
+) -> Result<Vec<u8>, GpuError> {
+    let device = &gpu.device;
+    let module = gpu.checked(&format!("{label} kernel"), || {
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        })
+    })?;
+    let pipeline = gpu.checked(&format!("{label} pipeline"), || {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(label),
+            layout: None,
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    })?;
+    let bind: Vec<wgpu::BindGroup> = groups
+        .iter()
+        .enumerate()
+        .map(|(g, buffers)| {
+            gpu.bind_group_of(label, &pipeline.get_bind_group_layout(g as u32), buffers)
+        })
+        .collect();
     let mut enc = device.create_command_encoder(&Default::default());
     {
         let mut pass = enc.begin_compute_pass(&Default::default());
         pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups((keys.len() as u32).div_ceil(64), 1, 1);
+        for (g, b) in bind.iter().enumerate() {
+            pass.set_bind_group(g as u32, b, &[]);
+        }
+        pass.dispatch_workgroups((items as u32).div_ceil(64), 1, 1);
     }
     gpu.queue.submit([enc.finish()]);
-    let bytes = gpu.read_back(&out)?;
-    Ok(bytemuck::cast_slice(&bytes)[..keys.len() * count as usize].to_vec())
+    gpu.read_back(out)
 }
 
 /// One pin query along a unit-cube ray (WGSL `ChordQuery`).
@@ -86,53 +108,23 @@ pub struct ChordQuery {
 /// `Chord::distance` from Pcg32::new(query index, 7), T̃] — floats as bits,
 /// −1 for no collision.
 pub fn chord_queries(gpu: &Gpu, queries: &[ChordQuery]) -> Result<Vec<[u32; 4]>, GpuError> {
-    let device = &gpu.device;
     let q = gpu.storage_buffer("queries", bytemuck::cast_slice(queries));
-    let out = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("answers"),
-        size: (queries.len() as u64 * 16).max(16),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
+    let out = output_buffer(gpu, "answers", queries.len() as u64 * 16);
     let source = [
         shaders::estimators().as_str(),
         shaders::PINS,
         shaders::CHORD_QUERIES_KERNEL,
     ]
     .join("\n");
-    let module = gpu.checked("chord queries kernel", || {
-        device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("chord_queries"),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        })
-    })?;
-    let pipeline = gpu.checked("chord queries pipeline", || {
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("chord_queries"),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        })
-    })?;
     // Group 0 (the media, unused here) is empty but must be bound.
-    let empty = gpu.bind_group_of("empty", &pipeline.get_bind_group_layout(0), &[]);
-    let group = gpu.bind_group_of(
+    let bytes = run_once(
+        gpu,
         "chord_queries",
-        &pipeline.get_bind_group_layout(1),
-        &[&q, &out],
-    );
-    let mut enc = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = enc.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &empty, &[]);
-        pass.set_bind_group(1, &group, &[]);
-        pass.dispatch_workgroups((queries.len() as u32).div_ceil(64), 1, 1);
-    }
-    gpu.queue.submit([enc.finish()]);
-    let bytes = gpu.read_back(&out)?;
+        source,
+        &[&[], &[&q, &out]],
+        queries.len(),
+        &out,
+    )?;
     Ok(bytemuck::cast_slice(&bytes)[..queries.len()].to_vec())
 }
 
@@ -154,7 +146,6 @@ pub fn bvh_queries(
     accel: &fogbank_geometry::MeshAccel,
     queries: &[BvhQuery],
 ) -> Result<Vec<[u32; 4]>, GpuError> {
-    let device = &gpu.device;
     // An empty hierarchy is one node with an empty box (bindings cannot be
     // empty): the root test fails and nothing is hit.
     let empty = [fogbank_geometry::BvhNode {
@@ -188,42 +179,15 @@ pub fn bvh_queries(
     let n = gpu.storage_buffer("bvh_nodes", bytemuck::cast_slice(nodes));
     let t = gpu.storage_buffer("surface_triangles", bytemuck::cast_slice(&tris));
     let q = gpu.storage_buffer("bvh_queries", bytemuck::cast_slice(queries));
-    let out = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("bvh_answers"),
-        size: (queries.len() as u64 * 16).max(16),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
+    let out = output_buffer(gpu, "bvh_answers", queries.len() as u64 * 16);
     let source = [shaders::BVH, shaders::BVH_QUERIES_KERNEL].join("\n");
-    let module = gpu.checked("bvh queries kernel", || {
-        device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("bvh_queries"),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        })
-    })?;
-    let pipeline = gpu.checked("bvh queries pipeline", || {
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("bvh_queries"),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        })
-    })?;
-    let group = gpu.bind_group_of(
+    let bytes = run_once(
+        gpu,
         "bvh_queries",
-        &pipeline.get_bind_group_layout(0),
-        &[&n, &t, &q, &out],
-    );
-    let mut enc = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = enc.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups((queries.len() as u32).div_ceil(64), 1, 1);
-    }
-    gpu.queue.submit([enc.finish()]);
-    let bytes = gpu.read_back(&out)?;
+        source,
+        &[&[&n, &t, &q, &out]],
+        queries.len(),
+        &out,
+    )?;
     Ok(bytemuck::cast_slice(&bytes)[..queries.len()].to_vec())
 }

@@ -4,32 +4,15 @@
 //! scattered clutter, degenerate and NaN triangles; axis-parallel rays and
 //! finite t_max included. Also an empty hierarchy.
 
+use fogbank_geometry::shapes::uv_sphere;
 use fogbank_geometry::{MeshAccel, TriangleMesh};
 use fogbank_gpu::diagnostics::{bvh_queries, BvhQuery};
 use fogbank_gpu::test_gpu;
 use fogbank_math::{Pcg32, Ray, Vec3};
 
 fn mesh() -> TriangleMesh {
-    let n = 60;
-    let (mut p, mut t) = (Vec::new(), Vec::new());
-    for i in 0..=n {
-        let theta = std::f32::consts::PI * i as f32 / n as f32;
-        for j in 0..2 * n {
-            let phi = std::f32::consts::PI * j as f32 / n as f32;
-            p.push(Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.sin() * phi.sin(),
-                theta.cos(),
-            ));
-        }
-    }
-    let idx = |i: usize, j: usize| (i * 2 * n + j % (2 * n)) as u32;
-    for i in 0..n {
-        for j in 0..2 * n {
-            t.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
-            t.push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
-        }
-    }
+    let sphere = uv_sphere(60, |_, _| 1.0);
+    let (mut p, mut t) = (sphere.positions, sphere.triangles);
     let mut rng = Pcg32::new(2, 8);
     let v = |rng: &mut Pcg32| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5;
     for k in 0..5000 {

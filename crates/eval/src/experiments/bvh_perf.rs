@@ -6,6 +6,7 @@
 //! on one thread. `--trials` sets the ray count (default 10⁶).
 
 use super::writer::Writer;
+use fogbank_geometry::shapes::uv_sphere;
 use fogbank_geometry::{MeshAccel, TriangleMesh};
 use fogbank_math::{Pcg32, Ray, Vec3};
 use rayon::prelude::*;
@@ -16,28 +17,10 @@ pub const DEFAULT_RAYS: u64 = 1_000_000;
 /// A sphere of 2·n·2n triangles with a radial bump, plus `clutter` small
 /// random triangles.
 pub fn generated_mesh(n: usize, clutter: usize) -> TriangleMesh {
-    let (mut p, mut t) = (Vec::new(), Vec::new());
-    for i in 0..=n {
-        let theta = std::f32::consts::PI * i as f32 / n as f32;
-        for j in 0..2 * n {
-            let phi = std::f32::consts::PI * j as f32 / n as f32;
-            let r = 1.0 + 0.05 * (7.0 * theta).sin() * (5.0 * phi).cos();
-            p.push(
-                r * Vec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.sin() * phi.sin(),
-                    theta.cos(),
-                ),
-            );
-        }
-    }
-    let idx = |i: usize, j: usize| (i * 2 * n + j % (2 * n)) as u32;
-    for i in 0..n {
-        for j in 0..2 * n {
-            t.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
-            t.push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
-        }
-    }
+    let sphere = uv_sphere(n, |theta, phi| {
+        1.0 + 0.05 * (7.0 * theta).sin() * (5.0 * phi).cos()
+    });
+    let (mut p, mut t) = (sphere.positions, sphere.triangles);
     let mut rng = Pcg32::new(3, 17);
     let v = |rng: &mut Pcg32| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5;
     for _ in 0..clutter {
