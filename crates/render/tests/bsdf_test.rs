@@ -6,11 +6,11 @@
 
 use fogbank_math::chi2::{sidak, SphereTest, SIGNIFICANCE};
 use fogbank_math::Pcg32;
-use fogbank_render::world::bsdf::Bsdf;
+use fogbank_render::world::bsdf::{diffuse_fresnel, Bsdf, Plastic};
 use glam::Vec3;
 
 /// The chi-square tests below share one 1 % false-alarm budget.
-const CHI2_TESTS: u32 = 11;
+const CHI2_TESTS: u32 = 13;
 
 fn dir(theta_deg: f32, phi_deg: f32, below: bool) -> Vec3 {
     let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
@@ -21,7 +21,10 @@ fn dir(theta_deg: f32, phi_deg: f32, below: bool) -> Vec3 {
 fn chi2(name: &str, bsdf: Bsdf, wo: Vec3) {
     let sampler = |rng: &mut Pcg32| {
         let (uc, u) = (rng.next_f32(), [rng.next_f32(), rng.next_f32()]);
-        bsdf.sample(wo, uc, u).map(|s| s.wi.normalize().as_dvec3())
+        // Delta lobes have no density: they count as "no sample".
+        bsdf.sample(wo, uc, u)
+            .filter(|s| !s.delta)
+            .map(|s| s.wi.normalize().as_dvec3())
     };
     let pdf = |d: glam::DVec3| bsdf.pdf(wo, d.as_vec3()) as f64;
     let test = |samples| SphereTest {
@@ -49,6 +52,26 @@ fn chi2_diffuse() {
         },
         dir(40.0, 30.0, false),
     );
+}
+
+fn plastic(nonlinear: bool) -> Bsdf {
+    Bsdf::Plastic(Plastic {
+        diffuse: Vec3::new(0.2, 0.5, 0.8),
+        specular: Vec3::ONE,
+        eta: 1.49 / 1.000277,
+        nonlinear,
+    })
+}
+
+#[test]
+fn chi2_plastic() {
+    for (theta, nonlinear) in [(20.0, false), (75.0, true)] {
+        chi2(
+            &format!("plastic θo {theta}"),
+            plastic(nonlinear),
+            dir(theta, 30.0, false),
+        );
+    }
 }
 
 fn rough_conductor(alpha: f32) -> Bsdf {
@@ -144,9 +167,19 @@ fn mean_se(n: usize, mut f: impl FnMut() -> f64) -> (f64, f64) {
 fn albedo(b: Bsdf, wo: Vec3, scale: impl Fn(Vec3) -> f32) -> f64 {
     let n = 400_000;
     let mut rng = Pcg32::new(8, 1);
+    let mut delta_sum = 0.0f64;
     let (sampled, se1) = mean_se(n, || {
-        b.sample(wo, rng.next_f32(), [rng.next_f32(), rng.next_f32()])
-            .map_or(0.0, |s| (s.weight().x * scale(s.wi)) as f64)
+        let s = b.sample(wo, rng.next_f32(), [rng.next_f32(), rng.next_f32()]);
+        // Delta lobes: no density for `eval` to match; added to the
+        // albedo afterwards.
+        match s {
+            Some(s) if s.delta => {
+                delta_sum += (s.weight().x * scale(s.wi)) as f64;
+                0.0
+            }
+            Some(s) => (s.weight().x * scale(s.wi)) as f64,
+            None => 0.0,
+        }
     });
     let mut rng = Pcg32::new(9, 1);
     let (uniform, se2) = mean_se(n, || {
@@ -161,7 +194,7 @@ fn albedo(b: Bsdf, wo: Vec3, scale: impl Fn(Vec3) -> f32) -> f64 {
         (sampled - uniform).abs() < 5.0 * se,
         "{b:?} at {wo}: sampled {sampled} vs uniform {uniform} (se {se})"
     );
-    sampled
+    sampled + delta_sum / n as f64
 }
 
 #[test]
@@ -186,6 +219,28 @@ fn sample_weights_agree_with_eval_and_energy_is_bounded() {
         |_| 1.0,
     );
     assert!((a - 0.6).abs() < 2e-3, "{a}");
+    // Plastic: the diffuse lobe's weights match eval, and its albedo is
+    // ρ′ (1 − F(θo)) (1 − F_dr,ext) / η², ρ′ = ρ/(1 − F_dr,int) (linear) or
+    // ρ/(1 − ρ F_dr,int) (nonlinear), plus F(θo) from the coating.
+    let eta = 1.49f64 / 1.000277;
+    let wo = dir(40.0, 0.0, false);
+    let f_o = fogbank_render::world::bsdf::fresnel::dielectric(wo.z, eta as f32) as f64;
+    let fdr_int = diffuse_fresnel(1.0 / eta as f32) as f64;
+    let fdr_ext = diffuse_fresnel(eta as f32) as f64;
+    for nonlinear in [false, true] {
+        let rho = 0.2;
+        let base = if nonlinear {
+            rho / (1.0 - rho * fdr_int)
+        } else {
+            rho / (1.0 - fdr_int)
+        };
+        let want = base * (1.0 - f_o) * (1.0 - fdr_ext) / (eta * eta) + f_o;
+        let a = albedo(plastic(nonlinear), wo, |_| 1.0);
+        assert!(
+            (a - want).abs() < 0.01,
+            "plastic (nonlinear {nonlinear}): {a} vs {want}"
+        );
+    }
     // Rough dielectric: reflection + η′²·transmission ≤ 1 from both sides
     // (undoing the radiance scaling gives the energy).
     let eta = 1.5f32;

@@ -13,6 +13,7 @@
 //! | `Conductor` | `conductor`, `roughconductor` | Fresnel of complex IOR, smooth (α < [`Ggx::SMOOTH`]) or GGX, one-sided |
 //! | `Dielectric` | `dielectric`, `roughdielectric` | reflection + refraction, smooth or GGX, both sides |
 //! | `ThinDielectric` | `thindielectric` | mirror reflection + straight transmission through a thin slab |
+//! | `Plastic` | `plastic` | smooth coating (delta) over a Lambertian base with internal scattering, one-sided |
 //! | `Null` | `null` | straight through (index-matched medium boundaries) |
 //!
 //! Not used by the renderer yet (issue 23: shapes come next).
@@ -22,8 +23,10 @@ pub mod microfacet;
 
 mod conductor;
 mod dielectric;
+mod plastic;
 mod sample;
 
+pub use plastic::{diffuse_fresnel, Plastic};
 pub use sample::{sample_cosine, BsdfSample};
 
 use glam::Vec3;
@@ -51,6 +54,7 @@ pub enum Bsdf {
     ThinDielectric {
         eta: f32,
     },
+    Plastic(Plastic),
     Null,
 }
 
@@ -58,7 +62,7 @@ impl Bsdf {
     /// Whether every lobe is a delta (no `eval`, no MIS with light sampling).
     pub fn is_delta(&self) -> bool {
         match *self {
-            Bsdf::Diffuse { .. } => false,
+            Bsdf::Diffuse { .. } | Bsdf::Plastic(_) => false,
             Bsdf::Conductor { alpha, .. } | Bsdf::Dielectric { alpha, .. } => alpha < Ggx::SMOOTH,
             Bsdf::ThinDielectric { .. } | Bsdf::Null => true,
         }
@@ -81,6 +85,7 @@ impl Bsdf {
                 specular,
             } => conductor::eval(wo, wi, eta, k, alpha) * specular,
             Bsdf::Dielectric { eta, alpha } => Vec3::splat(dielectric::eval(wo, wi, eta, alpha)),
+            Bsdf::Plastic(p) => p.eval(wo, wi),
             Bsdf::ThinDielectric { .. } | Bsdf::Null => Vec3::ZERO,
         }
     }
@@ -97,6 +102,7 @@ impl Bsdf {
             }
             Bsdf::Conductor { alpha, .. } => conductor::pdf(wo, wi, alpha),
             Bsdf::Dielectric { eta, alpha } => dielectric::pdf(wo, wi, eta, alpha),
+            Bsdf::Plastic(p) => p.pdf(wo, wi),
             Bsdf::ThinDielectric { .. } | Bsdf::Null => 0.0,
         }
     }
@@ -127,6 +133,7 @@ impl Bsdf {
             }),
             Bsdf::Dielectric { eta, alpha } => dielectric::sample(wo, uc, u, eta, alpha),
             Bsdf::ThinDielectric { eta } => dielectric::sample_thin(wo, uc, eta),
+            Bsdf::Plastic(p) => p.sample(wo, uc, u),
             Bsdf::Null => (wo.z != 0.0).then(|| BsdfSample {
                 wi: -wo,
                 f: Vec3::splat(1.0 / wo.z.abs()),
