@@ -12,6 +12,7 @@ pub mod media_bvh;
 pub mod medium;
 pub mod phase;
 pub mod shading;
+pub mod texture;
 pub mod transfer;
 pub mod velocity;
 

@@ -16,6 +16,8 @@
 //! | `Plastic` | `plastic` | smooth coating (delta) over a Lambertian base with internal scattering, one-sided |
 //! | `Null` | `null` | straight through (index-matched medium boundaries) |
 //!
+//! [`TwoSided`] wraps one-sided models as Mitsuba's `twosided` does.
+//!
 //! Not used by the renderer yet (issue 23: shapes come next).
 
 pub mod fresnel;
@@ -23,123 +25,12 @@ pub mod microfacet;
 
 mod conductor;
 mod dielectric;
+mod model;
 mod plastic;
 mod sample;
+mod two_sided;
 
+pub use model::Bsdf;
 pub use plastic::{diffuse_fresnel, Plastic};
 pub use sample::{sample_cosine, BsdfSample};
-
-use glam::Vec3;
-use microfacet::Ggx;
-use std::f32::consts::PI;
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Bsdf {
-    Diffuse {
-        reflectance: Vec3,
-    },
-    Conductor {
-        eta: Vec3,
-        k: Vec3,
-        /// GGX roughness α; below [`Ggx::SMOOTH`] a mirror.
-        alpha: f32,
-        /// Mitsuba's `specular_reflectance`, a tint on the Fresnel term.
-        specular: Vec3,
-    },
-    Dielectric {
-        /// Interior IOR over exterior IOR.
-        eta: f32,
-        alpha: f32,
-    },
-    ThinDielectric {
-        eta: f32,
-    },
-    Plastic(Plastic),
-    Null,
-}
-
-impl Bsdf {
-    /// Whether every lobe is a delta (no `eval`, no MIS with light sampling).
-    pub fn is_delta(&self) -> bool {
-        match *self {
-            Bsdf::Diffuse { .. } | Bsdf::Plastic(_) => false,
-            Bsdf::Conductor { alpha, .. } | Bsdf::Dielectric { alpha, .. } => alpha < Ggx::SMOOTH,
-            Bsdf::ThinDielectric { .. } | Bsdf::Null => true,
-        }
-    }
-
-    /// f(wo, wi) (0 for delta lobes).
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        match *self {
-            Bsdf::Diffuse { reflectance } => {
-                if wo.z > 0.0 && wi.z > 0.0 {
-                    reflectance / PI
-                } else {
-                    Vec3::ZERO
-                }
-            }
-            Bsdf::Conductor {
-                eta,
-                k,
-                alpha,
-                specular,
-            } => conductor::eval(wo, wi, eta, k, alpha) * specular,
-            Bsdf::Dielectric { eta, alpha } => Vec3::splat(dielectric::eval(wo, wi, eta, alpha)),
-            Bsdf::Plastic(p) => p.eval(wo, wi),
-            Bsdf::ThinDielectric { .. } | Bsdf::Null => Vec3::ZERO,
-        }
-    }
-
-    /// The solid-angle pdf of `sample` choosing `wi` (0 for delta lobes).
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        match *self {
-            Bsdf::Diffuse { .. } => {
-                if wo.z > 0.0 && wi.z > 0.0 {
-                    wi.z / PI
-                } else {
-                    0.0
-                }
-            }
-            Bsdf::Conductor { alpha, .. } => conductor::pdf(wo, wi, alpha),
-            Bsdf::Dielectric { eta, alpha } => dielectric::pdf(wo, wi, eta, alpha),
-            Bsdf::Plastic(p) => p.pdf(wo, wi),
-            Bsdf::ThinDielectric { .. } | Bsdf::Null => 0.0,
-        }
-    }
-
-    /// Samples `wi` from three uniform numbers (`uc` picks the lobe).
-    pub fn sample(&self, wo: Vec3, uc: f32, u: [f32; 2]) -> Option<BsdfSample> {
-        match *self {
-            Bsdf::Diffuse { reflectance } => {
-                if wo.z <= 0.0 {
-                    return None;
-                }
-                let wi = sample_cosine(u);
-                (wi.z > 0.0).then(|| BsdfSample {
-                    wi,
-                    f: reflectance / PI,
-                    pdf: wi.z / PI,
-                    delta: false,
-                })
-            }
-            Bsdf::Conductor {
-                eta,
-                k,
-                alpha,
-                specular,
-            } => conductor::sample(wo, u, eta, k, alpha).map(|mut s| {
-                s.f *= specular;
-                s
-            }),
-            Bsdf::Dielectric { eta, alpha } => dielectric::sample(wo, uc, u, eta, alpha),
-            Bsdf::ThinDielectric { eta } => dielectric::sample_thin(wo, uc, eta),
-            Bsdf::Plastic(p) => p.sample(wo, uc, u),
-            Bsdf::Null => (wo.z != 0.0).then(|| BsdfSample {
-                wi: -wo,
-                f: Vec3::splat(1.0 / wo.z.abs()),
-                pdf: 1.0,
-                delta: true,
-            }),
-        }
-    }
-}
+pub use two_sided::TwoSided;
