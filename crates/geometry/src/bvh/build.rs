@@ -159,8 +159,11 @@ fn sah_split(
     let left = |p: &u32| {
         (((centroid[*p as usize][axis] - cb.min[axis]) * scale) as usize).min(BINS - 1) <= k
     };
-    // Stable in-place partition by sorting on the side (deterministic).
-    prims.sort_by_key(|p| !left(p));
-    let mid = prims.iter().take_while(|p| left(p)).count();
+    // Stable partition (left side first, order kept): deterministic, and
+    // linear where sorting on the side was n log n.
+    let (l, r): (Vec<u32>, Vec<u32>) = prims.iter().partition(|p| left(p));
+    let mid = l.len();
+    prims[..mid].copy_from_slice(&l);
+    prims[mid..].copy_from_slice(&r);
     (mid > 0 && mid < n).then_some(mid)
 }

@@ -12,7 +12,6 @@ mod node;
 mod traverse;
 
 pub use node::{Bvh, BvhNode};
-pub use traverse::Traversal;
 
 use fogbank_math::Aabb;
 

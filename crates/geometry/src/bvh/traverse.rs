@@ -11,7 +11,7 @@ const STACK: usize = 64;
 
 /// A ray prepared for box tests: origin and reciprocal direction, and the
 /// rounding allowance that keeps a box containing a hit from being missed.
-pub struct Traversal {
+pub(super) struct Traversal {
     o: Vec3,
     inv_d: Vec3,
 }
@@ -20,7 +20,7 @@ pub struct Traversal {
 const SLAB_GROW: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
 impl Traversal {
-    pub fn new(ray: &Ray) -> Traversal {
+    fn new(ray: &Ray) -> Traversal {
         Traversal {
             o: ray.o,
             inv_d: Vec3::ONE / ray.d,
