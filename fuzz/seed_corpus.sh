@@ -47,3 +47,8 @@ body = b"".join(struct.pack(">3f", *p) for p in [(0, 0, 0), (1, 0, 0), (0, 1, 0)
 open("corpus/ply/tri_be.ply", "wb").write(hb + body)
 PY
 echo "seeded $(ls corpus/obj | wc -l) obj and $(ls corpus/ply | wc -l) ply inputs"
+mkdir -p corpus/xml
+for f in ../scenes/mitsuba/*.xml; do
+    [ -f "$f" ] && cp "$f" corpus/xml/
+done
+echo "seeded $(ls corpus/xml | wc -l) xml inputs"

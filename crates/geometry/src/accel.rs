@@ -46,14 +46,26 @@ impl MeshAccel {
 
     /// The closest hit in `(0, t_max)`.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<MeshHit> {
+        self.intersect_where(ray, t_max, |_| true)
+    }
+
+    /// The closest hit in `(0, t_max)` among the triangles `keep` accepts
+    /// (by triangle index): the scene skips index-matched boundaries so.
+    pub fn intersect_where(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        keep: impl Fn(u32) -> bool,
+    ) -> Option<MeshHit> {
         let frame = RayFrame::new(ray);
         let mut best = None;
         self.bvh.closest_hit(ray, t_max, |slot, t_max| {
+            let triangle = self.bvh.order[slot as usize];
+            if !keep(triangle) {
+                return None;
+            }
             let h = self.test(&frame, slot, t_max)?;
-            best = Some(MeshHit {
-                triangle: self.bvh.order[slot as usize],
-                hit: h,
-            });
+            best = Some(MeshHit { triangle, hit: h });
             Some(h.t)
         })?;
         best
@@ -61,8 +73,16 @@ impl MeshAccel {
 
     /// Whether any triangle lies on the ray in `(0, t_max)`.
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.occluded_where(ray, t_max, |_| true)
+    }
+
+    /// Whether any triangle `keep` accepts lies on the ray in `(0, t_max)`.
+    pub fn occluded_where(&self, ray: &Ray, t_max: f32, keep: impl Fn(u32) -> bool) -> bool {
         let frame = RayFrame::new(ray);
         self.bvh.any_hit(ray, t_max, |slot, t_max| {
+            if !keep(self.bvh.order[slot as usize]) {
+                return None;
+            }
             self.test(&frame, slot, t_max).map(|h| h.t)
         })
     }

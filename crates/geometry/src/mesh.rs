@@ -85,6 +85,28 @@ impl TriangleMesh {
         b
     }
 
+    /// Vertex normals for a mesh without them: per vertex, the faces'
+    /// normals weighted by their angle at the vertex (Thürmer and Wüthrich,
+    /// as Mitsuba regenerates them). Vertices of degenerate faces only get
+    /// a zero normal (the renderer then shades with the face's own).
+    pub fn angle_weighted_normals(&self) -> Vec<Vec3> {
+        let mut n = vec![Vec3::ZERO; self.positions.len()];
+        for (i, t) in self.triangles.iter().enumerate() {
+            let p = self.corners(i);
+            let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+            if face == Vec3::ZERO {
+                continue;
+            }
+            for k in 0..3 {
+                let a = (p[(k + 1) % 3] - p[k]).normalize_or_zero();
+                let b = (p[(k + 2) % 3] - p[k]).normalize_or_zero();
+                let angle = a.dot(b).clamp(-1.0, 1.0).acos();
+                n[t[k] as usize] += face * angle;
+            }
+        }
+        n.iter().map(|v| v.normalize_or_zero()).collect()
+    }
+
     /// Positions by `m`, normals by its inverse transpose (renormalised).
     pub fn transform(&mut self, m: &Mat4) {
         for p in &mut self.positions {

@@ -96,9 +96,11 @@ impl LightBuffers {
                 c: c4,
                 d: [d[0], d[1], c, pmf],
             };
-            let kind = crate::contract::light_id(l);
+            let kind = || crate::contract::light_id(l);
             records.push(match l {
-                Light::Constant { radiance } => rec(kind, zero, v4(*radiance, 0.0), zero, [0.0; 2]),
+                Light::Constant { radiance } => {
+                    rec(kind(), zero, v4(*radiance, 0.0), zero, [0.0; 2])
+                }
                 Light::Envmap(e) => {
                     envmaps += 1;
                     if envmaps > 1 {
@@ -117,13 +119,13 @@ impl LightBuffers {
                     ];
                     env_rgb = rgb;
                     env_cdf = cdfs;
-                    rec(kind, zero, zero, zero, [0.0; 2])
+                    rec(kind(), zero, zero, zero, [0.0; 2])
                 }
                 Light::Point {
                     position,
                     intensity,
                 } => rec(
-                    kind,
+                    kind(),
                     v4(*position, 1.0),
                     v4(*intensity, 0.0),
                     zero,
@@ -133,7 +135,7 @@ impl LightBuffers {
                     direction,
                     irradiance,
                 } => rec(
-                    kind,
+                    kind(),
                     v4(*direction, 0.0),
                     v4(*irradiance, 0.0),
                     zero,
@@ -146,12 +148,15 @@ impl LightBuffers {
                     cos_falloff_start,
                     cos_total,
                 } => rec(
-                    kind,
+                    kind(),
                     v4(*position, 1.0),
                     v4(*intensity, 0.0),
                     v4(*direction, 0.0),
                     [*cos_falloff_start, *cos_total],
                 ),
+                Light::Area(_) => {
+                    return Err(GpuError(crate::scene_buffers::SURFACES_ON_CPU_ONLY.into()))
+                }
             });
         }
         let shading: Vec<[f32; 4]> = scene

@@ -80,6 +80,11 @@ fn pack_grid<T: Voxel>(
     offsets
 }
 
+/// Issue 23 brings shapes to the CPU first; the GPU refuses them rather
+/// than render a scene without its surfaces.
+pub const SURFACES_ON_CPU_ONLY: &str =
+    "the GPU backend does not render [[shapes]] yet: use the CPU backend (--backend cpu)";
+
 fn check_size(what: &str, len: usize, limit: u64) -> Result<(), GpuError> {
     if (len as u64) * 4 > limit {
         return Err(GpuError(format!(
@@ -106,6 +111,9 @@ impl SceneBuffers {
         extra: &[&Medium],
         fields: &[&fogbank_render::world::field::Field],
     ) -> Result<SceneBuffers, GpuError> {
+        if scene.surfaces.is_some() {
+            return Err(GpuError(SURFACES_ON_CPU_ONLY.into()));
+        }
         let mut p = Packed::default();
         let mut media = Vec::new();
         for (i, sm) in scene.media.iter().enumerate() {

@@ -191,7 +191,8 @@ fn one_ulp_differences_of_converged_pixels_pass() {
     let z = ztest(&r, &t).unwrap();
     assert!(z.pass, "max |z| {}", z.max_abs_z);
     assert_eq!(z.zero_variance_mismatches, 0);
-    // Five ULPs below 1 in an exact pixel is a mismatch.
-    t.rgb[1] = [0.9999997; 3];
+    // Four ULPs are allowed (renderers accumulating in f32); seventeen
+    // below 1 in an exact pixel are a mismatch.
+    t.rgb[1] = [0.999999; 3];
     assert_eq!(ztest(&r, &t).unwrap().zero_variance_mismatches, 1);
 }

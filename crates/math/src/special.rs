@@ -57,6 +57,36 @@ pub fn adaptive_simpson(f: &mut impl FnMut(f64) -> f64, a: f64, b: f64, toleranc
     refine(f, a, b, fa, fm, fb, whole, tolerance, 0)
 }
 
+/// Gauss–Legendre quadrature on [0, 1] with `n` points: (node, weight)
+/// pairs, the nodes the roots of the Legendre polynomial P_n found by
+/// Newton's method from Chebyshev guesses (exact for polynomials of degree
+/// below 2n).
+pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
+    (0..n)
+        .map(|i| {
+            let mut x = (PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+            let mut dp = 1.0;
+            for _ in 0..100 {
+                // P_n(x) and P_n'(x) by the three-term recurrence.
+                let (mut p0, mut p1) = (1.0, x);
+                for k in 2..=n {
+                    let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+                    p0 = p1;
+                    p1 = p2;
+                }
+                dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
+                let dx = p1 / dp;
+                x -= dx;
+                if dx.abs() < 1e-15 {
+                    break;
+                }
+            }
+            let w = 2.0 / ((1.0 - x * x) * dp * dp);
+            (0.5 * (x + 1.0), 0.5 * w)
+        })
+        .collect()
+}
+
 /// ln Γ(x) for x > 0 by the Lanczos approximation with g = 7 and nine
 /// coefficients (Lanczos 1964; the coefficient set popularised by Press et
 /// al. and Wikipedia), using the reflection formula below ½; relative error
@@ -164,4 +194,24 @@ fn upper_continued_fraction(a: f64, x: f64, log_prefactor: f64) -> f64 {
         }
     }
     log_prefactor.exp() * h
+}
+
+#[cfg(test)]
+mod special_test {
+    use super::*;
+
+    /// n points integrate x^k on [0, 1] exactly for k < 2n; weights sum to 1.
+    #[test]
+    fn gauss_legendre_is_exact_for_low_degrees() {
+        for n in [1, 2, 5, 32, 128] {
+            let q = gauss_legendre(n);
+            for k in 0..(2 * n).min(40) {
+                let sum: f64 = q.iter().map(|(x, w)| w * x.powi(k as i32)).sum();
+                assert!(
+                    (sum - 1.0 / (k as f64 + 1.0)).abs() < 1e-12,
+                    "n {n} k {k}: {sum}"
+                );
+            }
+        }
+    }
 }

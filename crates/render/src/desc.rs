@@ -14,3 +14,4 @@ pub use crate::world::emission::EmissionDesc;
 pub use crate::world::field::FieldDesc;
 pub use crate::world::medium::{MediumDesc, ScaleDesc, TransformDesc};
 pub use crate::world::phase::PhaseDesc;
+pub use crate::world::surfaces::{BsdfDesc, EmitterDesc, ShapeDesc, ShapeType};

@@ -12,6 +12,7 @@ pub mod desc;
 pub mod error;
 pub mod integrators;
 pub mod lights;
+pub mod mitsuba;
 pub mod overrides;
 pub mod params;
 pub mod rebase;

@@ -9,6 +9,7 @@ use crate::lights::LightDesc;
 use crate::overrides::{apply_override, parse_value};
 use crate::world::camera::CameraDesc;
 use crate::world::medium::MediumDesc;
+use crate::world::surfaces::ShapeDesc;
 use crate::world::World;
 use fogbank_image::{ToneCurve, ToneMapping};
 use serde::{Deserialize, Serialize};
@@ -27,6 +28,9 @@ pub struct SceneDesc {
     pub media: Vec<MediumDesc>,
     #[serde(default)]
     pub lights: Vec<LightDesc>,
+    /// Surfaces (see [`crate::world::surfaces`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub shapes: Vec<ShapeDesc>,
     #[serde(default)]
     pub integrator: IntegratorDesc,
     #[serde(default)]
@@ -175,6 +179,7 @@ impl Scene {
                 &desc.camera,
                 &desc.media,
                 &desc.lights,
+                &desc.shapes,
                 desc.render.pixel_jitter,
                 base,
             )?,
@@ -196,6 +201,7 @@ impl Scene {
                     &a.camera(&desc.camera, frame),
                     &media,
                     &lights,
+                    &desc.shapes,
                     desc.render.pixel_jitter,
                     base,
                 )
@@ -315,6 +321,15 @@ pub fn load_scene_or(
     builtin: &str,
     overrides: &[String],
 ) -> Result<Scene, SceneError> {
+    if let Some(p) = path.filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("xml"))) {
+        // A Mitsuba scene: converted, then overridden like a TOML one. Its
+        // file names come out relative to the working directory.
+        let doc = crate::mitsuba::load_xml(p, &[])?;
+        let text =
+            toml::to_string(&doc).map_err(|e| SceneError(format!("{}: {e}", p.display())))?;
+        let desc = parse_scene(&text, &p.display().to_string(), overrides)?;
+        return Scene::build(desc, Path::new(""));
+    }
     let (text, origin, base) = match path {
         Some(p) => (
             std::fs::read_to_string(p).map_err(|e| SceneError(format!("{}: {e}", p.display())))?,

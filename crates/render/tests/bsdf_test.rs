@@ -6,11 +6,11 @@
 
 use fogbank_math::chi2::{sidak, SphereTest, SIGNIFICANCE};
 use fogbank_math::Pcg32;
-use fogbank_render::world::bsdf::{diffuse_fresnel, Bsdf, Plastic};
+use fogbank_render::world::bsdf::{diffuse_fresnel, Bsdf, Plastic, RoughPlastic};
 use glam::Vec3;
 
 /// The chi-square tests below share one 1 % false-alarm budget.
-const CHI2_TESTS: u32 = 13;
+const CHI2_TESTS: u32 = 16;
 
 fn dir(theta_deg: f32, phi_deg: f32, below: bool) -> Vec3 {
     let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
@@ -74,6 +74,23 @@ fn chi2_plastic() {
     }
 }
 
+#[test]
+fn chi2_rough_plastic() {
+    for (alpha, theta, nonlinear) in [(0.1, 20.0, false), (0.4, 50.0, true), (0.25, 80.0, false)] {
+        chi2(
+            &format!("roughplastic α {alpha} θo {theta}"),
+            Bsdf::RoughPlastic(RoughPlastic::new(
+                Vec3::new(0.2, 0.5, 0.8),
+                Vec3::ONE,
+                1.5,
+                alpha,
+                nonlinear,
+            )),
+            dir(theta, 30.0, false),
+        );
+    }
+}
+
 fn rough_conductor(alpha: f32) -> Bsdf {
     Bsdf::Conductor {
         eta: Vec3::new(0.2, 0.9, 1.1),
@@ -124,6 +141,13 @@ fn reciprocity() {
         },
         rough_conductor(0.3),
         Bsdf::Dielectric { eta, alpha: 0.3 },
+        Bsdf::RoughPlastic(RoughPlastic::new(
+            Vec3::splat(0.5),
+            Vec3::ONE,
+            1.5,
+            0.3,
+            false,
+        )),
     ];
     let ior = |w: Vec3| if w.z > 0.0 { 1.0 } else { eta };
     for b in bsdfs {

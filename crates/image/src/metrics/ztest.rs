@@ -6,6 +6,11 @@ use super::pixels::check_same_size;
 use crate::image_io::Image;
 use serde::Serialize;
 
+/// Relative f32 rounding (in units of f32's ε) the test allows for: two
+/// equal exact values stored by renderers that accumulate in f32 differ by
+/// a few ULPs (4·ε ≈ 5·10⁻⁷ relative).
+pub const ROUNDING_ULPS: f64 = 4.0;
+
 /// Default family-wise significance level of [`ztest`].
 pub const ZTEST_ALPHA: f64 = 0.01;
 
@@ -72,8 +77,8 @@ pub fn ztest(reference: &Image, test: &Image) -> Result<ZTest, String> {
 /// `zero_variance_mismatches`); non-finite z (NaN input) fails.
 ///
 /// "Equal" and the variance allow for f32 rounding: the denominator adds
-/// (ε_f32·max(|test|, |ref|))², and exact values within that distance are
-/// equal. Without it, converged pixels (T = 1 with a variance of 1e-17 from
+/// (k·ε_f32·max(|test|, |ref|))² with k = [`ROUNDING_ULPS`], and exact
+/// values within that distance are equal. Without it, converged pixels (T = 1 with a variance of 1e-17 from
 /// accumulation round-off) fail with |z| ≈ 8 over one ULP.
 ///
 /// Verdict: pass iff no pixel fails. Under H0 the expected number of
@@ -113,9 +118,12 @@ pub fn ztest_with(reference: &Image, test: &Image, alpha: f64) -> Result<ZTest, 
         for c in 0..3 {
             let var = vr[c] as f64 + vt[c] as f64;
             let d = t[c] as f64 - r[c] as f64;
-            // f32 storage rounds each value by up to half an ULP; the
-            // variance layers do not include that, so add it as noise.
-            let rounding = f32::EPSILON as f64 * (t[c].abs().max(r[c].abs()) as f64);
+            // f32 storage rounds each value by up to half an ULP, and a
+            // renderer that accumulates and normalises in f32 (Mitsuba:
+            // Σ w·L / Σ w) by a few more; the variance layers do not include
+            // that, so add ROUNDING_ULPS of it as noise.
+            let rounding =
+                ROUNDING_ULPS * f32::EPSILON as f64 * (t[c].abs().max(r[c].abs()) as f64);
             if var > 0.0 {
                 z[i][c] = d / (var + rounding * rounding).sqrt();
                 kind[i][c] = 1;

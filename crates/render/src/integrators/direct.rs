@@ -14,6 +14,8 @@
 use super::shared::free_flight::next_collision;
 use super::shared::next_event::{escaped, light_sample, phase_sample_to_environment};
 use super::shared::{estimator_rng, primary_ray, DistanceSampler, PixelSample, ScatterParams};
+use super::volpath::{VolPath, VolPathParams};
+use crate::error::SceneError;
 use crate::lights::sample::LightSampler;
 use crate::world::phase::HenyeyGreenstein;
 use crate::world::World;
@@ -30,25 +32,49 @@ pub struct Direct {
     pub distance: DistanceSampler,
     pub nee: Estimator,
     pub lights: LightSampler,
+    /// In a scene with surfaces, `volpath` with `max_depth = 1` renders
+    /// (surfaces are then lit and occlude like media vertices).
+    with_surfaces: Option<Box<VolPath>>,
 }
 
 impl Direct {
-    pub fn new(p: &DirectParams, world: &World) -> Direct {
+    pub fn new(p: &DirectParams, world: &World) -> Result<Direct, SceneError> {
         let (distance, nee) = p.resolved();
-        Direct {
+        let with_surfaces = match world.surfaces {
+            None => None,
+            Some(_) => Some(Box::new(VolPath::new(
+                &VolPathParams {
+                    scatter: p.clone(),
+                    max_depth: 1,
+                    ..VolPathParams::default()
+                },
+                world,
+            )?)),
+        };
+        Ok(Direct {
             distance,
             nee,
             lights: LightSampler::new(&world.lights, world.radius()),
-        }
+            with_surfaces,
+        })
     }
 
     pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+        if let Some(v) = &self.with_surfaces {
+            return v.sample(world, x, y, key);
+        }
         let mut rng = estimator_rng(key);
         let ray = primary_ray(world, x, y, key);
         let mut lookups = 0u32;
-        let Some((t, mi)) =
-            next_collision(self.distance.into(), world, &ray, &mut rng, &mut lookups)
-        else {
+        let Some((t, mi)) = next_collision(
+            self.distance.into(),
+            world,
+            &ray,
+            f32::INFINITY,
+            None,
+            &mut rng,
+            &mut lookups,
+        ) else {
             return PixelSample {
                 radiance: escaped(world, &self.lights, ray.d, None),
                 lookups,
@@ -73,6 +99,7 @@ impl Direct {
                     p,
                     wi,
                     pdf,
+                    None,
                     rng,
                     &mut lookups,
                 );

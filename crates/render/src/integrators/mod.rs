@@ -179,12 +179,26 @@ impl IntegratorDesc {
                     .into(),
             ));
         }
+        // Surfaces reach volpath first (issue 23); the others would render
+        // through them, so they refuse rather than show a wrong image.
+        let renders_surfaces = matches!(
+            self,
+            IntegratorDesc::VolPath(_)
+                | IntegratorDesc::Direct(_)
+                | IntegratorDesc::Transmittance(_)
+        );
+        if world.surfaces.is_some() && !renders_surfaces {
+            return Err(SceneError(format!(
+                "integrator.type: `{}` does not render [[shapes]] yet (use volpath, direct or transmittance)",
+                self.name()
+            )));
+        }
         Ok(match self {
             IntegratorDesc::Transmittance(p) => IntegratorKind::Transmittance {
                 estimator: p.estimator,
                 background: Vec3::from(p.background),
             },
-            IntegratorDesc::Direct(p) => IntegratorKind::Direct(Direct::new(p, world)),
+            IntegratorDesc::Direct(p) => IntegratorKind::Direct(Direct::new(p, world)?),
             IntegratorDesc::VolPath(p) => IntegratorKind::VolPath(VolPath::new(p, world)?),
             IntegratorDesc::PointMis(p) => IntegratorKind::PointMis(PointMis::new(p, world)?),
             IntegratorDesc::Restir(p) => IntegratorKind::Restir(Restir::new(p, world)?),

@@ -9,6 +9,8 @@
 //! | `estimator` | `ratio_tracking` | transmittance estimator (`fogbank estimators`), with its options flat in `[integrator]` or as `{ type = "…", … }` |
 //! | `background` | (1, 1, 1) | radiance behind the media; the image is T · background |
 
+use super::shared::free_flight::shadow_transmittance_in;
+use super::shared::tracking::Shadow;
 use super::shared::{estimator_rng, primary_ray, PixelSample};
 use crate::error::SceneError;
 use crate::params::{estimator_value, take_estimator, Param, ParamReader};
@@ -80,6 +82,26 @@ pub fn sample(
 ) -> PixelSample {
     let ray = primary_ray(world, x, y, key);
     let mut rng = estimator_rng(key);
+    if let Some(s) = &world.surfaces {
+        // Surfaces hide the background (null boundaries and thin
+        // dielectrics let part of it through), and bounded media count
+        // only inside their shapes.
+        let mut lookups = 0;
+        let nee = Shadow::Estimator(estimator);
+        let t = shadow_transmittance_in(
+            nee,
+            world,
+            &ray,
+            f32::INFINITY,
+            s.camera_medium,
+            &mut rng,
+            &mut lookups,
+        );
+        return PixelSample {
+            radiance: background * t,
+            lookups,
+        };
+    }
     let e = along_ray(world, estimator, &ray, &mut rng);
     PixelSample {
         radiance: background * e.transmittance,

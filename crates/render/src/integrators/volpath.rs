@@ -22,8 +22,11 @@
 //! | `rr_depth` | 3 | first bounce with Russian roulette on the throughput |
 //! | `pins`, `tracking`, `march_step`, `pin_grid` | off | seed 004's pins and ray-marching baseline, see [`super::shared::pin_params`] |
 
-use super::shared::free_flight::next_collision;
-use super::shared::next_event::{escaped, light_sample_weighted, phase_sample_to_environment};
+use super::shared::free_flight::{next_collision, MAX_CROSSINGS};
+use super::shared::next_event::{
+    emitter_weight, escaped, light_sample_surface, light_sample_weighted,
+    phase_sample_to_environment, sampled_direction_to_lights,
+};
 use super::shared::pin_params::{PinParams, PIN_KEYS};
 use super::shared::tracking::PinSet;
 use super::shared::{
@@ -33,9 +36,10 @@ use crate::error::SceneError;
 use crate::lights::sample::LightSampler;
 use crate::params::{Param, ParamReader};
 use crate::world::phase::HenyeyGreenstein;
+use crate::world::surfaces::{ShadingFrame, SurfaceHit};
 use crate::world::World;
 use fogbank_estimators::Estimator;
-use fogbank_math::{Ray, SampleKey, Vec3};
+use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
 use std::sync::{Arc, OnceLock};
 
 pub use super::shared::DistanceSampler;
@@ -121,6 +125,29 @@ impl VolPathParams {
     }
 }
 
+/// A path's state between vertices.
+struct Path {
+    ray: Ray,
+    beta: Vec3,
+    radiance: Vec3,
+    lookups: u32,
+    /// The last scattering vertex and the solid-angle pdf its direction
+    /// was sampled with, for MIS with light sampling (`None`: camera ray
+    /// or delta lobe). Null boundaries leave it unchanged.
+    prev: Option<(Vec3, f32)>,
+    /// The bounded medium the path is in (see `World::medium_active`).
+    medium: Option<usize>,
+}
+
+/// What a vertex did to the path.
+enum Step {
+    Stop,
+    /// A scattering vertex: the path is one longer.
+    Scatter,
+    /// Straight through an index-matched boundary: not a vertex.
+    Cross,
+}
+
 #[derive(Clone, Debug)]
 pub struct VolPath {
     pub distance: DistanceSampler,
@@ -169,46 +196,103 @@ impl VolPath {
 
     pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
         let mut rng = estimator_rng(key);
-        let mut ray = primary_ray(world, x, y, key);
-        let (mut beta, mut radiance, mut lookups) = (Vec3::ONE, Vec3::ZERO, 0u32);
-        let mut phase_pdf: Option<f32> = None;
+        let mut path = Path {
+            ray: primary_ray(world, x, y, key),
+            beta: Vec3::ONE,
+            radiance: Vec3::ZERO,
+            lookups: 0,
+            prev: None,
+            medium: world.surfaces.as_ref().and_then(|s| s.camera_medium),
+        };
         let set = self.pin_set(world);
-        for depth in 0..self.max_depth {
+        let (mut depth, mut crossings) = (0, 0u32);
+        while depth < self.max_depth {
+            let hit = world
+                .surfaces
+                .as_ref()
+                .and_then(|s| s.intersect(&path.ray, f32::INFINITY));
+            let t_end = hit.map_or(f32::INFINITY, |h| h.t);
             let flight = self.pins.flight(depth, self.distance, set);
-            let Some((t, mi)) = next_collision(flight, world, &ray, &mut rng, &mut lookups) else {
-                if !(self.light_only && phase_pdf.is_some()) {
-                    radiance += beta * escaped(world, &self.lights, ray.d, phase_pdf);
+            let (ray, medium) = (path.ray, path.medium);
+            let collision = next_collision(
+                flight,
+                world,
+                &ray,
+                t_end,
+                medium,
+                &mut rng,
+                &mut path.lookups,
+            );
+            let step = match (collision, hit) {
+                (Some((t, mi)), _) => self.medium_vertex(world, &mut path, t, mi, depth, &mut rng),
+                (None, Some(h)) => self.surface_vertex(world, &mut path, &h, depth, &mut rng),
+                (None, None) => {
+                    if !(self.light_only && path.prev.is_some()) {
+                        let pdf = path.prev.map(|p| p.1);
+                        path.radiance += path.beta * escaped(world, &self.lights, path.ray.d, pdf);
+                    }
+                    Step::Stop
                 }
-                break;
             };
-            let m = &world.media[mi];
-            let p = ray.at(t);
-            let albedo = m.albedo_at(p);
-            radiance += beta * m.emitted(p, albedo);
-            beta *= albedo;
-            if beta == Vec3::ZERO {
-                break;
-            }
-            let hg = HenyeyGreenstein { g: m.phase_g };
-            let shadow = self.pins.shadow(depth, self.nee, set);
-            radiance += beta
-                * light_sample_weighted(
-                    world,
-                    &self.lights,
-                    shadow,
-                    p,
-                    ray.d,
-                    &hg,
-                    !self.light_only,
-                    &mut rng,
-                    &mut lookups,
-                );
-            let (wi, pdf) = hg.sample(-ray.d, [rng.next_f32(), rng.next_f32()]);
-            if depth + 1 == self.max_depth {
-                if self.light_only {
-                    break;
+            match step {
+                Step::Stop => break,
+                Step::Scatter => depth += 1,
+                Step::Cross => {
+                    crossings += 1;
+                    if crossings > MAX_CROSSINGS {
+                        break;
+                    }
                 }
-                radiance += beta
+            }
+        }
+        PixelSample {
+            radiance: path.radiance,
+            lookups: path.lookups,
+        }
+    }
+
+    /// A real collision in medium `mi` at distance `t`: emission, NEE with
+    /// the phase function, then phase sampling (or, at the last vertex, the
+    /// phase-sampled direction evaluated toward the lights).
+    fn medium_vertex(
+        &self,
+        world: &World,
+        path: &mut Path,
+        t: f32,
+        mi: usize,
+        depth: u32,
+        rng: &mut Pcg32,
+    ) -> Step {
+        let m = &world.media[mi];
+        let p = path.ray.at(t);
+        let d = path.ray.d;
+        let albedo = m.albedo_at(p);
+        path.radiance += path.beta * m.emitted(p, albedo);
+        path.beta *= albedo;
+        if path.beta == Vec3::ZERO {
+            return Step::Stop;
+        }
+        let hg = HenyeyGreenstein { g: m.phase_g };
+        let shadow = self.pins.shadow(depth, self.nee, self.pin_set(world));
+        let (lookups, medium) = (&mut path.lookups, path.medium);
+        let mis = !self.light_only;
+        path.radiance += path.beta
+            * light_sample_weighted(
+                world,
+                &self.lights,
+                shadow,
+                p,
+                d,
+                &hg,
+                mis,
+                medium,
+                rng,
+                lookups,
+            );
+        let (wi, pdf) = hg.sample(-d, [rng.next_f32(), rng.next_f32()]);
+        if depth + 1 == self.max_depth {
+            if !self.light_only {
+                path.radiance += path.beta
                     * phase_sample_to_environment(
                         world,
                         &self.lights,
@@ -216,26 +300,125 @@ impl VolPath {
                         p,
                         wi,
                         pdf,
-                        &mut rng,
-                        &mut lookups,
+                        path.medium,
+                        rng,
+                        &mut path.lookups,
                     );
-                break;
             }
-            phase_pdf = Some(pdf);
-            ray = Ray::new(p, wi);
-            if depth + 1 >= self.rr_depth {
-                let q = if self.light_only {
-                    albedo.max_element()
-                } else {
-                    beta.max_element()
-                }
-                .min(1.0);
-                if rng.next_f32() >= q {
-                    break;
-                }
-                beta /= q;
+            return Step::Stop;
+        }
+        path.prev = Some((p, pdf));
+        path.ray = Ray::new(p, wi);
+        self.roulette(path, depth, albedo, rng)
+    }
+
+    /// A surface hit: its emission (MIS-weighted against light sampling),
+    /// then straight through a null boundary, or NEE with the BSDF and BSDF
+    /// sampling (at the last vertex, the sampled direction evaluated
+    /// toward the lights).
+    fn surface_vertex(
+        &self,
+        world: &World,
+        path: &mut Path,
+        h: &SurfaceHit,
+        depth: u32,
+        rng: &mut Pcg32,
+    ) -> Step {
+        let surfaces = world.surfaces.as_ref().expect("a hit has surfaces");
+        let d = path.ray.d;
+        if let Some((le, li)) = surfaces.emitted(h, d) {
+            if !(self.light_only && path.prev.is_some()) {
+                let w = emitter_weight(world, &self.lights, li, h.p, d, path.prev);
+                path.radiance += path.beta * le * w;
             }
         }
-        PixelSample { radiance, lookups }
+        let material = &surfaces.shapes[h.shape as usize].material;
+        if material.is_null() {
+            path.medium = surfaces.target_medium(h, d, path.medium);
+            path.ray = h.spawn(d);
+            return Step::Cross;
+        }
+        let bsdf = material.at(h.uv);
+        let frame = ShadingFrame::new(h.ns);
+        let wo = frame.to_local(-d);
+        let shadow = self.pins.shadow(depth, self.nee, self.pin_set(world));
+        if !bsdf.is_delta() {
+            path.radiance += path.beta
+                * light_sample_surface(
+                    world,
+                    &self.lights,
+                    shadow,
+                    h,
+                    &frame,
+                    wo,
+                    &bsdf,
+                    !self.light_only,
+                    path.medium,
+                    rng,
+                    &mut path.lookups,
+                );
+        }
+        let uc = rng.next_f32();
+        let Some(bs) = bsdf.sample(wo, uc, [rng.next_f32(), rng.next_f32()]) else {
+            return Step::Stop;
+        };
+        let weight = bs.weight();
+        if !(weight.is_finite() && weight.max_element() > 0.0) {
+            return Step::Stop;
+        }
+        let wi = frame.to_world(bs.wi);
+        let pdf = (!bs.delta).then_some(bs.pdf);
+        let medium = surfaces.target_medium(h, wi, path.medium);
+        if bs.delta && bs.wi == -wo && material.passes_light() {
+            // Straight through a thin dielectric: a null event as in
+            // Mitsuba (no vertex; MIS keeps the last real vertex), the
+            // partner of shadow rays' 1 − R′.
+            path.beta *= weight;
+            path.medium = medium;
+            path.ray = h.spawn(d);
+            return Step::Cross;
+        }
+        if depth + 1 == self.max_depth {
+            if !self.light_only {
+                let ray = h.spawn(wi);
+                path.radiance += path.beta
+                    * weight
+                    * sampled_direction_to_lights(
+                        world,
+                        &self.lights,
+                        shadow,
+                        h.p,
+                        &ray,
+                        pdf,
+                        medium,
+                        rng,
+                        &mut path.lookups,
+                    );
+            }
+            return Step::Stop;
+        }
+        path.beta *= weight;
+        path.prev = pdf.map(|pdf| (h.p, pdf));
+        path.medium = medium;
+        path.ray = h.spawn(wi);
+        self.roulette(path, depth, weight, rng)
+    }
+
+    /// Russian roulette on the throughput from `rr_depth` on (seed 002's
+    /// baseline: on the vertex albedo, `albedo`).
+    fn roulette(&self, path: &mut Path, depth: u32, albedo: Vec3, rng: &mut Pcg32) -> Step {
+        if depth + 1 >= self.rr_depth {
+            let q = if self.light_only {
+                albedo.max_element()
+            } else {
+                path.beta.max_element()
+            }
+            .min(1.0);
+            if rng.next_f32() >= q {
+                return Step::Stop;
+            }
+            path.beta /= q;
+        }
+        Step::Scatter
     }
 }

@@ -1,5 +1,6 @@
 //! Light sources: their scene description and the built lights.
 
+pub mod area;
 pub mod envmap;
 pub mod sample;
 pub mod sky;
@@ -94,10 +95,14 @@ pub enum Light {
         cos_falloff_start: f32,
         cos_total: f32,
     },
+    /// One triangle of an emitting shape (built from `[[shapes]]`, not
+    /// `[[lights]]`).
+    Area(area::AreaTriangle),
 }
 
 impl Light {
-    /// Every kind of light, by the name its `type` has in a scene.
+    /// Every kind of light, by the name its `type` has in a scene
+    /// (`area` lights come from shapes' emitters and are not listed).
     pub const KINDS: [&'static str; 5] = ["constant", "envmap", "point", "directional", "spot"];
 
     pub fn kind(&self) -> &'static str {
@@ -107,6 +112,7 @@ impl Light {
             Light::Point { .. } => "point",
             Light::Directional { .. } => "directional",
             Light::Spot { .. } => "spot",
+            Light::Area(_) => "area",
         }
     }
 }

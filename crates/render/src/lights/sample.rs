@@ -47,6 +47,7 @@ impl Light {
                 cos_total,
                 ..
             } => 2.0 * PI * (1.0 - 0.5 * (cos_falloff_start + cos_total)) * luminance(*intensity),
+            Light::Area(a) => PI * a.area * luminance(a.radiance),
         }
     }
 
@@ -130,6 +131,23 @@ impl Light {
                     distance: dist,
                     is_delta: true,
                 })
+            }
+            Light::Area(a) => {
+                let q = a.sample_point(u);
+                let d = q - p;
+                let dist = d.length();
+                let wi = d / dist;
+                let pdf = a.pdf_solid(p, q, wi);
+                let radiance = a.le(wi);
+                (dist > 0.0 && pdf > 0.0 && pdf.is_finite() && radiance != Vec3::ZERO).then_some(
+                    LightSample {
+                        wi,
+                        radiance,
+                        pdf,
+                        distance: dist * (1.0 - super::area::SHADOW_SHORTEN),
+                        is_delta: false,
+                    },
+                )
             }
             Light::Directional {
                 direction,

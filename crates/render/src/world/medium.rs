@@ -75,7 +75,7 @@ fn default_precision() -> String {
     "f16".into()
 }
 
-/// Applied as translate · rotate · scale.
+/// Applied as translate · rotate · scale · matrix.
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct TransformDesc {
@@ -84,6 +84,24 @@ pub struct TransformDesc {
     pub scale: Option<ScaleDesc>,
     /// Axis and angle in degrees: `[x, y, z, degrees]`.
     pub rotate: Option<[f32; 4]>,
+    /// An affine 4×4 matrix, rows top to bottom (the last row `[0, 0, 0, 1]`),
+    /// as Mitsuba's `<matrix>` and what the XML reader writes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub matrix: Option<[[f64; 4]; 4]>,
+}
+
+impl TransformDesc {
+    /// A `matrix` must be finite and affine (last row 0 0 0 1).
+    pub fn check(&self, key: &str) -> Result<(), SceneError> {
+        if let Some(m) = &self.matrix {
+            if m.iter().flatten().any(|x| !x.is_finite()) || m[3] != [0.0, 0.0, 0.0, 1.0] {
+                return Err(SceneError(format!(
+                    "{key}.matrix: needs finite values and the last row [0, 0, 0, 1]"
+                )));
+            }
+        }
+        Ok(())
+    }
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
@@ -295,6 +313,7 @@ impl MediumDesc {
             source,
             units,
         } = field_data(&m.density, &format!("{key}.density"), base, precision)?;
+        m.to_world.check(&format!("{key}.to_world"))?;
         let placement = transform(&m.to_world);
         let xf = placement * file_xf;
         if xf.matrix3.determinant().abs() < 1e-30 {
@@ -466,5 +485,11 @@ pub fn transform(t: &TransformDesc) -> DAffine3 {
         None => DQuat::IDENTITY,
     };
     let tr = DVec3::from(t.translate.unwrap_or([0.0; 3]).map(f64::from));
-    DAffine3::from_scale_rotation_translation(s, r, tr)
+    let trs = DAffine3::from_scale_rotation_translation(s, r, tr);
+    match t.matrix {
+        // A projective last row is not an affine map; it is dropped here
+        // and refused by the XML reader, which writes this key.
+        Some(m) => trs * DAffine3::from_mat4(glam::DMat4::from_cols_array_2d(&m).transpose()),
+        None => trs,
+    }
 }

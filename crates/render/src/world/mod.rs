@@ -12,6 +12,7 @@ pub mod media_bvh;
 pub mod medium;
 pub mod phase;
 pub mod shading;
+pub mod surfaces;
 pub mod texture;
 pub mod transfer;
 pub mod velocity;
@@ -23,12 +24,16 @@ use fogbank_math::{Ray, Vec3};
 use media_bvh::MediaBvh;
 use medium::{MediumDesc, SceneMedium};
 use std::path::Path;
+use surfaces::{ShapeDesc, Surfaces};
 
 #[derive(Clone, Debug)]
 pub struct World {
     pub camera: Camera,
     pub media: Vec<SceneMedium>,
     pub lights: Vec<Light>,
+    /// The shapes (`None` without `[[shapes]]`, so media-only scenes take
+    /// no surface branch at all).
+    pub surfaces: Option<Surfaces>,
     /// Jitter primary rays within the pixel (`render.pixel_jitter`).
     pub pixel_jitter: bool,
     /// Seconds between this frame and the previous one (1/`animation.fps`;
@@ -42,11 +47,13 @@ pub struct World {
 pub const MEDIA_BVH_MIN: usize = 9;
 
 impl World {
-    /// Builds camera, media and lights, resolving files against `base`.
+    /// Builds camera, media, lights and shapes (whose emitting triangles
+    /// join the lights), resolving files against `base`.
     pub fn build(
         camera: &CameraDesc,
         media: &[MediumDesc],
         lights: &[LightDesc],
+        shapes: &[ShapeDesc],
         pixel_jitter: bool,
         base: &Path,
     ) -> Result<World, SceneError> {
@@ -66,15 +73,29 @@ impl World {
                     .collect::<Vec<_>>(),
             )
         });
+        let mut lights: Vec<Light> = lights
+            .iter()
+            .enumerate()
+            .map(|(i, l)| l.build(i, base))
+            .collect::<Result<_, _>>()?;
+        let camera = camera.build()?;
+        let surfaces = if shapes.is_empty() {
+            None
+        } else {
+            Some(Surfaces::build(
+                shapes,
+                base,
+                &media,
+                camera.origin,
+                &mut lights,
+            )?)
+        };
         Ok(World {
-            camera: camera.build()?,
+            camera,
             media,
             media_bvh,
-            lights: lights
-                .iter()
-                .enumerate()
-                .map(|(i, l)| l.build(i, base))
-                .collect::<Result<_, _>>()?,
+            lights,
+            surfaces,
             pixel_jitter,
             frame_dt: 0.0,
         })
@@ -91,13 +112,28 @@ impl World {
         }
     }
 
-    /// Half the diagonal of the media's world bounds (1 without media): the
-    /// scene radius of the light-power proxy.
+    /// Whether medium `i` is present for a ray in bounded medium `current`
+    /// (media that no shape bounds always are).
+    #[inline]
+    pub fn medium_active(&self, i: usize, current: Option<usize>) -> bool {
+        match &self.surfaces {
+            None => true,
+            Some(s) => current == Some(i) || !s.bounds_medium(i),
+        }
+    }
+
+    /// Half the diagonal of the media's and shapes' world bounds (1 with
+    /// neither): the scene radius of the light-power proxy.
     pub fn radius(&self) -> f32 {
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
-        for m in &self.media {
-            let b = m.medium.world_bounds();
+        let shapes = self.surfaces.as_ref().map(|s| s.bounds());
+        for b in self
+            .media
+            .iter()
+            .map(|m| m.medium.world_bounds())
+            .chain(shapes)
+        {
             lo = lo.min(b.min);
             hi = hi.max(b.max);
         }

@@ -7,18 +7,26 @@ use crate::world::World;
 use fogbank_math::{Pcg32, Ray};
 use std::cell::Cell;
 
-/// The next real collision across all media: the first collision of
-/// independent processes whose extinctions add. Returns (t, medium index).
+/// The next real collision across all media before `t_end` (the next
+/// surface, or ∞): the first collision of independent processes whose
+/// extinctions add. Returns (t, medium index).
+/// `current` is the bounded medium the ray is in (see
+/// [`World::medium_active`]).
 pub fn next_collision(
     s: Flight,
     world: &World,
     ray: &Ray,
+    t_end: f32,
+    current: Option<usize>,
     rng: &mut Pcg32,
     lookups: &mut u32,
 ) -> Option<(f32, usize)> {
     let hit: Cell<Option<(f32, usize)>> = Cell::new(None);
-    let t_max = || hit.get().map_or(f32::INFINITY, |h| h.0);
+    let t_max = || hit.get().map_or(t_end, |h| h.0);
     world.media_along(ray, t_max, |i| {
+        if !world.medium_active(i, current) {
+            return;
+        }
         let f = tracking::free_flight(s, i, &world.media[i].medium, ray, t_max(), rng);
         *lookups += f.lookups;
         if let Some(t) = f.t {
@@ -29,7 +37,8 @@ pub fn next_collision(
 }
 
 /// Transmittance of the segment `[0, distance]` of `ray` through every
-/// medium (the product of per-medium estimates is unbiased when they are).
+/// medium (the product of per-medium estimates is unbiased when they are);
+/// 0 when a surface other than an index-matched boundary blocks it.
 pub fn shadow_transmittance(
     nee: Shadow,
     world: &World,
@@ -38,11 +47,73 @@ pub fn shadow_transmittance(
     rng: &mut Pcg32,
     lookups: &mut u32,
 ) -> f32 {
+    shadow_transmittance_in(nee, world, ray, distance, None, rng, lookups)
+}
+
+/// Index-matched boundaries a ray may cross in a row (a guard against
+/// rays trapped by coincident surfaces).
+pub const MAX_CROSSINGS: u32 = 1024;
+
+/// [`shadow_transmittance`] for a ray that starts in bounded medium
+/// `current`: across medium transitions (null boundaries) it continues in
+/// the medium on their far side; thin dielectrics pass 1 − R′ of it.
+pub fn shadow_transmittance_in(
+    nee: Shadow,
+    world: &World,
+    ray: &Ray,
+    distance: f32,
+    current: Option<usize>,
+    rng: &mut Pcg32,
+    lookups: &mut u32,
+) -> f32 {
+    let Some(s) = &world.surfaces else {
+        return media_transmittance(nee, world, ray, distance, current, rng, lookups);
+    };
+    if !s.shadows_walk() {
+        if s.occluded(ray, distance) {
+            return 0.0;
+        }
+        return media_transmittance(nee, world, ray, distance, current, rng, lookups);
+    }
+    let (mut ray, mut left, mut current, mut tr) = (*ray, distance, current, 1.0);
+    for _ in 0..MAX_CROSSINGS {
+        let Some(h) = s.intersect(&ray, left) else {
+            return tr * media_transmittance(nee, world, &ray, left, current, rng, lookups);
+        };
+        let material = &s.shapes[h.shape as usize].material;
+        let Some(pass) = material.null_transmission(h.ns.dot(ray.d)) else {
+            return 0.0;
+        };
+        tr *= pass * media_transmittance(nee, world, &ray, h.t, current, rng, lookups);
+        if tr == 0.0 {
+            return 0.0;
+        }
+        current = s.target_medium(&h, ray.d, current);
+        left -= h.t;
+        ray = h.spawn(ray.d);
+    }
+    0.0
+}
+
+/// Transmittance of `[0, distance]` through the media present for a ray
+/// in bounded medium `current`, surfaces aside.
+fn media_transmittance(
+    nee: Shadow,
+    world: &World,
+    ray: &Ray,
+    distance: f32,
+    current: Option<usize>,
+    rng: &mut Pcg32,
+    lookups: &mut u32,
+) -> f32 {
     let mut t = 1.0;
     world.media_along(
         ray,
         || distance,
         |i| {
+            if !world.medium_active(i, current) {
+                return;
+            }
             let (tr, n) =
                 tracking::transmittance(nee, i, &world.media[i].medium, ray, distance, rng);
             *lookups += n;

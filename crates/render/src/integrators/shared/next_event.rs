@@ -1,13 +1,17 @@
 //! Direct lighting at a scattering vertex, shared by `direct` and `volpath`:
 //! next-event estimation toward one light chosen by power, combined with
-//! phase sampling by the balance heuristic for lights a direction can hit
-//! (environments). HG sampling is exact, so the phase pdf equals f.
+//! phase or BSDF sampling by the balance heuristic for lights a direction
+//! can hit (environments, emitting shapes). HG sampling is exact, so the
+//! phase pdf equals f.
 
 use super::balance;
-use super::free_flight::shadow_transmittance;
+use super::free_flight::shadow_transmittance_in;
 use super::tracking::Shadow;
+use crate::lights::area::SHADOW_SHORTEN;
 use crate::lights::sample::LightSampler;
+use crate::lights::Light;
 use crate::world::phase::HenyeyGreenstein;
+use crate::world::surfaces::{ShadingFrame, SurfaceBsdf, SurfaceHit};
 use crate::world::World;
 use fogbank_math::{Pcg32, Ray, Vec3};
 
@@ -25,11 +29,12 @@ pub fn light_sample(
     rng: &mut Pcg32,
     lookups: &mut u32,
 ) -> Vec3 {
-    light_sample_weighted(world, lights, nee, p, d, hg, true, rng, lookups)
+    light_sample_weighted(world, lights, nee, p, d, hg, true, None, rng, lookups)
 }
 
 /// [`light_sample`], MIS-weighted against phase sampling when `mis` is set
-/// and with full weight otherwise (light sampling as the only strategy).
+/// and with full weight otherwise (light sampling as the only strategy),
+/// from a point in bounded medium `current`.
 #[allow(clippy::too_many_arguments)]
 pub fn light_sample_weighted(
     world: &World,
@@ -39,6 +44,7 @@ pub fn light_sample_weighted(
     d: Vec3,
     hg: &HenyeyGreenstein,
     mis: bool,
+    current: Option<usize>,
     rng: &mut Pcg32,
     lookups: &mut u32,
 ) -> Vec3 {
@@ -52,7 +58,8 @@ pub fn light_sample_weighted(
     if f <= 0.0 || ls.radiance == Vec3::ZERO {
         return Vec3::ZERO;
     }
-    let tr = shadow_transmittance(nee, world, &Ray::new(p, ls.wi), ls.distance, rng, lookups);
+    let ray = Ray::new(p, ls.wi);
+    let tr = shadow_transmittance_in(nee, world, &ray, ls.distance, current, rng, lookups);
     if ls.is_delta || !mis {
         ls.radiance * (f * tr / (pmf * if ls.is_delta { 1.0 } else { ls.pdf }))
     } else {
@@ -110,15 +117,111 @@ pub fn phase_sample_to_environment(
     p: Vec3,
     wi: Vec3,
     phase_pdf: f32,
+    current: Option<usize>,
     rng: &mut Pcg32,
     lookups: &mut u32,
 ) -> Vec3 {
+    let ray = Ray::new(p, wi);
+    let pdf = Some(phase_pdf);
+    sampled_direction_to_lights(world, lights, nee, p, &ray, pdf, current, rng, lookups)
+}
+
+/// The last vertex's sampled direction (phase function or BSDF, pdf
+/// `None` for a delta lobe) evaluated toward the lights instead of traced:
+/// the first surface that is not an index-matched boundary along `ray`
+/// gives its emission, or blocks; with none, the environment. The
+/// transmittance up to there is estimated with the NEE estimator. `from`
+/// is the vertex (the ray's origin may sit just off a surface); the ray
+/// starts in bounded medium `current`.
+#[allow(clippy::too_many_arguments)]
+pub fn sampled_direction_to_lights(
+    world: &World,
+    lights: &LightSampler,
+    nee: Shadow,
+    from: Vec3,
+    ray: &Ray,
+    pdf: Option<f32>,
+    current: Option<usize>,
+    rng: &mut Pcg32,
+    lookups: &mut u32,
+) -> Vec3 {
+    if let Some(s) = &world.surfaces {
+        if let Some(h) = s.intersect_opaque(ray, f32::INFINITY) {
+            let Some((le, li)) = s.emitted(&h, ray.d) else {
+                return Vec3::ZERO;
+            };
+            let w = emitter_weight(world, lights, li, h.p, ray.d, pdf.map(|p| (from, p)));
+            let distance = h.t * (1.0 - SHADOW_SHORTEN);
+            let tr = shadow_transmittance_in(nee, world, ray, distance, current, rng, lookups);
+            return le * (w * tr);
+        }
+    }
     if !world.lights.iter().any(|l| l.is_environment()) {
         return Vec3::ZERO;
     }
-    let le = escaped(world, lights, wi, Some(phase_pdf));
+    let le = escaped(world, lights, ray.d, pdf);
     if le == Vec3::ZERO {
         return Vec3::ZERO;
     }
-    le * shadow_transmittance(nee, world, &Ray::new(p, wi), f32::INFINITY, rng, lookups)
+    le * shadow_transmittance_in(nee, world, ray, f32::INFINITY, current, rng, lookups)
+}
+
+/// MIS weight of an area light's emission reached at `q` along `d` by a
+/// direction sampled at `prev` = (vertex, solid-angle pdf); 1 when no
+/// light strategy could have produced it (camera ray, delta lobe).
+pub fn emitter_weight(
+    world: &World,
+    lights: &LightSampler,
+    li: usize,
+    q: Vec3,
+    d: Vec3,
+    prev: Option<(Vec3, f32)>,
+) -> f32 {
+    match (prev, &world.lights[li]) {
+        (Some((p, pdf)), Light::Area(a)) => balance(pdf, lights.pmf(li) * a.pdf_solid(p, q, d)),
+        _ => 1.0,
+    }
+}
+
+/// Light sampling at a surface hit: L_i f |cos θ_i| T / pdf, MIS-weighted
+/// against BSDF sampling for non-delta lights when `mis` is set. The shadow
+/// ray leaves from the side of the surface the light is on, in the medium
+/// there (the path arrived in bounded medium `current`).
+#[allow(clippy::too_many_arguments)]
+pub fn light_sample_surface(
+    world: &World,
+    lights: &LightSampler,
+    nee: Shadow,
+    hit: &SurfaceHit,
+    frame: &ShadingFrame,
+    wo: Vec3,
+    bsdf: &SurfaceBsdf,
+    mis: bool,
+    current: Option<usize>,
+    rng: &mut Pcg32,
+    lookups: &mut u32,
+) -> Vec3 {
+    let Some((li, pmf)) = lights.pick(rng.next_f32()) else {
+        return Vec3::ZERO;
+    };
+    let Some(ls) = world.lights[li].sample_li(hit.p, [rng.next_f32(), rng.next_f32()]) else {
+        return Vec3::ZERO;
+    };
+    let wi = frame.to_local(ls.wi);
+    let f = bsdf.eval(wo, wi) * wi.z.abs();
+    if f == Vec3::ZERO || ls.radiance == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    let current = match &world.surfaces {
+        Some(s) => s.target_medium(hit, ls.wi, current),
+        None => current,
+    };
+    let ray = hit.spawn(ls.wi);
+    let tr = shadow_transmittance_in(nee, world, &ray, ls.distance, current, rng, lookups);
+    if ls.is_delta || !mis {
+        ls.radiance * f * (tr / (pmf * if ls.is_delta { 1.0 } else { ls.pdf }))
+    } else {
+        let light_pdf = pmf * ls.pdf;
+        ls.radiance * f * (tr * balance(light_pdf, bsdf.pdf(wo, wi)) / light_pdf)
+    }
 }

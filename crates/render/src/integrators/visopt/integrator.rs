@@ -167,6 +167,8 @@ impl VisOpt {
                 DistanceSampler::DeltaTracking.into(),
                 world,
                 &ray,
+                f32::INFINITY,
+                None,
                 rng,
                 lookups,
             ) else {

@@ -135,17 +135,26 @@ fn sample_smooth(wo: Vec3, uc: f32, eta: f32) -> Option<BsdfSample> {
     })
 }
 
+/// The fraction of light a thin slab passes straight through at incident
+/// cosine `cos`: 1 − R′ with R′ = R + T²R / (1 − R²), the slab's
+/// inter-reflections summed (what shadow rays see through it, Mitsuba's
+/// `eval_null_transmission`).
+pub(super) fn thin_transmission(cos: f32, eta: f32) -> f32 {
+    let r = fresnel(cos.abs(), eta);
+    if r < 1.0 {
+        let t = 1.0 - r;
+        1.0 - (r + t * t * r / (1.0 - r * r))
+    } else {
+        0.0
+    }
+}
+
 pub(super) fn sample_thin(wo: Vec3, uc: f32, eta: f32) -> Option<BsdfSample> {
     if wo.z == 0.0 {
         return None;
     }
-    let mut r = fresnel(wo.z.abs(), eta);
-    let mut t = 1.0 - r;
-    // Light bounces inside the slab: R' = R + T²R / (1 − R²).
-    if r < 1.0 {
-        r += t * t * r / (1.0 - r * r);
-        t = 1.0 - r;
-    }
+    let t = thin_transmission(wo.z, eta);
+    let r = 1.0 - t;
     let (wi, p) = if uc < r {
         (Vec3::new(-wo.x, -wo.y, wo.z), r)
     } else {

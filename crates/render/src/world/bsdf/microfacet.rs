@@ -44,9 +44,11 @@ impl Ggx {
         1.0 / (1.0 + self.lambda(w))
     }
 
-    /// G(wo, wi): height-correlated masking–shadowing.
+    /// G(wo, wi) = G1(wo) G1(wi): separable masking–shadowing, Mitsuba 3's
+    /// form (pbrt-v4 uses the height-correlated 1 / (1 + Λo + Λi); the
+    /// Mitsuba scenes fogbank is checked against use this one).
     pub fn g(&self, wo: Vec3, wi: Vec3) -> f32 {
-        1.0 / (1.0 + self.lambda(wo) + self.lambda(wi))
+        self.g1(wo) * self.g1(wi)
     }
 
     /// Density of visible normals seen from `w` (mirrored to the upper side

@@ -14,11 +14,10 @@
 //! | `Dielectric` | `dielectric`, `roughdielectric` | reflection + refraction, smooth or GGX, both sides |
 //! | `ThinDielectric` | `thindielectric` | mirror reflection + straight transmission through a thin slab |
 //! | `Plastic` | `plastic` | smooth coating (delta) over a Lambertian base with internal scattering, one-sided |
+//! | `RoughPlastic` | `roughplastic` | GGX coating over a Lambertian base, the coating's transmittance tabulated, one-sided |
 //! | `Null` | `null` | straight through (index-matched medium boundaries) |
 //!
 //! [`TwoSided`] wraps one-sided models as Mitsuba's `twosided` does.
-//!
-//! Not used by the renderer yet (issue 23: shapes come next).
 
 pub mod fresnel;
 pub mod microfacet;
@@ -27,10 +26,12 @@ mod conductor;
 mod dielectric;
 mod model;
 mod plastic;
+mod rough_plastic;
 mod sample;
 mod two_sided;
 
 pub use model::Bsdf;
 pub use plastic::{diffuse_fresnel, Plastic};
+pub use rough_plastic::RoughPlastic;
 pub use sample::{sample_cosine, BsdfSample};
 pub use two_sided::TwoSided;

@@ -3,6 +3,7 @@
 
 use super::microfacet::Ggx;
 use super::plastic::Plastic;
+use super::rough_plastic::RoughPlastic;
 use super::sample::{sample_cosine, BsdfSample};
 use super::{conductor, dielectric};
 use glam::Vec3;
@@ -30,6 +31,7 @@ pub enum Bsdf {
         eta: f32,
     },
     Plastic(Plastic),
+    RoughPlastic(RoughPlastic),
     Null,
 }
 
@@ -37,9 +39,21 @@ impl Bsdf {
     /// Whether every lobe is a delta (no `eval`, no MIS with light sampling).
     pub fn is_delta(&self) -> bool {
         match *self {
-            Bsdf::Diffuse { .. } | Bsdf::Plastic(_) => false,
+            Bsdf::Diffuse { .. } | Bsdf::Plastic(_) | Bsdf::RoughPlastic(_) => false,
             Bsdf::Conductor { alpha, .. } | Bsdf::Dielectric { alpha, .. } => alpha < Ggx::SMOOTH,
             Bsdf::ThinDielectric { .. } | Bsdf::Null => true,
+        }
+    }
+
+    /// The fraction of light passing straight through at incident cosine
+    /// `cos` when the surface lets light through unscattered in part
+    /// (`null`: all; `thindielectric`: 1 − R′), else `None`: what shadow
+    /// rays see, and why such passages are not path vertices.
+    pub fn null_transmission(&self, cos: f32) -> Option<f32> {
+        match *self {
+            Bsdf::Null => Some(1.0),
+            Bsdf::ThinDielectric { eta } => Some(dielectric::thin_transmission(cos, eta)),
+            _ => None,
         }
     }
 
@@ -61,6 +75,7 @@ impl Bsdf {
             } => conductor::eval(wo, wi, eta, k, alpha) * specular,
             Bsdf::Dielectric { eta, alpha } => Vec3::splat(dielectric::eval(wo, wi, eta, alpha)),
             Bsdf::Plastic(p) => p.eval(wo, wi),
+            Bsdf::RoughPlastic(p) => p.eval(wo, wi),
             Bsdf::ThinDielectric { .. } | Bsdf::Null => Vec3::ZERO,
         }
     }
@@ -78,6 +93,7 @@ impl Bsdf {
             Bsdf::Conductor { alpha, .. } => conductor::pdf(wo, wi, alpha),
             Bsdf::Dielectric { eta, alpha } => dielectric::pdf(wo, wi, eta, alpha),
             Bsdf::Plastic(p) => p.pdf(wo, wi),
+            Bsdf::RoughPlastic(p) => p.pdf(wo, wi),
             Bsdf::ThinDielectric { .. } | Bsdf::Null => 0.0,
         }
     }
@@ -109,6 +125,7 @@ impl Bsdf {
             Bsdf::Dielectric { eta, alpha } => dielectric::sample(wo, uc, u, eta, alpha),
             Bsdf::ThinDielectric { eta } => dielectric::sample_thin(wo, uc, eta),
             Bsdf::Plastic(p) => p.sample(wo, uc, u),
+            Bsdf::RoughPlastic(p) => p.sample(wo, uc, u),
             Bsdf::Null => (wo.z != 0.0).then(|| BsdfSample {
                 wi: -wo,
                 f: Vec3::splat(1.0 / wo.z.abs()),

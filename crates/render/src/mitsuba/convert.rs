@@ -1,0 +1,323 @@
+//! A Mitsuba scene document as a fogbank scene description: the sensor
+//! becomes `[camera]` and `[render]`, the integrator `[integrator]`,
+//! emitters `[[lights]]`, shapes `[[shapes]]`, and the media they (or the
+//! sensor) name `[[media]]`, numbered in order of first mention.
+
+use super::emitters::light;
+use super::media::medium;
+use super::plugin::{Ids, Plugin};
+use super::shapes::shape;
+use super::xml::{Document, Element};
+use crate::error::SceneError;
+use crate::world::surfaces::ShapeDesc;
+use fogbank_math::{Aabb, Vec3};
+use glam::{DMat4, DVec3};
+use std::path::Path;
+use toml::{Table, Value};
+
+/// Every element with an `id`, at any depth.
+fn collect_ids<'a>(e: &'a Element, ids: &mut Ids<'a>) -> Result<(), SceneError> {
+    for c in &e.children {
+        if let Some(id) = c.attr("id") {
+            if c.tag != "ref" && ids.insert(id, c).is_some() {
+                return Err(c.error(format!("id `{id}` is used twice")));
+            }
+        }
+        collect_ids(c, ids)?;
+    }
+    Ok(())
+}
+
+/// Media in order of first mention, with how they are used.
+#[derive(Default)]
+struct MediaUse<'a> {
+    media: Vec<&'a Element>,
+    /// Per medium: the union of the boxes of shapes it is the interior of.
+    interior_box: Vec<Aabb>,
+    /// Per medium: named as an exterior or by the sensor (unbounded).
+    open: Vec<bool>,
+}
+
+impl<'a> MediaUse<'a> {
+    fn index(&mut self, m: &'a Element) -> usize {
+        if let Some(i) = self.media.iter().position(|x| std::ptr::eq(*x, m)) {
+            return i;
+        }
+        self.media.push(m);
+        self.interior_box
+            .push(Aabb::new(Vec3::INFINITY, Vec3::NEG_INFINITY));
+        self.open.push(false);
+        self.media.len() - 1
+    }
+}
+
+fn union(a: Aabb, b: Aabb) -> Aabb {
+    Aabb::new(a.min.min(b.min), a.max.max(b.max))
+}
+
+/// Converts the document; relative file names in it are made absolute.
+pub fn scene_table(doc: &Document) -> Result<Table, SceneError> {
+    let mut ids = Ids::new();
+    collect_ids(&doc.root, &mut ids)?;
+    let root = &doc.root;
+    let mut out = Table::new();
+    let (mut lights, mut shapes) = (Vec::new(), Vec::new());
+    let mut media = MediaUse::default();
+    let mut scene_box = Aabb::new(Vec3::INFINITY, Vec3::NEG_INFINITY);
+    let mut sensor_medium = None;
+    for c in &root.children {
+        match c.tag.as_str() {
+            "integrator" => {
+                let mut t = integrator(c, &ids)?;
+                if out.contains_key("integrator") {
+                    return Err(c.error("a second <integrator>"));
+                }
+                t.insert("type".into(), "volpath".into());
+                out.insert("integrator".into(), Value::Table(t));
+            }
+            "sensor" => {
+                if out.contains_key("camera") {
+                    return Err(c.error("a second <sensor>"));
+                }
+                let (camera, render, m) = sensor(c, &ids)?;
+                sensor_medium = m;
+                out.insert("camera".into(), Value::Table(camera));
+                out.insert("render".into(), Value::Table(render));
+            }
+            "emitter" => lights.push(Value::Table(light(c, &ids, doc)?)),
+            "shape" => {
+                let s = shape(c, &ids, doc)?;
+                let mut table = s.table;
+                let bounds = shape_bounds(&table, shapes.len()).map_err(|e| c.error(e.0))?;
+                scene_box = union(scene_box, bounds);
+                if let Some(m) = s.interior {
+                    let i = media.index(m);
+                    media.interior_box[i] = union(media.interior_box[i], bounds);
+                    table.insert("interior".into(), (i as i64).into());
+                }
+                if let Some(m) = s.exterior {
+                    let i = media.index(m);
+                    media.open[i] = true;
+                    table.insert("exterior".into(), (i as i64).into());
+                }
+                shapes.push(Value::Table(table));
+            }
+            // Named objects are converted where they are referenced.
+            "bsdf" | "texture" | "medium" | "volume" | "phase" if c.attr("id").is_some() => {}
+            _ => return Err(c.error("is not supported at the top level of a scene")),
+        }
+    }
+    if let Some(m) = sensor_medium {
+        let i = media.index(m);
+        media.open[i] = true;
+    }
+    if let Some(Value::Table(cam)) = out.get("camera") {
+        if let Some(Value::Array(o)) = cam.get("from") {
+            let p: Vec<f32> = o
+                .iter()
+                .filter_map(|v| v.as_float())
+                .map(|x| x as f32)
+                .collect();
+            let p = Vec3::new(p[0], p[1], p[2]);
+            scene_box = union(scene_box, Aabb::new(p, p));
+        }
+    }
+    // An unbounded medium fills the scene's box, a little enlarged.
+    let pad = 0.01 * (scene_box.max - scene_box.min).max_element().max(1e-3);
+    let open_box = Aabb::new(scene_box.min - pad, scene_box.max + pad);
+    let mut media_tables = Vec::new();
+    for (i, m) in media.media.iter().enumerate() {
+        let b = if media.open[i] {
+            open_box
+        } else {
+            media.interior_box[i]
+        };
+        media_tables.push(Value::Table(medium(m, &ids, doc, b)?));
+    }
+    out.insert("media".into(), Value::Array(media_tables));
+    out.insert("lights".into(), Value::Array(lights));
+    out.insert("shapes".into(), Value::Array(shapes));
+    Ok(out)
+}
+
+fn shape_bounds(t: &Table, i: usize) -> Result<Aabb, SceneError> {
+    let d: ShapeDesc = Value::Table(t.clone())
+        .try_into()
+        .map_err(|e| SceneError(format!("{e}")))?;
+    let mesh = d.mesh(i, Path::new("."))?;
+    let mut b = Aabb::new(Vec3::INFINITY, Vec3::NEG_INFINITY);
+    for p in mesh.positions.iter().filter(|p| p.is_finite()) {
+        b = union(b, Aabb::new(*p, *p));
+    }
+    Ok(b)
+}
+
+/// `volpath`, `volpathmis` (the same for fogbank's achromatic media) or a
+/// `moment` around one (fogbank always writes the variance).
+fn integrator(e: &Element, ids: &Ids) -> Result<Table, SceneError> {
+    let p = Plugin::new(e, ids)?;
+    if p.ty == "moment" {
+        let inner = p.objects("integrator")?;
+        p.finish()?;
+        return match inner.as_slice() {
+            [one] => integrator(one, ids),
+            _ => Err(e.error("a moment integrator wraps one integrator")),
+        };
+    }
+    if p.ty != "volpath" && p.ty != "volpathmis" {
+        return Err(p.error(format!(
+            "integrator `{}` is not supported (volpath, volpathmis, moment)",
+            p.ty
+        )));
+    }
+    let mut t = Table::new();
+    // Mitsuba counts path segments (1: emitters seen directly); fogbank
+    // counts scattering vertices.
+    match p.integer("max_depth")?.unwrap_or(-1) {
+        -1 => {
+            t.insert("max_depth".into(), 100_000.into());
+        }
+        d if (2..=100_001).contains(&d) => {
+            t.insert("max_depth".into(), (d - 1).into());
+        }
+        d => {
+            return Err(p.error(format!(
+                "max_depth {d}: fogbank supports -1 (unlimited) or 2..=100001"
+            )))
+        }
+    }
+    let rr = p.integer("rr_depth")?.unwrap_or(5);
+    if !(1..=100_000).contains(&rr) {
+        return Err(p.error(format!("rr_depth {rr} is outside 1..=100000")));
+    }
+    t.insert("rr_depth".into(), rr.into());
+    if p.boolean("hide_emitters")? == Some(true) {
+        return Err(p.error("hide_emitters = true is not supported"));
+    }
+    p.finish()?;
+    Ok(t)
+}
+
+/// `perspective` with its `film` (hdrfilm, box filter) and `sampler`
+/// (independent): the camera, the render settings and the sensor's medium.
+fn sensor<'a>(
+    e: &'a Element,
+    ids: &'a Ids<'a>,
+) -> Result<(Table, Table, Option<&'a Element>), SceneError> {
+    let p = Plugin::new(e, ids)?;
+    if p.ty != "perspective" {
+        return Err(p.error(format!("sensor `{}` is not supported (perspective)", p.ty)));
+    }
+    let fov = p
+        .float("fov")?
+        .ok_or_else(|| p.error("needs `fov` (focal_length is not supported)"))?;
+    let axis = p.string("fov_axis")?.unwrap_or("x");
+    let near = p.float("near_clip")?.unwrap_or(0.01);
+    let far = p.float("far_clip")?.unwrap_or(1e4);
+    if near > 0.01 + 1e-9 || far < 100.0 {
+        return Err(p.error(format!(
+            "near_clip {near} / far_clip {far}: fogbank does not clip (near ≤ 0.01 and far ≥ 100 are accepted)"
+        )));
+    }
+    let m = p.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
+    let film = p
+        .object("film", "")?
+        .ok_or_else(|| p.error("needs a <film>"))?;
+    let (w, h) = film_size(film, ids)?;
+    let mut render = Table::new();
+    if let Some(s) = p.object("sampler", "")? {
+        let sp = Plugin::new(s, ids)?;
+        if sp.ty != "independent" {
+            return Err(sp.error("only the independent sampler is supported"));
+        }
+        render.insert(
+            "spp".into(),
+            sp.integer("sample_count")?.unwrap_or(4).into(),
+        );
+        if let Some(seed) = sp.integer("seed")? {
+            render.insert("seed".into(), seed.into());
+        }
+        sp.finish()?;
+    }
+    let medium = match p.object("medium", "medium")? {
+        Some(m) => Some(m),
+        None => p.object("medium", "")?,
+    };
+    p.finish()?;
+    let fov_x = match axis {
+        "x" => Some(true),
+        "y" => Some(false),
+        "smaller" => Some(w <= h),
+        "larger" => Some(w >= h),
+        "diagonal" => None,
+        other => {
+            return Err(e.error(format!(
+                "fov_axis `{other}` (x, y, diagonal, smaller, larger)"
+            )))
+        }
+    };
+    let (fov, along_x) = match fov_x {
+        Some(x) => (fov, x),
+        None => {
+            let diag = ((w * w + h * h) as f64).sqrt();
+            let t = (0.5 * fov.to_radians()).tan() * w as f64 / diag;
+            (2.0 * t.atan().to_degrees(), true)
+        }
+    };
+    let origin = m.transform_point3(DVec3::ZERO);
+    let forward = m.transform_vector3(DVec3::Z).normalize_or_zero();
+    let up = m.transform_vector3(DVec3::Y).normalize_or_zero();
+    let left = m.transform_vector3(DVec3::X);
+    // Mitsuba's camera x points left; a mirrored transform flips the image.
+    if up.cross(forward).dot(left) <= 0.0 {
+        return Err(p_error(
+            e,
+            "the sensor's to_world mirrors the image (not supported)",
+        ));
+    }
+    let v = |d: DVec3| Value::Array(d.to_array().iter().map(|&x| Value::Float(x)).collect());
+    let mut camera = Table::new();
+    camera.insert("from".into(), v(origin));
+    camera.insert("to".into(), v(origin + forward));
+    camera.insert("up".into(), v(up));
+    camera.insert("fov".into(), fov.into());
+    camera.insert("fov_axis".into(), if along_x { "x" } else { "y" }.into());
+    camera.insert("width".into(), w.into());
+    camera.insert("height".into(), h.into());
+    Ok((camera, render, medium))
+}
+
+fn p_error(e: &Element, what: &str) -> SceneError {
+    e.error(what)
+}
+
+fn film_size(film: &Element, ids: &Ids) -> Result<(i64, i64), SceneError> {
+    let f = Plugin::new(film, ids)?;
+    if f.ty != "hdrfilm" {
+        return Err(f.error("only hdrfilm is supported"));
+    }
+    let w = f.integer("width")?.unwrap_or(768);
+    let h = f.integer("height")?.unwrap_or(576);
+    if !(1..=1 << 16).contains(&w) || !(1..=1 << 16).contains(&h) {
+        return Err(f.error(format!("{w}×{h} pixels is outside 1..=65536 per side")));
+    }
+    match f.string("pixel_format")? {
+        None | Some("rgb") | Some("rgba") => {}
+        Some(o) => return Err(f.error(format!("pixel_format `{o}` (rgb)"))),
+    }
+    match f.string("component_format")? {
+        None | Some("float32") => {}
+        Some(o) => return Err(f.error(format!("component_format `{o}` (float32)"))),
+    }
+    match f.object("rfilter", "")? {
+        Some(r) if r.attr("type") == Some("box") && r.children.is_empty() => {}
+        Some(r) => return Err(r.error("only the box filter is supported")),
+        None => {
+            return Err(f.error(
+                "Mitsuba's default filter is gaussian; fogbank has the box filter only: add <rfilter type=\"box\"/>",
+            ))
+        }
+    }
+    f.finish()?;
+    Ok((w, h))
+}

@@ -1,0 +1,95 @@
+//! `<emitter>` elements as `[[lights]]` tables (`area` emitters belong to
+//! their shapes, see `shapes`).
+
+use super::bsdfs::rgb_value;
+use super::plugin::{Ids, Plugin};
+use super::xml::{find_file, Document, Element};
+use crate::error::SceneError;
+use glam::{DMat3, DQuat, DVec3};
+use toml::{Table, Value};
+
+fn vec3(v: DVec3) -> Value {
+    Value::Array(v.to_array().iter().map(|&x| Value::Float(x)).collect())
+}
+
+pub fn light(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError> {
+    let p = Plugin::new(e, ids)?;
+    let mut t = Table::new();
+    let rgb = |name: &str| -> Result<[f32; 3], SceneError> {
+        p.rgb(name)?
+            .ok_or_else(|| p.error(format!("needs `{name}`")))
+    };
+    let to_world = p.transform("to_world")?;
+    match p.ty {
+        "constant" => {
+            t.insert("type".into(), "constant".into());
+            t.insert("radiance".into(), rgb_value(rgb("radiance")?));
+        }
+        "envmap" => {
+            let f = p
+                .string("filename")?
+                .ok_or_else(|| p.error("needs `filename`"))?;
+            let path = find_file(&e.file, &doc.paths, f).map_err(|m| p.error(m))?;
+            t.insert("type".into(), "envmap".into());
+            t.insert("file".into(), path.display().to_string().into());
+            if let Some(s) = p.float("scale")? {
+                t.insert("scale".into(), s.into());
+            }
+            if let Some(m) = to_world {
+                let r = DMat3::from_mat4(m);
+                if !(r.transpose() * r).abs_diff_eq(DMat3::IDENTITY, 1e-5) || r.determinant() < 0.0 {
+                    return Err(p.error("an envmap's to_world must be a rotation"));
+                }
+                let (axis, angle) = DQuat::from_mat3(&r).to_axis_angle();
+                let mut rot = axis.to_array().to_vec();
+                rot.push(angle.to_degrees());
+                t.insert("rotate".into(), Value::Array(rot.into_iter().map(Value::Float).collect()));
+            }
+        }
+        "point" => {
+            let pos = match (p.vector("position")?, to_world) {
+                (Some(v), None) => DVec3::from(v),
+                (None, Some(m)) => m.transform_point3(DVec3::ZERO),
+                (None, None) => DVec3::ZERO,
+                (Some(_), Some(_)) => return Err(p.error("give `position` or `to_world`, not both")),
+            };
+            t.insert("type".into(), "point".into());
+            t.insert("position".into(), vec3(pos));
+            t.insert("intensity".into(), rgb_value(rgb("intensity")?));
+        }
+        "directional" => {
+            let dir = match (p.vector("direction")?, to_world) {
+                (Some(v), None) => DVec3::from(v),
+                (None, Some(m)) => m.transform_vector3(DVec3::Z),
+                (None, None) => DVec3::Z,
+                (Some(_), Some(_)) => return Err(p.error("give `direction` or `to_world`, not both")),
+            };
+            t.insert("type".into(), "directional".into());
+            t.insert("direction".into(), vec3(dir));
+            t.insert("irradiance".into(), rgb_value(rgb("irradiance")?));
+        }
+        "area" => return Err(p.error("an area emitter belongs inside a <shape>")),
+        other => {
+            return Err(p.error(format!(
+                "emitter `{other}` is not supported (constant, envmap, point, directional; area in shapes)"
+            )))
+        }
+    }
+    p.finish()?;
+    Ok(t)
+}
+
+/// A shape's `area` emitter: `{ radiance }`.
+pub fn area(e: &Element, ids: &Ids) -> Result<Table, SceneError> {
+    let p = Plugin::new(e, ids)?;
+    if p.ty != "area" {
+        return Err(p.error("a shape's emitter must be `area`"));
+    }
+    let r = p
+        .rgb("radiance")?
+        .ok_or_else(|| p.error("needs `radiance`"))?;
+    p.finish()?;
+    let mut t = Table::new();
+    t.insert("radiance".into(), rgb_value(r));
+    Ok(t)
+}

@@ -1,0 +1,188 @@
+//! `<medium>` elements as `[[media]]` tables. A homogeneous medium (or a
+//! `constvolume`) becomes a constant grid over `bounds` (its shapes'
+//! box, or the scene's when it is unbounded); a `gridvolume` keeps its
+//! `.vol` file, placed as Mitsuba places it.
+
+use super::bsdfs::rgb_value;
+use super::plugin::{Ids, Plugin};
+use super::shapes::matrix_table;
+use super::xml::{find_file, Document, Element};
+use crate::error::SceneError;
+use fogbank_math::Aabb;
+use glam::{DMat4, DVec3};
+use toml::{Table, Value};
+
+/// The `.vol` header's channel count and bounding box.
+fn vol_header(path: &std::path::Path) -> Result<(u32, DVec3, DVec3), String> {
+    use std::io::Read;
+    let mut h = [0u8; 48];
+    std::fs::File::open(path)
+        .and_then(|mut f| f.read_exact(&mut h))
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    if &h[..3] != b"VOL" {
+        return Err(format!("{}: not a .vol file", path.display()));
+    }
+    let f = |o: usize| f32::from_le_bytes([h[o], h[o + 1], h[o + 2], h[o + 3]]) as f64;
+    let channels = i32::from_le_bytes([h[20], h[21], h[22], h[23]]);
+    Ok((
+        channels.max(0) as u32,
+        DVec3::new(f(24), f(28), f(32)),
+        DVec3::new(f(36), f(40), f(44)),
+    ))
+}
+
+/// A grid volume as a `density`-like table and its `to_world` (fogbank
+/// places a `.vol` by its file box; Mitsuba by the unit cube unless
+/// `use_grid_bbox`), and its channel count.
+fn grid(e: &Element, ids: &Ids, doc: &Document) -> Result<(Table, DMat4, u32), SceneError> {
+    let p = Plugin::new(e, ids)?;
+    if p.ty != "gridvolume" {
+        return Err(p.error(format!(
+            "volume `{}` is not supported here (gridvolume)",
+            p.ty
+        )));
+    }
+    let f = p
+        .string("filename")?
+        .ok_or_else(|| p.error("needs `filename`"))?;
+    let path = find_file(&e.file, &doc.paths, f).map_err(|m| p.error(m))?;
+    let (channels, lo, hi) = vol_header(&path).map_err(|m| p.error(m))?;
+    let m = p.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
+    let grid_bbox = p.boolean("use_grid_bbox")?.unwrap_or(false);
+    match p.string("filter_type")? {
+        None | Some("trilinear") => {}
+        Some(other) => return Err(p.error(format!("filter_type `{other}`: only trilinear"))),
+    }
+    p.finish()?;
+    // fogbank's file placement is the box B; Mitsuba's is the unit cube.
+    let unit_to_box = DMat4::from_translation(lo) * DMat4::from_scale(hi - lo);
+    let xf = if grid_bbox {
+        m
+    } else {
+        m * unit_to_box.inverse()
+    };
+    let mut t = Table::new();
+    t.insert("vol".into(), path.display().to_string().into());
+    Ok((t, xf, channels))
+}
+
+/// A constant volume's value.
+fn constant(e: &Element, ids: &Ids) -> Result<Option<[f32; 3]>, SceneError> {
+    let p = Plugin::new(e, ids)?;
+    if p.ty != "constvolume" {
+        return Ok(None);
+    }
+    let v = p.rgb("value")?.unwrap_or([1.0; 3]);
+    p.finish()?;
+    Ok(Some(v))
+}
+
+fn phase(p: &Plugin, ids: &Ids, t: &mut Table) -> Result<(), SceneError> {
+    let Some(e) = p.object("phase", "")? else {
+        return Ok(());
+    };
+    let ph = Plugin::new(e, ids)?;
+    let g = match ph.ty {
+        "isotropic" => 0.0,
+        "hg" => ph.float("g")?.unwrap_or(0.8),
+        other => return Err(ph.error(format!("phase `{other}` is not supported (isotropic, hg)"))),
+    };
+    ph.finish()?;
+    let mut pt = Table::new();
+    pt.insert("type".into(), "hg".into());
+    pt.insert("g".into(), g.into());
+    t.insert("phase".into(), Value::Table(pt));
+    Ok(())
+}
+
+fn achromatic(p: &Plugin, c: [f32; 3], what: &str) -> Result<f32, SceneError> {
+    if c[0] == c[1] && c[1] == c[2] {
+        Ok(c[0])
+    } else {
+        Err(p.error(format!(
+            "{what} {c:?} differs per channel: chromatic extinction is not supported yet"
+        )))
+    }
+}
+
+/// The medium over `bounds` (used by constant media only).
+pub fn medium(e: &Element, ids: &Ids, doc: &Document, bounds: Aabb) -> Result<Table, SceneError> {
+    let p = Plugin::new(e, ids)?;
+    let mut t = Table::new();
+    let scale = p.float("scale")?.unwrap_or(1.0);
+    let box_xf = || {
+        let (lo, hi) = (bounds.min.as_dvec3(), bounds.max.as_dvec3());
+        DMat4::from_translation(0.5 * (lo + hi))
+            * DMat4::from_scale((hi - lo).max(DVec3::splat(1e-6)))
+    };
+    let constant_density = |t: &mut Table, sigma: f64| {
+        let mut d = Table::new();
+        d.insert("procedural".into(), "constant".into());
+        d.insert("resolution".into(), 2.into());
+        t.insert("density".into(), Value::Table(d));
+        t.insert("sigma_t_scale".into(), (sigma * scale).into());
+        t.insert("to_world".into(), Value::Table(matrix_table(box_xf())));
+    };
+    match p.ty {
+        "homogeneous" => {
+            let s = p.rgb("sigma_t")?.unwrap_or([1.0; 3]);
+            constant_density(&mut t, achromatic(&p, s, "sigma_t")? as f64);
+        }
+        "heterogeneous" => {
+            let v = p
+                .object("volume", "sigma_t")?
+                .ok_or_else(|| p.error("needs a `sigma_t` volume"))?;
+            if let Some(c) = constant(v, ids)? {
+                constant_density(&mut t, achromatic(&p, c, "sigma_t")? as f64);
+            } else {
+                let (density, xf, channels) = grid(v, ids, doc)?;
+                if channels != 1 {
+                    return Err(v.error(format!(
+                        "a {channels}-channel sigma_t grid: chromatic extinction is not supported yet"
+                    )));
+                }
+                t.insert("density".into(), Value::Table(density));
+                t.insert("sigma_t_scale".into(), scale.into());
+                t.insert("to_world".into(), Value::Table(matrix_table(xf)));
+                t.insert("filter".into(), "trilinear".into());
+            }
+        }
+        other => {
+            return Err(p.error(format!(
+                "medium `{other}` is not supported (homogeneous, heterogeneous)"
+            )))
+        }
+    }
+    albedo(&p, ids, doc, &mut t)?;
+    phase(&p, ids, &mut t)?;
+    if let Some(b) = p.boolean("sample_emitters")? {
+        if !b {
+            return Err(p.error("sample_emitters = false is not supported"));
+        }
+    }
+    t.insert("precision".into(), "f32".into());
+    p.finish()?;
+    Ok(t)
+}
+
+fn albedo(p: &Plugin, ids: &Ids, doc: &Document, t: &mut Table) -> Result<(), SceneError> {
+    if let Some(c) = p.rgb("albedo")? {
+        t.insert("albedo".into(), rgb_value(c));
+    } else if let Some(v) = p.object("volume", "albedo")? {
+        if let Some(c) = constant(v, ids)? {
+            t.insert("albedo".into(), rgb_value(c));
+        } else {
+            let (grid, xf, _) = grid(v, ids, doc)?;
+            let density_xf = t.get("to_world").cloned();
+            if density_xf != Some(Value::Table(matrix_table(xf))) {
+                return Err(v.error("an albedo grid must be placed like the sigma_t grid"));
+            }
+            t.insert("albedo".into(), rgb_value([1.0; 3]));
+            t.insert("albedo_grid".into(), Value::Table(grid));
+        }
+    } else {
+        // Mitsuba's default albedo is 0.75.
+        t.insert("albedo".into(), rgb_value([0.75; 3]));
+    }
+    Ok(())
+}

@@ -1,0 +1,225 @@
+//! Reading a Mitsuba 3 XML file into an owned element tree: `include`d
+//! files spliced in, `default` values and `$name` substitution applied,
+//! `path` folders collected for file lookup. Every element keeps its file
+//! and line for messages.
+
+use crate::error::SceneError;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Largest XML file read (bigger ones are refused before reading).
+const MAX_FILE_BYTES: u64 = 64 << 20;
+/// How deep `include`s may nest (a cycle stops here).
+const MAX_INCLUDE_DEPTH: u32 = 16;
+
+#[derive(Clone, Debug)]
+pub struct Element {
+    pub tag: String,
+    pub attrs: Vec<(String, String)>,
+    pub children: Vec<Element>,
+    /// The file the element is written in, for messages and relative paths.
+    pub file: Arc<PathBuf>,
+    pub line: u32,
+}
+
+impl Element {
+    pub fn attr(&self, name: &str) -> Option<&str> {
+        self.attrs
+            .iter()
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| v.as_str())
+    }
+
+    /// `file:line: <tag type="…" name="…">` for messages.
+    pub fn at(&self) -> String {
+        let mut s = format!("{}:{}: <{}", self.file.display(), self.line, self.tag);
+        for key in ["type", "name", "id"] {
+            if let Some(v) = self.attr(key) {
+                s += &format!(" {key}=\"{v}\"");
+            }
+        }
+        s + ">"
+    }
+
+    pub fn error(&self, what: impl std::fmt::Display) -> SceneError {
+        SceneError(format!("{}: {what}", self.at()))
+    }
+}
+
+/// The scene root with its `path` folders.
+#[derive(Clone, Debug)]
+pub struct Document {
+    pub root: Element,
+    /// Folders searched for relative file names after the file's own.
+    pub paths: Vec<PathBuf>,
+}
+
+/// Reads `path` with `defines` (name, value) overriding its `default`s.
+pub fn read(path: &Path, defines: &[(String, String)]) -> Result<Document, SceneError> {
+    let mut vars: HashMap<String, String> = defines.iter().cloned().collect();
+    let mut paths = Vec::new();
+    let root = read_file(path, &mut vars, &mut paths, 0)?;
+    Ok(Document { root, paths })
+}
+
+fn read_file(
+    path: &Path,
+    vars: &mut HashMap<String, String>,
+    paths: &mut Vec<PathBuf>,
+    depth: u32,
+) -> Result<Element, SceneError> {
+    let err = |m: String| SceneError(format!("{}: {m}", path.display()));
+    let len = std::fs::metadata(path)
+        .map_err(|e| err(e.to_string()))?
+        .len();
+    if len > MAX_FILE_BYTES {
+        return Err(err(format!(
+            "{len} bytes, more than the {} MiB an XML scene may have",
+            MAX_FILE_BYTES >> 20
+        )));
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
+    read_text(&text, path, vars, paths, depth)
+}
+
+/// [`read`] of the text of file `path` (which names it in messages and
+/// anchors relative file names).
+pub fn read_str(
+    text: &str,
+    path: &Path,
+    defines: &[(String, String)],
+) -> Result<Document, SceneError> {
+    let mut vars: HashMap<String, String> = defines.iter().cloned().collect();
+    let mut paths = Vec::new();
+    let root = read_text(text, path, &mut vars, &mut paths, 0)?;
+    Ok(Document { root, paths })
+}
+
+fn read_text(
+    text: &str,
+    path: &Path,
+    vars: &mut HashMap<String, String>,
+    paths: &mut Vec<PathBuf>,
+    depth: u32,
+) -> Result<Element, SceneError> {
+    let err = |m: String| SceneError(format!("{}: {m}", path.display()));
+    let opts = roxmltree::ParsingOptions {
+        allow_dtd: false,
+        ..Default::default()
+    };
+    let doc = roxmltree::Document::parse_with_options(text, opts)
+        .map_err(|e| err(format!("not well-formed XML: {e}")))?;
+    let file = Arc::new(path.to_path_buf());
+    let root = convert(&doc, doc.root_element(), &file);
+    if root.tag != "scene" {
+        return Err(root.error("the root element must be <scene>"));
+    }
+    let mut scene = Element {
+        children: Vec::new(),
+        ..root.clone()
+    };
+    // Defaults first, in document order, so that `$name` anywhere in the
+    // file sees them (a value given from outside wins).
+    for c in root.children.iter().filter(|c| c.tag == "default") {
+        let (Some(name), Some(value)) = (c.attr("name"), c.attr("value")) else {
+            return Err(c.error("<default> needs `name` and `value`"));
+        };
+        vars.entry(name.to_string())
+            .or_insert_with(|| value.to_string());
+    }
+    for mut c in root.children {
+        substitute(&mut c, vars)?;
+        match c.tag.as_str() {
+            "default" => {}
+            "path" => {
+                let v = c
+                    .attr("value")
+                    .ok_or_else(|| c.error("<path> needs `value`"))?;
+                paths.push(relative_to(&c.file, v));
+            }
+            "include" => {
+                if depth >= MAX_INCLUDE_DEPTH {
+                    return Err(c.error(format!(
+                        "includes nest deeper than {MAX_INCLUDE_DEPTH} (a cycle?)"
+                    )));
+                }
+                let f = c
+                    .attr("filename")
+                    .ok_or_else(|| c.error("<include> needs `filename`"))?;
+                let inc = find_file(&c.file, paths, f).map_err(|e| c.error(e))?;
+                let sub = read_file(&inc, vars, paths, depth + 1)?;
+                scene.children.extend(sub.children);
+            }
+            _ => scene.children.push(c),
+        }
+    }
+    Ok(scene)
+}
+
+fn convert(doc: &roxmltree::Document, n: roxmltree::Node, file: &Arc<PathBuf>) -> Element {
+    Element {
+        tag: n.tag_name().name().to_string(),
+        attrs: n
+            .attributes()
+            .map(|a| (a.name().to_string(), a.value().to_string()))
+            .collect(),
+        children: n
+            .children()
+            .filter(|c| c.is_element())
+            .map(|c| convert(doc, c, file))
+            .collect(),
+        file: file.clone(),
+        line: doc.text_pos_at(n.range().start).row,
+    }
+}
+
+/// `$name` in attribute values replaced by the variable's value.
+fn substitute(e: &mut Element, vars: &HashMap<String, String>) -> Result<(), SceneError> {
+    for i in 0..e.attrs.len() {
+        let v = &e.attrs[i].1;
+        if !v.contains('$') {
+            continue;
+        }
+        let mut out = String::new();
+        let mut rest = v.as_str();
+        while let Some(k) = rest.find('$') {
+            out += &rest[..k];
+            let tail = &rest[k + 1..];
+            let end = tail
+                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+                .unwrap_or(tail.len());
+            let name = &tail[..end];
+            let value = vars.get(name).ok_or_else(|| {
+                e.error(format!("`${name}` has no <default> and no value was given"))
+            })?;
+            out += value;
+            rest = &tail[end..];
+        }
+        out += rest;
+        e.attrs[i].1 = out;
+    }
+    for c in &mut e.children {
+        substitute(c, vars)?;
+    }
+    Ok(())
+}
+
+fn relative_to(file: &Path, name: &str) -> PathBuf {
+    file.parent().unwrap_or(Path::new(".")).join(name)
+}
+
+/// A file named in `file`: relative to `file`'s folder, else to a `path`.
+pub fn find_file(file: &Path, paths: &[PathBuf], name: &str) -> Result<PathBuf, String> {
+    let own = relative_to(file, name);
+    if own.exists() || Path::new(name).is_absolute() {
+        return Ok(own);
+    }
+    paths
+        .iter()
+        .map(|p| p.join(name))
+        .find(|p| p.exists())
+        .ok_or_else(|| {
+            format!("file `{name}` not found (looked beside the file and in the <path> folders)")
+        })
+}

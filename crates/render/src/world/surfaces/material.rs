@@ -1,0 +1,608 @@
+//! A shape's `bsdf` table: Mitsuba 3's BSDF plugins with their parameter
+//! names and defaults, and what the integrators evaluate at a hit point
+//! (the BSDF with its textures looked up at the hit's UV).
+//!
+//! | `type` | keys (default) |
+//! |---|---|
+//! | `diffuse` | `reflectance` (0.5) |
+//! | `conductor` | `eta` (0), `k` (1), `specular_reflectance` (1): the defaults are Mitsuba's `material = "none"`, a perfect mirror |
+//! | `roughconductor` | as `conductor`, plus `alpha` (0.1; GGX) |
+//! | `dielectric` | `int_ior` (`bk7`), `ext_ior` (`air`) |
+//! | `roughdielectric` | as `dielectric`, plus `alpha` (0.1; GGX) |
+//! | `thindielectric` | `int_ior` (`bk7`), `ext_ior` (`air`) |
+//! | `plastic` | `diffuse_reflectance` (0.5), `specular_reflectance` (1), `int_ior` (`polypropylene`), `ext_ior` (`air`), `nonlinear` (false) |
+//! | `roughplastic` | as `plastic`, plus `alpha` (0.1; GGX) |
+//! | `null` | — (an index-matched boundary: rays pass straight through) |
+//! | `twosided` | `bsdf` (one table for both sides) or `front` and `back` |
+//!
+//! A reflectance is a grey number, an RGB triple or a texture table
+//! (`{ type = "checkerboard", color0 = 0.4, color1 = 0.2, to_uv = { scale = [4, 4] } }`).
+//! IORs are numbers or the names of Mitsuba's table ([`IOR_TABLE`]). The
+//! rough models use GGX with visible-normal sampling (Mitsuba's default
+//! distribution is Beckmann; fogbank has GGX only).
+
+use crate::error::SceneError;
+use crate::world::bsdf::{Bsdf, BsdfSample, Plastic, RoughPlastic, TwoSided};
+use crate::world::texture::Texture;
+use glam::{Affine2, Vec2, Vec3};
+use serde::{Deserialize, Serialize};
+
+/// Mitsuba 3's named indices of refraction (`include/mitsuba/render/ior.h`).
+pub const IOR_TABLE: [(&str, f32); 23] = [
+    ("vacuum", 1.0),
+    ("helium", 1.000036),
+    ("hydrogen", 1.000132),
+    ("air", 1.000277),
+    ("carbon dioxide", 1.00045),
+    ("water", 1.3330),
+    ("acetone", 1.36),
+    ("ethanol", 1.361),
+    ("carbon tetrachloride", 1.461),
+    ("glycerol", 1.4729),
+    ("benzene", 1.501),
+    ("silicone oil", 1.52045),
+    ("bromine", 1.661),
+    ("water ice", 1.31),
+    ("fused quartz", 1.458),
+    ("pyrex", 1.470),
+    ("acrylic glass", 1.49),
+    ("polypropylene", 1.49),
+    ("bk7", 1.5046),
+    ("sodium chloride", 1.544),
+    ("amber", 1.55),
+    ("pet", 1.5750),
+    ("diamond", 2.419),
+];
+
+/// An IOR as a number or a name from [`IOR_TABLE`].
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(untagged)]
+pub enum IorDesc {
+    Value(f32),
+    Name(String),
+}
+
+impl IorDesc {
+    pub fn value(&self, key: &str) -> Result<f32, SceneError> {
+        let v = match self {
+            IorDesc::Value(v) => *v,
+            IorDesc::Name(n) => IOR_TABLE
+                .iter()
+                .find(|(name, _)| name.eq_ignore_ascii_case(n))
+                .map(|(_, v)| *v)
+                .ok_or_else(|| {
+                    SceneError(format!(
+                        "{key}: unknown IOR `{n}` (known: {})",
+                        IOR_TABLE.map(|(n, _)| n).join(", ")
+                    ))
+                })?,
+        };
+        if !(v.is_finite() && v > 0.0) {
+            return Err(SceneError(format!("{key}: IOR {v} is not positive")));
+        }
+        Ok(v)
+    }
+}
+
+fn ior(name: &str) -> IorDesc {
+    IorDesc::Name(name.into())
+}
+
+/// A reflectance: grey, RGB, or a texture.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(untagged)]
+pub enum SpectrumDesc {
+    Grey(f32),
+    Rgb([f32; 3]),
+    Texture(TextureDesc),
+}
+
+/// Mitsuba's 2-D `to_uv` transform: scale, then translate.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct UvTransformDesc {
+    pub scale: Option<[f32; 2]>,
+    pub translate: Option<[f32; 2]>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum TextureDesc {
+    /// Mitsuba's `checkerboard` (defaults 0.4 and 0.2).
+    Checkerboard {
+        #[serde(default = "checker0")]
+        color0: [f32; 3],
+        #[serde(default = "checker1")]
+        color1: [f32; 3],
+        #[serde(default)]
+        to_uv: UvTransformDesc,
+    },
+}
+
+fn checker0() -> [f32; 3] {
+    [0.4; 3]
+}
+fn checker1() -> [f32; 3] {
+    [0.2; 3]
+}
+
+impl SpectrumDesc {
+    fn texture(&self, key: &str) -> Result<Texture, SceneError> {
+        let check = |c: [f32; 3]| {
+            if c.iter().all(|v| v.is_finite() && *v >= 0.0) {
+                Ok(Vec3::from(c))
+            } else {
+                Err(SceneError(format!(
+                    "{key}: {c:?} has a negative or non-finite channel"
+                )))
+            }
+        };
+        Ok(match self {
+            SpectrumDesc::Grey(v) => Texture::Constant(check([*v; 3])?),
+            SpectrumDesc::Rgb(c) => Texture::Constant(check(*c)?),
+            SpectrumDesc::Texture(TextureDesc::Checkerboard {
+                color0,
+                color1,
+                to_uv,
+            }) => Texture::Checkerboard {
+                color0: check(*color0)?,
+                color1: check(*color1)?,
+                to_uv: Affine2::from_translation(Vec2::from(to_uv.translate.unwrap_or([0.0; 2])))
+                    * Affine2::from_scale(Vec2::from(to_uv.scale.unwrap_or([1.0; 2]))),
+            },
+        })
+    }
+}
+
+fn grey(v: f32) -> SpectrumDesc {
+    SpectrumDesc::Grey(v)
+}
+fn half() -> SpectrumDesc {
+    grey(0.5)
+}
+fn one() -> SpectrumDesc {
+    grey(1.0)
+}
+fn rough() -> f32 {
+    0.1
+}
+fn bk7() -> IorDesc {
+    ior("bk7")
+}
+fn air() -> IorDesc {
+    ior("air")
+}
+fn polypropylene() -> IorDesc {
+    ior("polypropylene")
+}
+fn eta_none() -> [f32; 3] {
+    [0.0; 3]
+}
+fn k_none() -> [f32; 3] {
+    [1.0; 3]
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum BsdfDesc {
+    Diffuse {
+        #[serde(default = "half")]
+        reflectance: SpectrumDesc,
+    },
+    Conductor {
+        #[serde(default = "eta_none")]
+        eta: [f32; 3],
+        #[serde(default = "k_none")]
+        k: [f32; 3],
+        #[serde(default = "one")]
+        specular_reflectance: SpectrumDesc,
+    },
+    Roughconductor {
+        #[serde(default = "rough")]
+        alpha: f32,
+        #[serde(default = "eta_none")]
+        eta: [f32; 3],
+        #[serde(default = "k_none")]
+        k: [f32; 3],
+        #[serde(default = "one")]
+        specular_reflectance: SpectrumDesc,
+    },
+    Dielectric {
+        #[serde(default = "bk7")]
+        int_ior: IorDesc,
+        #[serde(default = "air")]
+        ext_ior: IorDesc,
+    },
+    Roughdielectric {
+        #[serde(default = "rough")]
+        alpha: f32,
+        #[serde(default = "bk7")]
+        int_ior: IorDesc,
+        #[serde(default = "air")]
+        ext_ior: IorDesc,
+    },
+    Thindielectric {
+        #[serde(default = "bk7")]
+        int_ior: IorDesc,
+        #[serde(default = "air")]
+        ext_ior: IorDesc,
+    },
+    Plastic {
+        #[serde(default = "half")]
+        diffuse_reflectance: SpectrumDesc,
+        #[serde(default = "one")]
+        specular_reflectance: SpectrumDesc,
+        #[serde(default = "polypropylene")]
+        int_ior: IorDesc,
+        #[serde(default = "air")]
+        ext_ior: IorDesc,
+        #[serde(default)]
+        nonlinear: bool,
+    },
+    Roughplastic {
+        #[serde(default = "rough")]
+        alpha: f32,
+        #[serde(default = "half")]
+        diffuse_reflectance: SpectrumDesc,
+        #[serde(default = "one")]
+        specular_reflectance: SpectrumDesc,
+        #[serde(default = "polypropylene")]
+        int_ior: IorDesc,
+        #[serde(default = "air")]
+        ext_ior: IorDesc,
+        #[serde(default)]
+        nonlinear: bool,
+    },
+    Null,
+    Twosided {
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        bsdf: Option<Box<BsdfDesc>>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        front: Option<Box<BsdfDesc>>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        back: Option<Box<BsdfDesc>>,
+    },
+}
+
+impl Default for BsdfDesc {
+    /// Mitsuba's default for a shape without a BSDF: grey diffuse.
+    fn default() -> Self {
+        BsdfDesc::Diffuse {
+            reflectance: half(),
+        }
+    }
+}
+
+/// One side's BSDF and the texture that replaces its reflectance (diffuse
+/// reflectance, plastic base, conductor tint) at each hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Side {
+    pub bsdf: Bsdf,
+    pub texture: Option<Texture>,
+}
+
+impl Side {
+    fn at(&self, uv: Vec2) -> Bsdf {
+        let Some(t) = self.texture else {
+            return self.bsdf;
+        };
+        let c = t.eval(uv);
+        match self.bsdf {
+            Bsdf::Diffuse { .. } => Bsdf::Diffuse { reflectance: c },
+            Bsdf::Plastic(p) => Bsdf::Plastic(Plastic { diffuse: c, ..p }),
+            Bsdf::RoughPlastic(p) => Bsdf::RoughPlastic(p.with_diffuse(c)),
+            Bsdf::Conductor { eta, k, alpha, .. } => Bsdf::Conductor {
+                eta,
+                k,
+                alpha,
+                specular: c,
+            },
+            b => b,
+        }
+    }
+}
+
+/// A shape's material: one side, or Mitsuba's `twosided` (the back side
+/// seen in the mirrored frame).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    pub front: Side,
+    pub back: Option<Side>,
+}
+
+/// The BSDF at one hit point, in the shading frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SurfaceBsdf {
+    One(Bsdf),
+    Two(TwoSided),
+}
+
+impl SurfaceBsdf {
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        match self {
+            SurfaceBsdf::One(b) => b.eval(wo, wi),
+            SurfaceBsdf::Two(b) => b.eval(wo, wi),
+        }
+    }
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match self {
+            SurfaceBsdf::One(b) => b.pdf(wo, wi),
+            SurfaceBsdf::Two(b) => b.pdf(wo, wi),
+        }
+    }
+    pub fn sample(&self, wo: Vec3, uc: f32, u: [f32; 2]) -> Option<BsdfSample> {
+        match self {
+            SurfaceBsdf::One(b) => b.sample(wo, uc, u),
+            SurfaceBsdf::Two(b) => b.sample(wo, uc, u),
+        }
+    }
+    /// Whether light sampling cannot help (every lobe of both sides is a delta).
+    pub fn is_delta(&self) -> bool {
+        match self {
+            SurfaceBsdf::One(b) => b.is_delta(),
+            SurfaceBsdf::Two(b) => b.front.is_delta() && b.back.is_delta(),
+        }
+    }
+}
+
+impl Material {
+    pub fn is_null(&self) -> bool {
+        self.front.bsdf == Bsdf::Null && self.back.is_none()
+    }
+
+    /// Whether some light passes straight through (null, thin dielectric).
+    pub fn passes_light(&self) -> bool {
+        self.front.bsdf.null_transmission(1.0).is_some()
+            && self
+                .back
+                .is_none_or(|b| b.bsdf.null_transmission(1.0).is_some())
+    }
+
+    /// The fraction of light passing straight through at cosine `cos` with
+    /// the shading normal (the side's [`Bsdf::null_transmission`]).
+    pub fn null_transmission(&self, cos: f32) -> Option<f32> {
+        match self.back {
+            Some(b) if cos < 0.0 => b.bsdf.null_transmission(cos),
+            _ => self.front.bsdf.null_transmission(cos),
+        }
+    }
+
+    /// The BSDF at a hit with texture coordinates `uv`.
+    pub fn at(&self, uv: Vec2) -> SurfaceBsdf {
+        match self.back {
+            None => SurfaceBsdf::One(self.front.at(uv)),
+            Some(back) => SurfaceBsdf::Two(TwoSided {
+                front: self.front.at(uv),
+                back: back.at(uv),
+            }),
+        }
+    }
+}
+
+impl BsdfDesc {
+    /// The material; `key` names the table in messages (`shapes.2.bsdf`).
+    pub fn build(&self, key: &str) -> Result<Material, SceneError> {
+        if let BsdfDesc::Twosided { bsdf, front, back } = self {
+            let (f, b) = match (bsdf, front, back) {
+                (Some(x), None, None) => (x, x),
+                (None, Some(f), Some(b)) => (f, b),
+                _ => {
+                    return Err(SceneError(format!(
+                        "{key}: twosided takes `bsdf`, or `front` and `back`"
+                    )))
+                }
+            };
+            let side = |d: &BsdfDesc, k: &str| -> Result<Side, SceneError> {
+                if matches!(d, BsdfDesc::Twosided { .. }) {
+                    return Err(SceneError(format!("{k}: twosided inside twosided")));
+                }
+                Ok(d.build(k)?.front)
+            };
+            return Ok(Material {
+                front: side(f, &format!("{key}.front"))?,
+                back: Some(side(b, &format!("{key}.back"))?),
+            });
+        }
+        Ok(Material {
+            front: self.side(key)?,
+            back: None,
+        })
+    }
+
+    fn side(&self, key: &str) -> Result<Side, SceneError> {
+        let k = |name: &str| format!("{key}.{name}");
+        let eta_of = |int: &IorDesc, ext: &IorDesc| -> Result<f32, SceneError> {
+            Ok(int.value(&k("int_ior"))? / ext.value(&k("ext_ior"))?)
+        };
+        let alpha_ok = |a: f32| {
+            if a.is_finite() && a >= 0.0 {
+                Ok(a)
+            } else {
+                Err(SceneError(format!("{}: {a} is not ≥ 0", k("alpha"))))
+            }
+        };
+        let textured = |bsdf: Bsdf, s: &SpectrumDesc, name: &str| -> Result<Side, SceneError> {
+            Ok(match s.texture(&k(name))? {
+                Texture::Constant(_) => Side {
+                    bsdf,
+                    texture: None,
+                },
+                t => Side {
+                    bsdf,
+                    texture: Some(t),
+                },
+            })
+        };
+        let constant = |s: &SpectrumDesc, name: &str| -> Result<Vec3, SceneError> {
+            Ok(s.texture(&k(name))?.mean())
+        };
+        match self {
+            BsdfDesc::Diffuse { reflectance } => textured(
+                Bsdf::Diffuse {
+                    reflectance: constant(reflectance, "reflectance")?,
+                },
+                reflectance,
+                "reflectance",
+            ),
+            BsdfDesc::Conductor {
+                eta,
+                k: kk,
+                specular_reflectance: s,
+            }
+            | BsdfDesc::Roughconductor {
+                eta,
+                k: kk,
+                specular_reflectance: s,
+                ..
+            } => {
+                let alpha = match self {
+                    BsdfDesc::Roughconductor { alpha, .. } => alpha_ok(*alpha)?,
+                    _ => 0.0,
+                };
+                let bsdf = Bsdf::Conductor {
+                    eta: Vec3::from(*eta),
+                    k: Vec3::from(*kk),
+                    alpha,
+                    specular: constant(s, "specular_reflectance")?,
+                };
+                textured(bsdf, s, "specular_reflectance")
+            }
+            BsdfDesc::Dielectric { int_ior, ext_ior } => Ok(Side {
+                bsdf: Bsdf::Dielectric {
+                    eta: eta_of(int_ior, ext_ior)?,
+                    alpha: 0.0,
+                },
+                texture: None,
+            }),
+            BsdfDesc::Roughdielectric {
+                alpha,
+                int_ior,
+                ext_ior,
+            } => Ok(Side {
+                bsdf: Bsdf::Dielectric {
+                    eta: eta_of(int_ior, ext_ior)?,
+                    alpha: alpha_ok(*alpha)?,
+                },
+                texture: None,
+            }),
+            BsdfDesc::Thindielectric { int_ior, ext_ior } => Ok(Side {
+                bsdf: Bsdf::ThinDielectric {
+                    eta: eta_of(int_ior, ext_ior)?,
+                },
+                texture: None,
+            }),
+            BsdfDesc::Plastic {
+                diffuse_reflectance,
+                specular_reflectance,
+                int_ior,
+                ext_ior,
+                nonlinear,
+            } => {
+                let bsdf = Bsdf::Plastic(Plastic {
+                    diffuse: constant(diffuse_reflectance, "diffuse_reflectance")?,
+                    specular: constant(specular_reflectance, "specular_reflectance")?,
+                    eta: eta_of(int_ior, ext_ior)?,
+                    nonlinear: *nonlinear,
+                });
+                if let SpectrumDesc::Texture(_) = specular_reflectance {
+                    return Err(SceneError(format!(
+                        "{}: a texture is not supported here (only for diffuse_reflectance)",
+                        k("specular_reflectance")
+                    )));
+                }
+                textured(bsdf, diffuse_reflectance, "diffuse_reflectance")
+            }
+            BsdfDesc::Roughplastic {
+                alpha,
+                diffuse_reflectance,
+                specular_reflectance,
+                int_ior,
+                ext_ior,
+                nonlinear,
+            } => {
+                if let SpectrumDesc::Texture(_) = specular_reflectance {
+                    return Err(SceneError(format!(
+                        "{}: a texture is not supported here (only for diffuse_reflectance)",
+                        k("specular_reflectance")
+                    )));
+                }
+                let bsdf = Bsdf::RoughPlastic(RoughPlastic::new(
+                    constant(diffuse_reflectance, "diffuse_reflectance")?,
+                    constant(specular_reflectance, "specular_reflectance")?,
+                    eta_of(int_ior, ext_ior)?,
+                    alpha_ok(*alpha)?.max(1e-4),
+                    *nonlinear,
+                ));
+                textured(bsdf, diffuse_reflectance, "diffuse_reflectance")
+            }
+            BsdfDesc::Null => Ok(Side {
+                bsdf: Bsdf::Null,
+                texture: None,
+            }),
+            BsdfDesc::Twosided { .. } => Ok(self.build(key)?.front),
+        }
+    }
+}
+
+#[cfg(test)]
+mod material_test {
+    use super::*;
+
+    fn parse(s: &str) -> Result<Material, SceneError> {
+        let d: BsdfDesc = toml::from_str(s).map_err(|e| SceneError(e.to_string()))?;
+        d.build("shapes.0.bsdf")
+    }
+
+    #[test]
+    fn mitsuba_defaults_names_and_textures() {
+        let m = parse(r#"type = "dielectric""#).unwrap();
+        assert_eq!(
+            m.front.bsdf,
+            Bsdf::Dielectric {
+                eta: 1.5046 / 1.000277,
+                alpha: 0.0
+            }
+        );
+        let m = parse("type = \"dielectric\"\nint_ior = \"water\"\next_ior = 1.0").unwrap();
+        assert_eq!(
+            m.front.bsdf,
+            Bsdf::Dielectric {
+                eta: 1.333,
+                alpha: 0.0
+            }
+        );
+        let e = parse("type = \"dielectric\"\nint_ior = \"unobtainium\"").unwrap_err();
+        assert!(
+            e.0.contains("shapes.0.bsdf.int_ior") && e.0.contains("unobtainium"),
+            "{e}"
+        );
+        assert!(parse("type = \"diffuse\"\nalbedo = 0.3").is_err());
+        let m = parse(
+            "type = \"twosided\"\n[bsdf]\ntype = \"diffuse\"\n[bsdf.reflectance]\ntype = \"checkerboard\"\nto_uv = { scale = [2, 2] }",
+        )
+        .unwrap();
+        let b = m.at(Vec2::new(0.1, 0.1));
+        let SurfaceBsdf::Two(t) = b else {
+            panic!("{b:?}")
+        };
+        assert_eq!(
+            t.front,
+            Bsdf::Diffuse {
+                reflectance: Vec3::splat(0.4)
+            }
+        );
+        let b = m.at(Vec2::new(0.3, 0.1));
+        let SurfaceBsdf::Two(t) = b else {
+            panic!("{b:?}")
+        };
+        assert_eq!(
+            t.back,
+            Bsdf::Diffuse {
+                reflectance: Vec3::splat(0.2)
+            }
+        );
+        assert!(parse(r#"type = "null""#).unwrap().is_null());
+        let e = parse("type = \"diffuse\"\nreflectance = [0.5, -1, 0]").unwrap_err();
+        assert!(e.0.contains("shapes.0.bsdf.reflectance"), "{e}");
+    }
+}

@@ -1,0 +1,326 @@
+//! Every shape of the scene in one triangle mesh with one BVH: closest
+//! hits with their shading data, occlusion of shadow rays (index-matched
+//! `null` boundaries let light through), and the area light behind each
+//! emitting triangle.
+
+use super::material::Material;
+use super::shape::ShapeDesc;
+use crate::error::SceneError;
+use crate::lights::area::AreaTriangle;
+use crate::lights::Light;
+use crate::world::medium::SceneMedium;
+use fogbank_geometry::{MeshAccel, MeshHit, TriangleMesh};
+use fogbank_math::{Aabb, Ray, Vec3};
+use glam::Vec2;
+use std::path::Path;
+
+/// A built shape: its material and emission, and where its triangles and
+/// (when it emits) its lights sit in the scene's arrays.
+#[derive(Clone, Debug)]
+pub struct Shape {
+    pub material: Material,
+    pub emission: Option<Vec3>,
+    pub first_triangle: u32,
+    /// Index in `World::lights` of the light of `first_triangle` (the
+    /// shape's triangles' lights follow in order; degenerate triangles get
+    /// a zero-radiance light so the indices stay aligned).
+    pub first_light: u32,
+    /// World media inside (behind the normals) and outside.
+    pub interior: Option<usize>,
+    pub exterior: Option<usize>,
+    has_normals: bool,
+    has_uvs: bool,
+}
+
+/// What an integrator needs at a surface hit.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceHit {
+    pub t: f32,
+    pub p: Vec3,
+    /// Unit geometric normal (from the winding).
+    pub ng: Vec3,
+    /// Unit shading normal (interpolated vertex normals, else `ng`).
+    pub ns: Vec3,
+    pub uv: Vec2,
+    pub shape: u32,
+    pub triangle: u32,
+}
+
+impl SurfaceHit {
+    /// A ray leaving the hit along `d`, its origin pushed off the surface
+    /// to the side `d` goes (relative to the position's magnitude, so rays
+    /// do not hit the triangle they leave).
+    pub fn spawn(&self, d: Vec3) -> Ray {
+        Ray::new(offset(self.p, self.ng, d), d)
+    }
+}
+
+/// `p` moved off a surface with normal `ng` toward the side of `d`.
+pub fn offset(p: Vec3, ng: Vec3, d: Vec3) -> Vec3 {
+    let eps = 1e-5 * (1.0 + p.abs().max_element());
+    p + ng * if ng.dot(d) >= 0.0 { eps } else { -eps }
+}
+
+#[derive(Clone, Debug)]
+pub struct Surfaces {
+    accel: MeshAccel,
+    shape_of: Vec<u32>,
+    pub shapes: Vec<Shape>,
+    /// Per world medium: whether shapes bound it (it exists only where
+    /// rays enter it through them).
+    bounded: Vec<bool>,
+    /// The medium the camera starts in.
+    pub camera_medium: Option<usize>,
+}
+
+/// The world medium of `[[media]]` entry `entry` for `key`; instanced
+/// media cannot be bounded by a shape.
+fn world_medium(media: &[SceneMedium], entry: usize, key: &str) -> Result<usize, SceneError> {
+    let mut of_entry = media.iter().enumerate().filter(|(_, m)| m.entry == entry);
+    match (of_entry.next(), of_entry.next()) {
+        (Some((w, _)), None) => Ok(w),
+        (None, _) => Err(SceneError(format!("{key}: there is no media.{entry}"))),
+        (Some(_), Some(_)) => Err(SceneError(format!(
+            "{key}: media.{entry} has instances; a shape bounds one medium"
+        ))),
+    }
+}
+
+impl Surfaces {
+    /// The shapes, their emitting triangles appended to `lights`; `media`
+    /// are the world's media (which shapes may bound) and `camera` the
+    /// camera position.
+    pub fn build(
+        descs: &[ShapeDesc],
+        base: &Path,
+        media: &[SceneMedium],
+        camera: Vec3,
+        lights: &mut Vec<Light>,
+    ) -> Result<Surfaces, SceneError> {
+        let mut bounded = vec![false; media.len()];
+        let mut all = TriangleMesh::default();
+        let (mut shapes, mut shape_of) = (Vec::new(), Vec::new());
+        let (mut normals, mut uvs) = (Vec::new(), Vec::new());
+        for (i, d) in descs.iter().enumerate() {
+            let mesh = d.mesh(i, base)?;
+            let material = d.bsdf().build(&format!("shapes.{i}.bsdf"))?;
+            let emission = d.emitter.as_ref().map(|e| Vec3::from(e.radiance));
+            if emission.is_some() && material.is_null() {
+                return Err(SceneError(format!(
+                    "shapes.{i}: an emitter needs a BSDF other than null"
+                )));
+            }
+            let mut side = |m: Option<usize>, name: &str| -> Result<Option<usize>, SceneError> {
+                m.map(|e| {
+                    let w = world_medium(media, e, &format!("shapes.{i}.{name}"))?;
+                    bounded[w] = true;
+                    Ok(w)
+                })
+                .transpose()
+            };
+            let (interior, exterior) =
+                (side(d.interior, "interior")?, side(d.exterior, "exterior")?);
+            let v0 = all.positions.len() as u32;
+            let first_triangle = all.triangles.len() as u32;
+            let shape = Shape {
+                material,
+                emission,
+                first_triangle,
+                first_light: lights.len() as u32,
+                interior,
+                exterior,
+                has_normals: !mesh.normals.is_empty(),
+                has_uvs: !mesh.uvs.is_empty(),
+            };
+            if let Some(le) = emission {
+                for t in 0..mesh.len() {
+                    let n = mesh.triangles[t]
+                        .iter()
+                        .map(|&v| mesh.normals.get(v as usize).copied().unwrap_or(Vec3::ZERO))
+                        .sum();
+                    let tri = AreaTriangle::new(mesh.corners(t), n, le);
+                    lights.push(Light::Area(tri.unwrap_or(AreaTriangle {
+                        p0: Vec3::ZERO,
+                        e1: Vec3::ZERO,
+                        e2: Vec3::ZERO,
+                        n: Vec3::Z,
+                        area: 0.0,
+                        radiance: Vec3::ZERO,
+                    })));
+                }
+            }
+            let nv = mesh.positions.len();
+            normals.extend(if shape.has_normals {
+                mesh.normals
+            } else {
+                vec![Vec3::ZERO; nv]
+            });
+            uvs.extend(if shape.has_uvs {
+                mesh.uvs
+            } else {
+                vec![Vec2::ZERO; nv]
+            });
+            all.positions.extend(mesh.positions);
+            all.triangles
+                .extend(mesh.triangles.iter().map(|t| t.map(|v| v + v0)));
+            shape_of.extend(std::iter::repeat_n(i as u32, mesh.triangles.len()));
+            shapes.push(shape);
+        }
+        all.normals = normals;
+        all.uvs = uvs;
+        let mut s = Surfaces {
+            accel: MeshAccel::new(all),
+            shape_of,
+            shapes,
+            bounded,
+            camera_medium: None,
+        };
+        s.camera_medium = s.medium_at(camera);
+        Ok(s)
+    }
+
+    /// Whether some shape is a medium transition (then shadow rays follow
+    /// the media across null boundaries).
+    pub fn has_transitions(&self) -> bool {
+        self.bounded.iter().any(|&b| b)
+    }
+
+    /// Whether world medium `i` exists only inside the shapes that bound it.
+    pub fn bounds_medium(&self, i: usize) -> bool {
+        self.bounded.get(i).copied().unwrap_or(false)
+    }
+
+    /// The bounded medium around `p` (`None`: only unbounded media): the
+    /// side from which a ray from `p` meets its first medium transition.
+    pub fn medium_at(&self, p: Vec3) -> Option<usize> {
+        // An irrational-ish direction, unlikely to graze edges of axis-aligned shapes.
+        let mut ray = Ray::new(p, Vec3::new(0.5377, 0.6193, 0.5721).normalize());
+        for _ in 0..1024 {
+            let h = self.intersect(&ray, f32::INFINITY)?;
+            let s = &self.shapes[h.shape as usize];
+            if s.interior != s.exterior {
+                return if ray.d.dot(h.ng) > 0.0 {
+                    s.interior
+                } else {
+                    s.exterior
+                };
+            }
+            ray = h.spawn(ray.d);
+        }
+        None
+    }
+
+    /// The medium a ray continues in after leaving hit `h` along `w`,
+    /// having arrived in `current`: the shape's side `w` points to when
+    /// the shape is a medium transition, else `current`.
+    pub fn target_medium(&self, h: &SurfaceHit, w: Vec3, current: Option<usize>) -> Option<usize> {
+        let s = &self.shapes[h.shape as usize];
+        if s.interior == s.exterior {
+            current
+        } else if w.dot(h.ng) > 0.0 {
+            s.exterior
+        } else {
+            s.interior
+        }
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.shape_of.len()
+    }
+
+    /// Bounds of every vertex (finite ones).
+    pub fn bounds(&self) -> Aabb {
+        let mut b = Aabb::new(Vec3::INFINITY, Vec3::NEG_INFINITY);
+        for p in self.accel.mesh.positions.iter().filter(|p| p.is_finite()) {
+            b.min = b.min.min(*p);
+            b.max = b.max.max(*p);
+        }
+        b
+    }
+
+    fn passes_light(&self, triangle: u32) -> bool {
+        self.shapes[self.shape_of[triangle as usize] as usize]
+            .material
+            .passes_light()
+    }
+
+    /// The closest surface on the ray in `(0, t_max)`, null boundaries included.
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceHit> {
+        self.accel.intersect(ray, t_max).map(|h| self.hit(ray, h))
+    }
+
+    /// The closest surface that no light passes straight through (not a
+    /// null boundary or a thin dielectric).
+    pub fn intersect_opaque(&self, ray: &Ray, t_max: f32) -> Option<SurfaceHit> {
+        self.accel
+            .intersect_where(ray, t_max, |t| !self.passes_light(t))
+            .map(|h| self.hit(ray, h))
+    }
+
+    /// Whether a surface that no light passes straight through lies on the
+    /// ray in `(0, t_max)`: shadow rays stop at every such surface, as in
+    /// Mitsuba's `volpath`.
+    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.accel
+            .occluded_where(ray, t_max, |t| !self.passes_light(t))
+    }
+
+    /// Whether shadow rays must walk from surface to surface: some shape
+    /// is a medium transition or passes only part of the light.
+    pub fn shadows_walk(&self) -> bool {
+        self.has_transitions()
+            || self
+                .shapes
+                .iter()
+                .any(|s| s.material.passes_light() && !s.material.is_null())
+    }
+
+    fn hit(&self, ray: &Ray, h: MeshHit) -> SurfaceHit {
+        let shape = self.shape_of[h.triangle as usize];
+        let s = &self.shapes[shape as usize];
+        let m = &self.accel.mesh;
+        let tri = m.triangles[h.triangle as usize];
+        let [p0, p1, p2] = m.corners(h.triangle as usize);
+        let b = [1.0 - h.hit.b1 - h.hit.b2, h.hit.b1, h.hit.b2];
+        // The barycentric point, not o + t d: it lies on the triangle.
+        let p = b[0] * p0 + b[1] * p1 + b[2] * p2;
+        let ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+        let interp = |v: [Vec3; 3]| b[0] * v[0] + b[1] * v[1] + b[2] * v[2];
+        let ns = if s.has_normals {
+            interp(tri.map(|v| m.normals[v as usize])).normalize_or_zero()
+        } else {
+            ng
+        };
+        let uv = if s.has_uvs {
+            let u = tri.map(|v| m.uvs[v as usize]);
+            b[0] * u[0] + b[1] * u[1] + b[2] * u[2]
+        } else {
+            // Mitsuba's default parameterisation of a mesh without UVs.
+            Vec2::new(b[1], b[2])
+        };
+        SurfaceHit {
+            t: h.hit.t,
+            p: if p.is_finite() { p } else { ray.at(h.hit.t) },
+            ng,
+            ns: if ns == Vec3::ZERO { ng } else { ns },
+            uv,
+            shape,
+            triangle: h.triangle,
+        }
+    }
+
+    /// The radiance a hit emits back along the ray direction `d` (zero on
+    /// a shape without emitter and behind the emitting side), and the index
+    /// of its light in `World::lights`.
+    pub fn emitted(&self, hit: &SurfaceHit, d: Vec3) -> Option<(Vec3, usize)> {
+        let s = &self.shapes[hit.shape as usize];
+        let le = s.emission?;
+        // Mitsuba's area emitter: the side of the shading normal.
+        (hit.ns.dot(d) < 0.0).then(|| {
+            (
+                le,
+                (s.first_light + hit.triangle - s.first_triangle) as usize,
+            )
+        })
+    }
+}
