@@ -102,6 +102,11 @@ impl LightBuffers {
                     rec(kind(), zero, v4(*radiance, 0.0), zero, [0.0; 2])
                 }
                 Light::Envmap(e) => {
+                    if e.is_bilinear() {
+                        return Err(GpuError(format!(
+                            "lights.{i}: the GPU backend reads environment maps with filter = \"nearest\" only"
+                        )));
+                    }
                     envmaps += 1;
                     if envmaps > 1 {
                         return Err(GpuError(format!(

@@ -7,8 +7,7 @@
 //! fogbank at 2·10⁶ samples per image or more for the noisiest scenes. And
 //! the reader's refusals name file, line, tag and plugin.
 //!
-//! Not covered yet: `surfaces_env_area` (Mitsuba's bilinear envmap lookup)
-//! and `chromatic` (chromatic media) — both are refused or differ today.
+//! Not covered yet: `chromatic` (chromatic media are refused today).
 
 use fogbank_image::image_io::{read_image, Image};
 use fogbank_image::metrics::ztest::ztest;
@@ -168,6 +167,11 @@ fn media_inside_smooth_and_rough_dielectrics_agree_with_mitsuba() {
 #[test]
 fn ground_under_a_cloud_in_sun_and_sky_agrees_with_mitsuba() {
     agree("cloud_ground");
+}
+
+#[test]
+fn surfaces_under_an_environment_map_and_an_area_light_agree_with_mitsuba() {
+    agree("surfaces_env_area");
 }
 
 #[test]

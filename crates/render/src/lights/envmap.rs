@@ -65,6 +65,9 @@ pub struct Envmap {
     luminance_integral: f64,
     non_finite_pixels: usize,
     negative_pixels: usize,
+    /// Mitsuba 3's bilinear lookup instead of nearest (see
+    /// [`Envmap::bilinear`]).
+    bilinear: bool,
 }
 
 impl Envmap {
@@ -190,6 +193,7 @@ impl Envmap {
             luminance_integral: total,
             non_finite_pixels,
             negative_pixels,
+            bilinear: false,
         })
     }
 
@@ -240,7 +244,49 @@ impl Envmap {
     /// Radiance arriving from direction `dir_world` (unit, pointing from the
     /// scene towards the environment).
     pub fn eval(&self, dir_world: Vec3) -> Vec3 {
+        if self.bilinear {
+            return self.eval_bilinear(dir_world);
+        }
         self.radiance[self.pixel_of(dir_world)]
+    }
+
+    /// The map read as Mitsuba 3's `envmap` reads it: bilinear between
+    /// texels at u = (j + ½)/W (columns wrap) and v = i/(H − 1) (row 0 at
+    /// the zenith, the last at the nadir, clamped). Sampling stays
+    /// piecewise constant over pixels: its pdf is still a density over the
+    /// sphere, so the estimate stays unbiased wherever the map's pixels
+    /// have luminance (elsewhere the phase or BSDF strategy covers the
+    /// light, as MIS lets it).
+    pub fn bilinear(mut self) -> Envmap {
+        self.bilinear = true;
+        self
+    }
+
+    pub fn is_bilinear(&self) -> bool {
+        self.bilinear
+    }
+
+    fn eval_bilinear(&self, dir_world: Vec3) -> Vec3 {
+        let d = (self.to_local * dir_world).as_dvec3();
+        let mut u = d.x.atan2(-d.z) / (2.0 * PI);
+        u -= u.floor();
+        let v = (d.y.clamp(-1.0, 1.0).acos() / PI).clamp(0.0, 1.0);
+        let (w, h) = (self.width as f64, self.height as f64);
+        let x = u * w - 0.5;
+        let y = v * (h - 1.0);
+        if !(x.is_finite() && y.is_finite()) {
+            return Vec3::ZERO;
+        }
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
+        let col = |k: f64| (k.rem_euclid(w) as usize).min(self.width - 1);
+        let row = |k: f64| (k.clamp(0.0, h - 1.0) as usize).min(self.height - 1);
+        let at = |r: usize, c: usize| self.radiance[r * self.width + c];
+        let (c0, c1) = (col(x0), col(x0 + 1.0));
+        let (r0, r1) = (row(y0), row(y0 + 1.0));
+        let top = at(r0, c0) * (1.0 - fx) + at(r0, c1) * fx;
+        let bottom = at(r1, c0) * (1.0 - fx) + at(r1, c1) * fx;
+        top * (1.0 - fy) + bottom * fy
     }
 
     /// Solid-angle pdf with which [`Envmap::sample`] returns `dir_world`:
@@ -275,7 +321,7 @@ impl Envmap {
         // that the three always agree exactly even if rounding moved the
         // direction across a pixel edge.
         let p = self.pixel_of(dir);
-        (dir, self.radiance[p], self.pdf_of_pixel(p))
+        (dir, self.eval(dir), self.pdf_of_pixel(p))
     }
 
     fn pdf_of_pixel(&self, p: usize) -> f32 {

@@ -13,7 +13,7 @@ use std::path::Path;
 /// | type | keys |
 /// |---|---|
 /// | `constant` | `radiance` (RGB) |
-/// | `envmap` | `file`, `scale` (1) |
+/// | `envmap` | `file`, `scale` (1), `rotate`, `filter` (`nearest`; `bilinear` is Mitsuba 3's lookup) |
 /// | `point` | `position`, `intensity` (RGB) |
 /// | `directional` | `direction` (towards which light travels), `irradiance` (RGB) |
 /// | `spot` | `position`, `direction`, `intensity` (RGB), `cone_angle` (30°), `falloff_start` (25°) |
@@ -31,6 +31,10 @@ pub enum LightDesc {
         /// Rotation as `[x, y, z, degrees]` (axis and angle).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         rotate: Option<[f32; 4]>,
+        /// `nearest` (default: exact importance sampling) or `bilinear`
+        /// (Mitsuba 3's lookup; the XML reader sets it).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        filter: Option<String>,
     },
     Point {
         position: [f32; 3],
@@ -129,6 +133,7 @@ impl LightDesc {
                 file,
                 scale,
                 rotate,
+                filter,
             } => {
                 let path = base.join(file);
                 let rotation = match rotate {
@@ -140,8 +145,17 @@ impl LightDesc {
                     ),
                     None => glam::Mat3::IDENTITY,
                 };
-                let env = envmap::Envmap::load(&path, *scale, rotation)
+                let mut env = envmap::Envmap::load(&path, *scale, rotation)
                     .map_err(|e| SceneError(format!("lights.{i}: {e}")))?;
+                match filter.as_deref() {
+                    None | Some("nearest") => {}
+                    Some("bilinear") => env = env.bilinear(),
+                    Some(other) => {
+                        return Err(SceneError(format!(
+                            "lights.{i}.filter: `{other}` is not nearest or bilinear"
+                        )))
+                    }
+                }
                 Light::Envmap(std::sync::Arc::new(env))
             }
             LightDesc::Sky {

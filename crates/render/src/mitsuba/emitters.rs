@@ -32,6 +32,7 @@ pub fn light(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError
             let path = find_file(&e.file, &doc.paths, f).map_err(|m| p.error(m))?;
             t.insert("type".into(), "envmap".into());
             t.insert("file".into(), path.display().to_string().into());
+            t.insert("filter".into(), "bilinear".into());
             if let Some(s) = p.float("scale")? {
                 t.insert("scale".into(), s.into());
             }
