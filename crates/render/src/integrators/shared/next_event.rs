@@ -8,12 +8,25 @@ use super::balance;
 use super::free_flight::shadow_transmittance_in;
 use super::tracking::Shadow;
 use crate::lights::area::SHADOW_SHORTEN;
-use crate::lights::sample::LightSampler;
+use crate::lights::sample::{LightSample, LightSampler};
 use crate::lights::Light;
 use crate::world::phase::HenyeyGreenstein;
 use crate::world::surfaces::{ShadingFrame, SurfaceBsdf, SurfaceHit};
 use crate::world::World;
 use fogbank_math::{Pcg32, Ray, Vec3};
+
+/// One light picked by power and a sample of it seen from `p`, with the
+/// pick's probability.
+fn pick_light(
+    world: &World,
+    lights: &LightSampler,
+    p: Vec3,
+    rng: &mut Pcg32,
+) -> Option<(LightSample, f32)> {
+    let (li, pmf) = lights.pick(rng.next_f32())?;
+    let ls = world.lights[li].sample_li(p, [rng.next_f32(), rng.next_f32()])?;
+    Some((ls, pmf))
+}
 
 /// Light-sampling strategy at `p` for a path arriving along direction `d`:
 /// L_i f T̂ / pdf, MIS-weighted against phase sampling for non-delta lights.
@@ -48,10 +61,7 @@ pub fn light_sample_weighted(
     rng: &mut Pcg32,
     lookups: &mut u32,
 ) -> Vec3 {
-    let Some((li, pmf)) = lights.pick(rng.next_f32()) else {
-        return Vec3::ZERO;
-    };
-    let Some(ls) = world.lights[li].sample_li(p, [rng.next_f32(), rng.next_f32()]) else {
+    let Some((ls, pmf)) = pick_light(world, lights, p, rng) else {
         return Vec3::ZERO;
     };
     let f = hg.eval(d.dot(ls.wi));
@@ -201,10 +211,7 @@ pub fn light_sample_surface(
     rng: &mut Pcg32,
     lookups: &mut u32,
 ) -> Vec3 {
-    let Some((li, pmf)) = lights.pick(rng.next_f32()) else {
-        return Vec3::ZERO;
-    };
-    let Some(ls) = world.lights[li].sample_li(hit.p, [rng.next_f32(), rng.next_f32()]) else {
+    let Some((ls, pmf)) = pick_light(world, lights, hit.p, rng) else {
         return Vec3::ZERO;
     };
     let wi = frame.to_local(ls.wi);
