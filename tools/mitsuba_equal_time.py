@@ -173,6 +173,8 @@ def run_mitsuba(args, variant, scene):
 def run_fogbank_once(args, scene, spp, seed, exr):
     cmd = [args.fogbank, "render", scene_path(scene), "--spp", str(spp), "--seed", str(seed),
            "--threads", str(args.threads), "--quiet", "-o", exr, "--stats", exr[:-4] + ".json"]
+    for kv in args.fogbank_set:
+        cmd += ["--set", kv]
     r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     p = subprocess.run(cmd, capture_output=True, text=True)
@@ -307,6 +309,8 @@ def main():
     ap.add_argument("--warm-jit", dest="cold_jit", action="store_false",
                     help="let llvm_ad_rgb use the user's Dr.Jit kernel cache")
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--fogbank-set", action="append", default=[], metavar="KEY=VALUE",
+                    help="passed to `fogbank render --set` (repeatable)")
     ap.add_argument("--max-lanes", type=int, default=1 << 22)
     ap.add_argument("--llvm-path", default=os.environ.get("DRJIT_LIBLLVM_PATH", DEFAULT_LLVM))
     ap.add_argument("--out", default="/tmp/equal_time")
@@ -331,6 +335,7 @@ def main():
     res = dict(threads=args.threads, budgets=args.budgets, seeds=args.seeds,
                versions=mc.versions(args.fogbank), scenes={})
     res["versions"]["fogbank_binary"] = args.fogbank
+    res["fogbank_set"] = args.fogbank_set
     res["versions"]["fogbank"] = subprocess.run([args.fogbank, "--version"], capture_output=True,
                                                 text=True).stdout.strip()
     for scene in args.scenes.split(","):

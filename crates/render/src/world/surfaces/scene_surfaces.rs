@@ -71,6 +71,11 @@ pub struct Surfaces {
     bounded: Vec<bool>,
     /// The medium the camera starts in.
     pub camera_medium: Option<usize>,
+    /// Per shape: whether light passes straight through (null, thin
+    /// dielectric), looked up for every triangle a shadow ray tests.
+    passes: Vec<bool>,
+    /// See [`Surfaces::shadows_walk`].
+    walk: bool,
 }
 
 /// The world medium of `[[media]]` entry `entry` for `key`; instanced
@@ -168,12 +173,19 @@ impl Surfaces {
         }
         all.normals = normals;
         all.uvs = uvs;
+        let passes: Vec<bool> = shapes.iter().map(|s| s.material.passes_light()).collect();
+        let partial = shapes
+            .iter()
+            .any(|s| s.material.passes_light() && !s.material.is_null());
+        let walk = bounded.iter().any(|&b| b) || partial;
         let mut s = Surfaces {
             accel: MeshAccel::new(all),
             shape_of,
             shapes,
             bounded,
             camera_medium: None,
+            passes,
+            walk,
         };
         s.camera_medium = s.medium_at(camera);
         Ok(s)
@@ -238,10 +250,9 @@ impl Surfaces {
         b
     }
 
+    #[inline]
     fn passes_light(&self, triangle: u32) -> bool {
-        self.shapes[self.shape_of[triangle as usize] as usize]
-            .material
-            .passes_light()
+        self.passes[self.shape_of[triangle as usize] as usize]
     }
 
     /// The closest surface on the ray in `(0, t_max)`, null boundaries included.
@@ -268,11 +279,7 @@ impl Surfaces {
     /// Whether shadow rays must walk from surface to surface: some shape
     /// is a medium transition or passes only part of the light.
     pub fn shadows_walk(&self) -> bool {
-        self.has_transitions()
-            || self
-                .shapes
-                .iter()
-                .any(|s| s.material.passes_light() && !s.material.is_null())
+        self.walk
     }
 
     fn hit(&self, ray: &Ray, h: MeshHit) -> SurfaceHit {
