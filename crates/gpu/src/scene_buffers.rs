@@ -83,7 +83,7 @@ fn pack_grid<T: Voxel>(
 /// Issue 23 brings shapes to the CPU first; the GPU refuses them rather
 /// than render a scene without its surfaces.
 pub const SURFACES_ON_CPU_ONLY: &str =
-    "the GPU backend does not render [[shapes]] yet: use the CPU backend (--backend cpu)";
+    "the GPU backend does not render [[shapes]] yet: render it with --device cpu";
 
 fn check_size(what: &str, len: usize, limit: u64) -> Result<(), GpuError> {
     if (len as u64) * 4 > limit {
