@@ -57,9 +57,17 @@ pub struct Document {
 
 /// Reads `path` with `defines` (name, value) overriding its `default`s.
 pub fn read(path: &Path, defines: &[(String, String)]) -> Result<Document, SceneError> {
+    document(defines, |vars, paths| read_file(path, vars, paths, 0))
+}
+
+/// A document read by `read` with `defines` as its starting variables.
+fn document(
+    defines: &[(String, String)],
+    read: impl FnOnce(&mut HashMap<String, String>, &mut Vec<PathBuf>) -> Result<Element, SceneError>,
+) -> Result<Document, SceneError> {
     let mut vars: HashMap<String, String> = defines.iter().cloned().collect();
     let mut paths = Vec::new();
-    let root = read_file(path, &mut vars, &mut paths, 0)?;
+    let root = read(&mut vars, &mut paths)?;
     Ok(Document { root, paths })
 }
 
@@ -90,10 +98,7 @@ pub fn read_str(
     path: &Path,
     defines: &[(String, String)],
 ) -> Result<Document, SceneError> {
-    let mut vars: HashMap<String, String> = defines.iter().cloned().collect();
-    let mut paths = Vec::new();
-    let root = read_text(text, path, &mut vars, &mut paths, 0)?;
-    Ok(Document { root, paths })
+    document(defines, |vars, paths| read_text(text, path, vars, paths, 0))
 }
 
 fn read_text(

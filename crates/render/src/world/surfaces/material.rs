@@ -17,76 +17,16 @@
 //!
 //! A reflectance is a grey number, an RGB triple or a texture table
 //! (`{ type = "checkerboard", color0 = 0.4, color1 = 0.2, to_uv = { scale = [4, 4] } }`).
-//! IORs are numbers or the names of Mitsuba's table ([`IOR_TABLE`]). The
+//! IORs are numbers or the names of Mitsuba's table ([`super::ior::IOR_TABLE`]). The
 //! rough models use GGX with visible-normal sampling (Mitsuba's default
 //! distribution is Beckmann; fogbank has GGX only).
 
+use super::ior::{ior, IorDesc};
 use crate::error::SceneError;
 use crate::world::bsdf::{Bsdf, BsdfSample, Plastic, RoughPlastic, TwoSided};
 use crate::world::texture::Texture;
 use glam::{Affine2, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
-
-/// Mitsuba 3's named indices of refraction (`include/mitsuba/render/ior.h`).
-pub const IOR_TABLE: [(&str, f32); 23] = [
-    ("vacuum", 1.0),
-    ("helium", 1.000036),
-    ("hydrogen", 1.000132),
-    ("air", 1.000277),
-    ("carbon dioxide", 1.00045),
-    ("water", 1.3330),
-    ("acetone", 1.36),
-    ("ethanol", 1.361),
-    ("carbon tetrachloride", 1.461),
-    ("glycerol", 1.4729),
-    ("benzene", 1.501),
-    ("silicone oil", 1.52045),
-    ("bromine", 1.661),
-    ("water ice", 1.31),
-    ("fused quartz", 1.458),
-    ("pyrex", 1.470),
-    ("acrylic glass", 1.49),
-    ("polypropylene", 1.49),
-    ("bk7", 1.5046),
-    ("sodium chloride", 1.544),
-    ("amber", 1.55),
-    ("pet", 1.5750),
-    ("diamond", 2.419),
-];
-
-/// An IOR as a number or a name from [`IOR_TABLE`].
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(untagged)]
-pub enum IorDesc {
-    Value(f32),
-    Name(String),
-}
-
-impl IorDesc {
-    pub fn value(&self, key: &str) -> Result<f32, SceneError> {
-        let v = match self {
-            IorDesc::Value(v) => *v,
-            IorDesc::Name(n) => IOR_TABLE
-                .iter()
-                .find(|(name, _)| name.eq_ignore_ascii_case(n))
-                .map(|(_, v)| *v)
-                .ok_or_else(|| {
-                    SceneError(format!(
-                        "{key}: unknown IOR `{n}` (known: {})",
-                        IOR_TABLE.map(|(n, _)| n).join(", ")
-                    ))
-                })?,
-        };
-        if !(v.is_finite() && v > 0.0) {
-            return Err(SceneError(format!("{key}: IOR {v} is not positive")));
-        }
-        Ok(v)
-    }
-}
-
-fn ior(name: &str) -> IorDesc {
-    IorDesc::Name(name.into())
-}
 
 /// A reflectance: grey, RGB, or a texture.
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]

@@ -5,6 +5,7 @@
 //! that bounds a medium comes next).
 
 pub mod frame;
+pub mod ior;
 pub mod material;
 pub mod scene_surfaces;
 pub mod shape;
