@@ -23,6 +23,17 @@ For each scene:
    reach it is interpolated log-log between the two sweep points around it.
    The ratio Mitsuba/fogbank is reported on CPU time (robust when the
    machine is shared) and on wall time.
+4. Equal time (--budgets-ms): each configuration's MSE at each time budget,
+   interpolated log-log between its sweep points (MSE ~ 1/time beyond
+   them), and Mitsuba's MSE over it.
+
+GPU (issue 21 item 3): --device gpu renders fogbank on the GPU and times it
+by the render loop's wall time (`render_seconds` of --stats: after upload
+and pipeline compilation, as Mitsuba's time is after a warm-up render that
+compiles its kernels); with --variant cuda_ad_rgb Mitsuba runs on the same
+GPU, each spp once untimed (Dr.Jit compiles per launch shape) and then
+timed up to dr.sync_thread(). Only wall time means anything there.
+--ref-device gpu makes the reference on the GPU too.
 
 Not part of CI (needs `pip install mitsuba`). Usage:
 
@@ -30,6 +41,8 @@ Not part of CI (needs `pip install mitsuba`). Usage:
     python3 tools/mitsuba_bench.py [--fogbank target/release/fogbank] [--out DIR]
         [--scenes point,env] [--threads 1] [--ref-spp 65536]
         [--spp-list 16,32,64,128,256,512,1024] [--variant scalar_rgb]
+        [--device cpu|gpu] [--ref-device cpu|gpu] [--configs jackknife,ratio,baseline]
+        [--budgets-ms 15,25,60]
 
 Writes DIR/bench.json, DIR/bench.csv and prints a Markdown table.
 """
@@ -57,6 +70,40 @@ FOGBANK_CONFIGS = {
 
 def mse(img, ref, ref_var):
     return float(np.mean((img - ref) ** 2) - np.mean(ref_var))
+
+
+def mse_at(points, budget):
+    """points: [(time, mse)] by increasing spp; the MSE at time `budget`,
+    interpolated log-log between the sweep points around it, or scaled as
+    1/time from the nearest end point outside them."""
+    pts = [(t, max(e, 1e-300)) for t, e in points]
+    if budget <= pts[0][0]:
+        return pts[0][1] * pts[0][0] / budget
+    if budget >= pts[-1][0]:
+        return pts[-1][1] * pts[-1][0] / budget
+    for (t0, e0), (t1, e1) in zip(pts, pts[1:]):
+        if t0 <= budget <= t1:
+            a = math.log(budget / t0) / math.log(t1 / t0)
+            return math.exp(math.log(e0) + a * (math.log(e1) - math.log(e0)))
+    return None
+
+
+def mitsuba_sweep(mi, scene, spps, gpu):
+    """[(spp, wall, cpu, image)] of Mitsuba's render at each spp; on a GPU
+    variant each spp renders once untimed first (kernel compilation)."""
+    import drjit as dr
+
+    out = []
+    for spp in spps:
+        if gpu:
+            np.array(mi.render(scene, seed=2, spp=spp))
+            dr.sync_thread()
+        c0, t0 = time.process_time(), time.perf_counter()
+        img = mi.render(scene, seed=1, spp=spp)
+        dr.sync_thread()
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        out.append((spp, wall, cpu, np.array(img, dtype=np.float64)))
+    return out
 
 
 def time_to(points, target):
@@ -88,13 +135,26 @@ def main():
     ap.add_argument("--spp-list", default="16,32,64,128,256,512,1024")
     ap.add_argument("--mitsuba-spp-list", default=None,
                     help="Mitsuba's spp list (default: --spp-list)")
+    ap.add_argument("--device", default="cpu", choices=["cpu", "gpu"],
+                    help="fogbank's device for the sweep")
+    ap.add_argument("--ref-device", default="cpu", choices=["cpu", "gpu"])
+    ap.add_argument("--configs", default="jackknife,ratio,baseline",
+                    help="fogbank configurations (short names)")
+    ap.add_argument("--budgets-ms", default="",
+                    help="time budgets (ms) for equal-time MSE ratios")
     args = ap.parse_args()
 
     mi, out, vol, _grid = mc.setup_mitsuba(args)
+    gpu = args.device == "gpu"
+    clocks = ("wall",) if gpu else ("cpu", "wall")
+    budgets = [float(b) / 1000.0 for b in args.budgets_ms.split(",") if b]
+    configs = {n: c for n, c in FOGBANK_CONFIGS.items()
+               if n.split()[1] in args.configs.split(",")}
     spps = [int(s) for s in args.spp_list.split(",")]
     m_spps = [int(s) for s in (args.mitsuba_spp_list or args.spp_list).split(",")]
     report = dict(versions=mc.versions(args.fogbank), threads=args.threads,
                   variant=args.variant, width=args.width, height=args.height,
+                  device=args.device, ref_device=args.ref_device,
                   ref_spp=args.ref_spp, spp_list=spps, mitsuba_spp_list=m_spps, scenes={})
     rows = []
     for sc in args.scenes.split(","):
@@ -104,22 +164,28 @@ def main():
             f.write(mc.fogbank_toml(sc, vol, args.width, args.height, args.ref_spp, seed=1000))
         ref_exr = os.path.join(out, f"{sc}_ref.exr")
         if not os.path.exists(ref_exr):
-            w, c, _ = mc.run_fogbank(args.fogbank, ref_toml, ref_exr, args.ref_threads)
+            w, c, _ = mc.run_fogbank(args.fogbank, ref_toml, ref_exr, args.ref_threads,
+                                     device=args.ref_device)
             print(f"[{sc}] reference {args.ref_spp} spp: {w:.1f} s wall")
         ref, ref_var = mc.read_exr(mi, ref_exr)
         print(f"[{sc}] reference noise RMSE {math.sqrt(np.mean(ref_var)):.3e}")
         curves = {}
-        for name, cfg in FOGBANK_CONFIGS.items():
+        for name, cfg in configs.items():
             toml = os.path.join(out, f"{sc}_{name.split()[1]}.toml")
             with open(toml, "w") as f:
                 f.write(mc.fogbank_toml(sc, vol, args.width, args.height, spps[0], seed=1,
                                         estimator=cfg["estimator"], preset=cfg.get("preset")))
             pts = []
+            if gpu:  # an idle GPU runs at a fraction of its clock
+                mc.run_fogbank(args.fogbank, toml, os.path.join(out, "warm.exr"), args.threads,
+                               spp=spps[-1], device="gpu")
             for spp in spps:
                 exr = os.path.join(out, f"{sc}_{name.split()[1]}_{spp}.exr")
                 st_path = exr[:-4] + ".json"
                 wall, cpu, st = mc.run_fogbank(args.fogbank, toml, exr, args.threads,
-                                               spp=spp, stats=st_path)
+                                               spp=spp, stats=st_path, device=args.device)
+                if gpu:  # the render loop, after upload and compilation
+                    wall = st["render_seconds"]
                 img, _ = mc.read_exr(mi, exr)
                 e = mse(img, ref, ref_var)
                 pts.append(dict(spp=spp, wall=wall, cpu=cpu,
@@ -129,10 +195,8 @@ def main():
             curves[name] = pts
         scene = mi.load_dict(mc.mitsuba_dict(mi, sc, vol, args.width, args.height, m_spps[0]))
         pts = []
-        for spp in m_spps:
-            c0, t0 = time.process_time(), time.perf_counter()
-            img = np.array(mi.render(scene, seed=1, spp=spp), dtype=np.float64)
-            wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        for spp, wall, cpu, img in mitsuba_sweep(mi, scene, m_spps,
+                                                 args.variant.startswith("cuda")):
             e = mse(img, ref, ref_var)
             pts.append(dict(spp=spp, wall=wall, cpu=cpu, mse=e))
             print(f"[{sc}] {'mitsuba volpath':18s} {spp:6d} spp  wall {wall:7.2f} s  cpu "
@@ -144,22 +208,29 @@ def main():
         res = {}
         for name, pts in curves.items():
             r = {}
-            for clock in ("cpu", "wall"):
+            r["cpu"] = None
+            for clock in clocks:
                 r[clock] = time_to([(p[clock], math.sqrt(max(p["mse"], 1e-300)))
                                     for p in pts], target)
             last = pts[-1]
-            r["mse_x_cpu_last"] = last["mse"] * last["cpu"]
+            r["mse_x_cpu_last"] = last["mse"] * last[clocks[0]]
+            r["mse_at_budget"] = {f"{b * 1000:g}": mse_at([(p["wall"], p["mse"]) for p in pts], b)
+                                  for b in budgets}
             res[name] = r
         for name, r in res.items():
             ratio_cpu = (res[mname]["cpu"] / r["cpu"]) if r["cpu"] else None
             ratio_wall = (res[mname]["wall"] / r["wall"]) if r["wall"] else None
             r["mitsuba_over_this_cpu"] = ratio_cpu
             r["mitsuba_over_this_wall"] = ratio_wall
+            r["mitsuba_mse_over_this_at_budget"] = {
+                b: res[mname]["mse_at_budget"][b] / e for b, e in r["mse_at_budget"].items()}
             rows.append(dict(scene=sc, config=name, target_rmse=target,
                              cpu_s=r["cpu"], wall_s=r["wall"],
                              mitsuba_over_this_cpu=ratio_cpu,
                              mitsuba_over_this_wall=ratio_wall,
-                             mse_x_cpu_last=r["mse_x_cpu_last"]))
+                             mse_x_cpu_last=r["mse_x_cpu_last"],
+                             **{f"mitsuba_mse_over_this_at_{b}ms": v for b, v
+                                in r["mitsuba_mse_over_this_at_budget"].items()}))
         report["scenes"][sc] = dict(target_rmse=target, curves=curves, results=res,
                                     reference_noise_rmse=math.sqrt(float(np.mean(ref_var))))
         with open(os.path.join(out, "bench.json"), "w") as f:
@@ -170,7 +241,8 @@ def main():
         w.writeheader()
         w.writerows(rows)
     print()
-    print(f"threads = {args.threads} (both renderers), {args.width}x{args.height}")
+    print(f"threads = {args.threads} (both renderers), {args.width}x{args.height},"
+          f" fogbank on {args.device}, Mitsuba {args.variant}")
     print("| scene | configuration | target RMSE | CPU s to target | wall s to target |"
           " Mitsuba / this (CPU) | Mitsuba / this (wall) | MSE x CPU s at max spp |")
     print("|---|---|---|---|---|---|---|---|")
@@ -179,6 +251,15 @@ def main():
         print(f"| {r['scene']} | {r['config']} | {r['target_rmse']:.3e} | {fmt(r['cpu_s'], '.2f')}"
               f" | {fmt(r['wall_s'], '.2f')} | {fmt(r['mitsuba_over_this_cpu'], '.2f')}"
               f" | {fmt(r['mitsuba_over_this_wall'], '.2f')} | {r['mse_x_cpu_last']:.3e} |")
+    if budgets:
+        keys = [k for k in rows[0] if k.startswith("mitsuba_mse_over_this_at_")]
+        print()
+        print("Equal time: Mitsuba's MSE / this configuration's MSE at each budget")
+        print("| scene | configuration | " + " | ".join(k.split("_at_")[1] for k in keys) + " |")
+        print("|---|---|" + "---|" * len(keys))
+        for r in rows:
+            print(f"| {r['scene']} | {r['config']} | "
+                  + " | ".join(f"{r[k]:.2f}" for k in keys) + " |")
 
 
 if __name__ == "__main__":

@@ -240,10 +240,12 @@ def check_grid_convention(mi, vol_path, grid):
 
 # ---------------------------------------------------------------- running
 
-def run_fogbank(fogbank, toml_path, out_exr, threads, spp=None, seed=None, stats=None):
+def run_fogbank(fogbank, toml_path, out_exr, threads, spp=None, seed=None, stats=None,
+                device="cpu"):
     """Runs `fogbank render`; returns (wall seconds, CPU seconds of the child,
     stats dict or None)."""
-    cmd = [fogbank, "render", toml_path, "-o", out_exr, "--threads", str(threads), "--quiet"]
+    cmd = [fogbank, "render", toml_path, "-o", out_exr, "--threads", str(threads), "--quiet",
+           "--device", device]
     if spp is not None:
         cmd += ["--spp", str(spp)]
     if seed is not None:

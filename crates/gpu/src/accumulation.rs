@@ -30,10 +30,7 @@ pub(crate) struct Frame {
     pub(crate) est_flags: u32,
     pub(crate) max_depth: u32,
     pub(crate) rr_depth: u32,
-    pub(crate) sampler: u32,
     pub(crate) mis_samples: u32,
-    pub(crate) integrator_flags: u32,
-    pub(crate) pin_mode: u32,
     pub(crate) march_step: f32,
     pub(crate) pin_mask_iterations: u32,
     /// First image row of this dispatch (kernels with per-invocation
@@ -44,7 +41,7 @@ pub(crate) struct Frame {
     pub(crate) chunks: u32,
     /// Pixels of this dispatch's band (width × its rows).
     pub(crate) band_pixels: u32,
-    pub(crate) pad: u32,
+    pub(crate) pad: [u32; 4],
 }
 
 pub use crate::contract::SAMPLES_PER_CHUNK;
@@ -78,16 +75,13 @@ impl Frame {
             est_flags: est.flags,
             max_depth: 0,
             rr_depth: 0,
-            sampler: 0,
             mis_samples: 0,
-            integrator_flags: 0,
-            pin_mode: 0,
             march_step: 0.0,
             pin_mask_iterations: 0,
             tile_y: 0,
             chunks: 1,
             band_pixels: 0,
-            pad: 0,
+            pad: [0; 4],
         }
     }
 }

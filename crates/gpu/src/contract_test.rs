@@ -45,10 +45,7 @@ fn wgsl_structs_have_the_layout_of_the_rust_structs() {
             ("est_flags", offset_of!(Frame, est_flags)),
             ("max_depth", offset_of!(Frame, max_depth)),
             ("rr_depth", offset_of!(Frame, rr_depth)),
-            ("sampler", offset_of!(Frame, sampler)),
             ("mis_samples", offset_of!(Frame, mis_samples)),
-            ("integrator_flags", offset_of!(Frame, integrator_flags)),
-            ("pin_mode", offset_of!(Frame, pin_mode)),
             ("march_step", offset_of!(Frame, march_step)),
             (
                 "pin_mask_iterations",
@@ -58,6 +55,9 @@ fn wgsl_structs_have_the_layout_of_the_rust_structs() {
             ("chunks", offset_of!(Frame, chunks)),
             ("band_pixels", offset_of!(Frame, band_pixels)),
             ("pad2", offset_of!(Frame, pad)),
+            ("pad3", offset_of!(Frame, pad) + 4),
+            ("pad4", offset_of!(Frame, pad) + 8),
+            ("pad5", offset_of!(Frame, pad) + 12),
         ],
     );
     let w2i = offset_of!(MediumGpu, w2i);

@@ -174,10 +174,7 @@ pub(crate) fn pipeline(
         ],
         immediate_size: 0,
     });
-    let mut constants = vec![("ESTIMATOR", kernel.est.id as f64)];
-    if kernel.source == KernelSource::PointMis {
-        constants.push(("STRATEGY", kernel.sampler as f64));
-    }
+    let constants = specialisation(kernel);
     let entry = |name: &str| {
         gpu.checked("kernel pipeline", || {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -196,6 +193,24 @@ pub(crate) fn pipeline(
     Ok((entry("main")?, entry("merge")?))
 }
 
+/// The pipeline constants of `kernel`'s source: the estimator everywhere,
+/// and the per-render choices a kernel branches on in its hot loops (the
+/// point_mis strategy; the scatter kernel's sampler, pin mode and integrator
+/// flags), so that the driver compiles the branches not taken out.
+fn specialisation(kernel: &Kernel) -> Vec<(&'static str, f64)> {
+    let mut constants = vec![("ESTIMATOR", kernel.est.id as f64)];
+    match kernel.source {
+        KernelSource::PointMis => constants.push(("STRATEGY", kernel.sampler as f64)),
+        KernelSource::Scatter => constants.extend([
+            ("SAMPLER", kernel.sampler as f64),
+            ("PIN_MODE", pin_mode_id(kernel.pins.mode) as f64),
+            ("INTEGRATOR_FLAGS", kernel.flags as f64),
+        ]),
+        _ => {}
+    }
+    constants
+}
+
 /// The frame uniform before the first dispatch.
 pub(crate) fn initial_frame(scene: &Scene, kernel: &Kernel, opts: &RenderOptions) -> Frame {
     let b = kernel.background;
@@ -205,10 +220,7 @@ pub(crate) fn initial_frame(scene: &Scene, kernel: &Kernel, opts: &RenderOptions
         pixel_jitter: scene.pixel_jitter as u32,
         max_depth: kernel.max_depth,
         rr_depth: kernel.rr_depth,
-        sampler: kernel.sampler,
         mis_samples: kernel.mis_samples,
-        integrator_flags: kernel.flags,
-        pin_mode: pin_mode_id(kernel.pins.mode),
         march_step: kernel.pins.march_step,
         pin_mask_iterations: kernel.pins.grid.mask_iterations,
         ..Frame::of_scene(scene, &kernel.est)

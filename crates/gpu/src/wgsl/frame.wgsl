@@ -23,20 +23,14 @@ struct Frame {
     est_samples: u32,
     est_step: f32,
     est_flags: u32,
-    // Scattering integrators: path length, first Russian-roulette bounce,
-    // distance sampler (0 delta, 1 decomposition, 2 regular tracking) — or,
-    // for point_mis, the strategy — and point_mis's N for the MIS weights.
+    // Scattering integrators: path length, first Russian-roulette bounce
+    // and point_mis's N for the MIS weights. (The distance sampler, the
+    // point_mis strategy, the pin mode and the integrator flags are
+    // pipeline constants: tracking.wgsl, point_mis_kernel.wgsl.)
     max_depth: u32,
     rr_depth: u32,
-    sampler: u32,
     mis_samples: u32,
-    // INTEGRATOR_* bits: LIGHT_ONLY = volpath's restir_baseline preset;
-    // RAY_MARCHING = rays without pins march (seed 004's baseline);
-    // UNQUANTISED = pins traced along each query ray (Fig. 4.5).
-    integrator_flags: u32,
-    // Seed 004: which rays read pins (PIN_MODE_*), the ray-marching step in
-    // box edges, k of the majorant masks.
-    pin_mode: u32,
+    // Seed 004: the ray-marching step in box edges, k of the majorant masks.
     march_step: f32,
     pin_mask_iterations: u32,
     // First image row of this dispatch: kernels with per-invocation scratch
@@ -48,6 +42,9 @@ struct Frame {
     chunks: u32,
     band_pixels: u32,
     pad2: u32,
+    pad3: u32,
+    pad4: u32,
+    pad5: u32,
 }
 
 @group(1) @binding(0) var<uniform> frame: Frame;

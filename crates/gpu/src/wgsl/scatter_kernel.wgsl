@@ -9,7 +9,7 @@
 // light sampling only, no phase-sampled escape, roulette by albedo.
 
 fn light_only() -> bool {
-    return (frame.integrator_flags & INTEGRATOR_LIGHT_ONLY) != 0u;
+    return (INTEGRATOR_FLAGS & INTEGRATOR_LIGHT_ONLY) != 0u;
 }
 
 
@@ -25,7 +25,7 @@ fn unbiased_flight(m: MediumGpu, r: Ray, t0: f32, t1: f32,
 
 fn unbiased_flight_with(m: MediumGpu, r: Ray, t0: f32, t1: f32,
                         rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
-    switch frame.sampler {
+    switch SAMPLER {
         case SAMPLER_DELTA_TRACKING: {
             return delta_tracking_sample(m, r, t0, t1, rng, lookups);
         }

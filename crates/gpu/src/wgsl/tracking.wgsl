@@ -4,6 +4,21 @@
 // chosen per ray by the integrator (PinParams::flight / shadow: PinMS mixes
 // them by depth). The pin grids are gathered by pin_gather_kernel.wgsl.
 
+// The integrator's per-render choices as pipeline constants
+// (kernel_setup::specialisation): the driver then compiles the paths a
+// render does not take — pins, marching, the other samplers — out of the
+// kernel, where they would otherwise count in every invocation's registers.
+// On an H200 the Fig. 1 frame (`direct`, 1080p, 32 spp) took 2.7-5.5x
+// longer while they were uniforms (issue 21; docs/results/gpu.md).
+// The distance sampler: SAMPLER_* (delta, decomposition, regular tracking).
+override SAMPLER: u32 = 0u;
+// Seed 004: which rays read pins (PIN_MODE_*).
+override PIN_MODE: u32 = 0u;
+// INTEGRATOR_* bits: LIGHT_ONLY = volpath's restir_baseline preset;
+// RAY_MARCHING = rays without pins march (seed 004's baseline);
+// UNQUANTISED = pins traced along each query ray (Fig. 4.5).
+override INTEGRATOR_FLAGS: u32 = 0u;
+
 @group(3) @binding(0) var<storage, read> pin_grids: array<PinGridGpu>;
 @group(3) @binding(1) var<storage, read> pins: array<vec2<u32>>;
 
@@ -15,10 +30,10 @@ const TRACK_PINS: u32 = 2u;
 // PinParams::pick: pins if this ray uses them, else the tracking of rays
 // without pins.
 fn track_kind(use_pins: bool) -> u32 {
-    if (use_pins && frame.pin_mode != PIN_MODE_OFF) {
+    if (use_pins && PIN_MODE != PIN_MODE_OFF) {
         return TRACK_PINS;
     }
-    if ((frame.integrator_flags & INTEGRATOR_RAY_MARCHING) != 0u) {
+    if ((INTEGRATOR_FLAGS & INTEGRATOR_RAY_MARCHING) != 0u) {
         return TRACK_MARCHING;
     }
     return TRACK_UNBIASED;
@@ -26,14 +41,14 @@ fn track_kind(use_pins: bool) -> u32 {
 
 // PinParams::flight: the ray leaving vertex `depth` (0: the view ray).
 fn flight_kind(depth: u32) -> u32 {
-    let mode = frame.pin_mode;
+    let mode = PIN_MODE;
     return track_kind(mode == PIN_MODE_ALL
         || ((mode == PIN_MODE_SECONDARY || mode == PIN_MODE_MS) && depth >= 1u));
 }
 
 // PinParams::shadow: NEE at scattering vertex `vertex` (0: the first).
 fn shadow_kind(vertex: u32) -> u32 {
-    let mode = frame.pin_mode;
+    let mode = PIN_MODE;
     return track_kind(mode == PIN_MODE_ALL || mode == PIN_MODE_SECONDARY
         || (mode == PIN_MODE_MS && vertex >= 1u));
 }
@@ -65,7 +80,7 @@ fn pin_query(mi: u32, m: MediumGpu, local: Ray, t0: f32,
         return q;
     }
     let p = ray_at(local, t0);
-    if ((frame.integrator_flags & INTEGRATOR_UNQUANTISED) != 0u) {
+    if ((INTEGRATOR_FLAGS & INTEGRATOR_UNQUANTISED) != 0u) {
         q.pin = pin_trace(m, p, local.d, g.step, rng);
         *lookups += 32u;
         q.chord = chord_new(local, t0);
