@@ -431,3 +431,47 @@ fn frames_render_a_sequence_and_stop_at_a_missing_frame() {
         "frames 0..=3",
     );
 }
+
+/// What the GPU backend does not render yet — surfaces and chromatic
+/// extinction — it refuses with a message pointing to the CPU.
+#[test]
+fn gpu_refuses_shapes_and_chromatic_media_naming_the_cpu() {
+    if fogbank_gpu::test_gpu().is_none() {
+        return;
+    }
+    let dir = tmp_dir("gpu_refusals");
+    let scene = dir.join("s.toml");
+    let media = "[camera]\nwidth = 8\nheight = 8\n[[media]]\ndensity = { procedural = \"constant\", resolution = 2 }\n";
+    for (extra, needle) in [
+        ("sigma_t_scale = [1, 2, 3]\n", "chromatic"),
+        ("[[shapes]]\ntype = \"cube\"\n", "[[shapes]]"),
+    ] {
+        std::fs::write(&scene, format!("{media}{extra}")).unwrap();
+        run_fails_naming(
+            fogbank()
+                .args([
+                    "render",
+                    scene.to_str().unwrap(),
+                    "--device",
+                    "gpu",
+                    "-q",
+                    "-o",
+                ])
+                .arg(dir.join("o.exr")),
+            needle,
+        );
+        run_fails_naming(
+            fogbank()
+                .args([
+                    "render",
+                    scene.to_str().unwrap(),
+                    "--device",
+                    "gpu",
+                    "-q",
+                    "-o",
+                ])
+                .arg(dir.join("o.exr")),
+            "--device cpu",
+        );
+    }
+}

@@ -114,6 +114,11 @@ impl SceneBuffers {
         if scene.surfaces.is_some() {
             return Err(GpuError(SURFACES_ON_CPU_ONLY.into()));
         }
+        if let Some(i) = scene.media.iter().position(|m| m.chroma.is_some()) {
+            return Err(GpuError(format!(
+                "media.{i}: the GPU backend does not render chromatic extinction (sigma_t_scale = [r, g, b]) yet: render it with --device cpu"
+            )));
+        }
         let mut p = Packed::default();
         let mut media = Vec::new();
         for (i, sm) in scene.media.iter().enumerate() {

@@ -6,8 +6,6 @@
 //! mean within 1 % and 8×8-pixel block means within 2 % (relative L1), with
 //! fogbank at 2·10⁶ samples per image or more for the noisiest scenes. And
 //! the reader's refusals name file, line, tag and plugin.
-//!
-//! Not covered yet: `chromatic` (chromatic media are refused today).
 
 use fogbank_image::image_io::{read_image, Image};
 use fogbank_image::metrics::ztest::ztest;
@@ -177,6 +175,11 @@ fn surfaces_under_an_environment_map_and_an_area_light_agree_with_mitsuba() {
 #[test]
 fn fog_among_many_small_emitters_agrees_with_mitsuba() {
     agree("fog_emitters");
+}
+
+#[test]
+fn chromatic_homogeneous_and_gridded_media_agree_with_mitsuba() {
+    agree("chromatic");
 }
 
 fn refusal(xml: &str) -> String {

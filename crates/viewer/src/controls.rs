@@ -159,10 +159,10 @@ pub fn panel(v: &mut PanelState, ui: &mut egui::Ui) -> PanelOutput {
     if !v.desc.media.is_empty() {
         ui.collapsing("Medium", |ui| {
             let m = &mut v.desc.media[0];
-            let mut scale = m.sigma_t_scale;
+            let mut scale = m.sigma_t_scale.max();
             if slider(ui, &mut scale, 0.01..=1000.0, "density scale (σ_t)", true) {
                 for m in v.desc.media.iter_mut() {
-                    m.sigma_t_scale = scale;
+                    m.sigma_t_scale = m.sigma_t_scale.with_max(scale);
                 }
                 edited = true;
             }

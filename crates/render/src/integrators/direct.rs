@@ -32,17 +32,19 @@ pub struct Direct {
     pub distance: DistanceSampler,
     pub nee: Estimator,
     pub lights: LightSampler,
-    /// In a scene with surfaces, `volpath` with `max_depth = 1` renders
-    /// (surfaces are then lit and occlude like media vertices).
+    /// In a scene with surfaces or chromatic media, `volpath` with
+    /// `max_depth = 1` renders (surfaces are then lit and occlude like
+    /// media vertices; chromatic collisions may pass).
     with_surfaces: Option<Box<VolPath>>,
 }
 
 impl Direct {
     pub fn new(p: &DirectParams, world: &World) -> Result<Direct, SceneError> {
         let (distance, nee) = p.resolved();
-        let with_surfaces = match world.surfaces {
-            None => None,
-            Some(_) => Some(Box::new(VolPath::new(
+        let chromatic = world.media.iter().any(|m| m.chroma.is_some());
+        let with_surfaces = match world.surfaces.is_some() || chromatic {
+            false => None,
+            true => Some(Box::new(VolPath::new(
                 &VolPathParams {
                     scatter: p.clone(),
                     max_depth: 1,

@@ -187,6 +187,12 @@ impl IntegratorDesc {
                 | IntegratorDesc::Direct(_)
                 | IntegratorDesc::Transmittance(_)
         );
+        if world.media.iter().any(|m| m.chroma.is_some()) && !renders_surfaces {
+            return Err(SceneError(format!(
+                "integrator.type: `{}` does not render chromatic extinction (sigma_t_scale = [r, g, b]) yet (use volpath, direct or transmittance)",
+                self.name()
+            )));
+        }
         if world.surfaces.is_some() && !renders_surfaces {
             return Err(SceneError(format!(
                 "integrator.type: `{}` does not render [[shapes]] yet (use volpath, direct or transmittance)",

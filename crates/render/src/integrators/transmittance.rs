@@ -82,10 +82,12 @@ pub fn sample(
 ) -> PixelSample {
     let ray = primary_ray(world, x, y, key);
     let mut rng = estimator_rng(key);
-    if let Some(s) = &world.surfaces {
+    let chromatic = world.media.iter().any(|m| m.chroma.is_some());
+    if world.surfaces.is_some() || chromatic {
         // Surfaces hide the background (null boundaries and thin
-        // dielectrics let part of it through), and bounded media count
-        // only inside their shapes.
+        // dielectrics let part of it through), bounded media count only
+        // inside their shapes, and chromatic media per channel.
+        let camera_medium = world.surfaces.as_ref().and_then(|s| s.camera_medium);
         let mut lookups = 0;
         let nee = Shadow::Estimator(estimator);
         let t = shadow_transmittance_in(
@@ -93,7 +95,7 @@ pub fn sample(
             world,
             &ray,
             f32::INFINITY,
-            s.camera_medium,
+            camera_medium,
             &mut rng,
             &mut lookups,
         );

@@ -27,7 +27,7 @@ use super::shared::next_event::{
     emitter_weight, escaped, light_sample_surface, light_sample_weighted,
     phase_sample_to_environment, sampled_direction_to_lights,
 };
-use super::shared::pin_params::{PinParams, PIN_KEYS};
+use super::shared::pin_params::{PinMode, PinParams, PIN_KEYS};
 use super::shared::tracking::PinSet;
 use super::shared::{
     estimator_rng, primary_ray, PixelSample, Preset, ScatterParams, SCATTER_PARAMS,
@@ -35,6 +35,7 @@ use super::shared::{
 use crate::error::SceneError;
 use crate::lights::sample::LightSampler;
 use crate::params::{Param, ParamReader};
+use crate::world::chroma::ChromaEvent;
 use crate::world::phase::HenyeyGreenstein;
 use crate::world::surfaces::{ShadingFrame, SurfaceHit};
 use crate::world::World;
@@ -146,7 +147,13 @@ enum Step {
     Scatter,
     /// Straight through an index-matched boundary: not a vertex.
     Cross,
+    /// A null collision of a chromatic medium: not a vertex either.
+    Null,
 }
+
+/// Null collisions of chromatic media one path may take (a guard against
+/// endless loops, far above what any medium needs).
+const MAX_NULL_COLLISIONS: u32 = 1 << 24;
 
 #[derive(Clone, Debug)]
 pub struct VolPath {
@@ -176,6 +183,11 @@ impl VolPath {
             lights: LightSampler::new(&world.lights, world.radius()),
             light_only: p.scatter.preset == Some(Preset::RestirBaseline),
             pin_set: {
+                if p.pins.mode != PinMode::Off && world.media.iter().any(|m| m.chroma.is_some()) {
+                    return Err(SceneError(
+                        "integrator.pins: pins of chromatic media are not supported yet".into(),
+                    ));
+                }
                 // Checks every grid's size now; gathering waits.
                 p.pins.plan(world)?;
                 OnceLock::new()
@@ -205,7 +217,7 @@ impl VolPath {
             medium: world.surfaces.as_ref().and_then(|s| s.camera_medium),
         };
         let set = self.pin_set(world);
-        let (mut depth, mut crossings) = (0, 0u32);
+        let (mut depth, mut crossings, mut nulls) = (0, 0u32, 0u32);
         while depth < self.max_depth {
             let hit = world
                 .surfaces
@@ -243,6 +255,12 @@ impl VolPath {
                         break;
                     }
                 }
+                Step::Null => {
+                    nulls += 1;
+                    if nulls > MAX_NULL_COLLISIONS {
+                        break;
+                    }
+                }
             }
         }
         PixelSample {
@@ -266,8 +284,24 @@ impl VolPath {
         let m = &world.media[mi];
         let p = path.ray.at(t);
         let d = path.ray.d;
-        let albedo = m.albedo_at(p);
-        path.radiance += path.beta * m.emitted(p, albedo);
+        let mut albedo = m.albedo_at(p);
+        if let Some(c) = &m.chroma {
+            // A collision of the tracked (largest) channel: each channel
+            // scatters, absorbs (emits) or passes with its own probability.
+            let k = c.k_at(&m.medium, p, &mut path.lookups);
+            path.radiance += path.beta * (m.emitted(p, albedo) * k);
+            match c.event(path.beta, albedo, k, rng.next_f32()) {
+                ChromaEvent::Scatter(w) => albedo = w,
+                ChromaEvent::Pass(w) => {
+                    path.beta *= w;
+                    path.ray = Ray::new(p, d);
+                    return Step::Null;
+                }
+                ChromaEvent::Stop => return Step::Stop,
+            }
+        } else {
+            path.radiance += path.beta * m.emitted(p, albedo);
+        }
         path.beta *= albedo;
         if path.beta == Vec3::ZERO {
             return Step::Stop;

@@ -95,13 +95,13 @@ fn phase(p: &Plugin, ids: &Ids, t: &mut Table) -> Result<(), SceneError> {
     Ok(())
 }
 
-fn achromatic(p: &Plugin, c: [f32; 3], what: &str) -> Result<f32, SceneError> {
+/// fogbank's `sigma_t_scale` for a constant σ_t of `c` times `scale`: one
+/// number when the channels agree, else one per channel (chromatic).
+fn sigma_t_scale(c: [f32; 3], scale: f64) -> Value {
     if c[0] == c[1] && c[1] == c[2] {
-        Ok(c[0])
+        (c[0] as f64 * scale).into()
     } else {
-        Err(p.error(format!(
-            "{what} {c:?} differs per channel: chromatic extinction is not supported yet"
-        )))
+        Value::Array(c.iter().map(|&v| (v as f64 * scale).into()).collect())
     }
 }
 
@@ -115,31 +115,35 @@ pub fn medium(e: &Element, ids: &Ids, doc: &Document, bounds: Aabb) -> Result<Ta
         DMat4::from_translation(0.5 * (lo + hi))
             * DMat4::from_scale((hi - lo).max(DVec3::splat(1e-6)))
     };
-    let constant_density = |t: &mut Table, sigma: f64| {
+    let constant_density = |t: &mut Table, sigma: [f32; 3]| {
         let mut d = Table::new();
         d.insert("procedural".into(), "constant".into());
         d.insert("resolution".into(), 2.into());
         t.insert("density".into(), Value::Table(d));
-        t.insert("sigma_t_scale".into(), (sigma * scale).into());
+        t.insert("sigma_t_scale".into(), sigma_t_scale(sigma, scale));
         t.insert("to_world".into(), Value::Table(matrix_table(box_xf())));
     };
     match p.ty {
         "homogeneous" => {
             let s = p.rgb("sigma_t")?.unwrap_or([1.0; 3]);
-            constant_density(&mut t, achromatic(&p, s, "sigma_t")? as f64);
+            constant_density(&mut t, s);
         }
         "heterogeneous" => {
             let v = p
                 .object("volume", "sigma_t")?
                 .ok_or_else(|| p.error("needs a `sigma_t` volume"))?;
             if let Some(c) = constant(v, ids)? {
-                constant_density(&mut t, achromatic(&p, c, "sigma_t")? as f64);
+                constant_density(&mut t, c);
             } else {
                 let (density, xf, channels) = grid(v, ids, doc)?;
-                if channels != 1 {
-                    return Err(v.error(format!(
-                        "a {channels}-channel sigma_t grid: chromatic extinction is not supported yet"
-                    )));
+                match channels {
+                    1 => {}
+                    3 => {
+                        t.insert("density_rgb".into(), true.into());
+                    }
+                    n => {
+                        return Err(v.error(format!("a {n}-channel sigma_t grid (1 or 3 channels)")))
+                    }
                 }
                 t.insert("density".into(), Value::Table(density));
                 t.insert("sigma_t_scale".into(), scale.into());

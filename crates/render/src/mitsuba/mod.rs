@@ -17,8 +17,9 @@
 //! Anything else is refused with its file, line, tag and plugin name, and
 //! so is any parameter fogbank would otherwise ignore. Conventions that
 //! differ: Mitsuba's `max_depth` counts path segments (fogbank's = it − 1;
-//! −1 is unlimited); chromatic extinction, Beckmann roughness, spectral
-//! data and `roughplastic` are refused until fogbank has them.
+//! −1 is unlimited); chromatic σ_t (RGB constants, 3-channel grids) is
+//! fogbank's `sigma_t_scale = [r, g, b]` / `density_rgb`; Beckmann
+//! roughness and spectral data are refused until fogbank has them.
 
 mod bsdfs;
 mod convert;

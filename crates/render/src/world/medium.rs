@@ -1,6 +1,7 @@
 //! A medium of the scene: its extinction grid and placement plus the
 //! scattering properties (albedo, emission, phase) integrators use.
 
+use super::chroma::{rgb_density, Chroma};
 use super::emission::{Emission, EmissionDesc};
 use super::field::{field_data, Field, FieldData, FieldDesc};
 use super::importance::{Importance, ImportanceInputs, ImportancePreDesc, ImportanceRuleDesc};
@@ -17,7 +18,8 @@ use std::path::Path;
 /// | key | default | meaning |
 /// |---|---|---|
 /// | `density` | — | data source, see [`FieldDesc`] |
-/// | `sigma_t_scale` | 1 | σ_t = scale · density (per world unit) |
+/// | `sigma_t_scale` | 1 | σ_t = scale · density (per world unit); `[r, g, b]` for chromatic extinction, see [`Chroma`] (volpath, direct and transmittance, on the CPU) |
+/// | `density_rgb` | false | the `density` is a 3-channel `.vol` (Mitsuba's RGB `gridvolume`): σ_t of channel c = `sigma_t_scale`_c · channel c (chromatic; `trilinear` filter, f32) |
 /// | `albedo` | (0.8, 0.8, 0.8); (1, 1, 1) with a `transfer` | single-scattering albedo σ_s/σ_t, each channel in [0, 1] (with a `transfer`, a tint of its colours) |
 /// | `importance` | none | ordered rules mapping points to importance in [0, 1] for `visopt` (seed 003 §4.2), see [`ImportanceRuleDesc`] |
 /// | `importance_pre` | none (post-interpolative) | classify the importance per voxel instead, see [`ImportancePreDesc`] (seed 003 Figs. 3, 11) |
@@ -36,7 +38,9 @@ use std::path::Path;
 pub struct MediumDesc {
     pub density: FieldDesc,
     #[serde(default = "one")]
-    pub sigma_t_scale: f32,
+    pub sigma_t_scale: SigmaTScale,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub density_rgb: bool,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub albedo: Option<[f32; 3]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -65,8 +69,42 @@ pub struct MediumDesc {
     pub instances: Vec<TransformDesc>,
 }
 
-fn one() -> f32 {
-    1.0
+fn one() -> SigmaTScale {
+    SigmaTScale::Grey(1.0)
+}
+
+/// `sigma_t_scale`: one scale for every channel, or one per RGB channel.
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(untagged)]
+pub enum SigmaTScale {
+    Grey(f32),
+    Rgb([f32; 3]),
+}
+
+impl SigmaTScale {
+    pub fn channels(self) -> [f32; 3] {
+        match self {
+            SigmaTScale::Grey(s) => [s; 3],
+            SigmaTScale::Rgb(c) => c,
+        }
+    }
+
+    /// The largest channel's scale (the one free flights track).
+    pub fn max(self) -> f32 {
+        let c = self.channels();
+        c[0].max(c[1]).max(c[2])
+    }
+
+    /// The same colour with its largest channel at `max`.
+    pub fn with_max(self, max: f32) -> SigmaTScale {
+        match self {
+            SigmaTScale::Grey(_) => SigmaTScale::Grey(max),
+            SigmaTScale::Rgb(c) => {
+                let m = self.max();
+                SigmaTScale::Rgb(c.map(|s| if m > 0.0 { s / m * max } else { max }))
+            }
+        }
+    }
 }
 fn default_supervoxel() -> u32 {
     16
@@ -115,7 +153,10 @@ pub enum ScaleDesc {
 /// later integrators use.
 #[derive(Clone, Debug)]
 pub struct SceneMedium {
+    /// Extinction of the largest channel (all channels when achromatic).
     pub medium: Medium,
+    /// Per-channel extinction when the channels differ.
+    pub chroma: Option<Chroma>,
     /// Constant albedo, or the tint of `albedo_grid`.
     pub albedo: [f32; 3],
     pub albedo_grid: Option<Field>,
@@ -258,7 +299,7 @@ impl MediumDesc {
             .transfer
             .as_ref()
             .is_some_and(|t| t.mode.as_deref().unwrap_or("post") == "post");
-        let filter_name = m.filter.as_deref().unwrap_or(if post {
+        let filter_name = m.filter.as_deref().unwrap_or(if post || m.density_rgb {
             "trilinear"
         } else {
             "stochastic_trilinear"
@@ -290,9 +331,14 @@ impl MediumDesc {
                 m.supervoxel
             )));
         }
-        if !(m.sigma_t_scale >= 0.0 && m.sigma_t_scale.is_finite()) {
+        if !m
+            .sigma_t_scale
+            .channels()
+            .iter()
+            .all(|s| *s >= 0.0 && s.is_finite())
+        {
             return Err(SceneError(format!(
-                "{key}.sigma_t_scale: must be a finite value ≥ 0"
+                "{key}.sigma_t_scale: must be finite values ≥ 0"
             )));
         }
         if m.phase.ty != "hg" && m.phase.ty != "isotropic" {
@@ -307,12 +353,24 @@ impl MediumDesc {
                 m.phase.g
             )));
         }
+        let dkey = format!("{key}.density");
+        let (field, rgb_grids) = if m.density_rgb {
+            if m.transfer.is_some() || filter != Filter::Trilinear {
+                return Err(SceneError(format!(
+                    "{key}.density_rgb: needs filter = \"trilinear\" and no transfer function"
+                )));
+            }
+            let (f, g) = rgb_density(&m.density, &dkey, base, m.sigma_t_scale.channels())?;
+            (f, Some(g))
+        } else {
+            (field_data(&m.density, &dkey, base, precision)?, None)
+        };
         let FieldData {
             data,
             to_world: file_xf,
             source,
             units,
-        } = field_data(&m.density, &format!("{key}.density"), base, precision)?;
+        } = field;
         m.to_world.check(&format!("{key}.to_world"))?;
         let placement = transform(&m.to_world);
         let xf = placement * file_xf;
@@ -368,9 +426,21 @@ impl MediumDesc {
             stored,
             placement,
         )?;
+        let (scale, channels) = (m.sigma_t_scale.max(), m.sigma_t_scale.channels());
+        let medium = Medium::classified(data, opacity, scale, filter, xf, m.supervoxel);
+        let chroma = match rgb_grids {
+            Some(g) => Some(Chroma::from_grids(&medium, g, channels)),
+            None => Chroma::new(&medium, channels),
+        };
+        if chroma.is_some() && (m.velocity.is_some() || !m.instances.is_empty()) {
+            return Err(SceneError(format!(
+                "{key}.sigma_t_scale: chromatic extinction with velocity or instances is not supported yet"
+            )));
+        }
         let mut sm = SceneMedium {
             velocity,
-            medium: Medium::classified(data, opacity, m.sigma_t_scale, filter, xf, m.supervoxel),
+            medium,
+            chroma,
             albedo,
             albedo_grid,
             emission,

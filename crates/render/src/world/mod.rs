@@ -4,6 +4,7 @@
 pub mod blackbody;
 pub mod bsdf;
 pub mod camera;
+pub mod chroma;
 pub mod emission;
 pub mod field;
 pub mod film;

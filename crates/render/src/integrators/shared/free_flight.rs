@@ -4,7 +4,7 @@
 
 use super::tracking::{self, Flight, Shadow};
 use crate::world::World;
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, Ray, Vec3};
 use std::cell::Cell;
 
 /// The next real collision across all media before `t_end` (the next
@@ -46,7 +46,7 @@ pub fn shadow_transmittance(
     distance: f32,
     rng: &mut Pcg32,
     lookups: &mut u32,
-) -> f32 {
+) -> Vec3 {
     shadow_transmittance_in(nee, world, ray, distance, None, rng, lookups)
 }
 
@@ -65,38 +65,39 @@ pub fn shadow_transmittance_in(
     current: Option<usize>,
     rng: &mut Pcg32,
     lookups: &mut u32,
-) -> f32 {
+) -> Vec3 {
     let Some(s) = &world.surfaces else {
         return media_transmittance(nee, world, ray, distance, current, rng, lookups);
     };
     if !s.shadows_walk() {
         if s.occluded(ray, distance) {
-            return 0.0;
+            return Vec3::ZERO;
         }
         return media_transmittance(nee, world, ray, distance, current, rng, lookups);
     }
-    let (mut ray, mut left, mut current, mut tr) = (*ray, distance, current, 1.0);
+    let (mut ray, mut left, mut current, mut tr) = (*ray, distance, current, Vec3::ONE);
     for _ in 0..MAX_CROSSINGS {
         let Some(h) = s.intersect(&ray, left) else {
             return tr * media_transmittance(nee, world, &ray, left, current, rng, lookups);
         };
         let material = &s.shapes[h.shape as usize].material;
         let Some(pass) = material.null_transmission(h.ns.dot(ray.d)) else {
-            return 0.0;
+            return Vec3::ZERO;
         };
         tr *= pass * media_transmittance(nee, world, &ray, h.t, current, rng, lookups);
-        if tr == 0.0 {
-            return 0.0;
+        if tr == Vec3::ZERO {
+            return Vec3::ZERO;
         }
         current = s.target_medium(&h, ray.d, current);
         left -= h.t;
         ray = h.spawn(ray.d);
     }
-    0.0
+    Vec3::ZERO
 }
 
 /// Transmittance of `[0, distance]` through the media present for a ray
-/// in bounded medium `current`, surfaces aside.
+/// in bounded medium `current`, surfaces aside: per channel (equal
+/// channels unless a medium's extinction is chromatic).
 fn media_transmittance(
     nee: Shadow,
     world: &World,
@@ -105,8 +106,8 @@ fn media_transmittance(
     current: Option<usize>,
     rng: &mut Pcg32,
     lookups: &mut u32,
-) -> f32 {
-    let mut t = 1.0;
+) -> Vec3 {
+    let mut t = Vec3::ONE;
     world.media_along(
         ray,
         || distance,
@@ -114,8 +115,16 @@ fn media_transmittance(
             if !world.medium_active(i, current) {
                 return;
             }
-            let (tr, n) =
-                tracking::transmittance(nee, i, &world.media[i].medium, ray, distance, rng);
+            let m = &world.media[i];
+            let (tr, n) = match &m.chroma {
+                None => {
+                    let (tr, n) = tracking::transmittance(nee, i, &m.medium, ray, distance, rng);
+                    (Vec3::splat(tr), n)
+                }
+                Some(c) => {
+                    c.transmittance(|cm| tracking::transmittance(nee, i, cm, ray, distance, rng))
+                }
+            };
             *lookups += n;
             t *= tr;
         },
