@@ -43,6 +43,7 @@ pub mod ratio_tracking;
 pub mod ray_marching;
 pub mod regular_tracking;
 pub mod residual_ratio_tracking;
+pub mod scaled;
 pub mod track_length;
 
 pub use estimate::Estimate;

@@ -17,10 +17,28 @@ pub fn transmittance<V: VolumeAccess>(
     clip: bool,
     rng: &mut Pcg32,
 ) -> Estimate {
+    let (x, lookups) = optical_depth(v, ray, t0, t1, samples, clip, rng);
+    Estimate {
+        transmittance: (-x).exp() as f32,
+        lookups,
+    }
+}
+
+/// The marched optical depth X and the lookups taken (X = 0 without a
+/// lookup when `clip` finds the segment empty).
+pub fn optical_depth<V: VolumeAccess>(
+    v: &V,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    samples: u32,
+    clip: bool,
+    rng: &mut Pcg32,
+) -> (f64, u32) {
     let (a, b) = if clip {
         let p = prepare(v, ray, t0, t1, Importance::Mean);
         if p.total <= 0.0 {
-            return Estimate::ONE;
+            return (0.0, 0);
         }
         (p.t_min, p.t_max)
     } else {
@@ -35,8 +53,5 @@ pub fn transmittance<V: VolumeAccess>(
         let t = a as f64 + (i as f64 + u) * dt;
         sum += sigma_t_at(v, ray.at(t as f32), rng, &mut lookups) as f64;
     }
-    Estimate {
-        transmittance: (-(sum * dt)).exp() as f32,
-        lookups,
-    }
+    (sum * dt, lookups)
 }

@@ -140,6 +140,31 @@ fn transmittance_is_exact_per_channel_with_a_deterministic_estimator() {
     }
 }
 
+/// The jackknife and ray marching estimate the three channels' τ from one
+/// walk: a chromatic medium costs the lookups of the grey one at the
+/// largest scale, and that channel's image is the grey image.
+#[test]
+fn jackknife_serves_every_channel_from_one_walk() {
+    for e in ["jackknife", "ray_marching"] {
+        let text = scene(&format!("type = \"transmittance\"\nestimator = \"{e}\""));
+        let rgb = format!(
+            "media.0.sigma_t_scale=[{}, {}, {}]",
+            SCALES[0], SCALES[1], SCALES[2]
+        );
+        let chromatic = film(&build(&text, &[rgb]).unwrap(), 8, 1);
+        let grey = film(
+            &build(&text, &[format!("media.0.sigma_t_scale={}", SCALES[2])]).unwrap(),
+            8,
+            1,
+        );
+        assert_eq!(chromatic.lookups, grey.lookups, "{e}");
+        assert!(grey.lookups > 0, "{e}");
+        for (a, b) in chromatic.mean().iter().zip(grey.mean()) {
+            assert!((a[2] - b[2]).abs() <= 1e-6, "{e}: {} vs {}", a[2], b[2]);
+        }
+    }
+}
+
 /// Albedo 1 under a uniform sky: every channel of every pixel reads the
 /// sky's radiance, whatever the extinction (a white furnace for the
 /// spectral-tracking weights).

@@ -12,7 +12,10 @@
 //! by its own probability, so every channel stays unbiased whatever the
 //! path picks. Shadow rays estimate each channel's transmittance with that
 //! channel's own medium (its scale and super-voxel statistics), so every
-//! transmittance estimator works per channel.
+//! transmittance estimator works per channel; those whose sample positions
+//! do not depend on the scale (the jackknife, ray marching, regular
+//! tracking) serve all three channels from one walk
+//! (`fogbank_estimators::scaled`).
 //!
 //! With `density_rgb = true` the density is a 3-channel `.vol` (Mitsuba's
 //! RGB `gridvolume`), σ_t,c(x) = s_c · g_c(x): the tracked grid is the
@@ -140,6 +143,12 @@ impl Chroma {
         } else {
             ChromaEvent::Pass(pass / (1.0 - p_scatter))
         }
+    }
+
+    /// k when every channel is the tracked density times a constant (an
+    /// estimator may then serve all three from one walk), else `None`.
+    pub fn shared_scale(&self) -> Option<[f32; 3]> {
+        (!self.varying).then(|| self.k.to_array())
     }
 
     /// Each channel's transmittance from `estimate(channel medium)` →

@@ -121,9 +121,13 @@ fn media_transmittance(
                     let (tr, n) = tracking::transmittance(nee, i, &m.medium, ray, distance, rng);
                     (Vec3::splat(tr), n)
                 }
-                Some(c) => {
-                    c.transmittance(|cm| tracking::transmittance(nee, i, cm, ray, distance, rng))
-                }
+                Some(c) => match tracking::transmittance_rgb(nee, &m.medium, c, ray, distance, rng)
+                {
+                    Some(one_walk) => one_walk,
+                    None => c.transmittance(|cm| {
+                        tracking::transmittance(nee, i, cm, ray, distance, rng)
+                    }),
+                },
             };
             *lookups += n;
             t *= tr;

@@ -8,6 +8,7 @@
 //! distance comes back in world units.
 
 use super::DistanceSampler;
+use crate::world::chroma::Chroma;
 use fogbank_estimators::distance::{
     decomposition_tracking, delta_tracking, ray_marching, regular_tracking, FreeFlight,
 };
@@ -223,6 +224,24 @@ pub fn transmittance(
             (t, lookups)
         }
     }
+}
+
+/// Every channel's transmittance of `[0, t_max]` through a chromatic
+/// medium of one density from one walk, when the estimator can share it
+/// (`fogbank_estimators::scaled`); `None` otherwise.
+pub fn transmittance_rgb(
+    s: Shadow,
+    m: &Medium,
+    chroma: &Chroma,
+    ray: &Ray,
+    t_max: f32,
+    rng: &mut Pcg32,
+) -> Option<(Vec3, u32)> {
+    let (Shadow::Estimator(e), Some(k)) = (s, chroma.shared_scale()) else {
+        return None;
+    };
+    fogbank_estimators::scaled::transmittance_scaled(e, m, ray, t_max, rng, k)
+        .map(|(t, n)| (Vec3::from(t), n))
 }
 
 /// First real collision in one medium along the world ray before `t_max`

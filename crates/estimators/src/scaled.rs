@@ -1,0 +1,200 @@
+//! Transmittance of several extinctions k_c · σ_t from one walk (chromatic
+//! media with one density, issue 23 item 5): the estimators that combine
+//! optical-depth estimates taken at positions that do not depend on the
+//! extinction's scale — regular tracking and the analytic trilinear
+//! integral (exact τ), ray marching, the jackknife at a fixed sample count
+//! (its importance and step F/N scale with σ_t, so the positions stay) —
+//! estimate every channel's τ as k_c times the walk's, with no extra
+//! lookups. The tracking estimators' walks depend on σ_t; they, Kettunen's
+//! power series and the jackknife at a fixed step return `None` (the caller
+//! walks each channel).
+
+use crate::jackknife::{jackknife_transmittance, optical_depths, StepMode};
+use crate::optical_depth::Importance;
+use crate::{analytic_trilinear, ray_marching, regular_tracking, Estimator};
+use fogbank_math::{Pcg32, Ray};
+use fogbank_volume::{Medium, MediumView};
+
+/// The optical-depth estimates one walk gives, and how an estimator turns
+/// them into a transmittance.
+enum Depths {
+    /// exp(−τ) of one estimate (exact or marched).
+    Exp(f64),
+    /// Seed 000, Eq. 4 of two interleaved estimates.
+    Jackknife([f64; 2]),
+}
+
+/// Per channel c, the transmittance of `medium` with its extinction times
+/// `k[c]` along the world ray over `[0, t_max]`, and the lookups of the one
+/// walk; `None` when `e` cannot share a walk between scales.
+pub fn transmittance_scaled(
+    e: Estimator,
+    medium: &Medium,
+    world: &Ray,
+    t_max: f32,
+    rng: &mut Pcg32,
+    k: [f32; 3],
+) -> Option<([f32; 3], u32)> {
+    let Some((r, t0, t1)) = medium.to_index(world, 0.0, t_max) else {
+        return Some(([1.0; 3], 0));
+    };
+    let view = medium.view();
+    let (depths, lookups) = match (e, view) {
+        (Estimator::RegularTracking, MediumView::F16(v)) => {
+            exp(regular_tracking::optical_depth(&v, &r, t0, t1))
+        }
+        (Estimator::RegularTracking, MediumView::F32(v)) => {
+            exp(regular_tracking::optical_depth(&v, &r, t0, t1))
+        }
+        (Estimator::AnalyticTrilinear, MediumView::F16(v)) => {
+            exp(analytic_trilinear::optical_depth(&v, &r, t0, t1))
+        }
+        (Estimator::AnalyticTrilinear, MediumView::F32(v)) => {
+            exp(analytic_trilinear::optical_depth(&v, &r, t0, t1))
+        }
+        (Estimator::RayMarching { samples, clip }, view) => match view {
+            MediumView::F16(v) => exp(ray_marching::optical_depth(
+                &v, &r, t0, t1, samples, clip, rng,
+            )),
+            MediumView::F32(v) => exp(ray_marching::optical_depth(
+                &v, &r, t0, t1, samples, clip, rng,
+            )),
+            MediumView::Analytic(v) => exp(ray_marching::optical_depth(
+                &v, &r, t0, t1, samples, clip, rng,
+            )),
+        },
+        (
+            Estimator::Jackknife {
+                samples,
+                mode: StepMode::FixedCount,
+                jitter,
+            },
+            view,
+        ) => {
+            let (mut lookups, mut x) = (0, [0.0; 2]);
+            let (mode, importance) = (StepMode::FixedCount, Importance::VarianceAware);
+            match view {
+                MediumView::F16(v) => optical_depths(
+                    &v,
+                    &r,
+                    t0,
+                    t1,
+                    samples,
+                    mode,
+                    importance,
+                    jitter,
+                    rng,
+                    &mut lookups,
+                    &mut x,
+                ),
+                MediumView::F32(v) => optical_depths(
+                    &v,
+                    &r,
+                    t0,
+                    t1,
+                    samples,
+                    mode,
+                    importance,
+                    jitter,
+                    rng,
+                    &mut lookups,
+                    &mut x,
+                ),
+                MediumView::Analytic(v) => optical_depths(
+                    &v,
+                    &r,
+                    t0,
+                    t1,
+                    samples,
+                    mode,
+                    importance,
+                    jitter,
+                    rng,
+                    &mut lookups,
+                    &mut x,
+                ),
+            }
+            (Depths::Jackknife(x), lookups)
+        }
+        _ => return None,
+    };
+    let t = k.map(|k| {
+        let k = k as f64;
+        match depths {
+            Depths::Exp(tau) => (-(k * tau)).exp() as f32,
+            Depths::Jackknife([x0, x1]) => jackknife_transmittance(k * x0, k * x1) as f32,
+        }
+    });
+    Some((t, lookups))
+}
+
+fn exp((tau, lookups): (f64, u32)) -> (Depths, u32) {
+    (Depths::Exp(tau), lookups)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optical_depth::Jitter;
+    use crate::transmittance;
+    use fogbank_math::Vec3;
+    use fogbank_volume::{BrickGrid, DensityData, Filter, Precision};
+
+    fn medium(scale: f32) -> Medium {
+        let g = BrickGrid::from_fn([16, 16, 16], |i, j, l| {
+            ((i as f32 * 0.7).sin() + (j as f32 * 0.3).cos() + l as f32 * 0.05 + 2.0) * 0.5
+        })
+        .unwrap();
+        let data = DensityData::from_f32(g, Precision::F32);
+        Medium::new(data, scale, Filter::Trilinear, Default::default(), 4)
+    }
+
+    /// Each channel of the shared walk equals the estimator run on the
+    /// medium with scale k_c · s from the same random stream.
+    #[test]
+    fn one_walk_equals_each_scaled_medium() {
+        let s = 1.3;
+        let k = [0.25, 0.6, 1.0];
+        let ray = Ray::new(
+            Vec3::new(-1.0, 3.1, 5.2),
+            Vec3::new(1.0, 0.21, 0.13).normalize(),
+        );
+        let jitter = Jitter::Stratified;
+        for e in [
+            Estimator::RegularTracking,
+            Estimator::AnalyticTrilinear,
+            Estimator::RayMarching {
+                samples: 7,
+                clip: true,
+            },
+            Estimator::Jackknife {
+                samples: 5,
+                mode: StepMode::FixedCount,
+                jitter,
+            },
+        ] {
+            for seed in 0..20 {
+                let (t, n) =
+                    transmittance_scaled(e, &medium(s), &ray, 40.0, &mut Pcg32::new(seed, 1), k)
+                        .unwrap();
+                assert!(n > 0 || e == Estimator::AnalyticTrilinear, "{e:?}");
+                for c in 0..3 {
+                    let one =
+                        transmittance(e, &medium(s * k[c]), &ray, 40.0, &mut Pcg32::new(seed, 1));
+                    assert!(
+                        (one.transmittance - t[c]).abs() <= 2e-5,
+                        "{e:?} seed {seed} channel {c}: {} vs {}",
+                        t[c],
+                        one.transmittance
+                    );
+                    assert_eq!(one.lookups, n, "{e:?}");
+                }
+            }
+        }
+        let tracking = Estimator::RatioTracking;
+        assert!(
+            transmittance_scaled(tracking, &medium(s), &ray, 40.0, &mut Pcg32::new(1, 1), k)
+                .is_none()
+        );
+    }
+}
