@@ -5,15 +5,21 @@
 //! integral (exact τ), ray marching, the jackknife at a fixed sample count
 //! (its importance and step F/N scale with σ_t, so the positions stay) —
 //! estimate every channel's τ as k_c times the walk's, with no extra
-//! lookups. The tracking estimators' walks depend on σ_t; they, Kettunen's
-//! power series and the jackknife at a fixed step return `None` (the caller
-//! walks each channel).
+//! lookups. Ratio tracking and residual ratio tracking weight every channel
+//! at the largest channel's tentative collisions (its majorant bounds
+//! k_c σ_t for k_c ≤ 1; the residual's control scales with k_c): unbiased
+//! per channel, though not the walks each channel would take alone.
+//! Track-length (a binary outcome of one channel), Kettunen's power series
+//! and the jackknife at a fixed step return `None` (the caller walks each
+//! channel).
 
 use crate::jackknife::{jackknife_transmittance, optical_depths, StepMode};
+use crate::null_collisions::walk;
 use crate::optical_depth::Importance;
+use crate::residual_ratio_tracking::control_extinction;
 use crate::{analytic_trilinear, ray_marching, regular_tracking, Estimator};
 use fogbank_math::{Pcg32, Ray};
-use fogbank_volume::{Medium, MediumView};
+use fogbank_volume::{Medium, MediumView, SuperVoxel, VolumeAccess};
 
 /// The optical-depth estimates one walk gives, and how an estimator turns
 /// them into a transmittance.
@@ -116,6 +122,20 @@ pub fn transmittance_scaled(
             }
             (Depths::Jackknife(x), lookups)
         }
+        (Estimator::RatioTracking, view) => {
+            return Some(match view {
+                MediumView::F16(v) => ratio_tracking(&v, &r, t0, t1, rng, k),
+                MediumView::F32(v) => ratio_tracking(&v, &r, t0, t1, rng, k),
+                MediumView::Analytic(v) => ratio_tracking(&v, &r, t0, t1, rng, k),
+            })
+        }
+        (Estimator::ResidualRatioTracking, view) => {
+            return Some(match view {
+                MediumView::F16(v) => residual_ratio_tracking(&v, &r, t0, t1, rng, k),
+                MediumView::F32(v) => residual_ratio_tracking(&v, &r, t0, t1, rng, k),
+                MediumView::Analytic(v) => residual_ratio_tracking(&v, &r, t0, t1, rng, k),
+            })
+        }
         _ => return None,
     };
     let t = k.map(|k| {
@@ -126,6 +146,74 @@ pub fn transmittance_scaled(
         }
     });
     Some((t, lookups))
+}
+
+/// `ratio_tracking::transmittance` for k_c σ_t, every channel at once.
+fn ratio_tracking<V: VolumeAccess>(
+    v: &V,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    rng: &mut Pcg32,
+    k: [f32; 3],
+) -> ([f32; 3], u32) {
+    let (mut lookups, mut tr) = (0, [1.0f32; 3]);
+    walk(
+        v,
+        ray,
+        t0,
+        t1,
+        rng,
+        &mut lookups,
+        |s, _| (s.max, 0.0),
+        |_, sigma_t, sigma_maj, _, _| {
+            for c in 0..3 {
+                tr[c] *= 1.0 - k[c] * sigma_t / sigma_maj;
+            }
+            tr != [0.0; 3]
+        },
+    );
+    (tr, lookups)
+}
+
+/// `residual_ratio_tracking::transmittance` for k_c σ_t with control
+/// k_c σ_c, every channel at once.
+fn residual_ratio_tracking<V: VolumeAccess>(
+    v: &V,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    rng: &mut Pcg32,
+    k: [f32; 3],
+) -> ([f32; 3], u32) {
+    let diagonal =
+        v.supervoxels().size as f32 * 3f32.sqrt() / ray.d.length().max(f32::MIN_POSITIVE);
+    let (mut lookups, mut tau_c, mut ratio) = (0, 0.0f64, [1.0f32; 3]);
+    let rate = |s: &SuperVoxel, len: f32| {
+        if s.max <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let sigma_c = control_extinction(s, diagonal);
+        tau_c += len as f64 * sigma_c as f64;
+        ((s.max - sigma_c).max(sigma_c - s.min), sigma_c)
+    };
+    walk(
+        v,
+        ray,
+        t0,
+        t1,
+        rng,
+        &mut lookups,
+        rate,
+        |_, sigma_t, sigma_r, sigma_c, _| {
+            for c in 0..3 {
+                ratio[c] *= 1.0 - k[c] * (sigma_t - sigma_c) / sigma_r;
+            }
+            true
+        },
+    );
+    let t = [0, 1, 2].map(|c| ((-(k[c] as f64) * tau_c).exp() as f32) * ratio[c]);
+    (t, lookups)
 }
 
 fn exp((tau, lookups): (f64, u32)) -> (Depths, u32) {
@@ -191,10 +279,55 @@ mod tests {
                 }
             }
         }
-        let tracking = Estimator::RatioTracking;
+        let tracking = Estimator::TrackLength;
         assert!(
             transmittance_scaled(tracking, &medium(s), &ray, 40.0, &mut Pcg32::new(1, 1), k)
                 .is_none()
         );
+    }
+
+    /// Ratio tracking and residual ratio tracking share the largest
+    /// channel's walk: each channel's mean is that channel's exact T.
+    #[test]
+    fn shared_tracking_walks_are_unbiased_per_channel() {
+        let m = medium(0.05);
+        let k = [0.2, 0.55, 1.0];
+        let ray = Ray::new(
+            Vec3::new(-1.0, 3.1, 5.2),
+            Vec3::new(1.0, 0.21, 0.13).normalize(),
+        );
+        let exact = transmittance_scaled(
+            Estimator::RegularTracking,
+            &m,
+            &ray,
+            40.0,
+            &mut Pcg32::new(0, 0),
+            k,
+        )
+        .unwrap()
+        .0;
+        assert!(exact[2] > 0.02 && exact[2] < 0.9, "{exact:?}");
+        for e in [Estimator::RatioTracking, Estimator::ResidualRatioTracking] {
+            let n = 20_000;
+            let (mut sum, mut sum2) = ([0.0f64; 3], [0.0f64; 3]);
+            let mut rng = Pcg32::new(9, 3);
+            for _ in 0..n {
+                let (t, _) = transmittance_scaled(e, &m, &ray, 40.0, &mut rng, k).unwrap();
+                for c in 0..3 {
+                    sum[c] += t[c] as f64;
+                    sum2[c] += (t[c] as f64).powi(2);
+                }
+            }
+            for c in 0..3 {
+                let mean = sum[c] / n as f64;
+                let se = ((sum2[c] / n as f64 - mean * mean) / n as f64).sqrt();
+                let d = (mean - exact[c] as f64).abs();
+                assert!(
+                    d < 4.0 * se + 1e-6,
+                    "{e:?} channel {c}: {mean} ± {se} vs {}",
+                    exact[c]
+                );
+            }
+        }
     }
 }
