@@ -447,31 +447,17 @@ fn gpu_refuses_shapes_and_chromatic_media_naming_the_cpu() {
         ("[[shapes]]\ntype = \"cube\"\n", "[[shapes]]"),
     ] {
         std::fs::write(&scene, format!("{media}{extra}")).unwrap();
-        run_fails_naming(
-            fogbank()
-                .args([
-                    "render",
-                    scene.to_str().unwrap(),
-                    "--device",
-                    "gpu",
-                    "-q",
-                    "-o",
-                ])
-                .arg(dir.join("o.exr")),
-            needle,
-        );
-        run_fails_naming(
-            fogbank()
-                .args([
-                    "render",
-                    scene.to_str().unwrap(),
-                    "--device",
-                    "gpu",
-                    "-q",
-                    "-o",
-                ])
-                .arg(dir.join("o.exr")),
-            "--device cpu",
-        );
+        for needle in [needle, "--device cpu"] {
+            let mut cmd = fogbank();
+            cmd.args([
+                "render",
+                scene.to_str().unwrap(),
+                "--device",
+                "gpu",
+                "-q",
+                "-o",
+            ]);
+            run_fails_naming(cmd.arg(dir.join("o.exr")), needle);
+        }
     }
 }

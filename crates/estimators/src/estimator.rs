@@ -329,18 +329,6 @@ impl Estimator {
     }
 }
 
-/// Expands `body` once per storage type with `v` bound to the typed view, so
-/// each estimator is monomorphised and the match happens once per ray.
-macro_rules! with_view {
-    ($view:expr, $v:ident => $body:expr) => {
-        match $view {
-            MediumView::F16($v) => $body,
-            MediumView::F32($v) => $body,
-            MediumView::Analytic($v) => $body,
-        }
-    };
-}
-
 fn exact((tau, lookups): (f64, u32)) -> Estimate {
     Estimate {
         transmittance: (-tau).exp() as f32,

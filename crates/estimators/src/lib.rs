@@ -27,6 +27,18 @@
 //! In seed 000's 1D experiments (`fogbank-eval`), `Profile1D::sigma_t_at`
 //! is μ(t) of the paper's figures (their axis labels keep the paper's μ).
 
+/// Expands `body` once per storage type with `v` bound to the typed view, so
+/// each estimator is monomorphised and the match happens once per ray.
+macro_rules! with_view {
+    ($view:expr, $v:ident => $body:expr) => {
+        match $view {
+            MediumView::F16($v) => $body,
+            MediumView::F32($v) => $body,
+            MediumView::Analytic($v) => $body,
+        }
+    };
+}
+
 pub mod analytic_trilinear;
 pub mod deterministic_marching;
 pub mod distance;

@@ -14,8 +14,26 @@ pub fn transmittance<V: VolumeAccess>(
     t1: f32,
     rng: &mut Pcg32,
 ) -> Estimate {
+    let ([transmittance], lookups) = transmittance_scaled(v, ray, t0, t1, rng, [1.0]);
+    Estimate {
+        transmittance,
+        lookups,
+    }
+}
+
+/// Ratio tracking of k_c σ_t for each channel c at once (k_c ≤ 1: the
+/// majorant of σ_t bounds them all), weighting every channel at the same
+/// tentative collisions. With k = [1] this is [`transmittance`] exactly.
+pub fn transmittance_scaled<V: VolumeAccess, const N: usize>(
+    v: &V,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    rng: &mut Pcg32,
+    k: [f32; N],
+) -> ([f32; N], u32) {
     let mut lookups = 0;
-    let mut tr = 1.0f32;
+    let mut tr = [1.0f32; N];
     walk(
         v,
         ray,
@@ -25,12 +43,11 @@ pub fn transmittance<V: VolumeAccess>(
         &mut lookups,
         |s, _| (s.max, 0.0),
         |_, sigma_t, sigma_maj, _, _| {
-            tr *= 1.0 - sigma_t / sigma_maj;
-            tr != 0.0
+            for (t, k) in tr.iter_mut().zip(k) {
+                *t *= 1.0 - k * sigma_t / sigma_maj;
+            }
+            tr != [0.0; N]
         },
     );
-    Estimate {
-        transmittance: tr,
-        lookups,
-    }
+    (tr, lookups)
 }

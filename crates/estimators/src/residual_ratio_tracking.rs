@@ -29,13 +29,31 @@ pub fn transmittance<V: VolumeAccess>(
     t1: f32,
     rng: &mut Pcg32,
 ) -> Estimate {
+    let ([transmittance], lookups) = transmittance_scaled(v, ray, t0, t1, rng, [1.0]);
+    Estimate {
+        transmittance,
+        lookups,
+    }
+}
+
+/// Residual ratio tracking of k_c σ_t with control k_c μ_c for each
+/// channel c at once (k_c ≤ 1: the residual majorant bounds every
+/// |k_c (σ_t − μ_c)|). With k = [1] this is [`transmittance`] exactly.
+pub fn transmittance_scaled<V: VolumeAccess, const N: usize>(
+    v: &V,
+    ray: &Ray,
+    t0: f32,
+    t1: f32,
+    rng: &mut Pcg32,
+    k: [f32; N],
+) -> ([f32; N], u32) {
     // Index units per world unit along this ray turn the super-voxel's
     // index-space diagonal into world units.
     let diagonal =
         v.supervoxels().size as f32 * 3f32.sqrt() / ray.d.length().max(f32::MIN_POSITIVE);
     let mut lookups = 0;
     let mut tau_c = 0.0f64;
-    let mut ratio = 1.0f32;
+    let mut ratio = [1.0f32; N];
     let rate = |s: &SuperVoxel, len: f32| {
         if s.max <= 0.0 {
             return (0.0, 0.0);
@@ -53,12 +71,15 @@ pub fn transmittance<V: VolumeAccess>(
         &mut lookups,
         rate,
         |_, sigma_t, sigma_r, sigma_c, _| {
-            ratio *= 1.0 - (sigma_t - sigma_c) / sigma_r;
+            for (r, k) in ratio.iter_mut().zip(k) {
+                *r *= 1.0 - k * (sigma_t - sigma_c) / sigma_r;
+            }
             true
         },
     );
-    Estimate {
-        transmittance: ((-tau_c).exp() as f32) * ratio,
-        lookups,
+    let mut t = [0.0f32; N];
+    for ((t, r), k) in t.iter_mut().zip(ratio).zip(k) {
+        *t = ((-(k as f64 * tau_c)).exp() as f32) * r;
     }
+    (t, lookups)
 }

@@ -14,12 +14,11 @@
 //! channel).
 
 use crate::jackknife::{jackknife_transmittance, optical_depths, StepMode};
-use crate::null_collisions::walk;
 use crate::optical_depth::Importance;
-use crate::residual_ratio_tracking::control_extinction;
-use crate::{analytic_trilinear, ray_marching, regular_tracking, Estimator};
+use crate::{analytic_trilinear, ratio_tracking, ray_marching, regular_tracking};
+use crate::{residual_ratio_tracking, Estimator};
 use fogbank_math::{Pcg32, Ray};
-use fogbank_volume::{Medium, MediumView, SuperVoxel, VolumeAccess};
+use fogbank_volume::{Medium, MediumView};
 
 /// The optical-depth estimates one walk gives, and how an estimator turns
 /// them into a transmittance.
@@ -45,96 +44,43 @@ pub fn transmittance_scaled(
         return Some(([1.0; 3], 0));
     };
     let view = medium.view();
-    let (depths, lookups) = match (e, view) {
-        (Estimator::RegularTracking, MediumView::F16(v)) => {
-            exp(regular_tracking::optical_depth(&v, &r, t0, t1))
-        }
-        (Estimator::RegularTracking, MediumView::F32(v)) => {
-            exp(regular_tracking::optical_depth(&v, &r, t0, t1))
-        }
-        (Estimator::AnalyticTrilinear, MediumView::F16(v)) => {
-            exp(analytic_trilinear::optical_depth(&v, &r, t0, t1))
-        }
-        (Estimator::AnalyticTrilinear, MediumView::F32(v)) => {
-            exp(analytic_trilinear::optical_depth(&v, &r, t0, t1))
-        }
-        (Estimator::RayMarching { samples, clip }, view) => match view {
-            MediumView::F16(v) => exp(ray_marching::optical_depth(
-                &v, &r, t0, t1, samples, clip, rng,
-            )),
-            MediumView::F32(v) => exp(ray_marching::optical_depth(
-                &v, &r, t0, t1, samples, clip, rng,
-            )),
-            MediumView::Analytic(v) => exp(ray_marching::optical_depth(
-                &v, &r, t0, t1, samples, clip, rng,
-            )),
+    let (depths, lookups) = match e {
+        Estimator::RegularTracking => match view {
+            MediumView::F16(v) => exp(regular_tracking::optical_depth(&v, &r, t0, t1)),
+            MediumView::F32(v) => exp(regular_tracking::optical_depth(&v, &r, t0, t1)),
+            MediumView::Analytic(_) => return None,
         },
-        (
-            Estimator::Jackknife {
-                samples,
-                mode: StepMode::FixedCount,
-                jitter,
-            },
-            view,
-        ) => {
+        Estimator::AnalyticTrilinear => match view {
+            MediumView::F16(v) => exp(analytic_trilinear::optical_depth(&v, &r, t0, t1)),
+            MediumView::F32(v) => exp(analytic_trilinear::optical_depth(&v, &r, t0, t1)),
+            MediumView::Analytic(_) => return None,
+        },
+        Estimator::RayMarching { samples, clip } => with_view!(view, v => exp(
+            ray_marching::optical_depth(&v, &r, t0, t1, samples, clip, rng)
+        )),
+        Estimator::Jackknife {
+            samples,
+            mode: StepMode::FixedCount,
+            jitter,
+        } => {
             let (mut lookups, mut x) = (0, [0.0; 2]);
             let (mode, importance) = (StepMode::FixedCount, Importance::VarianceAware);
-            match view {
-                MediumView::F16(v) => optical_depths(
-                    &v,
-                    &r,
-                    t0,
-                    t1,
-                    samples,
-                    mode,
-                    importance,
-                    jitter,
-                    rng,
-                    &mut lookups,
-                    &mut x,
-                ),
-                MediumView::F32(v) => optical_depths(
-                    &v,
-                    &r,
-                    t0,
-                    t1,
-                    samples,
-                    mode,
-                    importance,
-                    jitter,
-                    rng,
-                    &mut lookups,
-                    &mut x,
-                ),
-                MediumView::Analytic(v) => optical_depths(
-                    &v,
-                    &r,
-                    t0,
-                    t1,
-                    samples,
-                    mode,
-                    importance,
-                    jitter,
-                    rng,
-                    &mut lookups,
-                    &mut x,
-                ),
-            }
+            with_view!(view, v => optical_depths(
+                &v, &r, t0, t1, samples, mode, importance, jitter, rng, &mut lookups, &mut x
+            ));
             (Depths::Jackknife(x), lookups)
         }
-        (Estimator::RatioTracking, view) => {
-            return Some(match view {
-                MediumView::F16(v) => ratio_tracking(&v, &r, t0, t1, rng, k),
-                MediumView::F32(v) => ratio_tracking(&v, &r, t0, t1, rng, k),
-                MediumView::Analytic(v) => ratio_tracking(&v, &r, t0, t1, rng, k),
-            })
+        Estimator::RatioTracking => {
+            return Some(with_view!(view, v => ratio_tracking::transmittance_scaled(
+                &v, &r, t0, t1, rng, k
+            )))
         }
-        (Estimator::ResidualRatioTracking, view) => {
-            return Some(match view {
-                MediumView::F16(v) => residual_ratio_tracking(&v, &r, t0, t1, rng, k),
-                MediumView::F32(v) => residual_ratio_tracking(&v, &r, t0, t1, rng, k),
-                MediumView::Analytic(v) => residual_ratio_tracking(&v, &r, t0, t1, rng, k),
-            })
+        Estimator::ResidualRatioTracking => {
+            return Some(
+                with_view!(view, v => residual_ratio_tracking::transmittance_scaled(
+                    &v, &r, t0, t1, rng, k
+                )),
+            )
         }
         _ => return None,
     };
@@ -146,74 +92,6 @@ pub fn transmittance_scaled(
         }
     });
     Some((t, lookups))
-}
-
-/// `ratio_tracking::transmittance` for k_c σ_t, every channel at once.
-fn ratio_tracking<V: VolumeAccess>(
-    v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
-    rng: &mut Pcg32,
-    k: [f32; 3],
-) -> ([f32; 3], u32) {
-    let (mut lookups, mut tr) = (0, [1.0f32; 3]);
-    walk(
-        v,
-        ray,
-        t0,
-        t1,
-        rng,
-        &mut lookups,
-        |s, _| (s.max, 0.0),
-        |_, sigma_t, sigma_maj, _, _| {
-            for c in 0..3 {
-                tr[c] *= 1.0 - k[c] * sigma_t / sigma_maj;
-            }
-            tr != [0.0; 3]
-        },
-    );
-    (tr, lookups)
-}
-
-/// `residual_ratio_tracking::transmittance` for k_c σ_t with control
-/// k_c σ_c, every channel at once.
-fn residual_ratio_tracking<V: VolumeAccess>(
-    v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
-    rng: &mut Pcg32,
-    k: [f32; 3],
-) -> ([f32; 3], u32) {
-    let diagonal =
-        v.supervoxels().size as f32 * 3f32.sqrt() / ray.d.length().max(f32::MIN_POSITIVE);
-    let (mut lookups, mut tau_c, mut ratio) = (0, 0.0f64, [1.0f32; 3]);
-    let rate = |s: &SuperVoxel, len: f32| {
-        if s.max <= 0.0 {
-            return (0.0, 0.0);
-        }
-        let sigma_c = control_extinction(s, diagonal);
-        tau_c += len as f64 * sigma_c as f64;
-        ((s.max - sigma_c).max(sigma_c - s.min), sigma_c)
-    };
-    walk(
-        v,
-        ray,
-        t0,
-        t1,
-        rng,
-        &mut lookups,
-        rate,
-        |_, sigma_t, sigma_r, sigma_c, _| {
-            for c in 0..3 {
-                ratio[c] *= 1.0 - k[c] * (sigma_t - sigma_c) / sigma_r;
-            }
-            true
-        },
-    );
-    let t = [0, 1, 2].map(|c| ((-(k[c] as f64) * tau_c).exp() as f32) * ratio[c]);
-    (t, lookups)
 }
 
 fn exp((tau, lookups): (f64, u32)) -> (Depths, u32) {
