@@ -14,10 +14,23 @@ use fogbank_render::{Progress, RenderOptions, Scene};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
-/// Invocations (pixel × chunk) one dispatch aims for: about what an H100
-/// keeps resident (132 SMs × 2048 threads), so a small image runs many
-/// chunks of samples side by side instead of leaving the device idle.
-const TARGET_INVOCATIONS: u64 = 1 << 18;
+/// Invocations (pixel × chunk) one dispatch aims for: about four times
+/// what an H100 or H200 keeps resident (132 SMs × 2048 threads), so a small
+/// image runs many chunks of samples side by side instead of leaving the
+/// device idle, and the waves' ragged ends (paths of unequal length)
+/// overlap. On a lent H200 a 128² 1024-spp render took 100 / 89 ms at 2¹⁸,
+/// 83 / 74 at 2¹⁹, 75 / 66 at 2²⁰ and the same beyond (docs/results/gpu.md).
+const TARGET_INVOCATIONS: u64 = 1 << 20;
+
+/// [`TARGET_INVOCATIONS`], or `FOGBANK_GPU_INVOCATIONS` when set (a tuning
+/// knob for benchmarks: the image does not depend on it).
+fn target_invocations() -> u64 {
+    std::env::var("FOGBANK_GPU_INVOCATIONS")
+        .ok()
+        .and_then(|s| s.parse::<u64>().ok())
+        .filter(|&n| n > 0)
+        .unwrap_or(TARGET_INVOCATIONS)
+}
 /// At most this many bytes of chunk slots.
 const MAX_SLOT_BYTES: u64 = 64 << 20;
 const MAX_TIMED_DISPATCHES: u32 = 2048;
@@ -36,16 +49,18 @@ pub enum Schedule {
     Sequential,
 }
 
-/// Chunks per dispatch for `band_pixels` pixels per band.
-fn chunks_per_dispatch(schedule: Schedule, kernel: &Kernel, band_pixels: u64) -> u32 {
+/// Chunks per dispatch for `band_pixels` pixels per band and `spp` samples
+/// (no more chunk slots than the render's samples fill).
+fn chunks_per_dispatch(schedule: Schedule, kernel: &Kernel, band_pixels: u64, spp: u32) -> u32 {
     // visopt's NEE lists are per-invocation scratch indexed by pixel: one
     // chunk at a time.
     if schedule == Schedule::Sequential || kernel.source == crate::kernel::KernelSource::VisOpt {
         return 1;
     }
-    let by_target = TARGET_INVOCATIONS.div_ceil(band_pixels.max(1));
+    let by_target = target_invocations().div_ceil(band_pixels.max(1));
     let by_memory = MAX_SLOT_BYTES / (kernel_setup::SLOT_BYTES * band_pixels.max(1));
-    by_target.min(by_memory).clamp(1, 4096) as u32
+    let by_samples = spp.div_ceil(SAMPLES_PER_CHUNK) as u64;
+    by_target.min(by_memory).min(by_samples).clamp(1, 4096) as u32
 }
 
 pub fn render(
@@ -106,7 +121,7 @@ pub(crate) fn render_scheduled(
     let pixels = (w as u64) * (h as u64);
     let band = groups.band_rows(h);
     let band_pixels = w as u64 * band.min(h) as u64;
-    let chunks = chunks_per_dispatch(schedule, kernel, band_pixels);
+    let chunks = chunks_per_dispatch(schedule, kernel, band_pixels, opts.spp);
     let acc = Accumulators::new(gpu, pixels, chunks as u64 * band_pixels);
     let (main, merge) = kernel_setup::pipeline(gpu, scene, kernel, &groups, &acc.layout)?;
     let mut frame = kernel_setup::initial_frame(scene, kernel, opts);
