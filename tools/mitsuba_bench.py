@@ -72,22 +72,6 @@ def mse(img, ref, ref_var):
     return float(np.mean((img - ref) ** 2) - np.mean(ref_var))
 
 
-def mse_at(points, budget):
-    """points: [(time, mse)] by increasing spp; the MSE at time `budget`,
-    interpolated log-log between the sweep points around it, or scaled as
-    1/time from the nearest end point outside them."""
-    pts = [(t, max(e, 1e-300)) for t, e in points]
-    if budget <= pts[0][0]:
-        return pts[0][1] * pts[0][0] / budget
-    if budget >= pts[-1][0]:
-        return pts[-1][1] * pts[-1][0] / budget
-    for (t0, e0), (t1, e1) in zip(pts, pts[1:]):
-        if t0 <= budget <= t1:
-            a = math.log(budget / t0) / math.log(t1 / t0)
-            return math.exp(math.log(e0) + a * (math.log(e1) - math.log(e0)))
-    return None
-
-
 def mitsuba_sweep(mi, scene, spps, gpu):
     """[(spp, wall, cpu, image)] of Mitsuba's render at each spp; on a GPU
     variant each spp renders once untimed first (kernel compilation)."""
@@ -214,8 +198,8 @@ def main():
                                     for p in pts], target)
             last = pts[-1]
             r["mse_x_cpu_last"] = last["mse"] * last[clocks[0]]
-            r["mse_at_budget"] = {f"{b * 1000:g}": mse_at([(p["wall"], p["mse"]) for p in pts], b)
-                                  for b in budgets}
+            curve = [(p["wall"], max(p["mse"], 1e-300)) for p in pts]
+            r["mse_at_budget"] = {f"{b * 1000:g}": mc.mse_at(curve, b) for b in budgets}
             res[name] = r
         for name, r in res.items():
             ratio_cpu = (res[mname]["cpu"] / r["cpu"]) if r["cpu"] else None

@@ -28,6 +28,7 @@ a Mitsuba 3 scene dictionary, with every convention matched:
 """
 
 import json
+import math
 import os
 import resource
 import struct
@@ -236,6 +237,22 @@ def check_grid_convention(mi, vol_path, grid):
         it.p = mi.Point3f(*p)
         worst = max(worst, abs(float(vol.eval_1(it)) - v))
     return worst
+
+
+def mse_at(c, t):
+    """c: [(time, mse)] by increasing time; log-log interpolation of the
+    MSE at time t, 1/t extrapolation outside the measured range."""
+    if t <= c[0][0]:
+        return c[0][1] * c[0][0] / t
+    if t >= c[-1][0]:
+        return c[-1][1] * c[-1][0] / t
+    for (t0, e0), (t1, e1) in zip(c, c[1:]):
+        if t0 <= t <= t1:
+            if t1 == t0 or e0 <= 0 or e1 <= 0:
+                return e0
+            a = math.log(t / t0) / math.log(t1 / t0)
+            return math.exp(math.log(e0) + a * (math.log(e1) - math.log(e0)))
+    return None
 
 
 # ---------------------------------------------------------------- running

@@ -47,7 +47,6 @@ Writes OUT/equal_time.json and prints Markdown tables.
 
 import argparse
 import json
-import math
 import os
 import resource
 import subprocess
@@ -232,21 +231,6 @@ def curve(points):
     return sorted(c)
 
 
-def mse_at(c, t):
-    """Log-log interpolation of MSE at time t; 1/t extrapolation outside."""
-    if t <= c[0][0]:
-        return c[0][1] * c[0][0] / t
-    if t >= c[-1][0]:
-        return c[-1][1] * c[-1][0] / t
-    for (t0, e0), (t1, e1) in zip(c, c[1:]):
-        if t0 <= t <= t1:
-            if t1 == t0 or e0 <= 0 or e1 <= 0:
-                return e0
-            a = math.log(t / t0) / math.log(t1 / t0)
-            return math.exp(math.log(e0) + a * (math.log(e1) - math.log(e0)))
-    return None
-
-
 def report(res, budgets, threads):
     lines = []
     for scene, rs in res["scenes"].items():
@@ -279,7 +263,7 @@ def report(res, budgets, threads):
         for T in budgets:
             vals = {}
             for name, r in rs.items():
-                vals[name] = mse_at(curve(r["points"]), T) if r.get("points") else None
+                vals[name] = mc.mse_at(curve(r["points"]), T) if r.get("points") else None
             fmt = lambda v: "–" if v is None else f"{v:.3e}"  # noqa: E731
             row = f"| {T} | " + " | ".join(fmt(vals[n]) for n in rs) + " | "
             row += " | ".join(

@@ -13,4 +13,12 @@ impl Estimate {
         transmittance: 1.0,
         lookups: 0,
     };
+
+    /// The estimate of a k-generic estimator run for one channel (k = [1]).
+    pub fn of_one_channel(([transmittance], lookups): ([f32; 1], u32)) -> Estimate {
+        Estimate {
+            transmittance,
+            lookups,
+        }
+    }
 }

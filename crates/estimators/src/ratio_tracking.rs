@@ -14,11 +14,7 @@ pub fn transmittance<V: VolumeAccess>(
     t1: f32,
     rng: &mut Pcg32,
 ) -> Estimate {
-    let ([transmittance], lookups) = transmittance_scaled(v, ray, t0, t1, rng, [1.0]);
-    Estimate {
-        transmittance,
-        lookups,
-    }
+    Estimate::of_one_channel(transmittance_scaled(v, ray, t0, t1, rng, [1.0]))
 }
 
 /// Ratio tracking of k_c σ_t for each channel c at once (k_c ≤ 1: the

@@ -29,11 +29,7 @@ pub fn transmittance<V: VolumeAccess>(
     t1: f32,
     rng: &mut Pcg32,
 ) -> Estimate {
-    let ([transmittance], lookups) = transmittance_scaled(v, ray, t0, t1, rng, [1.0]);
-    Estimate {
-        transmittance,
-        lookups,
-    }
+    Estimate::of_one_channel(transmittance_scaled(v, ray, t0, t1, rng, [1.0]))
 }
 
 /// Residual ratio tracking of k_c σ_t with control k_c μ_c for each

@@ -85,18 +85,16 @@ impl Chroma {
     /// built from the grids' maximum.
     pub fn from_grids(tracked: &Medium, grids: [DensityData; 3], scales: [f32; 3]) -> Chroma {
         let max = scales[0].max(scales[1]).max(scales[2]);
-        let mut c = 0;
-        let channels = grids.map(|g| {
-            let m = Medium::new(
-                g,
-                scales[c],
-                tracked.filter,
-                tracked.index_to_world,
-                tracked.supervoxels.size,
-            );
-            c += 1;
-            m
-        });
+        let channel = |g, s| {
+            let (filter, xf) = (tracked.filter, tracked.index_to_world);
+            Medium::new(g, s, filter, xf, tracked.supervoxels.size)
+        };
+        let [r, g, b] = grids;
+        let channels = [
+            channel(r, scales[0]),
+            channel(g, scales[1]),
+            channel(b, scales[2]),
+        ];
         Chroma {
             k: Vec3::from(scales) / max.max(f32::MIN_POSITIVE),
             channels: Arc::new(channels),
