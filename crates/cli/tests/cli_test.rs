@@ -432,10 +432,11 @@ fn frames_render_a_sequence_and_stop_at_a_missing_frame() {
     );
 }
 
-/// What the GPU backend does not render yet — surfaces and chromatic
-/// extinction — it refuses with a message pointing to the CPU.
+/// What the GPU backend does not render yet — chromatic extinction, and
+/// surfaces outside `volpath` and `direct` — it refuses with a message
+/// pointing to the CPU.
 #[test]
-fn gpu_refuses_shapes_and_chromatic_media_naming_the_cpu() {
+fn gpu_refuses_chromatic_media_and_shapes_outside_volpath_naming_the_cpu() {
     if fogbank_gpu::test_gpu().is_none() {
         return;
     }
@@ -444,7 +445,10 @@ fn gpu_refuses_shapes_and_chromatic_media_naming_the_cpu() {
     let media = "[camera]\nwidth = 8\nheight = 8\n[[media]]\ndensity = { procedural = \"constant\", resolution = 2 }\n";
     for (extra, needle) in [
         ("sigma_t_scale = [1, 2, 3]\n", "chromatic"),
-        ("[[shapes]]\ntype = \"cube\"\n", "[[shapes]]"),
+        (
+            "[[shapes]]\ntype = \"cube\"\n[integrator]\ntype = \"transmittance\"\n",
+            "[[shapes]]",
+        ),
     ] {
         std::fs::write(&scene, format!("{media}{extra}")).unwrap();
         for needle in [needle, "--device cpu"] {

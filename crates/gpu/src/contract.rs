@@ -13,7 +13,9 @@ use fogbank_render::integrators::shared::pin_params::PinMode;
 use fogbank_render::integrators::shared::{dim, DistanceSampler};
 use fogbank_render::integrators::visopt::params::Scattering;
 use fogbank_render::lights::Light;
+use fogbank_render::world::bsdf::Bsdf;
 use fogbank_render::world::emission::Emission;
+use fogbank_render::world::texture::Texture;
 
 /// Bits of `Frame::est_flags`.
 pub const FLAGS: [(&str, u32); 3] = [("UNIFORM_JITTER", 1), ("CLIP", 2), ("DOUBLED", 4)];
@@ -21,8 +23,12 @@ const FLAG_UNIFORM_JITTER: u32 = FLAGS[0].1;
 const FLAG_CLIP: u32 = FLAGS[1].1;
 const FLAG_DOUBLED: u32 = FLAGS[2].1;
 /// Bits of `Frame::integrator_flags` (WGSL `INTEGRATOR_*`).
-pub const INTEGRATOR_FLAGS: [(&str, u32); 3] =
-    [("LIGHT_ONLY", 1), ("RAY_MARCHING", 2), ("UNQUANTISED", 4)];
+pub const INTEGRATOR_FLAGS: [(&str, u32); 4] = [
+    ("LIGHT_ONLY", 1),
+    ("RAY_MARCHING", 2),
+    ("UNQUANTISED", 4),
+    ("SURFACES", 8),
+];
 /// volpath's `restir_baseline` preset: light sampling only (no
 /// phase-sampled escape MIS) and Russian roulette by albedo.
 pub const INTEGRATOR_LIGHT_ONLY: u32 = INTEGRATOR_FLAGS[0].1;
@@ -30,6 +36,25 @@ pub const INTEGRATOR_LIGHT_ONLY: u32 = INTEGRATOR_FLAGS[0].1;
 pub const INTEGRATOR_RAY_MARCHING: u32 = INTEGRATOR_FLAGS[1].1;
 /// Seed 004 Fig. 4.5: pins traced along each query ray, not looked up.
 pub const INTEGRATOR_UNQUANTISED: u32 = INTEGRATOR_FLAGS[2].1;
+/// The scene has shapes: rays meet surfaces (issue 23); without, the
+/// driver compiles the surface code out.
+pub const INTEGRATOR_SURFACES: u32 = INTEGRATOR_FLAGS[3].1;
+
+/// `vec4`s per shape record: media and lights, flags, emission, two sides.
+pub const SHAPE_STRIDE: u32 = 3 + 2 * SIDE_STRIDE;
+/// `vec4`s per side: (kind, α, η, flags), three colour parameters, the
+/// texture's two colours and its `to_uv`.
+pub const SIDE_STRIDE: u32 = 7;
+
+/// Shape flag bits (WGSL `SHAPE_*`).
+pub const SHAPE_FLAGS: [(&str, u32); 6] = [
+    ("NORMALS", 1),
+    ("UVS", 2),
+    ("EMITS", 4),
+    ("NULL", 8),
+    ("TWO_SIDED", 16),
+    ("PASSES", 32),
+];
 
 /// Bits of a seed 003 importance rule's `flags` (WGSL `RULE_*`): which of
 /// its predicates it has (world/importance.rs `ImportanceRule`).
@@ -97,8 +122,24 @@ pub fn strategy_id(s: Strategy) -> u32 {
     position(&Strategy::ALL.map(Strategy::name), s.name())
 }
 
+/// Light kinds on the device: the scene's, then the emitting triangles of
+/// shapes (`area`, which scenes do not list).
+pub fn light_kinds() -> Vec<&'static str> {
+    let mut k = Light::KINDS.to_vec();
+    k.push("area");
+    k
+}
+
 pub fn light_id(l: &Light) -> u32 {
-    position(&Light::KINDS, l.kind())
+    position(&light_kinds(), l.kind())
+}
+
+pub fn bsdf_id(b: &Bsdf) -> u32 {
+    position(&Bsdf::NAMES, b.name())
+}
+
+pub fn texture_id(t: &Texture) -> u32 {
+    position(&Texture::NAMES, t.name())
 }
 
 pub fn emission_id(e: Option<&Emission>) -> u32 {
@@ -234,7 +275,9 @@ pub fn wgsl_prelude() -> String {
         &DistanceSampler::ALL.map(DistanceSampler::name),
     );
     enumeration(&mut s, "STRATEGY", &Strategy::ALL.map(Strategy::name));
-    enumeration(&mut s, "LIGHT", &Light::KINDS);
+    enumeration(&mut s, "LIGHT", &light_kinds());
+    enumeration(&mut s, "BSDF", &Bsdf::NAMES);
+    enumeration(&mut s, "TEXTURE", &Texture::NAMES);
     enumeration(&mut s, "EMISSION", &EMISSION_KINDS);
     enumeration(&mut s, "VELOCITY", &VELOCITY_KINDS);
     enumeration(&mut s, "PIN_MODE", &PinMode::NAMES.map(|(n, _)| n));
@@ -246,6 +289,7 @@ pub fn wgsl_prelude() -> String {
         ("INTEGRATOR", &INTEGRATOR_FLAGS[..]),
         ("RULE", &RULE_FLAGS[..]),
         ("VISOPT", &VISOPT_FLAGS[..]),
+        ("SHAPE", &SHAPE_FLAGS[..]),
     ] {
         for (name, bit) in bits {
             s.push_str(&format!("const {prefix}_{name}: u32 = {bit}u;\n"));
@@ -255,6 +299,10 @@ pub fn wgsl_prelude() -> String {
         "const DIM_CAMERA: u32 = {}u;\nconst DIM_ESTIMATOR: u32 = {}u;\n",
         dim::CAMERA,
         dim::ESTIMATOR
+    ));
+    s.push_str(&format!(
+        "const SHAPE_STRIDE: u32 = {}u;\nconst SIDE_STRIDE: u32 = {}u;\n",
+        SHAPE_STRIDE, SIDE_STRIDE
     ));
     s.push_str(&format!(
         "const SAMPLES_PER_CHUNK: u32 = {}u;\n",

@@ -100,10 +100,10 @@ fn wgsl_structs_have_the_layout_of_the_rust_structs() {
             ("b", offset_of!(LightGpu, b)),
             ("c", offset_of!(LightGpu, c)),
             ("d", offset_of!(LightGpu, d)),
+            ("e", offset_of!(LightGpu, e)),
         ],
     );
     let tl = offset_of!(EnvParams, to_local);
-    let epad = offset_of!(EnvParams, pad);
     check_layout(
         &scatter,
         "EnvParams",
@@ -117,9 +117,13 @@ fn wgsl_structs_have_the_layout_of_the_rust_structs() {
             ("light_count", offset_of!(EnvParams, light_count)),
             ("integral", offset_of!(EnvParams, integral)),
             ("pickable", offset_of!(EnvParams, pickable)),
-            ("pad0", epad),
-            ("pad1", epad + 4),
-            ("pad2", epad + 8),
+            ("props_ext", offset_of!(EnvParams, props_ext)),
+            ("props_blackbody", offset_of!(EnvParams, props_blackbody)),
+            ("environments", offset_of!(EnvParams, environments)),
+            ("bilinear", offset_of!(EnvParams, bilinear)),
+            ("pad0", offset_of!(EnvParams, pad)),
+            ("pad1", offset_of!(EnvParams, pad) + 4),
+            ("pad2", offset_of!(EnvParams, pad) + 8),
         ],
     );
 }

@@ -180,7 +180,7 @@ pub fn bvh_queries(
     let t = gpu.storage_buffer("surface_triangles", bytemuck::cast_slice(&tris));
     let q = gpu.storage_buffer("bvh_queries", bytemuck::cast_slice(queries));
     let out = output_buffer(gpu, "bvh_answers", queries.len() as u64 * 16);
-    let source = [shaders::BVH, shaders::BVH_QUERIES_KERNEL].join("\n");
+    let source = [shaders::FLOAT, shaders::BVH, shaders::BVH_QUERIES_KERNEL].join("\n");
     let bytes = run_once(
         gpu,
         "bvh_queries",

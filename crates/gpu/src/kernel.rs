@@ -50,6 +50,17 @@ impl Kernel {
                 estimator.name()
             ))
         })?;
+        if !matches!(
+            scene.integrator,
+            IntegratorKind::Direct(_) | IntegratorKind::VolPath(_)
+        ) {
+            crate::surfaces::refuse_surfaces(scene, scene.integrator.name())?;
+        }
+        let surfaces = if scene.world.surfaces.is_some() {
+            crate::contract::INTEGRATOR_SURFACES
+        } else {
+            0
+        };
         let k = match &scene.integrator {
             IntegratorKind::Transmittance { background, .. } => Kernel {
                 source: KernelSource::Transmittance,
@@ -66,7 +77,7 @@ impl Kernel {
             IntegratorKind::Direct(d) => Kernel {
                 source: KernelSource::Scatter,
                 mis_samples: 0,
-                flags: 0,
+                flags: surfaces,
                 scatter: true,
                 est,
                 background: glam::Vec3::ZERO,
@@ -78,7 +89,7 @@ impl Kernel {
             IntegratorKind::VolPath(v) => Kernel {
                 source: KernelSource::Scatter,
                 mis_samples: 0,
-                flags: volpath_flags(v),
+                flags: volpath_flags(v) | surfaces,
                 scatter: true,
                 est,
                 background: glam::Vec3::ZERO,

@@ -24,6 +24,7 @@ mod render_test;
 pub mod restir;
 pub mod scene_buffers;
 pub mod shaders;
+pub mod surfaces;
 pub mod visopt;
 
 pub use context::{Gpu, GpuError};

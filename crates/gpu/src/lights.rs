@@ -1,6 +1,7 @@
 //! Bind group 2 of the scattering kernels: light records with their
-//! selection CDF, the environment map with its sampling CDFs, and each
-//! medium's albedo and phase (`wgsl/lights.wgsl`, `wgsl/scatter_kernel.wgsl`).
+//! selection CDF, the environment map with its sampling CDFs, each
+//! medium's albedo, phase and emission (`wgsl/lights.wgsl`,
+//! `wgsl/properties.wgsl`), and the surfaces ([`crate::surfaces`]).
 
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
@@ -18,6 +19,8 @@ pub(crate) struct LightGpu {
     pub(crate) b: [f32; 4],
     pub(crate) c: [f32; 4],
     pub(crate) d: [f32; 4],
+    /// Area lights: the second edge.
+    pub(crate) e: [f32; 4],
 }
 
 #[repr(C)]
@@ -29,6 +32,15 @@ pub(crate) struct EnvParams {
     pub(crate) light_count: u32,
     pub(crate) integral: f32,
     pub(crate) pickable: u32,
+    /// Where the medium extensions and the blackbody table start in the
+    /// `shading` buffer (after one (albedo, g) per medium).
+    pub(crate) props_ext: u32,
+    pub(crate) props_blackbody: u32,
+    /// Lights before this index may be environments (none after: the
+    /// emitting triangles of shapes follow the scene's lights).
+    pub(crate) environments: u32,
+    /// 1: read the map bilinearly (Mitsuba's lookup).
+    pub(crate) bilinear: u32,
     pub(crate) pad: [u32; 3],
 }
 
@@ -80,6 +92,14 @@ impl LightBuffers {
             light_count: scene.lights.len() as u32,
             integral: 0.0,
             pickable: (!cdf.is_empty()) as u32,
+            props_ext: scene.media.len() as u32,
+            props_blackbody: 4 * scene.media.len() as u32,
+            environments: scene
+                .lights
+                .iter()
+                .rposition(|l| l.is_environment())
+                .map_or(0, |i| i as u32 + 1),
+            bilinear: 0,
             pad: [0; 3],
         };
         let (mut env_rgb, mut env_cdf) = (vec![[0.0f32; 4]], vec![0.0f32, 1.0, 0.0, 1.0]);
@@ -95,6 +115,7 @@ impl LightBuffers {
                 b,
                 c: c4,
                 d: [d[0], d[1], c, pmf],
+                e: zero,
             };
             let kind = || crate::contract::light_id(l);
             records.push(match l {
@@ -102,11 +123,6 @@ impl LightBuffers {
                     rec(kind(), zero, v4(*radiance, 0.0), zero, [0.0; 2])
                 }
                 Light::Envmap(e) => {
-                    if e.is_bilinear() {
-                        return Err(GpuError(format!(
-                            "lights.{i}: the GPU backend reads environment maps with filter = \"nearest\" only"
-                        )));
-                    }
                     envmaps += 1;
                     if envmaps > 1 {
                         return Err(GpuError(format!(
@@ -117,6 +133,7 @@ impl LightBuffers {
                     env.width = e.width() as u32;
                     env.height = e.height() as u32;
                     env.integral = integral;
+                    env.bilinear = e.is_bilinear() as u32;
                     env.to_local = [
                         v4(to_local.row(0), 0.0),
                         v4(to_local.row(1), 0.0),
@@ -159,12 +176,20 @@ impl LightBuffers {
                     v4(*direction, 0.0),
                     [*cos_falloff_start, *cos_total],
                 ),
-                Light::Area(_) => {
-                    return Err(GpuError(crate::scene_buffers::SURFACES_ON_CPU_ONLY.into()))
-                }
+                Light::Area(t) => LightGpu {
+                    e: v4(t.e2, 0.0),
+                    ..rec(
+                        kind(),
+                        v4(t.p0, t.area),
+                        v4(t.radiance, 0.0),
+                        // The emitting side relative to the winding.
+                        v4(t.e1, t.n.dot(t.e1.cross(t.e2)).signum()),
+                        [0.0; 2],
+                    )
+                },
             });
         }
-        let shading: Vec<[f32; 4]> = scene
+        let mut shading: Vec<[f32; 4]> = scene
             .media
             .iter()
             .map(|m| [m.albedo[0], m.albedo[1], m.albedo[2], m.phase_g])
@@ -194,8 +219,11 @@ impl LightBuffers {
         let (bb_min, bb_step, bb) = fogbank_render::world::blackbody::blackbody_table();
         let mut table: Vec<[f32; 4]> = vec![[bb_min, bb_step, bb.len() as f32, 0.0]];
         table.extend(bb.iter().map(|c| v4(*c, 0.0)));
-        let ext_buf = gpu.storage_buffer("medium_ext", bytemuck::cast_slice(&ext));
-        let bb_buf = gpu.storage_buffer("blackbody", bytemuck::cast_slice(&table));
+        // One binding for the three (storage bindings per stage are few):
+        // the ranges start at `EnvParams::props_ext` and `props_blackbody`.
+        shading.extend(ext);
+        shading.extend(table);
+        let surfaces = crate::surfaces::SurfaceBuffers::upload(gpu, scene)?;
         let lights_buf = gpu.storage_buffer("lights", bytemuck::cast_slice(&records));
         let env_buf = gpu
             .device
@@ -241,8 +269,8 @@ impl LightBuffers {
             &rgb_buf,
             &cdf_buf,
             &shading_buf,
-            &ext_buf,
-            &bb_buf,
+            &surfaces.nodes,
+            &surfaces.data,
         ];
         let bind_group = gpu.bind_group_of("lights", &bind_group_layout, &bufs);
         Ok(LightBuffers {

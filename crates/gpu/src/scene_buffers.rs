@@ -7,7 +7,7 @@ use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
 use fogbank_render::world::emission::Emission;
 use fogbank_render::Scene;
-use fogbank_volume::{BrickGrid, DensityData, Filter, Medium, Voxel};
+use fogbank_volume::{AnalyticKind, BrickGrid, DensityData, Filter, Medium, Voxel};
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -80,11 +80,6 @@ fn pack_grid<T: Voxel>(
     offsets
 }
 
-/// Issue 23 brings shapes to the CPU first; the GPU refuses them rather
-/// than render a scene without its surfaces.
-pub const SURFACES_ON_CPU_ONLY: &str =
-    "the GPU backend does not render [[shapes]] yet: render it with --device cpu";
-
 fn check_size(what: &str, len: usize, limit: u64) -> Result<(), GpuError> {
     if (len as u64) * 4 > limit {
         return Err(GpuError(format!(
@@ -111,9 +106,6 @@ impl SceneBuffers {
         extra: &[&Medium],
         fields: &[&fogbank_render::world::field::Field],
     ) -> Result<SceneBuffers, GpuError> {
-        if scene.surfaces.is_some() {
-            return Err(GpuError(SURFACES_ON_CPU_ONLY.into()));
-        }
         if let Some(i) = scene.media.iter().position(|m| m.chroma.is_some()) {
             return Err(GpuError(format!(
                 "media.{i}: the GPU backend does not render chromatic extinction (sigma_t_scale = [r, g, b]) yet: render it with --device cpu"
@@ -168,6 +160,11 @@ impl SceneBuffers {
                         .map_err(|e| GpuError(format!("{}: {}", f.source, e.0)))?,
                 );
             }
+        }
+        if media.is_empty() {
+            // A scene of surfaces alone: one unused record, as the binding
+            // must hold one (the kernels loop over `frame.media_count` = 0).
+            media.push(MediumGpu::zeroed());
         }
         let limit = gpu.device.limits().max_storage_buffer_binding_size;
         check_size("voxel data", p.data.len(), limit)?;
@@ -229,7 +226,21 @@ fn pack_data(
             1,
             g.dims(),
         )),
-        DensityData::Analytic(_) => Err(GpuError(analytic_error.into())),
+        // A homogeneous medium (Mitsuba's `homogeneous`, a `constvolume`):
+        // one constant brick per 8³ voxels, exact under every filter since
+        // lookups clamp to the grid.
+        DensityData::Analytic(a) => match a.kind {
+            AnalyticKind::Constant { value } => {
+                let g = BrickGrid::<f32>::from_fn([a.n; 3], |_, _, _| value)
+                    .map_err(|e| GpuError(e.to_string()))?;
+                Ok((
+                    pack_grid(&g, p, |d| d.iter().map(|v| v.to_bits()).collect()),
+                    1,
+                    g.dims(),
+                ))
+            }
+            _ => Err(GpuError(analytic_error.into())),
+        },
     }
 }
 
@@ -256,7 +267,7 @@ fn pack_medium(m: &Medium, camera: glam::Vec3, p: &mut Packed) -> Result<MediumG
             let packed = pack_data(
                 &m.data,
                 p,
-                "analytic media are CPU-only; use a voxel grid (cloud, vdb, vol, raw)",
+                "analytic media other than constant are CPU-only; use a voxel grid (cloud, vdb, vol, raw)",
             )?;
             let sv_offset = p.supervoxels.len() as u32;
             p.supervoxels.extend(

@@ -2,6 +2,7 @@
 //! includes). Order matters only for readability: WGSL resolves names
 //! module-wide.
 
+pub const FLOAT: &str = include_str!("wgsl/float.wgsl");
 pub const RNG: &str = include_str!("wgsl/rng.wgsl");
 pub const MEDIUM: &str = include_str!("wgsl/medium.wgsl");
 pub const DDA: &str = include_str!("wgsl/dda.wgsl");
@@ -34,6 +35,10 @@ pub const CHORD_QUERIES_KERNEL: &str = include_str!("wgsl/chord_queries_kernel.w
 /// Surfaces: watertight triangles and BVH traversal.
 pub const BVH: &str = include_str!("wgsl/bvh.wgsl");
 pub const BVH_QUERIES_KERNEL: &str = include_str!("wgsl/bvh_queries_kernel.wgsl");
+pub const MICROFACET: &str = include_str!("wgsl/surfaces/microfacet.wgsl");
+pub const BSDF: &str = include_str!("wgsl/surfaces/bsdf.wgsl");
+pub const SURFACES: &str = include_str!("wgsl/surfaces/surfaces.wgsl");
+pub const NEXT_EVENT: &str = include_str!("wgsl/surfaces/next_event.wgsl");
 pub const POINT_MIS_KERNEL: &str = include_str!("wgsl/point_mis_kernel.wgsl");
 pub const ACCUMULATE: &str = include_str!("wgsl/accumulate.wgsl");
 pub const RESTIR_PARAMS: &str = include_str!("wgsl/restir/params.wgsl");
@@ -57,6 +62,7 @@ pub const TRANSMITTANCE_KERNEL: &str = include_str!("wgsl/transmittance_kernel.w
 pub fn estimators() -> String {
     [
         &crate::contract::wgsl_prelude(),
+        FLOAT,
         RNG,
         MEDIUM,
         DDA,
@@ -97,9 +103,23 @@ fn scattering_kernel(kernel: &str) -> String {
 }
 
 /// `direct` and `volpath`: with seed 004's ray marching and pins, chosen
-/// per ray (tracking.wgsl).
+/// per ray (tracking.wgsl), and surfaces (compiled out without shapes).
 pub fn scatter_kernel() -> String {
-    scattering_kernel(&[RAY_MARCHING_STEP, PINS, PIN_GRID, TRACKING, SCATTER_KERNEL].join("\n"))
+    scattering_kernel(
+        &[
+            RAY_MARCHING_STEP,
+            PINS,
+            PIN_GRID,
+            TRACKING,
+            BVH,
+            MICROFACET,
+            BSDF,
+            SURFACES,
+            NEXT_EVENT,
+            SCATTER_KERNEL,
+        ]
+        .join("\n"),
+    )
 }
 
 /// Gather population of a pin grid (seed 004 §3.7).

@@ -15,11 +15,6 @@ struct BvhNode {
     index: u32,
 }
 
-struct SurfaceTriangle {
-    p0: vec4<f32>,
-    p1: vec4<f32>,
-    p2: vec4<f32>,
-}
 
 struct TriHit {
     hit: bool,
@@ -123,11 +118,6 @@ fn intersect_triangle(f: RayFrame, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, 
     return TriHit(true, t, b1, b2);
 }
 
-// Finite, decided on the bits: compilers may assume floats are never NaN,
-// so `x != x` is no test.
-fn finite(x: f32) -> bool {
-    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
-}
 
 // 1 + 2γ₃ rounded to f32, as the CPU's SLAB_GROW.
 const SLAB_GROW: f32 = 1.0000003576;
@@ -150,8 +140,11 @@ fn node_enter(o: vec3<f32>, inv_d: vec3<f32>, n: BvhNode, t_max: f32) -> f32 {
 }
 
 // Stack traversal, nearer child first (fogbank_geometry's Bvh::walk):
-// the closest hit in (0, t_max), or with `any` the first hit found.
-fn bvh_trace(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any: bool) -> SurfaceHit {
+// the closest hit in (0, t_max), or with `any` the first hit found; with
+// `opaque`, triangles that let light through (surface_passes) are skipped.
+// The kernel that includes this file declares `bvh_nodes` and provides
+// surface_corner(slot, k) and surface_passes(slot).
+fn bvh_trace(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any: bool, opaque: bool) -> SurfaceHit {
     var best = SurfaceHit(0xffffffffu, 0.0, 0.0, 0.0);
     if (arrayLength(&bvh_nodes) == 0u) {
         return best;
@@ -170,8 +163,11 @@ fn bvh_trace(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any: bool) -> SurfaceHit
         var descend = false;
         if (n.count > 0u) {
             for (var slot = n.index; slot < n.index + n.count; slot++) {
-                let tri = surface_triangles[slot];
-                let h = intersect_triangle(f, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, t_max);
+                if (opaque && surface_passes(slot)) {
+                    continue;
+                }
+                let h = intersect_triangle(f, surface_corner(slot, 0u), surface_corner(slot, 1u),
+                                           surface_corner(slot, 2u), t_max);
                 if (h.hit) {
                     t_max = h.t;
                     best = SurfaceHit(slot, h.t, h.b1, h.b2);

@@ -10,7 +10,8 @@ struct BvhQuery {
 }
 
 @group(0) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
-@group(0) @binding(1) var<storage, read> surface_triangles: array<SurfaceTriangle>;
+// Per leaf slot its three corners.
+@group(0) @binding(1) var<storage, read> surface_triangles: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read> bvh_queries: array<BvhQuery>;
 @group(0) @binding(3) var<storage, read_write> bvh_answers: array<vec4<u32>>;
 
@@ -21,7 +22,15 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let q = bvh_queries[i];
-    let c = bvh_trace(q.o.xyz, q.d.xyz, q.o.w, false);
-    let a = bvh_trace(q.o.xyz, q.d.xyz, q.o.w, true);
+    let c = bvh_trace(q.o.xyz, q.d.xyz, q.o.w, false, false);
+    let a = bvh_trace(q.o.xyz, q.d.xyz, q.o.w, true, false);
     bvh_answers[i] = vec4<u32>(c.slot, bitcast<u32>(c.t), bitcast<u32>(c.b1), select(0u, 1u, a.slot != 0xffffffffu));
+}
+
+fn surface_corner(slot: u32, k: u32) -> vec3<f32> {
+    return surface_triangles[3u * slot + k].xyz;
+}
+
+fn surface_passes(slot: u32) -> bool {
+    return false;
 }

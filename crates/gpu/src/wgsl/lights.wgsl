@@ -12,6 +12,7 @@ struct LightGpu {
     b: vec4<f32>,   // radiance / intensity / irradiance
     c: vec4<f32>,   // spot: axis direction
     d: vec4<f32>,   // spot: (cos_falloff_start, cos_total); z = CDF, w = pmf
+    e: vec4<f32>,   // area: second edge (a = first corner and area, c = first edge)
 }
 
 struct EnvParams {
@@ -24,6 +25,14 @@ struct EnvParams {
     integral: f32,
     // 0 when no light has power: the CPU's sampler then picks nothing.
     pickable: u32,
+    // properties.wgsl: where the medium extensions and blackbody table
+    // start in `shading`.
+    props_ext: u32,
+    props_blackbody: u32,
+    // Lights from this index on are not environments (shapes' triangles).
+    environments: u32,
+    // 1: the map is read bilinearly, as Mitsuba 3's `envmap` (Envmap::bilinear).
+    bilinear: u32,
     pad0: u32,
     pad1: u32,
     pad2: u32,
@@ -39,13 +48,20 @@ fn luminance(c: vec3<f32>) -> f32 {
     return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
 }
 
-// LightSampler::pick: first light whose CDF exceeds u.
+// LightSampler::pick: first light whose CDF exceeds u (the last if none),
+// by bisection: scenes with emitting shapes have a light per triangle.
 fn pick_light(u: f32) -> u32 {
-    var i = 0u;
-    while (i + 1u < env.light_count && lights[i].d.z <= u) {
-        i++;
+    var lo = 0u;
+    var hi = env.light_count - 1u;
+    while (lo < hi) {
+        let mid = (lo + hi) / 2u;
+        if (lights[mid].d.z <= u) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
     }
-    return i;
+    return lo;
 }
 
 fn env_pixel(dir_world: vec3<f32>) -> u32 {
@@ -128,7 +144,7 @@ fn envmap_sample(u0: f32, u1: f32) -> LightSample {
     let local = vec3<f32>(sin_theta * sin(phi), cos_theta, -sin_theta * cos(phi));
     ls.wi = to_world_dir(local);
     let p = env_pixel(ls.wi);
-    ls.radiance = env_rgb[p].xyz;
+    ls.radiance = env_eval(ls.wi);
     ls.pdf = env_pdf_of_pixel(p);
     ls.valid = ls.pdf > 0.0;
     return ls;
@@ -143,9 +159,41 @@ fn light_le(l: LightGpu, dir: vec3<f32>) -> vec3<f32> {
         return l.b.xyz;
     }
     if (l.kind == LIGHT_ENVMAP) {
-        return env_rgb[env_pixel(dir)].xyz;
+        return env_eval(dir);
     }
     return vec3<f32>(0.0);
+}
+
+// Envmap::eval: the pixel's radiance, or bilinear between texels at
+// u = (j + ½)/W (columns wrap) and v = i/(H − 1) (clamped), Mitsuba's
+// lookup; sampling stays piecewise constant over pixels either way.
+fn env_eval(dir_world: vec3<f32>) -> vec3<f32> {
+    if (env.bilinear == 0u) {
+        return env_rgb[env_pixel(dir_world)].xyz;
+    }
+    let d = vec3<f32>(dot(env.to_local0.xyz, dir_world), dot(env.to_local1.xyz, dir_world),
+                      dot(env.to_local2.xyz, dir_world));
+    var u = atan2(d.x, -d.z) / (2.0 * PI);
+    u -= floor(u);
+    let v = clamp(acos(clamp(d.y, -1.0, 1.0)) / PI, 0.0, 1.0);
+    let w = f32(env.width);
+    let h = f32(env.height);
+    let x = u * w - 0.5;
+    let y = v * (h - 1.0);
+    if (!(finite(x) && finite(y))) {
+        return vec3<f32>(0.0);
+    }
+    let x0 = floor(x);
+    let y0 = floor(y);
+    let fx = x - x0;
+    let fy = y - y0;
+    let c0 = min(u32(x0 - w * floor(x0 / w)), env.width - 1u);
+    let c1 = min(u32((x0 + 1.0) - w * floor((x0 + 1.0) / w)), env.width - 1u);
+    let r0 = min(u32(clamp(y0, 0.0, h - 1.0)), env.height - 1u);
+    let r1 = min(u32(clamp(y0 + 1.0, 0.0, h - 1.0)), env.height - 1u);
+    let top = env_rgb[r0 * env.width + c0].xyz * (1.0 - fx) + env_rgb[r0 * env.width + c1].xyz * fx;
+    let bottom = env_rgb[r1 * env.width + c0].xyz * (1.0 - fx) + env_rgb[r1 * env.width + c1].xyz * fx;
+    return top * (1.0 - fy) + bottom * fy;
 }
 
 fn light_pdf_li(l: LightGpu, dir: vec3<f32>) -> f32 {
@@ -194,6 +242,9 @@ fn light_sample_li(l: LightGpu, p: vec3<f32>, u0: f32, u1: f32) -> LightSample {
             ls.radiance = l.b.xyz;
             ls.valid = true;
         }
+        case LIGHT_AREA: {
+            ls = area_sample(l, p, u0, u1);
+        }
         case LIGHT_POINT, LIGHT_SPOT: {
             let d = l.a.xyz - p;
             let dist2 = dot(d, d);
@@ -213,5 +264,51 @@ fn light_sample_li(l: LightGpu, p: vec3<f32>, u0: f32, u1: f32) -> LightSample {
             invalid_id();
         }
     }
+    return ls;
+}
+
+// Shadow rays toward a point on an emitter stop this fraction short of it
+// (lights/area.rs SHADOW_SHORTEN), so the emitter does not occlude itself.
+const SHADOW_SHORTEN: f32 = 1e-4;
+
+// AreaTriangle's emitting normal: the winding's, flipped to the side the
+// shape's normals give (the sign is in c.w).
+fn area_normal(l: LightGpu) -> vec3<f32> {
+    return normalize(cross(l.c.xyz, l.e.xyz)) * l.c.w;
+}
+
+// AreaTriangle::pdf_solid: d² / (|cos θ_l| A) for the point q seen from p.
+fn area_pdf_solid(l: LightGpu, p: vec3<f32>, q: vec3<f32>, wi: vec3<f32>) -> f32 {
+    let c = abs(dot(area_normal(l), wi));
+    if (c <= 0.0) {
+        return 0.0;
+    }
+    let d = q - p;
+    return dot(d, d) / (c * l.a.w);
+}
+
+// Light::sample_li for an emitting triangle: a uniform point (Heitz's
+// square-to-triangle map), radiance on the emitting side only.
+fn area_sample(l: LightGpu, p: vec3<f32>, u0: f32, u1: f32) -> LightSample {
+    var ls: LightSample;
+    ls.is_delta = false;
+    ls.valid = false;
+    var b0: f32;
+    var b1: f32;
+    if (u0 < u1) {
+        b0 = 0.5 * u0;
+        b1 = u1 - b0;
+    } else {
+        b1 = 0.5 * u1;
+        b0 = u0 - b1;
+    }
+    let q = l.a.xyz + b0 * l.c.xyz + b1 * l.e.xyz;
+    let d = q - p;
+    let dist = length(d);
+    ls.wi = d / dist;
+    ls.pdf = area_pdf_solid(l, p, q, ls.wi);
+    ls.radiance = select(vec3<f32>(0.0), l.b.xyz, dot(area_normal(l), ls.wi) < 0.0);
+    ls.distance = dist * (1.0 - SHADOW_SHORTEN);
+    ls.valid = dist > 0.0 && ls.pdf > 0.0 && finite(ls.pdf) && any(ls.radiance != vec3<f32>(0.0));
     return ls;
 }

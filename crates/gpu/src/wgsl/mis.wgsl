@@ -14,7 +14,7 @@ fn balance(a: f32, b: f32) -> f32 {
 // next_event::escaped; phase_pdf < 0 means a camera ray.
 fn escaped(d: vec3<f32>, phase_pdf: f32) -> vec3<f32> {
     var l = vec3<f32>(0.0);
-    for (var i = 0u; i < env.light_count; i++) {
+    for (var i = 0u; i < env.environments; i++) {
         let light = lights[i];
         if (is_environment(light)) {
             var w = 1.0;

@@ -113,10 +113,6 @@ fn segment_sigma_t(m: MediumGpu, s: Segment, t: f32, rng: ptr<function, Pcg32>, 
     return sigma_t_at(m, ray_at(s.index, t), rng, lookups);
 }
 
-fn finite(x: f32) -> bool {
-    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
-}
-
 // One loop over the two distance samples (k = 0 free flight, k = 1
 // equiangular), each adding c · L_s(t): the same random-number order as the
 // CPU, with `depths` and `in_scattered` inlined once rather than per strategy.

@@ -3,11 +3,19 @@
 // grids, emission (colour × grid, or a blackbody of a temperature grid).
 // Property grids are records of the media buffer after the scene's media.
 
-// Per medium i: shading[i] = (albedo, g); medium_ext[3i..3i+3] as in lights.rs.
+// Per medium i: shading[i] = (albedo, g); from env.props_ext on, three
+// vec4 per medium as in lights.rs (medium_ext); from env.props_blackbody
+// on, the blackbody table: (first kelvin, step, count, 0), then
+// linear-sRGB rows.
 @group(2) @binding(4) var<storage, read> shading: array<vec4<f32>>;
-@group(2) @binding(5) var<storage, read> medium_ext: array<vec4<f32>>;
-// [0] = (first kelvin, step, count, 0); then linear-sRGB rows.
-@group(2) @binding(6) var<storage, read> blackbody: array<vec4<f32>>;
+
+fn medium_ext(k: u32) -> vec4<f32> {
+    return shading[env.props_ext + k];
+}
+
+fn blackbody(k: u32) -> vec4<f32> {
+    return shading[env.props_blackbody + k];
+}
 
 // Field::eval: trilinear value(s) at world point p, zero outside the box.
 fn field_eval(first: u32, channels: u32, p: vec3<f32>) -> vec3<f32> {
@@ -45,7 +53,7 @@ fn albedo_at(mi: u32, p: vec3<f32>) -> vec3<f32> {
         let offset = m.tf_offset + 2u * (m.tf_counts & 0xffffu);
         return clamp(a * pl_rgb(offset, colours, scalar_at(m, p)), vec3<f32>(0.0), vec3<f32>(1.0));
     }
-    let ext = medium_ext[3u * mi];
+    let ext = medium_ext(3u * mi);
     if (ext.x == 0.0) {
         return a;
     }
@@ -53,7 +61,7 @@ fn albedo_at(mi: u32, p: vec3<f32>) -> vec3<f32> {
 }
 
 fn blackbody_rgb(t: f32) -> vec3<f32> {
-    let h = blackbody[0];
+    let h = blackbody(0u);
     if (!(t > h.x)) {
         return vec3<f32>(0.0);
     }
@@ -61,7 +69,7 @@ fn blackbody_rgb(t: f32) -> vec3<f32> {
     let x = min((t - h.x) / h.y, f32(n - 1u));
     let i = min(u32(x), n - 2u);
     let w = x - f32(i);
-    return blackbody[1u + i].xyz * (1.0 - w) + blackbody[2u + i].xyz * w;
+    return blackbody(1u + i).xyz * (1.0 - w) + blackbody(2u + i).xyz * w;
 }
 
 // SceneMedium::emitted: (1 − albedo) L_e.
@@ -71,8 +79,8 @@ fn emitted(mi: u32, p: vec3<f32>, albedo: vec3<f32>) -> vec3<f32> {
         let offset = m.tf_offset + 2u * (m.tf_counts & 0xffffu) + 4u * (m.tf_counts >> 16u);
         return (vec3<f32>(1.0) - albedo) * pl_rgb(offset, m.tf_emission, scalar_at(m, p));
     }
-    let ext = medium_ext[3u * mi];
-    let e = medium_ext[3u * mi + 1u];
+    let ext = medium_ext(3u * mi);
+    let e = medium_ext(3u * mi + 1u);
     var le = e.xyz;
     switch u32(ext.z) {
         case EMISSION_NONE: {
@@ -84,7 +92,7 @@ fn emitted(mi: u32, p: vec3<f32>, albedo: vec3<f32>) -> vec3<f32> {
             }
         }
         case EMISSION_BLACKBODY: {
-            let offset = medium_ext[3u * mi + 2u].x;
+            let offset = medium_ext(3u * mi + 2u).x;
             le *= blackbody_rgb((field_eval(u32(ext.w) - 1u, 1u, p).x - offset) * e.w);
         }
         default: {

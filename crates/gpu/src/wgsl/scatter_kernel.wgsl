@@ -1,12 +1,17 @@
 // Integrators `direct` and `volpath` (direct = volpath with max_depth 1),
-// mirroring integrators/volpath.rs, next_event.rs and media.rs sample for
-// sample: free-flight sampling across media, next-event estimation toward
-// one light chosen by power with the transmittance estimator ESTIMATOR,
-// environments MIS-combined with phase sampling (at the last vertex the
-// phase-sampled direction's transmittance is estimated instead of traced),
-// Russian roulette on the throughput after rr_depth bounces. With
+// mirroring integrators/volpath.rs, next_event.rs and free_flight.rs sample
+// for sample: free-flight sampling across media up to the next surface,
+// next-event estimation toward one light chosen by power with the
+// transmittance estimator ESTIMATOR, environments and emitting shapes
+// MIS-combined with phase or BSDF sampling (at the last vertex the sampled
+// direction is evaluated toward the lights instead of traced), Russian
+// roulette on the throughput after rr_depth bounces. With
 // INTEGRATOR_LIGHT_ONLY (volpath's restir_baseline preset, seed 002 §6):
-// light sampling only, no phase-sampled escape, roulette by albedo.
+// light sampling only, no sampled escape, roulette by albedo.
+//
+// Medium and surface vertices share one body (`scatter`) with a single
+// call of shadow(): lavapipe's compiler inlines every call site, and with
+// the surface walk four sites made the kernel take minutes to compile.
 
 fn light_only() -> bool {
     return (INTEGRATOR_FLAGS & INTEGRATOR_LIGHT_ONLY) != 0u;
@@ -43,15 +48,18 @@ fn unbiased_flight_with(m: MediumGpu, r: Ray, t0: f32, t1: f32,
 }
 
 // free_flight::next_collision for the ray leaving vertex `depth` (0: the
-// view ray): (t, medium index) or t < 0.
-fn next_collision(world: Ray, depth: u32, rng: ptr<function, Pcg32>,
-                  lookups: ptr<function, u32>) -> vec2<f32> {
+// view ray; `from_camera` while it still starts at the camera) before
+// t_end, in bounded medium `current` (+ 1): (t, medium index) or t < 0.
+fn next_collision(world: Ray, depth: u32, from_camera: bool, t_end: f32, current: u32,
+                  rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> vec2<f32> {
     let kind = flight_kind(depth);
-    let from_camera = depth == 0u;
     var hit = vec2<f32>(NO_HIT, 0.0);
     for (var i = 0u; i < frame.media_count; i++) {
+        if (!medium_active(i, current)) {
+            continue;
+        }
         let m = media[i];
-        var t_max = F32_INF;
+        var t_max = t_end;
         if (hit.x >= 0.0) {
             t_max = hit.x;
         }
@@ -73,12 +81,15 @@ fn next_collision(world: Ray, depth: u32, rng: ptr<function, Pcg32>,
     return hit;
 }
 
-// free_flight::shadow_transmittance for NEE at scattering vertex `vertex`.
-fn shadow(world: Ray, distance: f32, vertex: u32, rng: ptr<function, Pcg32>,
-          lookups: ptr<function, u32>) -> f32 {
+// free_flight::media_transmittance for NEE at scattering vertex `vertex`.
+fn media_shadow(world: Ray, distance: f32, vertex: u32, current: u32,
+                rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
     let kind = shadow_kind(vertex);
     var tr = 1.0;
     for (var i = 0u; i < frame.media_count; i++) {
+        if (!medium_active(i, current)) {
+            continue;
+        }
         let m = media[i];
         var r: Ray;
         let range = to_index(m, world, distance, &r);
@@ -90,113 +101,338 @@ fn shadow(world: Ray, distance: f32, vertex: u32, rng: ptr<function, Pcg32>,
 }
 
 fn has_environment() -> bool {
-    for (var i = 0u; i < env.light_count; i++) {
-        if (is_environment(lights[i])) {
-            return true;
-        }
-    }
-    return false;
+    return env.environments > 0u;
 }
 
-// next_event::light_sample
-fn light_sample(p: vec3<f32>, d: vec3<f32>, g: f32, vertex: u32, rng: ptr<function, Pcg32>,
-                lookups: ptr<function, u32>) -> vec3<f32> {
+// A path between vertices (volpath.rs `Path`).
+struct Path {
+    ray: Ray,
+    beta: vec3<f32>,
+    radiance: vec3<f32>,
+    // The last scattering vertex and the solid-angle pdf its direction was
+    // sampled with, for MIS with light sampling (pdf < 0: camera ray or
+    // delta lobe). Null boundaries leave it unchanged.
+    prev_p: vec3<f32>,
+    prev_pdf: f32,
+    // The bounded medium the path is in, + 1 (0: none).
+    medium: u32,
+}
+
+// What a vertex did to the path (volpath.rs `Step`).
+const STEP_STOP: u32 = 0u;
+const STEP_SCATTER: u32 = 1u;
+// Straight through an index-matched boundary: not a vertex.
+const STEP_CROSS: u32 = 2u;
+
+// Index-matched boundaries a ray may cross in a row (free_flight.rs).
+const MAX_CROSSINGS: u32 = 1024u;
+
+// A scattering vertex: a real collision in a medium (HG phase g) or a
+// surface hit with the BSDF of the side wo sees (twosided resolved once:
+// the back side works in the mirrored local frame, as TwoSided does).
+struct Vertex {
+    p: vec3<f32>,
+    // The direction the path arrived along.
+    d: vec3<f32>,
+    surface: bool,
+    g: f32,
+    albedo: vec3<f32>,
+    hit: Hit,
+    bsdf: Bsdf,
+    back: bool,
+    // Light sampling can help (not every lobe of both sides a delta).
+    nee: bool,
+    sf: ShadingFrame,
+    wo: vec3<f32>,
+}
+
+// A world direction in the vertex's BSDF frame (mirrored on the back side).
+fn vertex_local(v: Vertex, w: vec3<f32>) -> vec3<f32> {
+    let l = to_local(v.sf, w);
+    return select(l, flip_z(l), v.back);
+}
+
+fn vertex_world(v: Vertex, l: vec3<f32>) -> vec3<f32> {
+    return to_world(v.sf, select(l, flip_z(l), v.back));
+}
+
+// A shadow segment and what its transmittance multiplies.
+struct ShadowQuery {
+    valid: bool,
+    ray: Ray,
+    distance: f32,
+    medium: u32,
+    le: vec3<f32>,
+    // Medium NEE: le · (fs · T · w / den); surface NEE: le · fv · (T · w /
+    // den); a sampled direction (den = 0): le · (w · T), or le · T for the
+    // environment (w < 0). Each the CPU's expression, in its order.
+    fs: f32,
+    fv: vec3<f32>,
+    w: f32,
+    den: f32,
+}
+
+fn no_query() -> ShadowQuery {
+    var q: ShadowQuery;
+    q.valid = false;
+    return q;
+}
+
+fn query_value(q: ShadowQuery, surface: bool, tr: f32) -> vec3<f32> {
+    if (q.den == 0.0) {
+        if (q.w < 0.0) {
+            return q.le * tr;
+        }
+        return q.le * (q.w * tr);
+    }
+    if (surface) {
+        return q.le * q.fv * (tr * q.w / q.den);
+    }
+    return q.le * (q.fs * tr * q.w / q.den);
+}
+
+// next_event::light_sample_weighted (medium) and light_sample_surface:
+// one light picked by power, sampled, weighted against phase or BSDF
+// sampling by the balance heuristic (not for delta lights, nor with
+// INTEGRATOR_LIGHT_ONLY); the shadow ray leaves a surface from the
+// light's side, in the medium there.
+fn light_query(v: Vertex, current: u32, rng: ptr<function, Pcg32>) -> ShadowQuery {
     // The CPU draws the selection number before finding there is no light.
     let u_pick = pcg32_next_f32(rng);
     if (env.pickable == 0u) {
-        return vec3<f32>(0.0);
+        return no_query();
     }
-    let li = pick_light(u_pick);
-    let light = lights[li];
+    let light = lights[pick_light(u_pick)];
     let pmf = light.d.w;
     let u0 = pcg32_next_f32(rng);
     let u1 = pcg32_next_f32(rng);
-    let ls = light_sample_li(light, p, u0, u1);
+    let ls = light_sample_li(light, v.p, u0, u1);
     if (!ls.valid) {
-        return vec3<f32>(0.0);
+        return no_query();
     }
-    let f = hg_eval(g, dot(d, ls.wi));
-    if (f <= 0.0 || all(ls.radiance == vec3<f32>(0.0))) {
-        return vec3<f32>(0.0);
+    var q: ShadowQuery;
+    q.valid = true;
+    q.le = ls.radiance;
+    q.distance = ls.distance;
+    var pdf_dir: f32;
+    if (v.surface) {
+        let wi = vertex_local(v, ls.wi);
+        q.fv = bsdf_eval(v.bsdf, v.wo, wi) * abs(wi.z);
+        if (all(q.fv == vec3<f32>(0.0)) || all(ls.radiance == vec3<f32>(0.0))) {
+            return no_query();
+        }
+        q.fs = 1.0;
+        q.medium = target_medium(v.hit, ls.wi, current);
+        q.ray = Ray(spawn_origin(v.hit, ls.wi), ls.wi);
+        pdf_dir = bsdf_pdf(v.bsdf, v.wo, wi);
+    } else {
+        q.fs = hg_eval(v.g, dot(v.d, ls.wi));
+        if (q.fs <= 0.0 || all(ls.radiance == vec3<f32>(0.0))) {
+            return no_query();
+        }
+        q.fv = vec3<f32>(1.0);
+        q.medium = current;
+        q.ray = Ray(v.p, ls.wi);
+        pdf_dir = q.fs;
     }
-    var sr: Ray;
-    sr.o = p;
-    sr.d = ls.wi;
-    let tr = shadow(sr, ls.distance, vertex, rng, lookups);
+    q.w = 1.0;
     if (ls.is_delta) {
-        return ls.radiance * (f * tr / pmf);
+        q.den = pmf;
+    } else if (light_only()) {
+        q.den = pmf * ls.pdf;
+    } else {
+        q.den = pmf * ls.pdf;
+        q.w = balance(q.den, pdf_dir);
     }
-    if (light_only()) {
-        return ls.radiance * (f * tr / (pmf * ls.pdf));
-    }
-    let light_pdf = pmf * ls.pdf;
-    return ls.radiance * (f * tr * balance(light_pdf, f) / light_pdf);
+    return q;
 }
 
-// next_event::phase_sample_to_environment
-fn phase_sample_to_environment(p: vec3<f32>, wi: vec3<f32>, phase_pdf: f32, vertex: u32,
-                               rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> vec3<f32> {
-    if (!has_environment()) {
-        return vec3<f32>(0.0);
+// VolPath::roulette: on the throughput from rr_depth on (the baseline: on
+// the vertex albedo).
+fn roulette(path: ptr<function, Path>, depth: u32, albedo: vec3<f32>,
+            rng: ptr<function, Pcg32>) -> u32 {
+    if (depth + 1u >= frame.rr_depth) {
+        let beta = (*path).beta;
+        var q = min(max(beta.x, max(beta.y, beta.z)), 1.0);
+        if (light_only()) {
+            q = min(max(albedo.x, max(albedo.y, albedo.z)), 1.0);
+        }
+        if (pcg32_next_f32(rng) >= q) {
+            return STEP_STOP;
+        }
+        (*path).beta /= q;
     }
-    let le = escaped(wi, phase_pdf);
-    if (all(le == vec3<f32>(0.0))) {
-        return vec3<f32>(0.0);
+    return STEP_SCATTER;
+}
+
+// The vertex a medium collision at (t, medium) `c` makes, after its
+// emission and albedo (VolPath::medium_vertex's start); invalid (g = 2)
+// when the throughput is gone.
+fn medium_start(path: ptr<function, Path>, c: vec2<f32>) -> Vertex {
+    let ray = (*path).ray;
+    let mi = u32(c.y);
+    var v: Vertex;
+    v.surface = false;
+    v.d = ray.d;
+    v.g = shading[mi].w;
+    v.p = ray.o + c.x * ray.d;
+    v.albedo = albedo_at(mi, v.p);
+    (*path).radiance += (*path).beta * emitted(mi, v.p, v.albedo);
+    (*path).beta *= v.albedo;
+    if (all((*path).beta == vec3<f32>(0.0))) {
+        v.g = 2.0;
     }
-    var sr: Ray;
-    sr.o = p;
-    sr.d = wi;
-    return le * shadow(sr, F32_INF, vertex, rng, lookups);
+    return v;
+}
+
+// VolPath::surface_vertex's start: the hit's emission (MIS-weighted
+// against light sampling), its BSDF; null boundaries are crossed here
+// (returns false).
+fn surface_start(path: ptr<function, Path>, h: Hit, v: ptr<function, Vertex>) -> bool {
+    let d = (*path).ray.d;
+    let e = surface_emitted(h, d);
+    if (e.valid && !(light_only() && (*path).prev_pdf >= 0.0)) {
+        let w = emitter_weight(e.light, h.p, d, (*path).prev_p, (*path).prev_pdf);
+        (*path).radiance += (*path).beta * e.le * w;
+    }
+    if (shape_is_null(h.shape)) {
+        (*path).medium = target_medium(h, d, (*path).medium);
+        (*path).ray = Ray(spawn_origin(h, d), d);
+        return false;
+    }
+    (*v).surface = true;
+    (*v).p = h.p;
+    (*v).d = d;
+    (*v).hit = h;
+    (*v).sf = shading_frame(h.ns);
+    let wo = to_local((*v).sf, -d);
+    (*v).back = is_two_sided(h.shape) && wo.z < 0.0;
+    (*v).bsdf = surface_bsdf(h, (*v).back);
+    (*v).nee = !material_is_delta(h.shape);
+    (*v).wo = select(wo, flip_z(wo), (*v).back);
+    return true;
+}
+
+// The rest of a vertex: NEE, then phase or BSDF sampling, and at the last
+// vertex the sampled direction evaluated toward the lights — both shadow
+// segments through the one shadow() call of the kernel.
+fn scatter(path: ptr<function, Path>, v: Vertex, depth: u32,
+           rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> u32 {
+    let current = (*path).medium;
+    var weight = vec3<f32>(1.0);
+    for (var k = 0u; k < 2u; k++) {
+        var q = no_query();
+        if (k == 0u) {
+            if (!v.surface || v.nee) {
+                q = light_query(v, current, rng);
+            }
+        } else {
+            // Phase sampling is exact (pdf = f); BSDF sampling picks a lobe.
+            var wi: vec3<f32>;
+            var pdf: f32;
+            var origin = v.p;
+            var next = current;
+            if (v.surface) {
+                let uc = pcg32_next_f32(rng);
+                let u0 = pcg32_next_f32(rng);
+                let u1 = pcg32_next_f32(rng);
+                let bs = bsdf_sample(v.bsdf, v.wo, uc, u0, u1);
+                if (!bs.valid) {
+                    return STEP_STOP;
+                }
+                weight = bs.f * abs(bs.wi.z) / bs.pdf;
+                let top = max(weight.x, max(weight.y, weight.z));
+                if (!(finite(weight.x) && finite(weight.y) && finite(weight.z) && top > 0.0)) {
+                    return STEP_STOP;
+                }
+                wi = vertex_world(v, bs.wi);
+                pdf = select(bs.pdf, -1.0, bs.delta);
+                next = target_medium(v.hit, wi, current);
+                if (bs.delta && all(bs.wi == -v.wo) && (shape_flags(v.hit.shape) & SHAPE_PASSES) != 0u) {
+                    // Straight through a thin dielectric: a crossing, as in Mitsuba.
+                    (*path).beta *= weight;
+                    (*path).medium = next;
+                    (*path).ray = Ray(spawn_origin(v.hit, v.d), v.d);
+                    return STEP_CROSS;
+                }
+                origin = spawn_origin(v.hit, wi);
+            } else {
+                let u0 = pcg32_next_f32(rng);
+                let u1 = pcg32_next_f32(rng);
+                let s = hg_sample(v.g, -v.d, u0, u1);
+                wi = s.xyz;
+                pdf = s.w;
+            }
+            if (depth + 1u != frame.max_depth) {
+                (*path).beta *= weight;
+                (*path).prev_p = v.p;
+                (*path).prev_pdf = pdf;
+                (*path).medium = next;
+                (*path).ray = Ray(origin, wi);
+                var albedo = weight;
+                if (!v.surface) {
+                    albedo = v.albedo;
+                }
+                return roulette(path, depth, albedo, rng);
+            }
+            if (light_only()) {
+                return STEP_STOP;
+            }
+            q = direction_query(v.p, Ray(origin, wi), pdf, next);
+        }
+        if (q.valid) {
+            let tr = shadow(q.ray, q.distance, depth, q.medium, rng, lookups);
+            (*path).radiance += (*path).beta * weight * query_value(q, v.surface && k == 0u, tr);
+        }
+    }
+    return STEP_STOP;
 }
 
 fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, u32>) -> vec3<f32> {
     var rng = sample_rng(frame.seed, pixel, sample, DIM_ESTIMATOR);
-    var ray = primary_ray(x, y, pixel, sample);
-    var beta = vec3<f32>(1.0);
-    var radiance = vec3<f32>(0.0);
-    var phase_pdf = -1.0;
-    for (var depth = 0u; depth < frame.max_depth; depth++) {
-        let hit = next_collision(ray, depth, &rng, lookups);
-        if (hit.x < 0.0) {
-            if (!(light_only() && phase_pdf >= 0.0)) {
-                radiance += beta * escaped(ray.d, phase_pdf);
+    var path: Path;
+    path.ray = primary_ray(x, y, pixel, sample);
+    path.beta = vec3<f32>(1.0);
+    path.radiance = vec3<f32>(0.0);
+    path.prev_p = vec3<f32>(0.0);
+    path.prev_pdf = -1.0;
+    path.medium = camera_medium();
+    var depth = 0u;
+    var crossings = 0u;
+    while (depth < frame.max_depth) {
+        let hit = intersect_surfaces(path.ray.o, path.ray.d, F32_INF, false);
+        let t_end = select(F32_INF, hit.t, hit.valid);
+        let from_camera = depth == 0u && crossings == 0u;
+        let c = next_collision(path.ray, depth, from_camera, t_end, path.medium, &rng, lookups);
+        var step = STEP_CROSS;
+        if (c.x >= 0.0) {
+            let v = medium_start(&path, c);
+            step = STEP_STOP;
+            if (v.g != 2.0) {
+                step = scatter(&path, v, depth, &rng, lookups);
             }
+        } else if (hit.valid) {
+            var v: Vertex;
+            if (surface_start(&path, hit, &v)) {
+                step = scatter(&path, v, depth, &rng, lookups);
+            }
+        } else {
+            if (!(light_only() && path.prev_pdf >= 0.0)) {
+                path.radiance += path.beta * escaped(path.ray.d, path.prev_pdf);
+            }
+            step = STEP_STOP;
+        }
+        if (step == STEP_STOP) {
             break;
         }
-        let mi = u32(hit.y);
-        let sh = shading[mi];
-        let p = ray.o + hit.x * ray.d;
-        let albedo = albedo_at(mi, p);
-        radiance += beta * emitted(mi, p, albedo);
-        beta *= albedo;
-        if (all(beta == vec3<f32>(0.0))) {
-            break;
-        }
-        radiance += beta * light_sample(p, ray.d, sh.w, depth, &rng, lookups);
-        let u0 = pcg32_next_f32(&rng);
-        let u1 = pcg32_next_f32(&rng);
-        let s = hg_sample(sh.w, -ray.d, u0, u1);
-        if (depth + 1u == frame.max_depth) {
-            if (light_only()) {
+        if (step == STEP_SCATTER) {
+            depth++;
+        } else {
+            crossings++;
+            if (crossings > MAX_CROSSINGS) {
                 break;
             }
-            radiance += beta * phase_sample_to_environment(p, s.xyz, s.w, depth, &rng, lookups);
-            break;
-        }
-        phase_pdf = s.w;
-        ray.o = p;
-        ray.d = s.xyz;
-        if (depth + 1u >= frame.rr_depth) {
-            var q = min(max(beta.x, max(beta.y, beta.z)), 1.0);
-            if (light_only()) {
-                q = min(max(albedo.x, max(albedo.y, albedo.z)), 1.0);
-            }
-            if (pcg32_next_f32(&rng) >= q) {
-                break;
-            }
-            beta /= q;
         }
     }
-    return radiance;
+    return path.radiance;
 }
-

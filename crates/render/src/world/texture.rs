@@ -16,6 +16,16 @@ pub enum Texture {
 }
 
 impl Texture {
+    /// Every kind's name, in the order of its id on the GPU (`TEXTURE_*`).
+    pub const NAMES: [&'static str; 2] = ["constant", "checkerboard"];
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            Texture::Constant(_) => "constant",
+            Texture::Checkerboard { .. } => "checkerboard",
+        }
+    }
+
     pub fn eval(&self, uv: Vec2) -> Vec3 {
         match *self {
             Texture::Constant(c) => c,

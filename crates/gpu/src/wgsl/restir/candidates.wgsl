@@ -7,7 +7,7 @@
 // target (§4.3).
 
 fn emissive() -> bool {
-    return u32(medium_ext[0].z) != EMISSION_NONE;
+    return u32(medium_ext(0u).z) != EMISSION_NONE;
 }
 
 // Restir::nee_candidate: next-event estimation toward one light picked by

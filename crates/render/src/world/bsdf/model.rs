@@ -36,6 +36,30 @@ pub enum Bsdf {
 }
 
 impl Bsdf {
+    /// Every model's name, in the order of its id on the GPU (fogbank-gpu's
+    /// contract writes them into the WGSL prelude as `BSDF_*`).
+    pub const NAMES: [&'static str; 7] = [
+        "diffuse",
+        "conductor",
+        "dielectric",
+        "thin_dielectric",
+        "plastic",
+        "rough_plastic",
+        "null",
+    ];
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            Bsdf::Diffuse { .. } => "diffuse",
+            Bsdf::Conductor { .. } => "conductor",
+            Bsdf::Dielectric { .. } => "dielectric",
+            Bsdf::ThinDielectric { .. } => "thin_dielectric",
+            Bsdf::Plastic(_) => "plastic",
+            Bsdf::RoughPlastic(_) => "rough_plastic",
+            Bsdf::Null => "null",
+        }
+    }
+
     /// Whether every lobe is a delta (no `eval`, no MIS with light sampling).
     pub fn is_delta(&self) -> bool {
         match *self {

@@ -138,6 +138,13 @@ impl RoughPlastic {
     }
 
     /// The same coating over another base reflectance (a texture's value).
+    /// The coating's tabulated transmittance over μ = cos θ (`RES` points
+    /// on [0, 1]) and its internal diffuse reflectance: what a GPU port
+    /// uploads instead of recomputing.
+    pub fn coating(&self) -> (&[f32; RES], f32) {
+        (&self.coating.external, self.coating.internal_reflectance)
+    }
+
     pub fn with_diffuse(&self, diffuse: Vec3) -> Self {
         RoughPlastic { diffuse, ..*self }
     }

@@ -32,6 +32,13 @@ pub struct Shape {
     has_uvs: bool,
 }
 
+impl Shape {
+    /// Whether its triangles carry vertex normals (else flat) and UVs.
+    pub fn shading_data(&self) -> (bool, bool) {
+        (self.has_normals, self.has_uvs)
+    }
+}
+
 /// What an integrator needs at a surface hit.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceHit {
@@ -234,6 +241,21 @@ impl Surfaces {
         } else {
             s.interior
         }
+    }
+
+    /// The triangles and their BVH (what a GPU port uploads).
+    pub fn accel(&self) -> &MeshAccel {
+        &self.accel
+    }
+
+    /// Per triangle (in mesh order), the index of its shape.
+    pub fn shape_of(&self) -> &[u32] {
+        &self.shape_of
+    }
+
+    /// Whether light passes straight through shape `i` (null, thin dielectric).
+    pub fn shape_passes_light(&self, i: usize) -> bool {
+        self.passes[i]
     }
 
     pub fn triangle_count(&self) -> usize {

@@ -1,0 +1,225 @@
+//! A scene's surfaces on the device (bindings 5 and 6 of bind group 2,
+//! `wgsl/surfaces.wgsl`): the BVH nodes as the CPU built them, and one
+//! `vec4` array holding a header, the bounded-media flags, the shape
+//! records with their materials, the triangles in the BVH's leaf order and
+//! their shading data, and the rough plastics' coating tables.
+//!
+//! | range | contents |
+//! |---|---|
+//! | 0 | header: shape records, triangles, shading data (bases), camera medium + 1 |
+//! | 1 | `walk` (shadow rays walk surface to surface), shape count |
+//! | 2 … | per world medium, 1 when shapes bound it (four per `vec4`) |
+//! | shapes | [`SHAPE_STRIDE`] `vec4` per shape: media, lights, flags, emission, two sides of [`crate::contract::SIDE_STRIDE`] |
+//! | triangles | per leaf slot three corners; `w`: shape, mesh triangle, passes light |
+//! | shading | per leaf slot four `vec4`: vertex normals and UVs |
+//! | coatings | 64 + 1 floats per rough plastic (tabulated transmittance, internal reflectance) |
+
+use crate::contract::{bsdf_id, texture_id, SHAPE_STRIDE};
+use crate::{Gpu, GpuError};
+use fogbank_geometry::BvhNode;
+use fogbank_render::world::bsdf::Bsdf;
+use fogbank_render::world::surfaces::material::Side;
+use fogbank_render::world::texture::Texture;
+use fogbank_render::Scene;
+
+/// The two buffers, ready to bind.
+pub(crate) struct SurfaceBuffers {
+    pub(crate) nodes: wgpu::Buffer,
+    pub(crate) data: wgpu::Buffer,
+}
+
+fn u(x: u32) -> f32 {
+    f32::from_bits(x)
+}
+
+fn v4(v: glam::Vec3, w: f32) -> [f32; 4] {
+    [v.x, v.y, v.z, w]
+}
+
+/// The packed nodes and data of `scene`'s surfaces; without any, an empty
+/// hierarchy (one node with an empty box, never entered) and a header
+/// saying there are no shapes.
+pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
+    let empty = BvhNode {
+        min: [f32::INFINITY; 3],
+        count: 0,
+        max: [f32::NEG_INFINITY; 3],
+        index: 0,
+    };
+    let Some(s) = scene.world.surfaces.as_ref() else {
+        return (vec![empty], vec![[0.0; 4], [0.0; 4]]);
+    };
+    let accel = s.accel();
+    let nodes = if accel.bvh.nodes.is_empty() {
+        vec![empty]
+    } else {
+        accel.bvh.nodes.clone()
+    };
+    let media = scene.world.media.len() as u32;
+    let mut data = vec![[0.0f32; 4]; 2 + media.div_ceil(4) as usize];
+    for i in 0..media {
+        data[2 + i as usize / 4][i as usize % 4] = u(s.bounds_medium(i as usize) as u32);
+    }
+    let shape_base = data.len() as u32;
+    let mut coatings = Vec::new();
+    let coating_base =
+        shape_base + SHAPE_STRIDE * s.shapes.len() as u32 + 7 * accel.bvh.order.len() as u32;
+    for (i, shape) in s.shapes.iter().enumerate() {
+        let (normals, uvs) = shape.shading_data();
+        let m = &shape.material;
+        let flags = normals as u32
+            | (uvs as u32) << 1
+            | (shape.emission.is_some() as u32) << 2
+            | (m.is_null() as u32) << 3
+            | (m.back.is_some() as u32) << 4
+            | (m.passes_light() as u32) << 5;
+        let medium = |m: Option<usize>| m.map_or(0, |w| w as u32 + 1);
+        data.push([
+            u(medium(shape.interior)),
+            u(medium(shape.exterior)),
+            u(shape.first_light),
+            u(shape.first_triangle),
+        ]);
+        data.push([u(flags), u(i as u32), 0.0, 0.0]);
+        data.push(v4(shape.emission.unwrap_or_default(), 0.0));
+        for side in [Some(m.front), m.back] {
+            let side = side.unwrap_or(m.front);
+            pack_side(&side, &mut data, &mut coatings, coating_base);
+        }
+    }
+    let tri_base = data.len() as u32;
+    let shading_base = tri_base + 3 * accel.bvh.order.len() as u32;
+    for (slot, &t) in accel.bvh.order.iter().enumerate() {
+        let corners = accel.leaf_corners()[slot];
+        let shape = s.shape_of()[t as usize];
+        // A non-finite corner: a point, never hit (as on the CPU).
+        let finite = corners.iter().all(|p| p.is_finite());
+        let w = [
+            u(shape),
+            u(t),
+            u(s.shape_passes_light(shape as usize) as u32),
+        ];
+        for k in 0..3 {
+            let p = if finite { corners[k] } else { glam::Vec3::ZERO };
+            data.push(v4(p, w[k]));
+        }
+    }
+    let mesh = &accel.mesh;
+    for &t in &accel.bvh.order {
+        let tri = mesh.triangles[t as usize];
+        let n = |k: usize| {
+            mesh.normals
+                .get(tri[k] as usize)
+                .copied()
+                .unwrap_or_default()
+        };
+        let uv = |k: usize| mesh.uvs.get(tri[k] as usize).copied().unwrap_or_default();
+        data.push(v4(n(0), uv(0).x));
+        data.push(v4(n(1), uv(0).y));
+        data.push(v4(n(2), uv(1).x));
+        data.push([uv(1).y, uv(2).x, uv(2).y, 0.0]);
+    }
+    debug_assert_eq!(data.len() as u32, coating_base);
+    data.extend(coatings);
+    data[0] = [
+        u(shape_base),
+        u(tri_base),
+        u(shading_base),
+        u(s.camera_medium.map_or(0, |m| m as u32 + 1)),
+    ];
+    data[1] = [
+        u(s.shadows_walk() as u32),
+        u(s.shapes.len() as u32),
+        0.0,
+        0.0,
+    ];
+    (nodes, data)
+}
+
+/// One side's record: (kind, α, η, flags), parameters a, b, c, texture.
+fn pack_side(side: &Side, data: &mut Vec<[f32; 4]>, coatings: &mut Vec<[f32; 4]>, base: u32) {
+    let z = glam::Vec3::ZERO;
+    let (alpha, eta, nonlinear, a, b, c) = match side.bsdf {
+        Bsdf::Diffuse { reflectance } => (0.0, 1.0, false, reflectance, z, [0.0; 4]),
+        Bsdf::Conductor {
+            eta,
+            k,
+            alpha,
+            specular,
+        } => (alpha, 1.0, false, eta, k, v4(specular, 0.0)),
+        Bsdf::Dielectric { eta, alpha } => (alpha, eta, false, z, z, [0.0; 4]),
+        Bsdf::ThinDielectric { eta } => (0.0, eta, false, z, z, [0.0; 4]),
+        Bsdf::Plastic(p) => (0.0, p.eta, p.nonlinear, p.diffuse, p.specular, [0.0; 4]),
+        Bsdf::RoughPlastic(p) => {
+            let (table, internal) = p.coating();
+            let offset = base + coatings.len() as u32;
+            coatings.extend(table.chunks(4).map(|c| [c[0], c[1], c[2], c[3]]));
+            (
+                p.alpha,
+                p.eta,
+                p.nonlinear,
+                p.diffuse,
+                p.specular,
+                [internal, u(offset), 0.0, 0.0],
+            )
+        }
+        Bsdf::Null => (0.0, 1.0, false, z, z, [0.0; 4]),
+    };
+    let texture = side.texture.unwrap_or(Texture::Constant(z));
+    data.push([
+        u(bsdf_id(&side.bsdf)),
+        alpha,
+        eta,
+        u(nonlinear as u32 | texture_id(&texture) << 8),
+    ]);
+    data.push(v4(a, 0.0));
+    data.push(v4(b, 0.0));
+    data.push(c);
+    match texture {
+        Texture::Checkerboard {
+            color0,
+            color1,
+            to_uv,
+        } => {
+            let (m, t) = (to_uv.matrix2, to_uv.translation);
+            data.push(v4(color0, t.x));
+            data.push(v4(color1, t.y));
+            data.push([m.x_axis.x, m.x_axis.y, m.y_axis.x, m.y_axis.y]);
+        }
+        Texture::Constant(_) => data.extend([[0.0; 4]; 3]),
+    }
+}
+
+impl SurfaceBuffers {
+    pub(crate) fn upload(gpu: &Gpu, scene: &Scene) -> Result<SurfaceBuffers, GpuError> {
+        let (nodes, data) = pack(scene);
+        let limit = gpu.device.limits().max_storage_buffer_binding_size;
+        for (what, bytes) in [
+            ("BVH nodes", nodes.len() * 32),
+            ("surface data", data.len() * 16),
+        ] {
+            if bytes as u64 > limit {
+                return Err(GpuError(format!(
+                    "[[shapes]]: {what}: {} MiB exceed the device's storage-buffer limit of {} MiB",
+                    bytes >> 20,
+                    limit >> 20
+                )));
+            }
+        }
+        Ok(SurfaceBuffers {
+            nodes: gpu.storage_buffer("bvh_nodes", bytemuck::cast_slice(&nodes)),
+            data: gpu.storage_buffer("surface_data", bytemuck::cast_slice(&data)),
+        })
+    }
+}
+
+/// Whether the GPU renders `scene`'s surfaces: with `volpath` and `direct`;
+/// other kernels refuse scenes with shapes rather than drop them.
+pub fn refuse_surfaces(scene: &Scene, integrator: &str) -> Result<(), GpuError> {
+    if scene.world.surfaces.is_some() {
+        return Err(GpuError(format!(
+            "the GPU backend renders [[shapes]] with volpath and direct only, not {integrator}: render it with --device cpu"
+        )));
+    }
+    Ok(())
+}
