@@ -363,7 +363,7 @@ fn pack_property(
     let (offsets, storage, dims) = pack_data(
         data,
         p,
-        "analytic property grids are CPU-only; use a voxel grid",
+        "analytic property grids other than constant are CPU-only; use a voxel grid",
     )?;
     let sv_offset = p.supervoxels.len() as u32;
     p.supervoxels.push([0.0; 4]);

@@ -112,7 +112,9 @@ fn cpu_only_features_are_clear_errors() {
     let Some(gpu) = test_gpu() else { return };
     let s = scene(
         MIXED,
-        &["media.0.albedo_grid={ procedural = \"constant\", value = 0.5 }".to_string()],
+        // (Constant analytic grids upload as constant bricks; others do not.)
+        &["media.0.albedo_grid={ procedural = \"ramp\", value = 0.2, gradient = [0.5, 0.0, 0.0] }"
+            .to_string()],
     );
     let opts = RenderOptions {
         spp: 1,
