@@ -186,7 +186,7 @@ fn same_seed_gives_mostly_identical_samples() {
 #[test]
 fn unsupported_work_is_a_clear_error() {
     let Some(gpu) = test_gpu() else { return };
-    let t = "[[media]]\ndensity = { procedural = \"constant\" }\n[integrator]\nestimator = \"ratio_tracking\"\n";
+    let t = "[[media]]\ndensity = { procedural = \"sinusoid\" }\n[integrator]\nestimator = \"ratio_tracking\"\n";
     let s = Scene::build(parse_scene(t, "t", &[]).unwrap(), Path::new(".")).unwrap();
     let e = gpu_render::render(&gpu, &s, &opts(1, 0), &Progress::default())
         .err()
