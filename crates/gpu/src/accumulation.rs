@@ -89,18 +89,18 @@ impl Frame {
 /// Bind group 1 of every kernel: the frame uniform, the accumulation
 /// buffers (mean radiance and count, M2 and dropped samples, lookups) and
 /// the chunk slots of a dispatch.
-pub(crate) fn frame_bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+pub(crate) fn frame_bind_group_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
     use wgpu::BufferBindingType::{Storage, Uniform};
     let storage_rw = |binding| buffer_entry(binding, Storage { read_only: false });
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("frame"),
-        entries: &[
+    gpu.bind_group_layout(
+        "frame",
+        &[
             buffer_entry(0, Uniform),
             storage_rw(1),
             storage_rw(2),
             storage_rw(3),
         ],
-    })
+    )
 }
 
 /// After `n` passes over `pixels` pixels: the progress counted and, with

@@ -1,5 +1,6 @@
 //! The wgpu device: adapter selection, limits, timestamp support.
 
+use crate::pipelines::{PipelineCache, PipelineSpec};
 use std::fmt;
 
 #[derive(Debug, Clone)]
@@ -13,6 +14,9 @@ impl fmt::Display for GpuError {
 
 impl std::error::Error for GpuError {}
 
+/// A device and its queue. Clones are handles to the same device and share
+/// its built pipelines ([`crate::pipelines`]).
+#[derive(Clone)]
 pub struct Gpu {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
@@ -22,6 +26,7 @@ pub struct Gpu {
     /// Most bytes of per-invocation scratch a kernel may allocate (visopt's
     /// NEE lists); kernels that need more render in bands of rows.
     pub scratch_budget: u64,
+    pub(crate) pipelines: std::sync::Arc<PipelineCache>,
 }
 
 /// The default [`Gpu::scratch_budget`] (seed 003's static scratch is 156 MB).
@@ -77,6 +82,7 @@ impl Gpu {
             info,
             timestamps,
             scratch_budget: SCRATCH_BUDGET,
+            pipelines: Default::default(),
         })
     }
 
@@ -97,12 +103,33 @@ impl Gpu {
     /// Runs `f` (creating shader modules, pipelines) and turns a validation
     /// error into a `GpuError` instead of wgpu's default panic.
     pub fn checked<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T, GpuError> {
-        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let out = f();
-        match pollster::block_on(scope.pop()) {
-            None => Ok(out),
-            Some(e) => Err(GpuError(format!("{what}: {e}"))),
-        }
+        crate::pipelines::validated(&self.device, what, f).map_err(GpuError)
+    }
+
+    /// The bind group layout with `entries`: the same object for equal
+    /// entries, so that pipelines over it are shared.
+    pub fn bind_group_layout(
+        &self,
+        label: &str,
+        entries: &[wgpu::BindGroupLayoutEntry],
+    ) -> wgpu::BindGroupLayout {
+        self.pipelines
+            .bind_group_layout(&self.device, label, entries)
+    }
+
+    /// The compute pipeline `spec` describes, built on its first request
+    /// on this device ([`crate::pipelines`]). Validation errors (a WGSL
+    /// error, a layout mismatch) are errors, not panics, and are not kept.
+    pub fn compute_pipeline(&self, spec: &PipelineSpec) -> Result<wgpu::ComputePipeline, GpuError> {
+        self.pipelines
+            .compute_pipeline(&self.device, spec)
+            .map_err(GpuError)
+    }
+
+    /// How many pipelines this device has built (not counting those it
+    /// handed out again).
+    pub fn pipelines_built(&self) -> u64 {
+        self.pipelines.built()
     }
 
     /// A bind group whose binding i is the whole of `buffers[i]`.

@@ -53,21 +53,12 @@ fn run_once(
     out: &wgpu::Buffer,
 ) -> Result<Vec<u8>, GpuError> {
     let device = &gpu.device;
-    let module = gpu.checked(&format!("{label} kernel"), || {
-        device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(label),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        })
-    })?;
-    let pipeline = gpu.checked(&format!("{label} pipeline"), || {
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(label),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        })
+    let pipeline = gpu.compute_pipeline(&crate::pipelines::PipelineSpec {
+        label,
+        source: &source,
+        entry: "main",
+        constants: &[],
+        layouts: None,
     })?;
     let bind: Vec<wgpu::BindGroup> = groups
         .iter()

@@ -8,6 +8,7 @@ use crate::contract::pin_mode_id;
 use crate::kernel::{Kernel, KernelSource};
 use crate::lights::LightBuffers;
 use crate::pins::PinBuffers;
+use crate::pipelines::PipelineSpec;
 use crate::scene_buffers::SceneBuffers;
 use crate::shaders;
 use crate::visopt::{importance_fields, VisOptBuffers};
@@ -129,7 +130,7 @@ impl Accumulators {
         let moments = zeroed("accum_moments", pixels * 32);
         let lookups = zeroed("accum_lookups", pixels * 4);
         let chunks = zeroed("accum_chunks", slots.max(1) * SLOT_BYTES);
-        let layout = frame_bind_group_layout(device);
+        let layout = frame_bind_group_layout(gpu);
         let group = gpu.bind_group_of("frame", &layout, &[&frame, &moments, &lookups, &chunks]);
         Accumulators {
             frame,
@@ -150,7 +151,6 @@ pub(crate) fn pipeline(
     groups: &SceneGroups,
     frame_layout: &wgpu::BindGroupLayout,
 ) -> Result<(wgpu::ComputePipeline, wgpu::ComputePipeline), GpuError> {
-    let device = &gpu.device;
     let source = match kernel.source {
         KernelSource::Transmittance => shaders::transmittance_kernel(),
         KernelSource::Scatter => shaders::scatter_kernel(),
@@ -158,36 +158,20 @@ pub(crate) fn pipeline(
         KernelSource::VisOpt => shaders::visopt_kernel(),
         KernelSource::Ament => shaders::ament_kernel(),
     };
-    let module = gpu.checked("kernel", || {
-        device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(scene.integrator.name()),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        })
-    })?;
-    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(scene.integrator.name()),
-        bind_group_layouts: &[
-            Some(&groups.media.bind_group_layout),
-            Some(frame_layout),
-            groups.lights.as_ref().map(|l| &l.bind_group_layout),
-            groups.group3().map(|g| g.0),
-        ],
-        immediate_size: 0,
-    });
+    let layouts = [
+        Some(&groups.media.bind_group_layout),
+        Some(frame_layout),
+        groups.lights.as_ref().map(|l| &l.bind_group_layout),
+        groups.group3().map(|g| g.0),
+    ];
     let constants = specialisation(kernel);
-    let entry = |name: &str| {
-        gpu.checked("kernel pipeline", || {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(scene.integrator.name()),
-                layout: Some(&layout),
-                module: &module,
-                entry_point: Some(name),
-                compilation_options: wgpu::PipelineCompilationOptions {
-                    constants: &constants,
-                    ..Default::default()
-                },
-                cache: None,
-            })
+    let entry = |name| {
+        gpu.compute_pipeline(&PipelineSpec {
+            label: scene.integrator.name(),
+            source: &source,
+            entry: name,
+            constants: &constants,
+            layouts: Some(&layouts),
         })
     };
     Ok((entry("main")?, entry("merge")?))

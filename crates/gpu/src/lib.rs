@@ -18,6 +18,9 @@ mod kernel;
 mod kernel_setup;
 pub mod lights;
 pub mod pins;
+pub mod pipelines;
+#[cfg(test)]
+mod pipelines_test;
 pub mod render;
 #[cfg(test)]
 mod render_test;
@@ -29,11 +32,14 @@ pub mod visopt;
 
 pub use context::{Gpu, GpuError};
 
-/// For tests: a GPU, or `None` with a visible message. With
+/// For tests: the process's GPU, or `None` with a visible message. With
 /// `FOGBANK_REQUIRE_GPU=1` (set by `.ci/run`) a missing adapter is a failure.
+/// Every call hands out a handle to the same device, so that the tests of
+/// one binary build each pipeline once.
 pub fn test_gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(g) => Some(g),
+    static SHARED: std::sync::OnceLock<Result<Gpu, GpuError>> = std::sync::OnceLock::new();
+    match SHARED.get_or_init(Gpu::new) {
+        Ok(g) => Some(g.clone()),
         Err(e) => {
             if std::env::var("FOGBANK_REQUIRE_GPU").as_deref() == Ok("1") {
                 panic!("FOGBANK_REQUIRE_GPU=1 but no GPU: {e}");

@@ -249,20 +249,18 @@ impl LightBuffers {
             },
             count: None,
         };
-        let bind_group_layout =
-            gpu.device
-                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("lights"),
-                    entries: &[
-                        entry(0, false),
-                        entry(1, true),
-                        entry(2, false),
-                        entry(3, false),
-                        entry(4, false),
-                        entry(5, false),
-                        entry(6, false),
-                    ],
-                });
+        let bind_group_layout = gpu.bind_group_layout(
+            "lights",
+            &[
+                entry(0, false),
+                entry(1, true),
+                entry(2, false),
+                entry(3, false),
+                entry(4, false),
+                entry(5, false),
+                entry(6, false),
+            ],
+        );
         let bufs = [
             &lights_buf,
             &env_buf,

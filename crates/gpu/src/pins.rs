@@ -7,6 +7,7 @@
 //! same for every `volpath`.
 
 use crate::context::buffer_entry;
+use crate::pipelines::PipelineSpec;
 use crate::scene_buffers::SceneBuffers;
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
@@ -115,10 +116,8 @@ impl PinBuffers {
         if !gathered.is_empty() {
             gather(gpu, media, &grids, &pins, &gathered, &seeds)?;
         }
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("pins"),
-            entries: &[storage_entry(0, true), storage_entry(1, true)],
-        });
+        let layout =
+            gpu.bind_group_layout("pins", &[storage_entry(0, true), storage_entry(1, true)]);
         let bind_group = gpu.bind_group_of("pins", &layout, &[&grids, &pins]);
         Ok(PinBuffers {
             layout,
@@ -152,34 +151,20 @@ fn gather(
     seeds: &[u64],
 ) -> Result<(), GpuError> {
     let device = &gpu.device;
-    let module = gpu.checked("pin gather kernel", || {
-        device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("pin gather"),
-            source: wgpu::ShaderSource::Wgsl(crate::shaders::pin_gather_kernel().into()),
-        })
-    })?;
-    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("pin gather"),
-        entries: &[
+    let layout = gpu.bind_group_layout(
+        "pin gather",
+        &[
             buffer_entry(0, wgpu::BufferBindingType::Uniform),
             storage_entry(1, true),
             storage_entry(2, false),
         ],
-    });
-    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("pin gather"),
-        bind_group_layouts: &[Some(&media.bind_group_layout), Some(&layout)],
-        immediate_size: 0,
-    });
-    let pipeline = gpu.checked("pin gather pipeline", || {
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("pin gather"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        })
+    );
+    let pipeline = gpu.compute_pipeline(&PipelineSpec {
+        label: "pin gather",
+        source: &crate::shaders::pin_gather_kernel(),
+        entry: "main",
+        constants: &[],
+        layouts: Some(&[Some(&media.bind_group_layout), Some(&layout)]),
     })?;
     let mut enc = device.create_command_encoder(&Default::default());
     for (&(medium, _, count), &seed) in gathered.iter().zip(seeds) {

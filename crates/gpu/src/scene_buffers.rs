@@ -190,12 +190,7 @@ impl SceneBuffers {
                 count: None,
             })
             .collect();
-        let bind_group_layout =
-            gpu.device
-                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("media"),
-                    entries: &entries,
-                });
+        let bind_group_layout = gpu.bind_group_layout("media", &entries);
         let bind_group = gpu.bind_group_of("media", &bind_group_layout, &bufs.each_ref());
         Ok(SceneBuffers {
             media,

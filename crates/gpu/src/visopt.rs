@@ -248,14 +248,14 @@ impl VisOptBuffers {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("visopt"),
-            entries: &[
+        let layout = gpu.bind_group_layout(
+            "visopt",
+            &[
                 buffer_entry(0, wgpu::BufferBindingType::Uniform),
                 buffer_entry(1, wgpu::BufferBindingType::Storage { read_only: true }),
                 buffer_entry(2, wgpu::BufferBindingType::Storage { read_only: false }),
             ],
-        });
+        );
         let bind_group = gpu.bind_group_of("visopt", &layout, &[&uniform, &data_buf, &scratch]);
         Ok(VisOptBuffers {
             layout,

@@ -103,11 +103,17 @@ impl Figure {
             self.render(&root, Target::Svg)?;
             root.present().map_err(err)?;
         }
+        // Drawn into memory and encoded by the `image` crate the workspace
+        // already has (plotters' own encoder would build a second version).
+        let (w, h) = self.size();
+        let mut rgb = vec![0u8; 3 * w as usize * h as usize];
         {
-            let root = BitMapBackend::new(&png, self.size()).into_drawing_area();
+            let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
             self.render(&root, Target::Png)?;
             root.present().map_err(err)?;
         }
+        image::save_buffer(&png, &rgb, w, h, image::ExtendedColorType::Rgb8)
+            .map_err(|e| format!("{}: {e}", png.display()))?;
         Ok(vec![svg, png])
     }
 

@@ -7,6 +7,8 @@
 use super::frame_data::{restir_of, shading_estimator, upload_frame, FrameGpu};
 use super::uniform::{MipRecords, Regions, RestirUniform, STORED_BYTES};
 use crate::accumulation::{frame_bind_group_layout, read_film};
+use crate::context::buffer_entry;
+use crate::pipelines::PipelineSpec;
 use crate::{shaders, Gpu, GpuError};
 use fogbank_render::integrators::restir::Reuse;
 use fogbank_render::{Film, Scene};
@@ -88,28 +90,24 @@ impl RestirGpu {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let restir_layout = restir_bind_group_layout(device);
+        let restir_layout = restir_bind_group_layout(gpu);
         let restir_group =
             gpu.bind_group_of("restir", &restir_layout, &[&uniform_buf, &reservoirs]);
-        let frame_layout = frame_bind_group_layout(device);
+        let frame_layout = frame_bind_group_layout(gpu);
         // The layouts of groups 0 and 2 are those every upload makes.
         let first = upload_frame(gpu, scene, &frame_layout, &moments, &lookups)?;
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("restir"),
-            bind_group_layouts: &[
-                Some(&first.media.bind_group_layout),
-                Some(&frame_layout),
-                Some(&first.lights.bind_group_layout),
-                Some(&restir_layout),
-            ],
-            immediate_size: 0,
-        });
+        let layouts = [
+            Some(&first.media.bind_group_layout),
+            Some(&frame_layout),
+            Some(&first.lights.bind_group_layout),
+            Some(&restir_layout),
+        ];
         let mips = MipRecords {
             first_mip: first.media.extra_first,
             bc4: p.reuse_bc4.then_some(first.media.extra_first + 3),
         };
         Ok(RestirGpu {
-            pipelines: pipelines(gpu, &layout, est.id)?,
+            pipelines: pipelines(gpu, &layouts, est.id)?,
             uniform: RestirUniform::new(p, &mips, batch),
             uniform_buf,
             restir_group,
@@ -273,55 +271,32 @@ fn batch_for(gpu: &Gpu, w: u32, h: u32, max_batch: u32) -> Result<u32, GpuError>
 }
 
 /// Bind group 3: the restir uniform and the reservoir buffer.
-fn restir_bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let buffer_entry = |binding, ty| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("restir"),
-        entries: &[
+fn restir_bind_group_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
+    gpu.bind_group_layout(
+        "restir",
+        &[
             buffer_entry(0, wgpu::BufferBindingType::Uniform),
             buffer_entry(1, wgpu::BufferBindingType::Storage { read_only: false }),
         ],
-    })
+    )
 }
 
 /// One pipeline per pass, with the shading estimator `ESTIMATOR`.
 fn pipelines(
     gpu: &Gpu,
-    layout: &wgpu::PipelineLayout,
+    layouts: &[Option<&wgpu::BindGroupLayout>],
     estimator: u32,
 ) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
-    let device = &gpu.device;
-    let module = gpu.checked("restir kernel", || {
-        device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("restir"),
-            source: wgpu::ShaderSource::Wgsl(shaders::restir_kernel().into()),
-        })
-    })?;
-    let constants = [("ESTIMATOR", estimator as f64)];
+    let source = shaders::restir_kernel();
     PASSES
         .iter()
         .map(|entry| {
-            gpu.checked(&format!("restir pipeline {entry}"), || {
-                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: Some(layout),
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: wgpu::PipelineCompilationOptions {
-                        constants: &constants,
-                        ..Default::default()
-                    },
-                    cache: None,
-                })
+            gpu.compute_pipeline(&PipelineSpec {
+                label: "restir",
+                source: &source,
+                entry,
+                constants: &[("ESTIMATOR", estimator as f64)],
+                layouts: Some(layouts),
             })
         })
         .collect()

@@ -51,7 +51,10 @@ fn p_hat_at(i: u32, j: u32, y: ptr<function, Path>, lookups: ptr<function, u32>)
     return p_hat_of(centre_ray(p % frame.width, p / frame.width), y, lookups);
 }
 
-// Restir::combine: the combined reservoir of input 0's pixel.
+// Restir::combine: the combined reservoir of input 0's pixel. Pass i < n
+// streams input i; with stochastic MIS, pass n evaluates the chosen
+// sample's denominator. Every p̂ is evaluated at the one call of p_hat_at
+// (each call site inlines evaluate again: lavapipe's compile time).
 fn combine(n: u32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> Reservoir {
     var m_total = 0.0;
     for (var i = 0u; i < n; i++) {
@@ -59,33 +62,58 @@ fn combine(n: u32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> Re
     }
     var out = empty_reservoir();
     var chosen = MAX_INPUTS;
-    for (var i = 0u; i < n; i++) {
-        let u = pcg32_next_f32(rng);
-        if (!in_has_y[i] || in_w[i] <= 0.0) {
-            continue;
+    for (var pass_i = 0u; pass_i <= n; pass_i++) {
+        let finishing = pass_i == n;
+        var i = pass_i;
+        var u = 0.0;
+        if (finishing) {
+            if (chosen >= MAX_INPUTS || rp.mis != MIS_STOCHASTIC) {
+                break;
+            }
+            i = chosen;
+        } else {
+            u = pcg32_next_f32(rng);
+            if (!in_has_y[i] || in_w[i] <= 0.0) {
+                continue;
+            }
         }
         var y = load_reservoir(in_index[i]).y;
+        // Σ_j M_j p̂_j(x_i) over every input for Talbot's weight and the
+        // stochastic denominator; p̂_0(x_i) alone for 1/M weights.
+        var inputs = n;
+        if (!finishing && rp.mis != MIS_TALBOT) {
+            inputs = 1u;
+        }
+        var den = 0.0;
+        var own = 0.0;
         var p_hat_q = 0.0;
+        for (var j = 0u; j < inputs; j++) {
+            let p = p_hat_at(i, j, &y, lookups);
+            den += in_m[j] * p;
+            if (j == i) {
+                own = p;
+            }
+            if (j == 0u) {
+                p_hat_q = p;
+            }
+        }
+        if (finishing) {
+            // Eq. 10 for unequal M: W = m_r(y)·w_sum/(M_r p̂_q(y)).
+            let num = m_total * in_p_hat[chosen];
+            if (den > 0.0) {
+                out.w_sum *= num / den;
+            } else {
+                out.w_sum = 0.0;
+            }
+            break;
+        }
         var weight = 0.0;
         if (rp.mis == MIS_TALBOT) {
             // Generalised Talbot (Eq. 11): M_i p̂_i(x_i) / Σ_j M_j p̂_j(x_i).
-            var den = 0.0;
-            var own = 0.0;
-            for (var j = 0u; j < n; j++) {
-                let p = p_hat_at(i, j, &y, lookups);
-                den += in_m[j] * p;
-                if (j == i) {
-                    own = p;
-                }
-                if (j == 0u) {
-                    p_hat_q = p;
-                }
-            }
             if (den > 0.0 && is_finite1(den)) {
                 weight = in_m[i] * own / den;
             }
         } else {
-            p_hat_q = p_hat_at(i, 0u, &y, lookups);
             weight = in_m[i] / m_total;
         }
         // reservoir::stream_input
@@ -101,22 +129,8 @@ fn combine(n: u32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> Re
     }
     out.m = m_total;
     if (chosen < MAX_INPUTS) {
-        var y = load_reservoir(in_index[chosen]).y;
-        out.y = y;
+        out.y = load_reservoir(in_index[chosen]).y;
         out.has_y = true;
-        if (rp.mis == MIS_STOCHASTIC) {
-            // Eq. 10 for unequal M: W = m_r(y)·w_sum/(M_r p̂_q(y)).
-            var den = 0.0;
-            for (var j = 0u; j < n; j++) {
-                den += in_m[j] * p_hat_at(chosen, j, &y, lookups);
-            }
-            let num = m_total * in_p_hat[chosen];
-            if (den > 0.0) {
-                out.w_sum *= num / den;
-            } else {
-                out.w_sum = 0.0;
-            }
-        }
     }
     return out;
 }

@@ -15,104 +15,124 @@ fn restir_environment(d: vec3<f32>) -> vec3<f32> {
 }
 
 // target::evaluate: the path's contribution along ray0 (unit direction).
+// Step i < k is the path's segment i; step k its last segment, to its
+// light — or, for a path that leaves to the background, the primary ray
+// itself (then k = 0). Every step is attenuated at the one call of
+// segment_t: drivers inline every call, and this function is inlined at
+// each p̂ evaluation of a pass (lavapipe's compile time grows with each copy).
 fn evaluate(ray0: Ray, y: ptr<function, Path>, mode: u32, rng: ptr<function, Pcg32>,
             lookups: ptr<function, u32>) -> vec3<f32> {
-    if ((*y).end == END_BACKGROUND) {
-        let le = restir_environment(ray0.d);
-        if (all(le == vec3<f32>(0.0))) {
-            return vec3<f32>(0.0);
-        }
-        return le * segment_t(mode, ray0, F32_INF, rng, lookups);
+    let background = (*y).end == END_BACKGROUND;
+    var k = min((*y).k, MAX_K);
+    if (background) {
+        k = 0u;
     }
     let g = shading[0].w;
-    let k = min((*y).k, MAX_K);
     var x = ray0.o;
     var d = ray0.d;
     var f = vec3<f32>(1.0);
-    for (var i = 0u; i < k; i++) {
-        let last = i + 1u == k;
-        // Segment i: from x_i along ω_i to x_{i+1}. On the path's own
-        // vertices the stored ω, z rebuild x_{i+1} exactly (as the CPU).
-        let fixed = is_fixed(y, i);
-        var own = false;
-        if (i >= 1u) {
-            own = all(x == (*y).x[i - 1u]);
-        }
-        var next_d: vec3<f32>;
-        var z: f32;
-        var geom = 1.0;
-        if (fixed && own) {
-            next_d = (*y).dir[i - 1u];
-            z = (*y).z[i];
-            geom = 1.0 / (z * z);
-        } else if (fixed) {
-            let v = (*y).x[i] - x;
-            z = length(v);
-            if (!(z > 0.0)) {
+    for (var i = 0u; i <= k; i++) {
+        // The step's segment, its length, and the factors before and after
+        // its transmittance.
+        var seg: Ray;
+        var dist: f32;
+        var before: vec3<f32>;
+        var after = vec3<f32>(1.0);
+        if (i < k) {
+            let last = i + 1u == k;
+            // Segment i: from x_i along ω_i to x_{i+1}. On the path's own
+            // vertices the stored ω, z rebuild x_{i+1} exactly (as the CPU).
+            let fixed = is_fixed(y, i);
+            var own = false;
+            if (i >= 1u) {
+                own = all(x == (*y).x[i - 1u]);
+            }
+            var next_d: vec3<f32>;
+            var z: f32;
+            var geom = 1.0;
+            if (fixed && own) {
+                next_d = (*y).dir[i - 1u];
+                z = (*y).z[i];
+                geom = 1.0 / (z * z);
+            } else if (fixed) {
+                let v = (*y).x[i] - x;
+                z = length(v);
+                if (!(z > 0.0)) {
+                    return vec3<f32>(0.0);
+                }
+                next_d = v / z;
+                geom = 1.0 / (z * z);
+            } else {
+                if (i == 0u) {
+                    next_d = d;
+                } else {
+                    next_d = (*y).dir[i - 1u];
+                }
+                z = (*y).z[i];
+            }
+            if (i > 0u) {
+                f *= hg_pdf(g, -d, next_d);
+            }
+            d = next_d;
+            seg.o = x;
+            seg.d = d;
+            x = ray_at(seg, z);
+            let sigma = restir_sigma_t(x);
+            if (sigma <= 0.0) {
                 return vec3<f32>(0.0);
             }
-            next_d = v / z;
-            geom = 1.0 / (z * z);
-        } else {
-            if (i == 0u) {
-                next_d = d;
+            let albedo = albedo_at(0u, x);
+            dist = z;
+            before = vec3<f32>(geom);
+            if (last && (*y).end == END_EMISSION) {
+                after = emitted(0u, x, albedo) * sigma;
             } else {
-                next_d = (*y).dir[i - 1u];
+                after = albedo * sigma;
             }
-            z = (*y).z[i];
-        }
-        if (i > 0u) {
-            f *= hg_pdf(g, -d, next_d);
-        }
-        d = next_d;
-        var seg: Ray;
-        seg.o = x;
-        seg.d = d;
-        x = ray_at(seg, z);
-        let sigma = restir_sigma_t(x);
-        if (sigma <= 0.0) {
-            return vec3<f32>(0.0);
-        }
-        let albedo = albedo_at(0u, x);
-        f *= geom * segment_t(mode, seg, z, rng, lookups);
-        if (last && (*y).end == END_EMISSION) {
-            f *= emitted(0u, x, albedo) * sigma;
+        } else if (background) {
+            let le = restir_environment(ray0.d);
+            if (all(le == vec3<f32>(0.0))) {
+                return vec3<f32>(0.0);
+            }
+            seg = ray0;
+            dist = F32_INF;
+            before = le;
+        } else if ((*y).end == END_LIGHT) {
+            if ((*y).light >= env.light_count) {
+                return vec3<f32>(0.0);
+            }
+            // target::light_towards: environments keep the stored direction,
+            // other lights are seen from x (their sampling ignores u).
+            let l = lights[(*y).light];
+            var wi = (*y).light_dir;
+            var li: vec3<f32>;
+            dist = F32_INF;
+            if (is_environment(l)) {
+                li = light_le(l, wi);
+            } else {
+                let ls = light_sample_li(l, x, 0.5, 0.5);
+                if (!ls.valid) {
+                    return vec3<f32>(0.0);
+                }
+                wi = ls.wi;
+                li = ls.radiance;
+                dist = ls.distance;
+            }
+            let fp = hg_pdf(g, -d, wi);
+            if (fp <= 0.0 || all(li == vec3<f32>(0.0))) {
+                return vec3<f32>(0.0);
+            }
+            seg.o = x;
+            seg.d = wi;
+            before = li * fp;
         } else {
-            f *= albedo * sigma;
+            break;
         }
+        f *= before * segment_t(mode, seg, dist, rng, lookups);
+        f *= after;
         if (all(f == vec3<f32>(0.0))) {
             return vec3<f32>(0.0);
         }
-    }
-    if ((*y).end == END_LIGHT) {
-        if ((*y).light >= env.light_count) {
-            return vec3<f32>(0.0);
-        }
-        // target::light_towards: environments keep the stored direction,
-        // other lights are seen from x (their sampling ignores u).
-        let l = lights[(*y).light];
-        var wi = (*y).light_dir;
-        var li: vec3<f32>;
-        var dist = F32_INF;
-        if (is_environment(l)) {
-            li = light_le(l, wi);
-        } else {
-            let ls = light_sample_li(l, x, 0.5, 0.5);
-            if (!ls.valid) {
-                return vec3<f32>(0.0);
-            }
-            wi = ls.wi;
-            li = ls.radiance;
-            dist = ls.distance;
-        }
-        let fp = hg_pdf(g, -d, wi);
-        if (fp <= 0.0 || all(li == vec3<f32>(0.0))) {
-            return vec3<f32>(0.0);
-        }
-        var sr: Ray;
-        sr.o = x;
-        sr.d = wi;
-        f *= li * fp * segment_t(mode, sr, dist, rng, lookups);
     }
     return f;
 }
