@@ -14,7 +14,9 @@
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex, OnceLock};
+
+type Built = Result<wgpu::ComputePipeline, String>;
 
 /// What determines a compute pipeline.
 pub struct PipelineSpec<'a> {
@@ -42,7 +44,10 @@ struct PipelineKey {
 /// The device's pipelines, layouts and shader modules built so far.
 #[derive(Default)]
 pub(crate) struct PipelineCache {
-    pipelines: Mutex<HashMap<PipelineKey, wgpu::ComputePipeline>>,
+    /// One slot per pipeline: threads asking for the same one while it is
+    /// being built wait for that build (tests start together); different
+    /// pipelines build side by side.
+    pipelines: Mutex<HashMap<PipelineKey, Arc<OnceLock<Built>>>>,
     layouts: Mutex<HashMap<Vec<wgpu::BindGroupLayoutEntry>, wgpu::BindGroupLayout>>,
     modules: Mutex<HashMap<String, wgpu::ShaderModule>>,
     built: AtomicU64,
@@ -86,16 +91,25 @@ impl PipelineCache {
                 .layouts
                 .map(|ls| ls.iter().map(|l| l.cloned()).collect()),
         };
-        if let Some(p) = self.pipelines.lock().unwrap().get(&key) {
-            return Ok(p.clone());
+        let slot = self
+            .pipelines
+            .lock()
+            .unwrap()
+            .entry(key)
+            .or_default()
+            .clone();
+        let built = slot.get_or_init(|| {
+            self.built.fetch_add(1, Ordering::Relaxed);
+            self.build(device, spec)
+        });
+        if built.is_err() {
+            // Not kept: the same request fails again with its message.
+            self.pipelines
+                .lock()
+                .unwrap()
+                .retain(|_, s| !Arc::ptr_eq(s, &slot));
         }
-        // Built outside the lock: two threads asking at once may both
-        // build it (the first stored wins), but neither waits on the other's
-        // unrelated compile.
-        let pipeline = self.build(device, spec)?;
-        self.built.fetch_add(1, Ordering::Relaxed);
-        let mut pipelines = self.pipelines.lock().unwrap();
-        Ok(pipelines.entry(key).or_insert(pipeline).clone())
+        built.clone()
     }
 
     pub(crate) fn built(&self) -> u64 {
