@@ -119,3 +119,49 @@ fn empty_and_all_degenerate_meshes_hit_nothing() {
     assert!(a.bvh.nodes.is_empty());
     assert!(a.intersect(&ray, f32::INFINITY).is_none());
 }
+
+/// Axis-parallel rays whose origin lies exactly on a box plane (1/d = ±∞
+/// meets a zero distance: 0·∞ = NaN in the slab test) still reach the
+/// triangles there, and an infinite ray parallel to an axis skips the boxes
+/// it passes beside. A grid of unit quads in z = 0; rays along ±z from the
+/// quads' shared edges and corners, in both signs of zero direction.
+#[test]
+fn axis_parallel_rays_on_box_planes_find_the_edges_they_graze() {
+    let (mut p, mut t) = (Vec::new(), Vec::new());
+    for i in 0..8 {
+        for j in 0..8 {
+            let k = p.len() as u32;
+            let (x, y) = (i as f32, j as f32);
+            p.extend([
+                Vec3::new(x, y, 0.0),
+                Vec3::new(x + 1.0, y, 0.0),
+                Vec3::new(x + 1.0, y + 1.0, 0.0),
+                Vec3::new(x, y + 1.0, 0.0),
+            ]);
+            t.extend([[k, k + 1, k + 2], [k, k + 2, k + 3]]);
+        }
+    }
+    let mesh = TriangleMesh::new("quads", p, t, vec![], vec![]).unwrap();
+    let accel = MeshAccel::new(mesh.clone());
+    let mut checked = 0;
+    for i in 0..=16 {
+        for j in 0..=16 {
+            for (dz, oz) in [(-1.0f32, 2.0f32), (1.0, -2.0)] {
+                for zero in [0.0f32, -0.0] {
+                    let o = Vec3::new(i as f32 * 0.5, j as f32 * 0.5, oz);
+                    let ray = Ray::new(o, Vec3::new(zero, zero, dz));
+                    let want = brute(&mesh, &ray, f32::INFINITY);
+                    let got = accel.intersect(&ray, f32::INFINITY);
+                    assert_eq!(want.is_some(), got.is_some(), "{ray:?}");
+                    if let (Some(w), Some(g)) = (want, got) {
+                        assert_eq!(w.1, g.hit.t, "{ray:?}");
+                        checked += 1;
+                    }
+                    assert_eq!(want.is_some(), accel.occluded(&ray, f32::INFINITY));
+                }
+            }
+        }
+    }
+    // Every ray lands on the grid [0, 8]² (edges and corners included).
+    assert_eq!(checked, 17 * 17 * 4);
+}

@@ -99,3 +99,48 @@ fn empty_hierarchy_hits_nothing_on_the_gpu() {
     let answers = bvh_queries(&gpu, &accel, &queries(64)).unwrap();
     assert!(answers.iter().all(|a| a[0] == u32::MAX && a[3] == 0));
 }
+
+/// Rays along ±z with zero x and y direction of both signs whose origins
+/// lie on the boxes' planes (slab distance 0·∞ = NaN) reach the edges and
+/// corners of a grid of unit quads, as on the CPU
+/// (bvh_test::axis_parallel_rays_on_box_planes_find_the_edges_they_graze).
+#[test]
+fn axis_parallel_rays_on_box_planes_hit_on_the_gpu() {
+    let Some(gpu) = test_gpu() else { return };
+    let (mut p, mut t) = (Vec::new(), Vec::new());
+    for i in 0..8 {
+        for j in 0..8 {
+            let k = p.len() as u32;
+            let (x, y) = (i as f32, j as f32);
+            p.extend([
+                Vec3::new(x, y, 0.0),
+                Vec3::new(x + 1.0, y, 0.0),
+                Vec3::new(x + 1.0, y + 1.0, 0.0),
+                Vec3::new(x, y + 1.0, 0.0),
+            ]);
+            t.extend([[k, k + 1, k + 2], [k, k + 2, k + 3]]);
+        }
+    }
+    let accel = MeshAccel::new(TriangleMesh::new("quads", p, t, vec![], vec![]).unwrap());
+    let mut qs = Vec::new();
+    for i in 0..=16 {
+        for j in 0..=16 {
+            for (dz, oz) in [(-1.0f32, 2.0f32), (1.0, -2.0)] {
+                for zero in [0.0f32, -0.0] {
+                    qs.push(BvhQuery {
+                        o: [i as f32 * 0.5, j as f32 * 0.5, oz],
+                        t_max: f32::INFINITY,
+                        d: [zero, zero, dz],
+                        pad: 0.0,
+                    });
+                }
+            }
+        }
+    }
+    let answers = bvh_queries(&gpu, &accel, &qs).unwrap();
+    for (q, a) in qs.iter().zip(&answers) {
+        assert_ne!(a[0], u32::MAX, "the GPU missed {q:?}");
+        assert_eq!(f32::from_bits(a[1]), 2.0, "{q:?}");
+        assert_eq!(a[3], 1, "any hit {q:?}");
+    }
+}

@@ -5,15 +5,18 @@
 //! nodes.
 
 use super::node::Bvh;
-use fogbank_math::{Ray, Vec3};
+use super::node::BvhNode;
+use fogbank_math::Ray;
+use glam::Vec3A;
 
 const STACK: usize = 64;
 
-/// A ray prepared for box tests: origin and reciprocal direction, and the
-/// rounding allowance that keeps a box containing a hit from being missed.
+/// A ray prepared for box tests: origin and reciprocal direction in SIMD
+/// lanes (x, y, z; the fourth is ignored), and the rounding allowance that
+/// keeps a box containing a hit from being missed.
 pub(super) struct Traversal {
-    o: Vec3,
-    inv_d: Vec3,
+    o: Vec3A,
+    inv_d: Vec3A,
 }
 
 /// 1 + 2γ₃ (pbrt-v4 §6.8.2): the far slab distance grows by this factor.
@@ -22,24 +25,28 @@ const SLAB_GROW: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32
 impl Traversal {
     fn new(ray: &Ray) -> Traversal {
         Traversal {
-            o: ray.o,
-            inv_d: Vec3::ONE / ray.d,
+            o: Vec3A::from(ray.o),
+            inv_d: Vec3A::ONE / Vec3A::from(ray.d),
         }
     }
 
     /// Entry distance of the ray into the box within `(0, t_max)`, or None.
-    /// Axis-parallel rays make `0 · ∞ = NaN` slab distances; `f32::max` and
-    /// `min` skip NaN, so such an axis constrains nothing.
-    #[inline]
-    fn enter(&self, min: [f32; 3], max: [f32; 3], t_max: f32) -> Option<f32> {
-        let (mut t0, mut t1) = (0.0f32, t_max);
-        for a in 0..3 {
-            let ta = (min[a] - self.o[a]) * self.inv_d[a];
-            let tb = (max[a] - self.o[a]) * self.inv_d[a];
-            let (near, far) = if ta > tb { (tb, ta) } else { (ta, tb) };
-            t0 = t0.max(near);
-            t1 = t1.min(far * SLAB_GROW);
-        }
+    /// The three slabs are tested side by side in SIMD lanes. An axis the
+    /// ray runs parallel to (1/d = ±∞) makes `0 · ∞ = NaN` when the origin
+    /// lies on one of the box's planes on that axis: the origin is then in
+    /// the closed slab, so that axis constrains nothing. (SIMD min/max do
+    /// not skip NaN as `f32::min` does, hence the explicit mask.) `t_max`
+    /// is finite: an infinite one would let a box the parallel ray misses
+    /// (entry at +∞) through.
+    #[inline(always)]
+    fn enter(&self, node: &BvhNode, t_max: f32) -> Option<f32> {
+        let ta = (Vec3A::from_array(node.min) - self.o) * self.inv_d;
+        let tb = (Vec3A::from_array(node.max) - self.o) * self.inv_d;
+        let free = ta.is_nan_mask() | tb.is_nan_mask();
+        let near = Vec3A::select(free, Vec3A::ZERO, ta.min(tb));
+        let far = Vec3A::select(free, Vec3A::splat(t_max), ta.max(tb) * SLAB_GROW);
+        let t0 = near.max_element().max(0.0);
+        let t1 = far.min_element().min(t_max);
         (t0 <= t1).then_some(t0)
     }
 }
@@ -93,10 +100,12 @@ impl Bvh {
         }
         let tr = Traversal::new(ray);
         let root = &self.nodes[0];
-        if tr.enter(root.min, root.max, *t_max).is_none() {
+        if tr.enter(root, t_max.min(f32::MAX)).is_none() {
             return;
         }
-        let mut stack = [0u32; STACK];
+        // Far children wait with their entry distance: one whose entry lies
+        // beyond a hit found meanwhile is dropped unvisited.
+        let mut stack = [(0u32, 0.0f32); STACK];
         let mut top = 0usize;
         let mut node = 0usize;
         loop {
@@ -109,13 +118,13 @@ impl Bvh {
                 }
             } else {
                 let (l, r) = (n.index as usize, n.index as usize + 1);
-                let (nl, nr) = (&self.nodes[l], &self.nodes[r]);
-                let tl = tr.enter(nl.min, nl.max, *t_max);
-                let trr = tr.enter(nr.min, nr.max, *t_max);
+                let t_far = t_max.min(f32::MAX);
+                let tl = tr.enter(&self.nodes[l], t_far);
+                let trr = tr.enter(&self.nodes[r], t_far);
                 match (tl, trr) {
                     (Some(a), Some(b)) => {
-                        let (near, far) = if a <= b { (l, r) } else { (r, l) };
-                        stack[top] = far as u32;
+                        let (near, far, t_enter) = if a <= b { (l, r, b) } else { (r, l, a) };
+                        stack[top] = (far as u32, t_enter);
                         top += 1;
                         node = near;
                         continue;
@@ -131,11 +140,17 @@ impl Bvh {
                     (None, None) => {}
                 }
             }
-            if top == 0 {
-                return;
+            loop {
+                if top == 0 {
+                    return;
+                }
+                top -= 1;
+                let (next, t_enter) = stack[top];
+                if t_enter <= *t_max {
+                    node = next as usize;
+                    break;
+                }
             }
-            top -= 1;
-            node = stack[top] as usize;
         }
     }
 }

@@ -122,24 +122,29 @@ fn intersect_triangle(f: RayFrame, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, 
 // 1 + 2γ₃ rounded to f32, as the CPU's SLAB_GROW.
 const SLAB_GROW: f32 = 1.0000003576;
 
-// Entry distance into the node's box within (0, t_max), or -1. NaN slab
-// distances (0·∞) constrain nothing, as f32::max/min skip NaN on the CPU:
-// select() keeps the bound when the candidate is NaN.
+// Entry distance into the node's box within (0, t_max), or -1 (Traversal::
+// enter). An axis with a NaN slab distance (0·∞: the ray runs parallel to
+// it with its origin on one of the box's planes there) constrains nothing:
+// the origin lies in the closed slab. `t_max` is finite (F32_INF is
+// f32::MAX): with an infinite one, a box that a parallel ray passes beside
+// (entry at +∞) would be entered.
 fn node_enter(o: vec3<f32>, inv_d: vec3<f32>, n: BvhNode, t_max: f32) -> f32 {
     var t0 = 0.0;
     var t1 = t_max;
     for (var a = 0u; a < 3u; a++) {
         let ta = (n.min[a] - o[a]) * inv_d[a];
         let tb = (n.max[a] - o[a]) * inv_d[a];
-        let near = select(ta, tb, ta > tb);
-        let far = select(tb, ta, ta > tb) * SLAB_GROW;
-        t0 = select(t0, max(t0, near), near == near);
-        t1 = select(t1, min(t1, far), far == far);
+        if (ta == ta && tb == tb) {
+            t0 = max(t0, min(ta, tb));
+            t1 = min(t1, max(ta, tb) * SLAB_GROW);
+        }
     }
     return select(-1.0, t0, t0 <= t1);
 }
 
-// Stack traversal, nearer child first (fogbank_geometry's Bvh::walk):
+// Stack traversal, nearer child first (fogbank_geometry's Bvh::walk, which
+// also keeps each waiting far child's entry distance to drop it once a
+// nearer hit is found; here that would double the stack's registers):
 // the closest hit in (0, t_max), or with `any` the first hit found; with
 // `opaque`, triangles that let light through (surface_passes) are skipped.
 // The kernel that includes this file declares `bvh_nodes` and provides
