@@ -6,6 +6,7 @@
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
 use fogbank_render::integrators::IntegratorKind;
+use fogbank_render::lights::sample::Vertex;
 use fogbank_render::lights::Light;
 use fogbank_render::Scene;
 use wgpu::util::DeviceExt;
@@ -14,7 +15,10 @@ use wgpu::util::DeviceExt;
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub(crate) struct LightGpu {
     pub(crate) kind: u32,
-    pub(crate) pad: [u32; 3],
+    pub(crate) pad: u32,
+    /// `LightSampler`'s CDF entry and pmf for points on surfaces (`d.zw`:
+    /// for points in media).
+    pub(crate) surface: [f32; 2],
     pub(crate) a: [f32; 4],
     pub(crate) b: [f32; 4],
     pub(crate) c: [f32; 4],
@@ -80,7 +84,8 @@ impl LightBuffers {
                     .into(),
             )),
         };
-        let cdf = sampler.cdf();
+        let cdf = sampler.cdf(Vertex::Medium);
+        let cdf_surface = sampler.cdf(Vertex::Surface);
         let mut env = EnvParams {
             to_local: [
                 [1.0, 0.0, 0.0, 0.0],
@@ -106,11 +111,19 @@ impl LightBuffers {
         let mut records = Vec::new();
         let mut envmaps = 0;
         for (i, l) in scene.lights.iter().enumerate() {
-            let (c, pmf) = (cdf.get(i).copied().unwrap_or(1.0), sampler.pmf(i));
+            let (c, pmf) = (
+                cdf.get(i).copied().unwrap_or(1.0),
+                sampler.pmf(i, Vertex::Medium),
+            );
+            let surface = [
+                cdf_surface.get(i).copied().unwrap_or(1.0),
+                sampler.pmf(i, Vertex::Surface),
+            ];
             let zero = [0.0; 4];
             let rec = |kind, a, b, c4, d: [f32; 2]| LightGpu {
                 kind,
-                pad: [0; 3],
+                pad: 0,
+                surface,
                 a,
                 b,
                 c: c4,

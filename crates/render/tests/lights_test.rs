@@ -1,7 +1,7 @@
 //! Light sampling for next-event estimation: delta lights and selection by power.
 
 use fogbank_math::Vec3;
-use fogbank_render::lights::sample::{spot_falloff, LightSampler};
+use fogbank_render::lights::sample::{spot_falloff, LightSampler, Vertex};
 use fogbank_render::lights::Light;
 
 #[test]
@@ -49,15 +49,37 @@ fn light_selection_follows_power_and_sums_to_one() {
         },
     ];
     let s = LightSampler::new(&lights, 1.0);
-    assert!((s.pmf(0) - 0.25).abs() < 1e-6 && (s.pmf(1) - 0.75).abs() < 1e-6 && s.pmf(2) == 0.0);
-    let mut counts = [0usize; 3];
-    let n = 100_000;
-    for i in 0..n {
-        let (k, p) = s.pick((i as f32 + 0.5) / n as f32).unwrap();
-        assert_eq!(p, s.pmf(k));
-        counts[k] += 1;
+    for at in [Vertex::Medium, Vertex::Surface] {
+        let pmf = |i| s.pmf(i, at);
+        assert!((pmf(0) - 0.25).abs() < 1e-6 && (pmf(1) - 0.75).abs() < 1e-6 && pmf(2) == 0.0);
+        let mut counts = [0usize; 3];
+        let n = 100_000;
+        for i in 0..n {
+            let (k, p) = s.pick((i as f32 + 0.5) / n as f32, at).unwrap();
+            assert_eq!(p, pmf(k));
+            counts[k] += 1;
+        }
+        assert_eq!(counts[2], 0);
+        assert!((counts[1] as f64 / n as f64 - 0.75).abs() < 1e-3);
+        assert!(LightSampler::new(&[], 1.0).pick(0.5, at).is_none());
     }
-    assert_eq!(counts[2], 0);
-    assert!((counts[1] as f64 / n as f64 - 0.75).abs() < 1e-3);
-    assert!(LightSampler::new(&[], 1.0).pick(0.5).is_none());
+}
+
+/// A surface sees one hemisphere of an environment: its weight there is
+/// a quarter of its power (4π·πR²·L), the directional light's unchanged.
+#[test]
+fn surfaces_weigh_environments_by_the_hemisphere_they_see() {
+    let lights = vec![
+        Light::Constant {
+            radiance: Vec3::splat(1.0 / (4.0 * std::f32::consts::PI)),
+        },
+        Light::Directional {
+            direction: -Vec3::Y,
+            irradiance: Vec3::splat(1.0),
+        },
+    ];
+    let s = LightSampler::new(&lights, 2.0);
+    assert!((s.pmf(0, Vertex::Medium) - 0.5).abs() < 1e-6);
+    assert!((s.pmf(0, Vertex::Surface) - 0.2).abs() < 1e-6);
+    assert!((s.pmf(1, Vertex::Surface) - 0.8).abs() < 1e-6);
 }

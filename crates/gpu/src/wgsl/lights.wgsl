@@ -6,8 +6,9 @@
 struct LightGpu {
     kind: u32,
     pad0: u32,
-    pad1: u32,
-    pad2: u32,
+    // LightSampler's CDF entry and pmf for points on surfaces (d.zw: in media).
+    cdf_surface: f32,
+    pmf_surface: f32,
     a: vec4<f32>,   // position (point, spot) or direction (directional)
     b: vec4<f32>,   // radiance / intensity / irradiance
     c: vec4<f32>,   // spot: axis direction
@@ -44,18 +45,24 @@ struct EnvParams {
 // Row CDF (height + 1), then per row the column CDF (width + 1 each).
 @group(2) @binding(3) var<storage, read> env_cdf: array<f32>;
 
+// LightSampler::pmf for a point on a surface or in a medium.
+fn light_pmf(l: LightGpu, surface: bool) -> f32 {
+    return select(l.d.w, l.pmf_surface, surface);
+}
+
 fn luminance(c: vec3<f32>) -> f32 {
     return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
 }
 
-// LightSampler::pick: first light whose CDF exceeds u (the last if none),
-// by bisection: scenes with emitting shapes have a light per triangle.
-fn pick_light(u: f32) -> u32 {
+// LightSampler::pick: first light whose CDF (for a point on a surface or
+// in a medium) exceeds u (the last if none), by bisection: scenes with
+// emitting shapes have a light per triangle.
+fn pick_light(u: f32, surface: bool) -> u32 {
     var lo = 0u;
     var hi = env.light_count - 1u;
     while (lo < hi) {
         let mid = (lo + hi) / 2u;
-        if (lights[mid].d.z <= u) {
+        if (select(lights[mid].d.z, lights[mid].cdf_surface, surface) <= u) {
             lo = mid + 1u;
         } else {
             hi = mid;

@@ -11,15 +11,16 @@ fn balance(a: f32, b: f32) -> f32 {
     return 0.0;
 }
 
-// next_event::escaped; phase_pdf < 0 means a camera ray.
-fn escaped(d: vec3<f32>, phase_pdf: f32) -> vec3<f32> {
+// next_event::escaped; phase_pdf < 0 means a camera ray or a delta lobe,
+// `surface` that the direction was sampled at a surface.
+fn escaped(d: vec3<f32>, phase_pdf: f32, surface: bool) -> vec3<f32> {
     var l = vec3<f32>(0.0);
     for (var i = 0u; i < env.environments; i++) {
         let light = lights[i];
         if (is_environment(light)) {
             var w = 1.0;
             if (phase_pdf >= 0.0) {
-                w = balance(phase_pdf, light.d.w * light_pdf_li(light, d));
+                w = balance(phase_pdf, light_pmf(light, surface) * light_pdf_li(light, d));
             }
             l += light_le(light, d) * w;
         }

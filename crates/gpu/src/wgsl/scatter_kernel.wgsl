@@ -109,11 +109,13 @@ struct Path {
     ray: Ray,
     beta: vec3<f32>,
     radiance: vec3<f32>,
-    // The last scattering vertex and the solid-angle pdf its direction was
-    // sampled with, for MIS with light sampling (pdf < 0: camera ray or
-    // delta lobe). Null boundaries leave it unchanged.
+    // The last scattering vertex, the solid-angle pdf its direction was
+    // sampled with and whether it is on a surface, for MIS with light
+    // sampling (pdf < 0: camera ray or delta lobe). Null boundaries leave
+    // them unchanged.
     prev_p: vec3<f32>,
     prev_pdf: f32,
+    prev_surface: bool,
     // The bounded medium the path is in, + 1 (0: none).
     medium: u32,
 }
@@ -202,8 +204,8 @@ fn light_query(v: Vertex, current: u32, rng: ptr<function, Pcg32>) -> ShadowQuer
     if (env.pickable == 0u) {
         return no_query();
     }
-    let light = lights[pick_light(u_pick)];
-    let pmf = light.d.w;
+    let light = lights[pick_light(u_pick, v.surface)];
+    let pmf = light_pmf(light, v.surface);
     let u0 = pcg32_next_f32(rng);
     let u1 = pcg32_next_f32(rng);
     let ls = light_sample_li(light, v.p, u0, u1);
@@ -292,7 +294,8 @@ fn surface_start(path: ptr<function, Path>, h: Hit, v: ptr<function, Vertex>) ->
     let d = (*path).ray.d;
     let e = surface_emitted(h, d);
     if (e.valid && !(light_only() && (*path).prev_pdf >= 0.0)) {
-        let w = emitter_weight(e.light, h.p, d, (*path).prev_p, (*path).prev_pdf);
+        let w = emitter_weight(e.light, h.p, d, (*path).prev_p, (*path).prev_pdf,
+                               (*path).prev_surface);
         (*path).radiance += (*path).beta * e.le * w;
     }
     if (shape_is_null(h.shape)) {
@@ -367,6 +370,7 @@ fn scatter(path: ptr<function, Path>, v: Vertex, depth: u32,
                 (*path).beta *= weight;
                 (*path).prev_p = v.p;
                 (*path).prev_pdf = pdf;
+                (*path).prev_surface = v.surface;
                 (*path).medium = next;
                 (*path).ray = Ray(origin, wi);
                 var albedo = weight;
@@ -378,7 +382,7 @@ fn scatter(path: ptr<function, Path>, v: Vertex, depth: u32,
             if (light_only()) {
                 return STEP_STOP;
             }
-            q = direction_query(v.p, Ray(origin, wi), pdf, next);
+            q = direction_query(v.p, Ray(origin, wi), pdf, v.surface, next);
         }
         if (q.valid) {
             let tr = shadow(q.ray, q.distance, depth, q.medium, rng, lookups);
@@ -396,6 +400,7 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
     path.radiance = vec3<f32>(0.0);
     path.prev_p = vec3<f32>(0.0);
     path.prev_pdf = -1.0;
+    path.prev_surface = false;
     path.medium = camera_medium();
     var depth = 0u;
     var crossings = 0u;
@@ -418,7 +423,7 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
             }
         } else {
             if (!(light_only() && path.prev_pdf >= 0.0)) {
-                path.radiance += path.beta * escaped(path.ray.d, path.prev_pdf);
+                path.radiance += path.beta * escaped(path.ray.d, path.prev_pdf, path.prev_surface);
             }
             step = STEP_STOP;
         }

@@ -25,7 +25,7 @@
 use super::shared::free_flight::{next_collision, MAX_CROSSINGS};
 use super::shared::next_event::{
     emitter_weight, escaped, light_sample_surface, light_sample_weighted,
-    phase_sample_to_environment, sampled_direction_to_lights,
+    phase_sample_to_environment, sampled_direction_to_lights, SampledFrom,
 };
 use super::shared::pin_params::{PinMode, PinParams, PIN_KEYS};
 use super::shared::tracking::PinSet;
@@ -33,7 +33,7 @@ use super::shared::{
     estimator_rng, primary_ray, PixelSample, Preset, ScatterParams, SCATTER_PARAMS,
 };
 use crate::error::SceneError;
-use crate::lights::sample::LightSampler;
+use crate::lights::sample::{LightSampler, Vertex};
 use crate::params::{Param, ParamReader};
 use crate::world::chroma::ChromaEvent;
 use crate::world::phase::HenyeyGreenstein;
@@ -132,10 +132,10 @@ struct Path {
     beta: Vec3,
     radiance: Vec3,
     lookups: u32,
-    /// The last scattering vertex and the solid-angle pdf its direction
-    /// was sampled with, for MIS with light sampling (`None`: camera ray
-    /// or delta lobe). Null boundaries leave it unchanged.
-    prev: Option<(Vec3, f32)>,
+    /// The last scattering vertex, the solid-angle pdf its direction was
+    /// sampled with and its kind, for MIS with light sampling (`None`:
+    /// camera ray or delta lobe). Null boundaries leave it unchanged.
+    prev: Option<SampledFrom>,
     /// The bounded medium the path is in (see `World::medium_active`).
     medium: Option<usize>,
 }
@@ -240,8 +240,8 @@ impl VolPath {
                 (None, Some(h)) => self.surface_vertex(world, &mut path, &h, depth, &mut rng),
                 (None, None) => {
                     if !(self.light_only && path.prev.is_some()) {
-                        let pdf = path.prev.map(|p| p.1);
-                        path.radiance += path.beta * escaped(world, &self.lights, path.ray.d, pdf);
+                        let prev = path.prev;
+                        path.radiance += path.beta * escaped(world, &self.lights, path.ray.d, prev);
                     }
                     Step::Stop
                 }
@@ -341,7 +341,11 @@ impl VolPath {
             }
             return Step::Stop;
         }
-        path.prev = Some((p, pdf));
+        path.prev = Some(SampledFrom {
+            p,
+            pdf,
+            at: Vertex::Medium,
+        });
         path.ray = Ray::new(p, wi);
         self.roulette(path, depth, albedo, rng)
     }
@@ -401,7 +405,11 @@ impl VolPath {
             return Step::Stop;
         }
         let wi = frame.to_world(bs.wi);
-        let pdf = (!bs.delta).then_some(bs.pdf);
+        let prev = (!bs.delta).then_some(SampledFrom {
+            p: h.p,
+            pdf: bs.pdf,
+            at: Vertex::Surface,
+        });
         let medium = surfaces.target_medium(h, wi, path.medium);
         if bs.delta && bs.wi == -wo && material.passes_light() {
             // Straight through a thin dielectric: a null event as in
@@ -421,9 +429,8 @@ impl VolPath {
                         world,
                         &self.lights,
                         shadow,
-                        h.p,
                         &ray,
-                        pdf,
+                        prev,
                         medium,
                         rng,
                         &mut path.lookups,
@@ -432,7 +439,7 @@ impl VolPath {
             return Step::Stop;
         }
         path.beta *= weight;
-        path.prev = pdf.map(|pdf| (h.p, pdf));
+        path.prev = prev;
         path.medium = medium;
         path.ray = h.spawn(wi);
         self.roulette(path, depth, weight, rng)

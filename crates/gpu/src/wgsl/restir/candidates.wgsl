@@ -22,7 +22,7 @@ fn nee_candidate(y: ptr<function, Path>, x: vec3<f32>, d: vec3<f32>, beta: vec3<
     if (env.pickable == 0u) {
         return;
     }
-    let li = pick_light(u_pick);
+    let li = pick_light(u_pick, false);
     let pmf = lights[li].d.w;
     let ls = light_sample_li(lights[li], x, u0, u1);
     if (!ls.valid) {

@@ -47,12 +47,13 @@ fn shadow(world: Ray, distance: f32, vertex: u32, current: u32,
 // triangle's radiance reached at q along d from the vertex prev_p, whose
 // direction had solid-angle pdf prev_pdf (< 0: no light strategy could
 // have produced it, weight 1).
-fn emitter_weight(li: u32, q: vec3<f32>, d: vec3<f32>, prev_p: vec3<f32>, prev_pdf: f32) -> f32 {
+fn emitter_weight(li: u32, q: vec3<f32>, d: vec3<f32>, prev_p: vec3<f32>, prev_pdf: f32,
+                  prev_surface: bool) -> f32 {
     let l = lights[li];
     if (prev_pdf < 0.0 || l.kind != LIGHT_AREA) {
         return 1.0;
     }
-    return balance(prev_pdf, l.d.w * area_pdf_solid(l, prev_p, q, d));
+    return balance(prev_pdf, light_pmf(l, prev_surface) * area_pdf_solid(l, prev_p, q, d));
 }
 
 // next_event::sampled_direction_to_lights as a shadow query: the last
@@ -60,7 +61,7 @@ fn emitter_weight(li: u32, q: vec3<f32>, d: vec3<f32>, prev_p: vec3<f32>, prev_p
 // first opaque surface along it gives its emission (MIS-weighted) or
 // blocks; with none, the environment. `origin` is the vertex (the ray may
 // start just off a surface).
-fn direction_query(origin: vec3<f32>, ray: Ray, pdf: f32, current: u32) -> ShadowQuery {
+fn direction_query(origin: vec3<f32>, ray: Ray, pdf: f32, surface: bool, current: u32) -> ShadowQuery {
     var q = no_query();
     q.ray = ray;
     q.medium = current;
@@ -71,7 +72,7 @@ fn direction_query(origin: vec3<f32>, ray: Ray, pdf: f32, current: u32) -> Shado
             let e = surface_emitted(h, ray.d);
             q.valid = e.valid;
             q.le = e.le;
-            q.w = emitter_weight(e.light, h.p, ray.d, origin, pdf);
+            q.w = emitter_weight(e.light, h.p, ray.d, origin, pdf, surface);
             q.distance = h.t * (1.0 - SHADOW_SHORTEN);
             return q;
         }
@@ -79,7 +80,7 @@ fn direction_query(origin: vec3<f32>, ray: Ray, pdf: f32, current: u32) -> Shado
     if (!has_environment()) {
         return q;
     }
-    q.le = escaped(ray.d, pdf);
+    q.le = escaped(ray.d, pdf, surface);
     q.valid = any(q.le != vec3<f32>(0.0));
     q.w = -1.0;
     q.distance = F32_INF;

@@ -65,7 +65,7 @@ fn visopt_next_event(p: vec3<f32>, d: vec3<f32>, optimise: bool, slot: u32,
     if (env.pickable == 0u) {
         return vec3<f32>(0.0);
     }
-    let light = lights[pick_light(u_pick)];
+    let light = lights[pick_light(u_pick, false)];
     let pmf = light.d.w;
     let u0 = pcg32_next_f32(rng);
     let u1 = pcg32_next_f32(rng);
@@ -137,7 +137,7 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
         }
         if (t < 0.0) {
             if (depth == 0u) {
-                radiance = escaped(ray.d, -1.0);
+                radiance = escaped(ray.d, -1.0, false);
             }
             break;
         }

@@ -6,7 +6,7 @@ use super::params::PointMisParams;
 use super::strategy::Strategy;
 use crate::error::SceneError;
 use crate::integrators::shared::{balance, estimator_rng, primary_ray, PixelSample};
-use crate::lights::sample::LightSampler;
+use crate::lights::sample::{LightSampler, Vertex};
 use crate::lights::Light;
 use crate::world::medium::SceneMedium;
 use crate::world::phase::HenyeyGreenstein;
@@ -112,7 +112,7 @@ impl PointMis {
         let medium = world.media.first()?;
         let ray = primary_ray(world, x, y, key);
         let (index, a, b) = medium.medium.to_index(&ray, 0.0, f32::INFINITY)?;
-        let (li, pmf) = self.lights.pick(rng.next_f32())?;
+        let (li, pmf) = self.lights.pick(rng.next_f32(), Vertex::Medium)?;
         let Light::Point {
             position,
             intensity,

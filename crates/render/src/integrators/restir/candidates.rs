@@ -21,6 +21,7 @@ use super::path::{PathEnd, PathSample};
 use super::reservoir::Reservoir;
 use super::target::{environment, luminance};
 use super::volume::{sigma_t, track, SegmentT};
+use crate::lights::sample::Vertex;
 use crate::world::phase::HenyeyGreenstein;
 use fogbank_math::{Pcg32, Ray, Vec3};
 
@@ -179,7 +180,7 @@ impl Restir {
         let u_pick = rng.next_f32();
         let u = [rng.next_f32(), rng.next_f32()];
         let u_keep = rng.next_f32();
-        let Some((li, pmf)) = data.lights.pick(u_pick) else {
+        let Some((li, pmf)) = data.lights.pick(u_pick, Vertex::Medium) else {
             return;
         };
         let Some(ls) = world.lights[li].sample_li(x, u) else {

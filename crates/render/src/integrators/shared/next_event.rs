@@ -8,22 +8,34 @@ use super::balance;
 use super::free_flight::shadow_transmittance_in;
 use super::tracking::Shadow;
 use crate::lights::area::SHADOW_SHORTEN;
-use crate::lights::sample::{LightSample, LightSampler};
+use crate::lights::sample::{LightSample, LightSampler, Vertex};
 use crate::lights::Light;
 use crate::world::phase::HenyeyGreenstein;
 use crate::world::surfaces::{ShadingFrame, SurfaceBsdf, SurfaceHit};
 use crate::world::World;
 use fogbank_math::{Pcg32, Ray, Vec3};
 
-/// One light picked by power and a sample of it seen from `p`, with the
-/// pick's probability.
+/// A direction sampled at a path vertex (by the phase function or a
+/// non-delta BSDF lobe): the vertex, the direction's solid-angle pdf, and
+/// the vertex's kind, on which the light strategy's pick probability
+/// depends (MIS weights need it).
+#[derive(Clone, Copy, Debug)]
+pub struct SampledFrom {
+    pub p: Vec3,
+    pub pdf: f32,
+    pub at: Vertex,
+}
+
+/// One light picked for a point of kind `at` and a sample of it seen from
+/// `p`, with the pick's probability.
 fn pick_light(
     world: &World,
     lights: &LightSampler,
     p: Vec3,
+    at: Vertex,
     rng: &mut Pcg32,
 ) -> Option<(LightSample, f32)> {
-    let (li, pmf) = lights.pick(rng.next_f32())?;
+    let (li, pmf) = lights.pick(rng.next_f32(), at)?;
     let ls = world.lights[li].sample_li(p, [rng.next_f32(), rng.next_f32()])?;
     Some((ls, pmf))
 }
@@ -61,7 +73,7 @@ pub fn light_sample_weighted(
     rng: &mut Pcg32,
     lookups: &mut u32,
 ) -> Vec3 {
-    let Some((ls, pmf)) = pick_light(world, lights, p, rng) else {
+    let Some((ls, pmf)) = pick_light(world, lights, p, Vertex::Medium, rng) else {
         return Vec3::ZERO;
     };
     let f = hg.eval(d.dot(ls.wi));
@@ -102,13 +114,15 @@ pub fn delta_lights(
 }
 
 /// Radiance of the environment lights seen along `d` by a path that left
-/// its last vertex by phase sampling with pdf `phase_pdf` (`None`: a camera
-/// ray, which no light strategy could have produced).
-pub fn escaped(world: &World, lights: &LightSampler, d: Vec3, phase_pdf: Option<f32>) -> Vec3 {
+/// its last vertex by sampling `prev` (`None`: a camera ray or a delta
+/// lobe, which no light strategy could have produced).
+pub fn escaped(world: &World, lights: &LightSampler, d: Vec3, prev: Option<SampledFrom>) -> Vec3 {
     let mut l = Vec3::ZERO;
     for (li, light) in world.lights.iter().enumerate() {
         if light.is_environment() {
-            let w = phase_pdf.map_or(1.0, |p| balance(p, lights.pmf(li) * light.pdf_li(d)));
+            let w = prev.map_or(1.0, |s| {
+                balance(s.pdf, lights.pmf(li, s.at) * light.pdf_li(d))
+            });
             l += light.le(d) * w;
         }
     }
@@ -132,15 +146,19 @@ pub fn phase_sample_to_environment(
     lookups: &mut u32,
 ) -> Vec3 {
     let ray = Ray::new(p, wi);
-    let pdf = Some(phase_pdf);
-    sampled_direction_to_lights(world, lights, nee, p, &ray, pdf, current, rng, lookups)
+    let prev = Some(SampledFrom {
+        p,
+        pdf: phase_pdf,
+        at: Vertex::Medium,
+    });
+    sampled_direction_to_lights(world, lights, nee, &ray, prev, current, rng, lookups)
 }
 
-/// The last vertex's sampled direction (phase function or BSDF, pdf
-/// `None` for a delta lobe) evaluated toward the lights instead of traced:
-/// the first surface that is not an index-matched boundary along `ray`
-/// gives its emission, or blocks; with none, the environment. The
-/// transmittance up to there is estimated with the NEE estimator. `from`
+/// The last vertex's sampled direction (phase function or BSDF; `prev`
+/// is `None` for a delta lobe) evaluated toward the lights instead of
+/// traced: the first surface that is not an index-matched boundary along
+/// `ray` gives its emission, or blocks; with none, the environment. The
+/// transmittance up to there is estimated with the NEE estimator. `prev.p`
 /// is the vertex (the ray's origin may sit just off a surface); the ray
 /// starts in bounded medium `current`.
 #[allow(clippy::too_many_arguments)]
@@ -148,9 +166,8 @@ pub fn sampled_direction_to_lights(
     world: &World,
     lights: &LightSampler,
     nee: Shadow,
-    from: Vec3,
     ray: &Ray,
-    pdf: Option<f32>,
+    prev: Option<SampledFrom>,
     current: Option<usize>,
     rng: &mut Pcg32,
     lookups: &mut u32,
@@ -160,7 +177,7 @@ pub fn sampled_direction_to_lights(
             let Some((le, li)) = s.emitted(&h, ray.d) else {
                 return Vec3::ZERO;
             };
-            let w = emitter_weight(world, lights, li, h.p, ray.d, pdf.map(|p| (from, p)));
+            let w = emitter_weight(world, lights, li, h.p, ray.d, prev);
             let distance = h.t * (1.0 - SHADOW_SHORTEN);
             let tr = shadow_transmittance_in(nee, world, ray, distance, current, rng, lookups);
             return le * (w * tr);
@@ -169,7 +186,7 @@ pub fn sampled_direction_to_lights(
     if !world.lights.iter().any(|l| l.is_environment()) {
         return Vec3::ZERO;
     }
-    let le = escaped(world, lights, ray.d, pdf);
+    let le = escaped(world, lights, ray.d, prev);
     if le == Vec3::ZERO {
         return Vec3::ZERO;
     }
@@ -177,18 +194,18 @@ pub fn sampled_direction_to_lights(
 }
 
 /// MIS weight of an area light's emission reached at `q` along `d` by a
-/// direction sampled at `prev` = (vertex, solid-angle pdf); 1 when no
-/// light strategy could have produced it (camera ray, delta lobe).
+/// direction sampled at `prev`; 1 when no light strategy could have
+/// produced it (camera ray, delta lobe).
 pub fn emitter_weight(
     world: &World,
     lights: &LightSampler,
     li: usize,
     q: Vec3,
     d: Vec3,
-    prev: Option<(Vec3, f32)>,
+    prev: Option<SampledFrom>,
 ) -> f32 {
     match (prev, &world.lights[li]) {
-        (Some((p, pdf)), Light::Area(a)) => balance(pdf, lights.pmf(li) * a.pdf_solid(p, q, d)),
+        (Some(s), Light::Area(a)) => balance(s.pdf, lights.pmf(li, s.at) * a.pdf_solid(s.p, q, d)),
         _ => 1.0,
     }
 }
@@ -211,7 +228,7 @@ pub fn light_sample_surface(
     rng: &mut Pcg32,
     lookups: &mut u32,
 ) -> Vec3 {
-    let Some((ls, pmf)) = pick_light(world, lights, hit.p, rng) else {
+    let Some((ls, pmf)) = pick_light(world, lights, hit.p, Vertex::Surface, rng) else {
         return Vec3::ZERO;
     };
     let wi = frame.to_local(ls.wi);

@@ -18,7 +18,7 @@ use crate::error::SceneError;
 use crate::integrators::shared::free_flight::next_collision;
 use crate::integrators::shared::next_event::escaped;
 use crate::integrators::shared::{estimator_rng, primary_ray, DistanceSampler, PixelSample};
-use crate::lights::sample::LightSampler;
+use crate::lights::sample::{LightSampler, Vertex};
 use crate::world::medium::SceneMedium;
 use crate::world::phase::HenyeyGreenstein;
 use crate::world::shading::dvr_phase;
@@ -207,7 +207,7 @@ impl VisOpt {
         lookups: &mut u32,
     ) -> Vec3 {
         let m = &world.media[0];
-        let Some((li, pmf)) = self.lights.pick(rng.next_f32()) else {
+        let Some((li, pmf)) = self.lights.pick(rng.next_f32(), Vertex::Medium) else {
             return Vec3::ZERO;
         };
         let Some(ls) = world.lights[li].sample_li(p, [rng.next_f32(), rng.next_f32()]) else {
