@@ -66,6 +66,7 @@ SCENES = [
     "chromatic",
     "cloud_ground",
     "fog_emitters",
+    "spot_fog",
 ]
 TOTAL_SAMPLES = 25_000_000  # per image, default of --samples
 

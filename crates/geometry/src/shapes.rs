@@ -4,6 +4,7 @@
 //! faces, 24 vertices so that each face has its own normal and UVs;
 //! `sphere` and `disk` — Mitsuba's analytic unit sphere and disk,
 //! tessellated (with their normals and UVs) until analytic shapes exist.
+//! Also test and benchmark meshes (`uv_sphere`, `quad_grid`).
 
 use crate::mesh::TriangleMesh;
 use glam::{Vec2, Vec3};
@@ -142,6 +143,27 @@ pub fn uv_sphere(n: usize, radius: impl Fn(f32, f32) -> f32) -> TriangleMesh {
         }
     }
     TriangleMesh::new("uv sphere", p, t, vec![], vec![]).expect("valid indices")
+}
+
+/// An `n` × `n` grid of unit squares in the z = 0 plane, [0, n]², each
+/// two triangles with corners of its own: many BVH boxes share planes with
+/// the grid's lines (tests of axis-parallel rays on box planes).
+pub fn quad_grid(n: usize) -> TriangleMesh {
+    let (mut p, mut t) = (Vec::new(), Vec::new());
+    for i in 0..n {
+        for j in 0..n {
+            let k = p.len() as u32;
+            let (x, y) = (i as f32, j as f32);
+            p.extend([
+                Vec3::new(x, y, 0.0),
+                Vec3::new(x + 1.0, y, 0.0),
+                Vec3::new(x + 1.0, y + 1.0, 0.0),
+                Vec3::new(x, y + 1.0, 0.0),
+            ]);
+            t.extend([[k, k + 1, k + 2], [k, k + 2, k + 3]]);
+        }
+    }
+    TriangleMesh::new("quad_grid", p, t, vec![], vec![]).expect("valid indices")
 }
 
 #[cfg(test)]

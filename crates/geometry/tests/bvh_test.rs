@@ -5,7 +5,7 @@
 //! triangle. CI runs 5000 rays; `cargo test -p fogbank-geometry --release
 //! -- --ignored` runs the 10⁵.
 
-use fogbank_geometry::shapes::uv_sphere;
+use fogbank_geometry::shapes::{quad_grid, uv_sphere};
 use fogbank_geometry::{intersect, MeshAccel, RayFrame, TriangleMesh};
 use fogbank_math::{Pcg32, Ray, Vec3};
 
@@ -127,21 +127,7 @@ fn empty_and_all_degenerate_meshes_hit_nothing() {
 /// quads' shared edges and corners, in both signs of zero direction.
 #[test]
 fn axis_parallel_rays_on_box_planes_find_the_edges_they_graze() {
-    let (mut p, mut t) = (Vec::new(), Vec::new());
-    for i in 0..8 {
-        for j in 0..8 {
-            let k = p.len() as u32;
-            let (x, y) = (i as f32, j as f32);
-            p.extend([
-                Vec3::new(x, y, 0.0),
-                Vec3::new(x + 1.0, y, 0.0),
-                Vec3::new(x + 1.0, y + 1.0, 0.0),
-                Vec3::new(x, y + 1.0, 0.0),
-            ]);
-            t.extend([[k, k + 1, k + 2], [k, k + 2, k + 3]]);
-        }
-    }
-    let mesh = TriangleMesh::new("quads", p, t, vec![], vec![]).unwrap();
+    let mesh = quad_grid(8);
     let accel = MeshAccel::new(mesh.clone());
     let mut checked = 0;
     for i in 0..=16 {

@@ -182,11 +182,13 @@ impl LightBuffers {
                     intensity,
                     cos_falloff_start,
                     cos_total,
+                    curve,
                 } => rec(
                     kind(),
                     v4(*position, 1.0),
                     v4(*intensity, 0.0),
-                    v4(*direction, 0.0),
+                    // w: the SpotCurve id.
+                    v4(*direction, *curve as u32 as f32),
                     [*cos_falloff_start, *cos_total],
                 ),
                 Light::Area(t) => LightGpu {

@@ -4,7 +4,7 @@
 //! scattered clutter, degenerate and NaN triangles; axis-parallel rays and
 //! finite t_max included. Also an empty hierarchy.
 
-use fogbank_geometry::shapes::uv_sphere;
+use fogbank_geometry::shapes::{quad_grid, uv_sphere};
 use fogbank_geometry::{MeshAccel, TriangleMesh};
 use fogbank_gpu::diagnostics::{bvh_queries, BvhQuery};
 use fogbank_gpu::test_gpu;
@@ -107,21 +107,7 @@ fn empty_hierarchy_hits_nothing_on_the_gpu() {
 #[test]
 fn axis_parallel_rays_on_box_planes_hit_on_the_gpu() {
     let Some(gpu) = test_gpu() else { return };
-    let (mut p, mut t) = (Vec::new(), Vec::new());
-    for i in 0..8 {
-        for j in 0..8 {
-            let k = p.len() as u32;
-            let (x, y) = (i as f32, j as f32);
-            p.extend([
-                Vec3::new(x, y, 0.0),
-                Vec3::new(x + 1.0, y, 0.0),
-                Vec3::new(x + 1.0, y + 1.0, 0.0),
-                Vec3::new(x, y + 1.0, 0.0),
-            ]);
-            t.extend([[k, k + 1, k + 2], [k, k + 2, k + 3]]);
-        }
-    }
-    let accel = MeshAccel::new(TriangleMesh::new("quads", p, t, vec![], vec![]).unwrap());
+    let accel = MeshAccel::new(quad_grid(8));
     let mut qs = Vec::new();
     for i in 0..=16 {
         for j in 0..=16 {

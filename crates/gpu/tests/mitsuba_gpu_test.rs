@@ -43,8 +43,9 @@ fn agrees_with_mitsuba(name: &str) {
 // half a minute or more, so CI covers the features with four scenes: null
 // boundaries, nested media and meshes; thin dielectric and area light;
 // smooth and rough dielectrics around homogeneous media; plastics,
-// textures, twosided and a bilinear envmap). The ignored test below covers
-// all seven against Mitsuba.
+// textures, twosided and a bilinear envmap). Mitsuba's spot light is
+// covered by scatter_gpu_test (a `linear` spot). The ignored test below
+// covers all eight surface scenes against Mitsuba.
 #[test]
 fn null_boundaries_and_thin_dielectrics_match_the_cpu() {
     matches_cpu("null_mesh_medium", 48);
@@ -57,7 +58,7 @@ fn dielectrics_and_textured_plastics_match_the_cpu() {
     matches_cpu("surfaces_env_area", 48);
 }
 
-const SCENES: [&str; 7] = [
+const SCENES: [&str; 8] = [
     "null_mesh_medium",
     "thin_area",
     "light_in_medium",
@@ -65,6 +66,7 @@ const SCENES: [&str; 7] = [
     "cloud_ground",
     "surfaces_env_area",
     "fog_emitters",
+    "spot_fog",
 ];
 
 #[test]

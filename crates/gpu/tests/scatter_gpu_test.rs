@@ -27,6 +27,11 @@ const MIXED: &str = "[[lights]]\ntype = \"constant\"\nradiance = [0.3, 0.4, 0.5]
     [[lights]]\ntype = \"point\"\nposition = [0.05, 0.1, 0.0]\nintensity = [0.3, 0.3, 0.2]\n\
     [[lights]]\ntype = \"directional\"\ndirection = [-0.3, -1.0, -0.2]\nirradiance = [1.5, 1.4, 1.2]\n\
     [[lights]]\ntype = \"spot\"\nposition = [0.0, 0.9, 0.3]\ndirection = [0.0, -1.0, -0.2]\nintensity = [2.0, 2.0, 2.0]\n";
+/// Mitsuba 3's spot profile (linear in the angle), its transition band
+/// across the cloud.
+const LINEAR_SPOT: &str = "[[lights]]\ntype = \"spot\"\nposition = [0.1, 0.2, 1.5]\n\
+    direction = [0.0, 0.0, -1.0]\nintensity = [6.0, 8.0, 10.0]\n\
+    cone_angle = 30.0\nfalloff_start = 5.0\ncurve = \"linear\"\n";
 const PROBE: &str =
     "[[lights]]\ntype = \"envmap\"\nfile = \"probes/sky.hdr\"\nrotate = [0.0, 1.0, 0.0, 40.0]\n";
 
@@ -64,6 +69,7 @@ fn direct_matches_the_cpu_for_every_sampler_and_light() {
         &["integrator.type=direct", "integrator.estimator=jackknife"],
         256,
     );
+    compare(LINEAR_SPOT, &["integrator.type=direct"], 256);
 }
 
 #[test]

@@ -2,16 +2,24 @@
 
 use fogbank_math::Vec3;
 use fogbank_render::lights::sample::{spot_falloff, LightSampler, Vertex};
-use fogbank_render::lights::Light;
+use fogbank_render::lights::{Light, SpotCurve};
 
 #[test]
 fn spot_light_is_full_inside_zero_outside_and_smooth_between() {
     let (start, total) = (25f32.to_radians().cos(), 30f32.to_radians().cos());
-    assert_eq!(spot_falloff(1.0, start, total), 1.0);
-    assert_eq!(spot_falloff(31f32.to_radians().cos(), start, total), 0.0);
+    assert_eq!(spot_falloff(1.0, start, total, SpotCurve::Smoothstep), 1.0);
+    assert_eq!(
+        spot_falloff(
+            31f32.to_radians().cos(),
+            start,
+            total,
+            SpotCurve::Smoothstep
+        ),
+        0.0
+    );
     let mut last = 0.0;
     for deg in (0..=10).map(|i| 30.0 - i as f32 * 0.5) {
-        let k = spot_falloff(deg.to_radians().cos(), start, total);
+        let k = spot_falloff(deg.to_radians().cos(), start, total, SpotCurve::Smoothstep);
         assert!(k >= last && (0.0..=1.0).contains(&k), "{deg}°: {k}");
         last = k;
     }
@@ -21,6 +29,7 @@ fn spot_light_is_full_inside_zero_outside_and_smooth_between() {
         intensity: Vec3::splat(8.0),
         cos_falloff_start: start,
         cos_total: total,
+        curve: SpotCurve::Smoothstep,
     };
     let below = spot.sample_li(Vec3::ZERO, [0.5, 0.5]).unwrap();
     assert!(
@@ -82,4 +91,17 @@ fn surfaces_weigh_environments_by_the_hemisphere_they_see() {
     assert!((s.pmf(0, Vertex::Medium) - 0.5).abs() < 1e-6);
     assert!((s.pmf(0, Vertex::Surface) - 0.2).abs() < 1e-6);
     assert!((s.pmf(1, Vertex::Surface) - 0.8).abs() < 1e-6);
+}
+
+/// Mitsuba 3's spot profile: linear in the angle between the beam width and
+/// the cutoff (20° and 15° here: half way at 17.5°), 1 inside, 0 outside.
+#[test]
+fn linear_spot_curve_is_linear_in_the_angle() {
+    let cos = |deg: f32| deg.to_radians().cos();
+    let k = |deg: f32| spot_falloff(cos(deg), cos(15.0), cos(20.0), SpotCurve::Linear);
+    assert_eq!(k(10.0), 1.0);
+    assert_eq!(k(20.5), 0.0);
+    for (deg, want) in [(17.5, 0.5), (16.0, 0.8), (19.0, 0.2)] {
+        assert!((k(deg) - want).abs() < 1e-3, "{deg}°: {} vs {want}", k(deg));
+    }
 }

@@ -64,6 +64,11 @@ fn chromatic_homogeneous_and_gridded_media_agree_with_mitsuba() {
     agree("chromatic");
 }
 
+#[test]
+fn spot_light_in_fog_agrees_with_mitsuba() {
+    agree("spot_fog");
+}
+
 fn refusal(xml: &str) -> String {
     let dir = std::env::temp_dir().join(format!("fogbank-xml-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -99,6 +104,13 @@ fn unsupported_plugins_and_parameters_are_refused_by_name_and_line() {
         "{head}<default name=\"r\" value=\"0.5\"/>\n<shape type=\"cube\"><bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"$r, $g, 1\"/></bsdf></shape>\n</scene>"
     ));
     assert!(e.contains("$g"), "{e}");
+    let e = refusal(&format!(
+        "{head}<emitter type=\"spot\">\n<float name=\"beam_width\" value=\"30\"/>\n</emitter>\n</scene>"
+    ));
+    assert!(
+        e.contains(":2:") && e.contains("beam_width ≤ cutoff_angle"),
+        "{e}"
+    );
     let e = refusal(&format!("{head}<integrator type=\"path\"/>\n</scene>"));
     assert!(e.contains("integrator `path`"), "{e}");
     let e = refusal(&format!(

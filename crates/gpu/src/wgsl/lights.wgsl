@@ -1,4 +1,4 @@
-// fogbank_render::lights: light records, selection by power (CDF), the
+// fogbank_render::lights: light records, selection by power (a CDF per vertex kind: LightSampler), the
 // lat-long environment map (luminance × solid-angle 2D CDF, Mitsuba's
 // layout) and light sampling, as in lights/sample.rs and lights/envmap.rs.
 
@@ -11,7 +11,7 @@ struct LightGpu {
     pmf_surface: f32,
     a: vec4<f32>,   // position (point, spot) or direction (directional)
     b: vec4<f32>,   // radiance / intensity / irradiance
-    c: vec4<f32>,   // spot: axis direction
+    c: vec4<f32>,   // spot: axis direction, w = SpotCurve id
     d: vec4<f32>,   // spot: (cos_falloff_start, cos_total); z = CDF, w = pmf
     e: vec4<f32>,   // area: second edge (a = first corner and area, c = first edge)
 }
@@ -213,12 +213,18 @@ fn light_pdf_li(l: LightGpu, dir: vec3<f32>) -> f32 {
     return 0.0;
 }
 
-fn spot_falloff(cos_theta: f32, cos_start: f32, cos_total: f32) -> f32 {
+// lights::sample::spot_falloff; curve: SpotCurve (0 smoothstep in cos θ,
+// 1 linear in θ).
+fn spot_falloff(cos_theta: f32, cos_start: f32, cos_total: f32, curve: f32) -> f32 {
     if (cos_theta >= cos_start) {
         return 1.0;
     }
     if (cos_theta <= cos_total || cos_start <= cos_total) {
         return 0.0;
+    }
+    if (curve == 1.0) {
+        let total = acos(cos_total);
+        return (total - acos(cos_theta)) / (total - acos(cos_start));
     }
     let x = (cos_theta - cos_total) / (cos_start - cos_total);
     return x * x * (3.0 - 2.0 * x);
@@ -261,7 +267,7 @@ fn light_sample_li(l: LightGpu, p: vec3<f32>, u0: f32, u1: f32) -> LightSample {
                 ls.distance = dist;
                 var k = 1.0;
                 if (l.kind == LIGHT_SPOT) {
-                    k = spot_falloff(dot(l.c.xyz, -ls.wi), l.d.x, l.d.y);
+                    k = spot_falloff(dot(l.c.xyz, -ls.wi), l.d.x, l.d.y, l.c.w);
                 }
                 ls.radiance = l.b.xyz * (k / dist2);
                 ls.valid = k > 0.0;

@@ -194,7 +194,7 @@ fn query_value(q: ShadowQuery, surface: bool, tr: f32) -> vec3<f32> {
 }
 
 // next_event::light_sample_weighted (medium) and light_sample_surface:
-// one light picked by power, sampled, weighted against phase or BSDF
+// one light picked (LightSampler, by vertex kind), sampled, weighted against phase or BSDF
 // sampling by the balance heuristic (not for delta lights, nor with
 // INTEGRATOR_LIGHT_ONLY); the shadow ray leaves a surface from the
 // light's side, in the medium there.

@@ -3,7 +3,8 @@
 //! Free-flight distance sampling picks the next real collision across all
 //! media (the first collision of independent processes whose extinctions
 //! add); the path throughput gains the scattering medium's albedo. At every
-//! vertex one light is chosen by power and its contribution is weighted by
+//! vertex one light is chosen (`LightSampler`: by power, environments at a
+//! quarter of it on surfaces) and its contribution is weighted by
 //! the NEE transmittance estimate; environment lights combine light and
 //! phase sampling with the balance heuristic; at the last vertex
 //! (`max_depth`) the phase-sampled partner is evaluated with the NEE

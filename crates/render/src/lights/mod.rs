@@ -16,7 +16,7 @@ use std::path::Path;
 /// | `envmap` | `file`, `scale` (1), `rotate`, `filter` (`nearest`; `bilinear` is Mitsuba 3's lookup) |
 /// | `point` | `position`, `intensity` (RGB) |
 /// | `directional` | `direction` (towards which light travels), `irradiance` (RGB) |
-/// | `spot` | `position`, `direction`, `intensity` (RGB), `cone_angle` (30°), `falloff_start` (25°) |
+/// | `spot` | `position`, `direction`, `intensity` (RGB), `cone_angle` (30°), `falloff_start` (25°), `curve` (`smoothstep`: pbrt-v4's; `linear`: Mitsuba 3's, linear in the angle) |
 /// | `sky` | `zenith`, `horizon`, `ground` (RGB), `scale` (1): a procedural gradient sky, rendered as an environment map |
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
@@ -53,8 +53,8 @@ pub enum LightDesc {
         scale: f32,
     },
     /// A point light emitting into a cone around `direction`: full intensity
-    /// within `falloff_start` degrees of the axis, smoothly down to zero at
-    /// `cone_angle` degrees (pbrt-v4's spotlight).
+    /// within `falloff_start` degrees of the axis, down to zero at
+    /// `cone_angle` degrees along `curve`.
     Spot {
         position: [f32; 3],
         direction: [f32; 3],
@@ -63,7 +63,27 @@ pub enum LightDesc {
         cone_angle: f32,
         #[serde(default = "default_falloff")]
         falloff_start: f32,
+        #[serde(default, skip_serializing_if = "SpotCurve::is_smoothstep")]
+        curve: SpotCurve,
     },
+}
+
+/// How a spotlight's intensity falls from the inner cone to the outer one.
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SpotCurve {
+    /// Smoothstep in cos θ (pbrt-v4's `spot`).
+    #[default]
+    Smoothstep = 0,
+    /// Linear in the angle θ (Mitsuba 3's `spot`, which the XML reader
+    /// gives).
+    Linear = 1,
+}
+
+impl SpotCurve {
+    fn is_smoothstep(&self) -> bool {
+        *self == SpotCurve::Smoothstep
+    }
 }
 
 fn default_cone() -> f32 {
@@ -98,6 +118,7 @@ pub enum Light {
         intensity: Vec3,
         cos_falloff_start: f32,
         cos_total: f32,
+        curve: SpotCurve,
     },
     /// One triangle of an emitting shape (built from `[[shapes]]`, not
     /// `[[lights]]`).
@@ -190,6 +211,7 @@ impl LightDesc {
                 intensity,
                 cone_angle,
                 falloff_start,
+                curve,
             } => {
                 if !(*cone_angle > 0.0
                     && *cone_angle <= 180.0
@@ -208,6 +230,7 @@ impl LightDesc {
                     intensity: Vec3::from(*intensity),
                     cos_falloff_start: falloff_start.to_radians().cos(),
                     cos_total: cone_angle.to_radians().cos(),
+                    curve: *curve,
                 }
             }
         })

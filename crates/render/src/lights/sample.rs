@@ -4,7 +4,7 @@
 //! direction towards it with its solid-angle pdf (delta lights report
 //! `is_delta` and pdf 1).
 
-use super::Light;
+use super::{Light, SpotCurve};
 use fogbank_math::Vec3;
 use std::f32::consts::PI;
 
@@ -116,6 +116,7 @@ impl Light {
                 intensity,
                 cos_falloff_start,
                 cos_total,
+                curve,
             } => {
                 let d = *position - p;
                 let dist2 = d.length_squared();
@@ -124,7 +125,7 @@ impl Light {
                 }
                 let dist = dist2.sqrt();
                 let wi = d / dist;
-                let k = spot_falloff(direction.dot(-wi), *cos_falloff_start, *cos_total);
+                let k = spot_falloff(direction.dot(-wi), *cos_falloff_start, *cos_total, *curve);
                 (k > 0.0).then(|| LightSample {
                     wi,
                     radiance: *intensity * (k / dist2),
@@ -164,17 +165,31 @@ impl Light {
     }
 }
 
-/// Smooth falloff of a spotlight (pbrt-v4): 1 inside the falloff cone, 0
-/// outside the total cone, smoothstep in between.
-pub fn spot_falloff(cos_theta: f32, cos_falloff_start: f32, cos_total: f32) -> f32 {
+/// Falloff of a spotlight: 1 inside the falloff cone, 0 outside the total
+/// cone, and in between smoothstep in cos θ (pbrt-v4) or linear in θ
+/// (Mitsuba 3).
+pub fn spot_falloff(
+    cos_theta: f32,
+    cos_falloff_start: f32,
+    cos_total: f32,
+    curve: SpotCurve,
+) -> f32 {
     if cos_theta >= cos_falloff_start {
         return 1.0;
     }
     if cos_theta <= cos_total || cos_falloff_start <= cos_total {
         return 0.0;
     }
-    let x = (cos_theta - cos_total) / (cos_falloff_start - cos_total);
-    x * x * (3.0 - 2.0 * x)
+    match curve {
+        SpotCurve::Smoothstep => {
+            let x = (cos_theta - cos_total) / (cos_falloff_start - cos_total);
+            x * x * (3.0 - 2.0 * x)
+        }
+        SpotCurve::Linear => {
+            let total = cos_total.acos();
+            (total - cos_theta.acos()) / (total - cos_falloff_start.acos())
+        }
+    }
 }
 
 /// Where next-event estimation picks a light: a scattering point in a

@@ -38,13 +38,17 @@ pub fn light(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError
             }
             if let Some(m) = to_world {
                 let r = DMat3::from_mat4(m);
-                if !(r.transpose() * r).abs_diff_eq(DMat3::IDENTITY, 1e-5) || r.determinant() < 0.0 {
+                if !(r.transpose() * r).abs_diff_eq(DMat3::IDENTITY, 1e-5) || r.determinant() < 0.0
+                {
                     return Err(p.error("an envmap's to_world must be a rotation"));
                 }
                 let (axis, angle) = DQuat::from_mat3(&r).to_axis_angle();
                 let mut rot = axis.to_array().to_vec();
                 rot.push(angle.to_degrees());
-                t.insert("rotate".into(), Value::Array(rot.into_iter().map(Value::Float).collect()));
+                t.insert(
+                    "rotate".into(),
+                    Value::Array(rot.into_iter().map(Value::Float).collect()),
+                );
             }
         }
         "point" => {
@@ -52,7 +56,9 @@ pub fn light(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError
                 (Some(v), None) => DVec3::from(v),
                 (None, Some(m)) => m.transform_point3(DVec3::ZERO),
                 (None, None) => DVec3::ZERO,
-                (Some(_), Some(_)) => return Err(p.error("give `position` or `to_world`, not both")),
+                (Some(_), Some(_)) => {
+                    return Err(p.error("give `position` or `to_world`, not both"))
+                }
             };
             t.insert("type".into(), "point".into());
             t.insert("position".into(), vec3(pos));
@@ -63,16 +69,38 @@ pub fn light(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError
                 (Some(v), None) => DVec3::from(v),
                 (None, Some(m)) => m.transform_vector3(DVec3::Z),
                 (None, None) => DVec3::Z,
-                (Some(_), Some(_)) => return Err(p.error("give `direction` or `to_world`, not both")),
+                (Some(_), Some(_)) => {
+                    return Err(p.error("give `direction` or `to_world`, not both"))
+                }
             };
             t.insert("type".into(), "directional".into());
             t.insert("direction".into(), vec3(dir));
             t.insert("irradiance".into(), rgb_value(rgb("irradiance")?));
         }
+        "spot" => {
+            // Mitsuba's spot sits at the origin of its to_world and shines
+            // along its +z axis, linear in the angle from `beam_width` to
+            // `cutoff_angle` (degrees).
+            let m = to_world.unwrap_or(glam::DMat4::IDENTITY);
+            let cutoff = p.float("cutoff_angle")?.unwrap_or(20.0);
+            let beam = p.float("beam_width")?.unwrap_or(cutoff * 0.75);
+            if !(cutoff > 0.0 && cutoff <= 180.0 && beam >= 0.0 && beam <= cutoff) {
+                return Err(p.error("needs 0 ≤ beam_width ≤ cutoff_angle ≤ 180, cutoff_angle > 0"));
+            }
+            t.insert("type".into(), "spot".into());
+            t.insert("position".into(), vec3(m.transform_point3(DVec3::ZERO)));
+            t.insert("direction".into(), vec3(m.transform_vector3(DVec3::Z)));
+            let intensity = p.rgb("intensity")?.unwrap_or([1.0; 3]);
+            t.insert("intensity".into(), rgb_value(intensity));
+            t.insert("cone_angle".into(), cutoff.into());
+            t.insert("falloff_start".into(), beam.into());
+            t.insert("curve".into(), "linear".into());
+        }
         "area" => return Err(p.error("an area emitter belongs inside a <shape>")),
         other => {
             return Err(p.error(format!(
-                "emitter `{other}` is not supported (constant, envmap, point, directional; area in shapes)"
+                "emitter `{other}` is not supported (constant, envmap, point, directional, spot; \
+                 area in shapes)"
             )))
         }
     }

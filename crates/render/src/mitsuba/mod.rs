@@ -12,7 +12,7 @@
 //! constant `spectrum` values; shapes obj, ply, rectangle, cube, sphere,
 //! disk (the last two tessellated); the BSDFs of
 //! `world::surfaces::material`; `checkerboard` textures; emitters area,
-//! constant, envmap, point, directional.
+//! constant, envmap, point, directional, spot.
 //!
 //! Anything else is refused with its file, line, tag and plugin name, and
 //! so is any parameter fogbank would otherwise ignore. Conventions that

@@ -61,7 +61,7 @@ pub fn spp_for(name: &str) -> u32 {
     // so noisy that the other two would fail from noise alone: enough for
     // an expected block L1 of 1 % (half the limit) and for the image mean
     // to sit within 1 % at 3σ, allowing fogbank twice Mitsuba's variance
-    // (it picks lights by power, Mitsuba uniformly).
+    // (its light selection differs from Mitsuba's uniform one).
     let (ref_spp, k_block, k_mean) = reference_noise(name);
     let ref_samples = ref_spp * pixels as f64;
     let block = 1.0 / ((0.01 / k_block).powi(2) - 1.0 / ref_samples);
