@@ -86,16 +86,16 @@ fn wgsl_structs_have_the_layout_of_the_rust_structs() {
             ("camera_index", offset_of!(MediumGpu, camera_index)),
         ],
     );
-    let lpad = offset_of!(LightGpu, pad);
+    let surface = offset_of!(LightGpu, surface);
     check_layout(
         &scatter,
         "LightGpu",
         size_of::<LightGpu>(),
         &[
             ("kind", offset_of!(LightGpu, kind)),
-            ("pad0", lpad),
-            ("pad1", lpad + 4),
-            ("pad2", lpad + 8),
+            ("pad0", offset_of!(LightGpu, pad)),
+            ("cdf_surface", surface),
+            ("pmf_surface", surface + 4),
             ("a", offset_of!(LightGpu, a)),
             ("b", offset_of!(LightGpu, b)),
             ("c", offset_of!(LightGpu, c)),

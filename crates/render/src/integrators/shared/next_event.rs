@@ -1,5 +1,6 @@
 //! Direct lighting at a scattering vertex, shared by `direct` and `volpath`:
-//! next-event estimation toward one light chosen by power, combined with
+//! next-event estimation toward one light chosen by `LightSampler` for the
+//! vertex kind (medium or surface), combined with
 //! phase or BSDF sampling by the balance heuristic for lights a direction
 //! can hit (environments, emitting shapes). HG sampling is exact, so the
 //! phase pdf equals f.
