@@ -85,7 +85,11 @@ impl LightBuffers {
             )),
         };
         let cdf = sampler.cdf(Vertex::Medium);
-        let cdf_surface = sampler.cdf(Vertex::Surface);
+        // A light's CDF entry and pmf for points of kind `at`.
+        let pick = |i: usize, at| {
+            let c = sampler.cdf(at).get(i).copied().unwrap_or(1.0);
+            [c, sampler.pmf(i, at)]
+        };
         let mut env = EnvParams {
             to_local: [
                 [1.0, 0.0, 0.0, 0.0],
@@ -111,14 +115,8 @@ impl LightBuffers {
         let mut records = Vec::new();
         let mut envmaps = 0;
         for (i, l) in scene.lights.iter().enumerate() {
-            let (c, pmf) = (
-                cdf.get(i).copied().unwrap_or(1.0),
-                sampler.pmf(i, Vertex::Medium),
-            );
-            let surface = [
-                cdf_surface.get(i).copied().unwrap_or(1.0),
-                sampler.pmf(i, Vertex::Surface),
-            ];
+            let [c, pmf] = pick(i, Vertex::Medium);
+            let surface = pick(i, Vertex::Surface);
             let zero = [0.0; 4];
             let rec = |kind, a, b, c4, d: [f32; 2]| LightGpu {
                 kind,

@@ -98,9 +98,11 @@ impl Bvh {
         if self.nodes.is_empty() {
             return;
         }
+        // Finite from here on (see Traversal::enter); hits only lower it.
+        *t_max = t_max.min(f32::MAX);
         let tr = Traversal::new(ray);
         let root = &self.nodes[0];
-        if tr.enter(root, t_max.min(f32::MAX)).is_none() {
+        if tr.enter(root, *t_max).is_none() {
             return;
         }
         // Far children wait with their entry distance: one whose entry lies
@@ -118,9 +120,8 @@ impl Bvh {
                 }
             } else {
                 let (l, r) = (n.index as usize, n.index as usize + 1);
-                let t_far = t_max.min(f32::MAX);
-                let tl = tr.enter(&self.nodes[l], t_far);
-                let trr = tr.enter(&self.nodes[r], t_far);
+                let tl = tr.enter(&self.nodes[l], *t_max);
+                let trr = tr.enter(&self.nodes[r], *t_max);
                 match (tl, trr) {
                     (Some(a), Some(b)) => {
                         let (near, far, t_enter) = if a <= b { (l, r, b) } else { (r, l, a) };

@@ -241,8 +241,8 @@ impl VolPath {
                 (None, Some(h)) => self.surface_vertex(world, &mut path, &h, depth, &mut rng),
                 (None, None) => {
                     if !(self.light_only && path.prev.is_some()) {
-                        let prev = path.prev;
-                        path.radiance += path.beta * escaped(world, &self.lights, path.ray.d, prev);
+                        let le = escaped(world, &self.lights, path.ray.d, path.prev);
+                        path.radiance += path.beta * le;
                     }
                     Step::Stop
                 }
