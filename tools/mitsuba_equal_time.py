@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Equal-time MSE: fogbank versus Mitsuba 3 `scalar_rgb` and `llvm_ad_rgb`
-on the Mitsuba XML scenes of scenes/mitsuba/ (issue 23, acceptance item 3).
+on the Mitsuba XML scenes of scenes/mitsuba/ (issue 23, acceptance item 3),
+and fogbank's GPU backend (`fogbank_gpu`) versus `cuda_ad_rgb`.
 
 Reference: the high-sample Mitsuba references scenes/mitsuba/refs/<name>.exr
 (R, G, B + variance.R/G/B = variance of the mean, ~2.5e7 samples). The error
@@ -22,7 +23,11 @@ For each scene and renderer:
    every seed, records wall time, CPU time and MSE. fogbank is timed as the
    whole `fogbank render` process (start-up, XML + mesh loading, render,
    EXR write); Mitsuba as the `mi.render` call only (scene already loaded,
-   kernels already compiled: the steady state, favourable to Mitsuba);
+   kernels already compiled, also the kernel that Dr.Jit's variants
+   compile for each new spp: the steady state, favourable to Mitsuba).
+   `fogbank_gpu` (`--device gpu`) is timed by its render loop
+   (`render_seconds`: after device start-up, upload and pipeline
+   compilation), the GPU counterpart of Mitsuba's steady state;
 3. equal-time MSE: per renderer, the seed-averaged (time, MSE) points are
    interpolated log-log (extrapolated with MSE ~ 1/t outside the measured
    range) at each budget; ratio = MSE_mitsuba(T) / MSE_fogbank(T). Also
@@ -85,8 +90,11 @@ def fit_linear(points):
     return a, b
 
 
-def spp_for(budget, a, b, lo=1):
-    return max(lo, int(round((budget - a) / b)))
+def spp_for(budget, a, b, cal_max, lo=1):
+    """The spp of predicted time `budget`, extrapolating at most 64× past the
+    largest calibration point (a fit on start-up-dominated points can give a
+    slope near zero)."""
+    return min(max(lo, int(round((budget - a) / b))), 64 * cal_max)
 
 
 # ------------------------------------------------------------ Mitsuba worker
@@ -135,7 +143,12 @@ def worker(args):
     a, b = fit_linear(cal)
     out["calibration"] = dict(points=cal, a=a, b=b)
     for budget in args.budgets:
-        spp = spp_for(budget, a, b)
+        spp = spp_for(budget, a, b, max(args.cal_spp))
+        if not args.variant.startswith("scalar"):
+            # Dr.Jit compiles a kernel per spp (it is a literal in the
+            # traced program): render once untimed so that every timed
+            # render is the steady state.
+            render(spp, 990)
         for seed in args.seeds:
             img, wall, cpu, calls = render(spp, seed)
             e = mse_of(img, ref, ref_var)
@@ -169,9 +182,11 @@ def run_mitsuba(args, variant, scene):
 
 # ------------------------------------------------------------ fogbank
 
-def run_fogbank_once(args, scene, spp, seed, exr):
+def run_fogbank_once(args, scene, spp, seed, exr, gpu=False):
     cmd = [args.fogbank, "render", scene_path(scene), "--spp", str(spp), "--seed", str(seed),
            "--threads", str(args.threads), "--quiet", "-o", exr, "--stats", exr[:-4] + ".json"]
+    if gpu:
+        cmd += ["--device", "gpu"]
     for kv in args.fogbank_set:
         cmd += ["--set", kv]
     r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -184,18 +199,23 @@ def run_fogbank_once(args, scene, spp, seed, exr):
     cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
     with open(exr[:-4] + ".json") as f:
         st = json.load(f)
+    if gpu:  # the render loop, after device start-up, upload and compilation
+        wall = st["render_seconds"]
     return wall, cpu, st
 
 
-def run_fogbank(args, mi, scene):
+def run_fogbank(args, mi, scene, gpu=False):
     ref, ref_var = mc.read_exr(mi, ref_path(scene))
-    d = os.path.join(args.out, "fogbank_" + os.path.splitext(os.path.basename(scene))[0])
+    name = "fogbank_gpu" if gpu else "fogbank"
+    d = os.path.join(args.out, name + "_" + os.path.splitext(os.path.basename(scene))[0])
     os.makedirs(d, exist_ok=True)
-    out = dict(variant="fogbank", scene=scene, points=[])
+    out = dict(variant=name, scene=scene, points=[])
     try:
         cal = []
+        if gpu:  # an idle GPU runs at a fraction of its clock
+            run_fogbank_once(args, scene, args.cal_spp[-1], 996, os.path.join(d, "cal.exr"), gpu)
         for spp in args.cal_spp:
-            wall, _, _ = run_fogbank_once(args, scene, spp, 997, os.path.join(d, "cal.exr"))
+            wall, _, _ = run_fogbank_once(args, scene, spp, 997, os.path.join(d, "cal.exr"), gpu)
             cal.append((spp, wall))
     except RuntimeError as e:
         out["error"] = str(e)
@@ -203,16 +223,16 @@ def run_fogbank(args, mi, scene):
     a, b = fit_linear(cal)
     out["calibration"] = dict(points=cal, a=a, b=b)
     for budget in args.budgets:
-        spp = spp_for(budget, a, b)
+        spp = spp_for(budget, a, b, max(args.cal_spp))
         for seed in args.seeds:
             exr = os.path.join(d, f"spp{spp}_seed{seed}.exr")
-            wall, cpu, st = run_fogbank_once(args, scene, spp, seed, exr)
+            wall, cpu, st = run_fogbank_once(args, scene, spp, seed, exr, gpu)
             img, _ = mc.read_exr(mi, exr)
             e = mse_of(img, ref, ref_var)
             out["points"].append(dict(budget=budget, spp=spp, spp_rendered=st.get("spp"),
                                       seed=seed, wall=wall, cpu=cpu,
                                       render_seconds=st.get("render_seconds"), mse=e))
-            print(f"  [fogbank] {scene} {spp} spp seed {seed}: {wall:.2f} s (cpu {cpu:.2f}, "
+            print(f"  [{name}] {scene} {spp} spp seed {seed}: {wall:.2f} s (cpu {cpu:.2f}, "
                   f"render {st.get('render_seconds', 0):.2f}) MSE {e:.3e}",
                   file=sys.stderr, flush=True)
     return out
@@ -235,10 +255,11 @@ def report(res, budgets, threads):
     lines = []
     for scene, rs in res["scenes"].items():
         lines.append(f"\n### {scene}\n")
-        fb = rs.get("fogbank")
+        base = next((n for n in rs if n.startswith("fogbank")), "fogbank")
+        fb = rs.get(base)
         fbc = curve(fb["points"]) if fb and fb.get("points") else None
         lines.append("| renderer | spp | seed | seconds (wall) | CPU s | MSE | MSE × s |"
-                     " MSE×s / fogbank's |")
+                     f" MSE×s / {base}'s |")
         lines.append("|---|---|---|---|---|---|---|---|")
         fb_mxs = {}
         if fb and fb.get("points"):
@@ -257,7 +278,7 @@ def report(res, budgets, threads):
         lines.append("")
         lines.append("Equal-time MSE (log-log interpolation of the seed-averaged points):\n")
         hdr = "| budget (s) | " + " | ".join(f"{n} MSE" for n in rs) + " | " + \
-              " | ".join(f"{n} / fogbank" for n in rs if n != "fogbank") + " |"
+              " | ".join(f"{n} / {base}" for n in rs if n != base) + " |"
         lines.append(hdr)
         lines.append("|" + "---|" * (1 + len(rs) + len(rs) - 1))
         for T in budgets:
@@ -267,8 +288,8 @@ def report(res, budgets, threads):
             fmt = lambda v: "–" if v is None else f"{v:.3e}"  # noqa: E731
             row = f"| {T} | " + " | ".join(fmt(vals[n]) for n in rs) + " | "
             row += " | ".join(
-                "–" if vals[n] is None or not vals.get("fogbank") else f"{vals[n] / vals['fogbank']:.2f}"
-                for n in rs if n != "fogbank") + " |"
+                "–" if vals[n] is None or not vals.get(base) else f"{vals[n] / vals[base]:.2f}"
+                for n in rs if n != base) + " |"
             lines.append(row)
         for name, r in rs.items():
             if "first_render" in r:
@@ -278,7 +299,8 @@ def report(res, budgets, threads):
                              f"{r['calibration']['a']:.3f} + {r['calibration']['b']:.3e}·spp")
             elif "calibration" in r:
                 lines.append(f"\n{name}: fit t = {r['calibration']['a']:.3f} + "
-                             f"{r['calibration']['b']:.3e}·spp (whole process)")
+                             f"{r['calibration']['b']:.3e}·spp "
+                             f"({'render loop' if name == 'fogbank_gpu' else 'whole process'})")
     return "\n".join(lines)
 
 
@@ -312,7 +334,13 @@ def main():
     import drjit as dr
     import mitsuba as mi
 
-    mi.set_variant("scalar_rgb")  # EXR I/O only
+    # EXR I/O only (a pack for a GPU machine may hold cuda_ad_rgb alone).
+    for v in ["scalar_rgb"] + list(mi.variants()):
+        try:
+            mi.set_variant(v)
+            break
+        except ImportError:
+            continue
     dr.set_thread_count(args.threads)
     os.makedirs(args.out, exist_ok=True)
     args.out = os.path.abspath(args.out)
@@ -326,8 +354,8 @@ def main():
         res["scenes"][scene] = {}
         for r in args.renderers.split(","):
             print(f"[{scene}] {r}", file=sys.stderr, flush=True)
-            if r == "fogbank":
-                out = run_fogbank(args, mi, scene)
+            if r in ("fogbank", "fogbank_gpu"):
+                out = run_fogbank(args, mi, scene, gpu=r == "fogbank_gpu")
             else:
                 out = run_mitsuba(args, r, scene)
             res["scenes"][scene][r] = out

@@ -2,7 +2,7 @@
 # Packs Mitsuba 3's cuda_ad_rgb variant for a GPU machine that cannot reach
 # a package index (issue 21 item 3): the cp312 manylinux wheels of mitsuba
 # and drjit, less the other variants, include/, the spectral data and every
-# plugin the peer scenes do not load (the full wheel is over a 64 MiB
+# plugin neither the peer scenes nor scenes/mitsuba/ load (the full wheel is over a 64 MiB
 # carry limit; this is about 16 MB).
 #
 #   tools/pack_mitsuba_cuda.sh OUT.tar.xz [MITSUBA_VERSION] [DRJIT_VERSION]
@@ -22,7 +22,9 @@ for w in "$T"/whl/*.whl; do unzip -q -o "$w"; done
 KEEP="volpath perspective hdrfilm independent box cube null heterogeneous homogeneous
   gridvolume constvolume hg isotropic constant point srgb uniform rectangle diffuse d65
   regular bitmap merge shapegroup instance rawconstant mask direct path sphere obj ply
-  serialized tent gaussian"
+  serialized tent gaussian area envmap twosided dielectric thindielectric roughdielectric
+  plastic roughplastic conductor roughconductor checkerboard directional spot volpathmis
+  moment disk"
 mkdir keep && for p in $KEEP; do cp "mitsuba/plugins/$p.so" keep/; done
 rm -rf mitsuba/plugins && mv keep mitsuba/plugins
 rm -rf mitsuba/include mitsuba/cmake mitsuba/data/srgb.coeff mitsuba/data/sunsky \
