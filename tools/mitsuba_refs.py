@@ -67,6 +67,7 @@ SCENES = [
     "cloud_ground",
     "fog_emitters",
     "spot_fog",
+    "bitmap_textures",
 ]
 TOTAL_SAMPLES = 25_000_000  # per image, default of --samples
 
@@ -231,6 +232,22 @@ def sky_envmap(w=32, h=16):
     return img.astype(np.float32)
 
 
+def bitmap_textures(mi, td):
+    """The bitmaps of bitmap_textures.xml: 8-bit sRGB RGB, 8-bit grey and
+    16-bit RGB PNGs, patterns without symmetry so a flipped axis shows."""
+    x, y = np.meshgrid(np.arange(24), np.arange(16))
+    tiles = np.stack([(x * 10 + 15) % 256, y * 15 + 10,
+                      ((x // 4 + y // 4) % 2) * 200 + 30], axis=-1).astype(np.uint8)
+    mi.Bitmap(tiles, mi.Bitmap.PixelFormat.RGB).write(os.path.join(td, "tiles_24x16.png"))
+    x, y = np.meshgrid(np.arange(12), np.arange(10))
+    grey = (40 + 180 * (x / 11) * np.where(y % 3 == 0, 1.0, 0.5)).astype(np.uint8)
+    mi.Bitmap(grey[..., None], mi.Bitmap.PixelFormat.Y).write(os.path.join(td, "grey_12x10.png"))
+    x, y = np.meshgrid(np.arange(8), np.arange(6))
+    rgb16 = np.stack([x * 8000 + 2000, y * 11000 + 1000, (x * y * 1500) % 65536],
+                     axis=-1).astype(np.uint16)
+    mi.Bitmap(rgb16, mi.Bitmap.PixelFormat.RGB).write(os.path.join(td, "rgb16_8x6.png"))
+
+
 def make_assets(mi):
     import drjit as dr
 
@@ -257,6 +274,7 @@ def make_assets(mi):
         mi.Bitmap(sky, mi.Bitmap.PixelFormat.RGB).write(os.path.join(td, "sky_32x16.exr"))
     finally:
         dr.set_thread_count(n)
+    bitmap_textures(mi, td)
     print(f"assets written under {SCENE_DIR}/meshes and /textures")
 
 

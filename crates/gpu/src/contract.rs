@@ -13,6 +13,7 @@ use fogbank_render::integrators::shared::pin_params::PinMode;
 use fogbank_render::integrators::shared::{dim, DistanceSampler};
 use fogbank_render::integrators::visopt::params::Scattering;
 use fogbank_render::lights::Light;
+use fogbank_render::world::bitmap::{BitmapFilter, WrapMode};
 use fogbank_render::world::bsdf::Bsdf;
 use fogbank_render::world::emission::Emission;
 use fogbank_render::world::texture::Texture;
@@ -278,6 +279,8 @@ pub fn wgsl_prelude() -> String {
     enumeration(&mut s, "LIGHT", &light_kinds());
     enumeration(&mut s, "BSDF", &Bsdf::NAMES);
     enumeration(&mut s, "TEXTURE", &Texture::NAMES);
+    enumeration(&mut s, "FILTER", &BitmapFilter::NAMES);
+    enumeration(&mut s, "WRAP", &WrapMode::NAMES);
     enumeration(&mut s, "EMISSION", &EMISSION_KINDS);
     enumeration(&mut s, "VELOCITY", &VELOCITY_KINDS);
     enumeration(&mut s, "PIN_MODE", &PinMode::NAMES.map(|(n, _)| n));

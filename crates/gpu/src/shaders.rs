@@ -37,6 +37,7 @@ pub const BVH: &str = include_str!("wgsl/bvh.wgsl");
 pub const BVH_QUERIES_KERNEL: &str = include_str!("wgsl/bvh_queries_kernel.wgsl");
 pub const MICROFACET: &str = include_str!("wgsl/surfaces/microfacet.wgsl");
 pub const BSDF: &str = include_str!("wgsl/surfaces/bsdf.wgsl");
+pub const BITMAP: &str = include_str!("wgsl/surfaces/bitmap.wgsl");
 pub const SURFACES: &str = include_str!("wgsl/surfaces/surfaces.wgsl");
 pub const NEXT_EVENT: &str = include_str!("wgsl/surfaces/next_event.wgsl");
 pub const POINT_MIS_KERNEL: &str = include_str!("wgsl/point_mis_kernel.wgsl");
@@ -115,6 +116,7 @@ pub fn scatter_kernel() -> String {
             MICROFACET,
             BSDF,
             SURFACES,
+            BITMAP,
             NEXT_EVENT,
             SCATTER_KERNEL,
         ]

@@ -12,7 +12,7 @@
 //! | shapes | [`SHAPE_STRIDE`] `vec4` per shape: media, lights, flags, emission, two sides of [`crate::contract::SIDE_STRIDE`] |
 //! | triangles | per leaf slot three corners; `w`: shape, mesh triangle, passes light |
 //! | shading | per leaf slot four `vec4`: vertex normals and UVs |
-//! | coatings | 64 + 1 floats per rough plastic (tabulated transmittance, internal reflectance) |
+//! | tables | 64 + 1 floats per rough plastic (tabulated transmittance, internal reflectance); bitmap texels (`channels` floats each, rows in file order, padded to a `vec4`) |
 
 use crate::contract::{bsdf_id, texture_id, SHAPE_STRIDE};
 use crate::{Gpu, GpuError};
@@ -82,9 +82,13 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
         ]);
         data.push([u(flags), u(i as u32), 0.0, 0.0]);
         data.push(v4(shape.emission.unwrap_or_default(), 0.0));
-        for side in [Some(m.front), m.back] {
-            let side = side.unwrap_or(m.front);
-            pack_side(&side, &mut data, &mut coatings, coating_base);
+        for side in [Some(&m.front), m.back.as_ref()] {
+            pack_side(
+                side.unwrap_or(&m.front),
+                &mut data,
+                &mut coatings,
+                coating_base,
+            );
         }
     }
     let tri_base = data.len() as u32;
@@ -165,7 +169,7 @@ fn pack_side(side: &Side, data: &mut Vec<[f32; 4]>, coatings: &mut Vec<[f32; 4]>
         }
         Bsdf::Null => (0.0, 1.0, false, z, z, [0.0; 4]),
     };
-    let texture = side.texture.unwrap_or(Texture::Constant(z));
+    let texture = side.texture.clone().unwrap_or(Texture::Constant(z));
     data.push([
         u(bsdf_id(&side.bsdf)),
         alpha,
@@ -184,6 +188,22 @@ fn pack_side(side: &Side, data: &mut Vec<[f32; 4]>, coatings: &mut Vec<[f32; 4]>
             let (m, t) = (to_uv.matrix2, to_uv.translation);
             data.push(v4(color0, t.x));
             data.push(v4(color1, t.y));
+            data.push([m.x_axis.x, m.x_axis.y, m.y_axis.x, m.y_axis.y]);
+        }
+        Texture::Bitmap(b) => {
+            // Rows 4–6: texel offset, size and t.x; channels, filter and
+            // wrap ids and t.y; the linear part of to_uv (as the
+            // checkerboard's, so one to_uv reads both).
+            let (m, t) = (b.to_uv.matrix2, b.to_uv.translation);
+            let offset = base + coatings.len() as u32;
+            coatings.extend(b.texels.chunks(4).map(|c| {
+                let mut v = [0.0; 4];
+                v[..c.len()].copy_from_slice(c);
+                v
+            }));
+            data.push([u(offset), u(b.width), u(b.height), t.x]);
+            let flags = b.channels | b.filter.id() << 2 | b.wrap.id() << 3;
+            data.push([u(flags), 0.0, 0.0, t.y]);
             data.push([m.x_axis.x, m.x_axis.y, m.y_axis.x, m.y_axis.y]);
         }
         Texture::Constant(_) => data.extend([[0.0; 4]; 3]),

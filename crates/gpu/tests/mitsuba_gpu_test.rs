@@ -43,9 +43,10 @@ fn agrees_with_mitsuba(name: &str) {
 // half a minute or more, so CI covers the features with four scenes: null
 // boundaries, nested media and meshes; thin dielectric and area light;
 // smooth and rough dielectrics around homogeneous media; plastics,
-// textures, twosided and a bilinear envmap). Mitsuba's spot light is
-// covered by scatter_gpu_test (a `linear` spot). The ignored test below
-// covers all eight surface scenes against Mitsuba.
+// textures, twosided and a bilinear envmap; bitmaps with every filter and
+// wrap mode). Mitsuba's spot light is covered by scatter_gpu_test (a
+// `linear` spot). The ignored test below covers all nine surface scenes
+// against Mitsuba.
 #[test]
 fn null_boundaries_and_thin_dielectrics_match_the_cpu() {
     matches_cpu("null_mesh_medium", 48);
@@ -56,9 +57,10 @@ fn null_boundaries_and_thin_dielectrics_match_the_cpu() {
 fn dielectrics_and_textured_plastics_match_the_cpu() {
     matches_cpu("dielectric_media", 48);
     matches_cpu("surfaces_env_area", 48);
+    matches_cpu("bitmap_textures", 48);
 }
 
-const SCENES: [&str; 8] = [
+const SCENES: [&str; 9] = [
     "null_mesh_medium",
     "thin_area",
     "light_in_medium",
@@ -67,6 +69,7 @@ const SCENES: [&str; 8] = [
     "surfaces_env_area",
     "fog_emitters",
     "spot_fog",
+    "bitmap_textures",
 ];
 
 #[test]

@@ -69,6 +69,11 @@ fn spot_light_in_fog_agrees_with_mitsuba() {
     agree("spot_fog");
 }
 
+#[test]
+fn bitmap_textures_agree_with_mitsuba() {
+    agree("bitmap_textures");
+}
+
 fn refusal(xml: &str) -> String {
     let dir = std::env::temp_dir().join(format!("fogbank-xml-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -111,6 +116,15 @@ fn unsupported_plugins_and_parameters_are_refused_by_name_and_line() {
         e.contains(":2:") && e.contains("beam_width ≤ cutoff_angle"),
         "{e}"
     );
+    let e = refusal(&format!(
+        "{head}<shape type=\"cube\">\n<bsdf type=\"diffuse\">\n<texture type=\"bitmap\" name=\"reflectance\">\n<string name=\"filename\" value=\"no_such.png\"/>\n</texture>\n</bsdf>\n</shape>\n</scene>"
+    ));
+    assert!(e.contains(":4:") && e.contains("no_such.png"), "{e}");
+    let e = refusal(&format!(
+        "{head}<shape type=\"cube\">\n<bsdf type=\"diffuse\">\n<texture type=\"bitmap\" name=\"reflectance\">\n<string name=\"filename\" value=\"{}\"/>\n<string name=\"format\" value=\"fp16\"/>\n</texture>\n</bsdf>\n</shape>\n</scene>",
+        scenes().join("textures/tiles_24x16.png").display()
+    ));
+    assert!(e.contains("format `fp16`"), "{e}");
     let e = refusal(&format!("{head}<integrator type=\"path\"/>\n</scene>"));
     assert!(e.contains("integrator `path`"), "{e}");
     let e = refusal(&format!(

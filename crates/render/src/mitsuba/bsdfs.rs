@@ -2,7 +2,7 @@
 //! plugin names and parameter names (see `world::surfaces::material`).
 
 use super::plugin::{Ids, Plugin};
-use super::xml::Element;
+use super::xml::{find_file, Document, Element};
 use crate::error::SceneError;
 use toml::{Table, Value};
 
@@ -11,46 +11,86 @@ pub fn rgb_value(c: [f32; 3]) -> Value {
 }
 
 /// A reflectance parameter: a constant, or a nested/referenced texture.
-fn reflectance(p: &Plugin, name: &str, out: &mut Table, ids: &Ids) -> Result<(), SceneError> {
+fn reflectance(
+    p: &Plugin,
+    name: &str,
+    out: &mut Table,
+    ids: &Ids,
+    doc: &Document,
+) -> Result<(), SceneError> {
     if let Some(c) = p.rgb(name)? {
         out.insert(name.into(), rgb_value(c));
     } else if let Some(t) = p.object("texture", name)? {
-        out.insert(name.into(), Value::Table(texture(t, ids)?));
+        out.insert(name.into(), Value::Table(texture(t, ids, doc)?));
     }
     Ok(())
 }
 
-fn texture(e: &Element, ids: &Ids) -> Result<Table, SceneError> {
+/// `to_uv` as a `{ scale, translate }` table (2-D scale and translation).
+fn to_uv(p: &Plugin, t: &mut Table) -> Result<(), SceneError> {
+    if let Some(m) = p.transform("to_uv")? {
+        let c = m.to_cols_array_2d();
+        // A 2-D scale and translation: columns 0, 1 and 3.
+        if c[0][1] != 0.0 || c[1][0] != 0.0 {
+            return Err(p.error("to_uv: only scale and translate are supported"));
+        }
+        let mut uv = Table::new();
+        uv.insert(
+            "scale".into(),
+            Value::Array(vec![c[0][0].into(), c[1][1].into()]),
+        );
+        uv.insert(
+            "translate".into(),
+            Value::Array(vec![c[3][0].into(), c[3][1].into()]),
+        );
+        t.insert("to_uv".into(), Value::Table(uv));
+    }
+    Ok(())
+}
+
+fn texture(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError> {
     let p = Plugin::new(e, ids)?;
     let mut t = Table::new();
+    t.insert("type".into(), p.ty.into());
     match p.ty {
         "checkerboard" => {
-            t.insert("type".into(), "checkerboard".into());
             for k in ["color0", "color1"] {
                 if let Some(c) = p.rgb(k)? {
                     t.insert(k.into(), rgb_value(c));
                 }
             }
-            if let Some(m) = p.transform("to_uv")? {
-                let c = m.to_cols_array_2d();
-                // A 2-D scale and translation: columns 0, 1 and 3.
-                if c[0][1] != 0.0 || c[1][0] != 0.0 {
-                    return Err(p.error("to_uv: only scale and translate are supported"));
-                }
-                let mut uv = Table::new();
-                uv.insert(
-                    "scale".into(),
-                    Value::Array(vec![c[0][0].into(), c[1][1].into()]),
-                );
-                uv.insert(
-                    "translate".into(),
-                    Value::Array(vec![c[3][0].into(), c[3][1].into()]),
-                );
-                t.insert("to_uv".into(), Value::Table(uv));
-            }
         }
-        other => return Err(p.error(format!("texture `{other}` is not supported (checkerboard)"))),
+        "bitmap" => {
+            let f = p
+                .string("filename")?
+                .ok_or_else(|| p.error("needs `filename`"))?;
+            let path = find_file(&e.file, &doc.paths, f).map_err(|m| p.error(m))?;
+            t.insert("filename".into(), path.display().to_string().into());
+            for k in ["filter_type", "wrap_mode"] {
+                if let Some(v) = p.string(k)? {
+                    t.insert(k.into(), v.into());
+                }
+            }
+            if let Some(b) = p.boolean("raw")? {
+                t.insert("raw".into(), b.into());
+            }
+            // Storage precision: fogbank stores what Mitsuba's "auto" does.
+            if let Some(v) = p.string("format")? {
+                if v != "auto" {
+                    return Err(p.error(format!("format `{v}`: only \"auto\" is supported")));
+                }
+            }
+            // Hardware interpolation exists on Mitsuba's CUDA variants only;
+            // its scalar variants (the references) ignore it, as fogbank does.
+            p.boolean("accel")?;
+        }
+        other => {
+            return Err(p.error(format!(
+                "texture `{other}` is not supported (checkerboard, bitmap)"
+            )))
+        }
     }
+    to_uv(&p, &mut t)?;
     p.finish()?;
     Ok(t)
 }
@@ -95,12 +135,12 @@ fn unit_only(p: &Plugin, name: &str) -> Result<(), SceneError> {
     }
 }
 
-pub fn bsdf(e: &Element, ids: &Ids) -> Result<Table, SceneError> {
+pub fn bsdf(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError> {
     let p = Plugin::new(e, ids)?;
     let mut t = Table::new();
     t.insert("type".into(), p.ty.into());
     match p.ty {
-        "diffuse" => reflectance(&p, "reflectance", &mut t, ids)?,
+        "diffuse" => reflectance(&p, "reflectance", &mut t, ids, doc)?,
         "conductor" | "roughconductor" => {
             if let Some(m) = p.string("material")? {
                 if m != "none" {
@@ -114,7 +154,7 @@ pub fn bsdf(e: &Element, ids: &Ids) -> Result<Table, SceneError> {
                     t.insert(k.into(), rgb_value(c));
                 }
             }
-            reflectance(&p, "specular_reflectance", &mut t, ids)?;
+            reflectance(&p, "specular_reflectance", &mut t, ids, doc)?;
             if p.ty == "roughconductor" {
                 rough(&p, &mut t)?;
             }
@@ -132,8 +172,8 @@ pub fn bsdf(e: &Element, ids: &Ids) -> Result<Table, SceneError> {
             if p.ty == "roughplastic" {
                 rough(&p, &mut t)?;
             }
-            reflectance(&p, "diffuse_reflectance", &mut t, ids)?;
-            reflectance(&p, "specular_reflectance", &mut t, ids)?;
+            reflectance(&p, "diffuse_reflectance", &mut t, ids, doc)?;
+            reflectance(&p, "specular_reflectance", &mut t, ids, doc)?;
             ior(&p, "int_ior", &mut t)?;
             ior(&p, "ext_ior", &mut t)?;
             if let Some(b) = p.boolean("nonlinear")? {
@@ -145,11 +185,11 @@ pub fn bsdf(e: &Element, ids: &Ids) -> Result<Table, SceneError> {
             let sides = p.objects("bsdf")?;
             match sides.as_slice() {
                 [one] => {
-                    t.insert("bsdf".into(), Value::Table(bsdf(one, ids)?));
+                    t.insert("bsdf".into(), Value::Table(bsdf(one, ids, doc)?));
                 }
                 [front, back] => {
-                    t.insert("front".into(), Value::Table(bsdf(front, ids)?));
-                    t.insert("back".into(), Value::Table(bsdf(back, ids)?));
+                    t.insert("front".into(), Value::Table(bsdf(front, ids, doc)?));
+                    t.insert("back".into(), Value::Table(bsdf(back, ids, doc)?));
                 }
                 _ => return Err(p.error("twosided takes one or two nested BSDFs")),
             }

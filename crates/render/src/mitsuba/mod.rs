@@ -11,7 +11,7 @@
 //! `use_grid_bbox`) or `constvolume`, `phase` isotropic and hg; `rgb` and
 //! constant `spectrum` values; shapes obj, ply, rectangle, cube, sphere,
 //! disk (the last two tessellated); the BSDFs of
-//! `world::surfaces::material`; `checkerboard` textures; emitters area,
+//! `world::surfaces::material`; `checkerboard` and `bitmap` textures; emitters area,
 //! constant, envmap, point, directional, spot.
 //!
 //! Anything else is refused with its file, line, tag and plugin name, and

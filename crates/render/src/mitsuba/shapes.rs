@@ -75,7 +75,7 @@ pub fn shape<'a>(
     }
     t.insert("to_world".into(), Value::Table(matrix_table(m)));
     if let Some(b) = p.object("bsdf", "")? {
-        t.insert("bsdf".into(), Value::Table(bsdf(b, ids)?));
+        t.insert("bsdf".into(), Value::Table(bsdf(b, ids, doc)?));
     }
     if let Some(em) = p.object("emitter", "")? {
         t.insert("emitter".into(), Value::Table(area(em, ids)?));

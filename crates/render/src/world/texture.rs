@@ -1,10 +1,13 @@
-//! Textures of surface parameters, as Mitsuba 3's: constants and the
-//! `checkerboard` (to come: `bitmap`). `to_uv` maps the surface's texture
-//! coordinates first (Mitsuba's `to_uv`, an affine map of the plane).
+//! Textures of surface parameters, as Mitsuba 3's: constants, the
+//! `checkerboard` and the `bitmap` (`world::bitmap`). `to_uv` maps the
+//! surface's texture coordinates first (Mitsuba's `to_uv`, an affine map of
+//! the plane).
 
+use super::bitmap::Bitmap;
 use glam::{Affine2, Vec2, Vec3};
+use std::sync::Arc;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Texture {
     Constant(Vec3),
     /// Mitsuba's defaults: `color0` 0.4, `color1` 0.2, identity `to_uv`.
@@ -13,22 +16,26 @@ pub enum Texture {
         color1: Vec3,
         to_uv: Affine2,
     },
+    /// An image file (shared: one load however many shapes use it).
+    Bitmap(Arc<Bitmap>),
 }
 
 impl Texture {
     /// Every kind's name, in the order of its id on the GPU (`TEXTURE_*`).
-    pub const NAMES: [&'static str; 2] = ["constant", "checkerboard"];
+    pub const NAMES: [&'static str; 3] = ["constant", "checkerboard", "bitmap"];
 
     pub fn name(&self) -> &'static str {
         match self {
             Texture::Constant(_) => "constant",
             Texture::Checkerboard { .. } => "checkerboard",
+            Texture::Bitmap(_) => "bitmap",
         }
     }
 
     pub fn eval(&self, uv: Vec2) -> Vec3 {
         match *self {
             Texture::Constant(c) => c,
+            Texture::Bitmap(ref b) => b.eval(uv),
             Texture::Checkerboard {
                 color0,
                 color1,
@@ -50,10 +57,11 @@ impl Texture {
     }
 
     /// The texture's mean over [0, 1)² (Mitsuba's `mean`, used for sampling
-    /// weights such as the plastic's).
+    /// weights such as the plastic's; a bitmap's is its mean texel).
     pub fn mean(&self) -> Vec3 {
         match *self {
             Texture::Constant(c) => c,
+            Texture::Bitmap(ref b) => b.mean(),
             Texture::Checkerboard { color0, color1, .. } => 0.5 * (color0 + color1),
         }
     }

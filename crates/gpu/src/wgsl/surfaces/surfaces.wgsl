@@ -160,7 +160,8 @@ fn shape_is_null(shape: u32) -> bool {
 }
 
 // Texture::eval of a side record's texture at uv (checkerboard: color0
-// where both coordinates are in the same half of their period).
+// where both coordinates are in the same half of their period; bitmap:
+// bitmap.wgsl).
 fn side_texture(base: u32, uv_in: vec2<f32>, fallback: vec3<f32>) -> vec3<f32> {
     let kind = surface_word(base, 3u) >> 8u;
     if (kind == TEXTURE_CONSTANT) {
@@ -170,6 +171,9 @@ fn side_texture(base: u32, uv_in: vec2<f32>, fallback: vec3<f32>) -> vec3<f32> {
     let c1 = surface_data[base + 5u];
     let m = surface_data[base + 6u];
     let uv = vec2<f32>(m.x * uv_in.x + m.z * uv_in.y + c0.w, m.y * uv_in.x + m.w * uv_in.y + c1.w);
+    if (kind == TEXTURE_BITMAP) {
+        return bitmap_eval(bitcast<vec3<u32>>(c0.xyz), bitcast<u32>(c1.x), uv);
+    }
     let f = uv - floor(uv);
     return select(c1.xyz, c0.xyz, (f.x > 0.5) == (f.y > 0.5));
 }

@@ -16,17 +16,23 @@
 //! | `twosided` | `bsdf` (one table for both sides) or `front` and `back` |
 //!
 //! A reflectance is a grey number, an RGB triple or a texture table
-//! (`{ type = "checkerboard", color0 = 0.4, color1 = 0.2, to_uv = { scale = [4, 4] } }`).
+//! (`{ type = "checkerboard", color0 = 0.4, color1 = 0.2, to_uv = { scale = [4, 4] } }`,
+//! `{ type = "bitmap", filename = "wood.png", filter_type = "bilinear",
+//! wrap_mode = "repeat", raw = false, to_uv = … }`, the file relative to the
+//! scene file; see `world::bitmap`).
 //! IORs are numbers or the names of Mitsuba's table ([`super::ior::IOR_TABLE`]). The
 //! rough models use GGX with visible-normal sampling (Mitsuba's default
 //! distribution is Beckmann; fogbank has GGX only).
 
 use super::ior::{ior, IorDesc};
 use crate::error::SceneError;
+use crate::world::bitmap::{Bitmap, BitmapFilter, WrapMode};
 use crate::world::bsdf::{Bsdf, BsdfSample, Plastic, RoughPlastic, TwoSided};
 use crate::world::texture::Texture;
 use glam::{Affine2, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
+use std::path::Path;
+use std::sync::Arc;
 
 /// A reflectance: grey, RGB, or a texture.
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
@@ -57,6 +63,32 @@ pub enum TextureDesc {
         #[serde(default)]
         to_uv: UvTransformDesc,
     },
+    /// Mitsuba's `bitmap` (`world::bitmap`).
+    Bitmap {
+        filename: String,
+        #[serde(default = "bilinear")]
+        filter_type: String,
+        #[serde(default = "repeat")]
+        wrap_mode: String,
+        #[serde(default)]
+        raw: bool,
+        #[serde(default)]
+        to_uv: UvTransformDesc,
+    },
+}
+
+fn bilinear() -> String {
+    "bilinear".into()
+}
+fn repeat() -> String {
+    "repeat".into()
+}
+
+impl UvTransformDesc {
+    fn affine(&self) -> Affine2 {
+        Affine2::from_translation(Vec2::from(self.translate.unwrap_or([0.0; 2])))
+            * Affine2::from_scale(Vec2::from(self.scale.unwrap_or([1.0; 2])))
+    }
 }
 
 fn checker0() -> [f32; 3] {
@@ -67,7 +99,8 @@ fn checker1() -> [f32; 3] {
 }
 
 impl SpectrumDesc {
-    fn texture(&self, key: &str) -> Result<Texture, SceneError> {
+    /// The texture; `base` is the folder that file names are relative to.
+    fn texture(&self, key: &str, base: &Path) -> Result<Texture, SceneError> {
         let check = |c: [f32; 3]| {
             if c.iter().all(|v| v.is_finite() && *v >= 0.0) {
                 Ok(Vec3::from(c))
@@ -87,9 +120,21 @@ impl SpectrumDesc {
             }) => Texture::Checkerboard {
                 color0: check(*color0)?,
                 color1: check(*color1)?,
-                to_uv: Affine2::from_translation(Vec2::from(to_uv.translate.unwrap_or([0.0; 2])))
-                    * Affine2::from_scale(Vec2::from(to_uv.scale.unwrap_or([1.0; 2]))),
+                to_uv: to_uv.affine(),
             },
+            SpectrumDesc::Texture(TextureDesc::Bitmap {
+                filename,
+                filter_type,
+                wrap_mode,
+                raw,
+                to_uv,
+            }) => Texture::Bitmap(Arc::new(Bitmap::load(
+                &base.join(filename),
+                *raw,
+                BitmapFilter::parse(filter_type, key)?,
+                WrapMode::parse(wrap_mode, key)?,
+                to_uv.affine(),
+            )?)),
         })
     }
 }
@@ -215,7 +260,7 @@ impl Default for BsdfDesc {
 
 /// One side's BSDF and the texture that replaces its reflectance (diffuse
 /// reflectance, plastic base, conductor tint) at each hit.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Side {
     pub bsdf: Bsdf,
     pub texture: Option<Texture>,
@@ -223,7 +268,7 @@ pub struct Side {
 
 impl Side {
     fn at(&self, uv: Vec2) -> Bsdf {
-        let Some(t) = self.texture else {
+        let Some(t) = &self.texture else {
             return self.bsdf;
         };
         let c = t.eval(uv);
@@ -244,7 +289,7 @@ impl Side {
 
 /// A shape's material: one side, or Mitsuba's `twosided` (the back side
 /// seen in the mirrored frame).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     pub front: Side,
     pub back: Option<Side>,
@@ -295,13 +340,14 @@ impl Material {
         self.front.bsdf.null_transmission(1.0).is_some()
             && self
                 .back
+                .as_ref()
                 .is_none_or(|b| b.bsdf.null_transmission(1.0).is_some())
     }
 
     /// The fraction of light passing straight through at cosine `cos` with
     /// the shading normal (the side's [`Bsdf::null_transmission`]).
     pub fn null_transmission(&self, cos: f32) -> Option<f32> {
-        match self.back {
+        match &self.back {
             Some(b) if cos < 0.0 => b.bsdf.null_transmission(cos),
             _ => self.front.bsdf.null_transmission(cos),
         }
@@ -309,7 +355,7 @@ impl Material {
 
     /// The BSDF at a hit with texture coordinates `uv`.
     pub fn at(&self, uv: Vec2) -> SurfaceBsdf {
-        match self.back {
+        match &self.back {
             None => SurfaceBsdf::One(self.front.at(uv)),
             Some(back) => SurfaceBsdf::Two(TwoSided {
                 front: self.front.at(uv),
@@ -320,8 +366,9 @@ impl Material {
 }
 
 impl BsdfDesc {
-    /// The material; `key` names the table in messages (`shapes.2.bsdf`).
-    pub fn build(&self, key: &str) -> Result<Material, SceneError> {
+    /// The material; `key` names the table in messages (`shapes.2.bsdf`),
+    /// `base` is the folder that texture files are relative to.
+    pub fn build(&self, key: &str, base: &Path) -> Result<Material, SceneError> {
         if let BsdfDesc::Twosided { bsdf, front, back } = self {
             let (f, b) = match (bsdf, front, back) {
                 (Some(x), None, None) => (x, x),
@@ -336,7 +383,7 @@ impl BsdfDesc {
                 if matches!(d, BsdfDesc::Twosided { .. }) {
                     return Err(SceneError(format!("{k}: twosided inside twosided")));
                 }
-                Ok(d.build(k)?.front)
+                Ok(d.build(k, base)?.front)
             };
             return Ok(Material {
                 front: side(f, &format!("{key}.front"))?,
@@ -344,12 +391,12 @@ impl BsdfDesc {
             });
         }
         Ok(Material {
-            front: self.side(key)?,
+            front: self.side(key, base)?,
             back: None,
         })
     }
 
-    fn side(&self, key: &str) -> Result<Side, SceneError> {
+    fn side(&self, key: &str, base: &Path) -> Result<Side, SceneError> {
         let k = |name: &str| format!("{key}.{name}");
         let eta_of = |int: &IorDesc, ext: &IorDesc| -> Result<f32, SceneError> {
             Ok(int.value(&k("int_ior"))? / ext.value(&k("ext_ior"))?)
@@ -361,8 +408,11 @@ impl BsdfDesc {
                 Err(SceneError(format!("{}: {a} is not ≥ 0", k("alpha"))))
             }
         };
-        let textured = |bsdf: Bsdf, s: &SpectrumDesc, name: &str| -> Result<Side, SceneError> {
-            Ok(match s.texture(&k(name))? {
+        // The BSDF holds the texture's mean (for sampling weights); the
+        // side looks the texture itself up at each hit.
+        let texture = |s: &SpectrumDesc, name: &str| s.texture(&k(name), base);
+        let textured = |bsdf: Bsdf, t: Texture| -> Result<Side, SceneError> {
+            Ok(match t {
                 Texture::Constant(_) => Side {
                     bsdf,
                     texture: None,
@@ -374,16 +424,18 @@ impl BsdfDesc {
             })
         };
         let constant = |s: &SpectrumDesc, name: &str| -> Result<Vec3, SceneError> {
-            Ok(s.texture(&k(name))?.mean())
+            Ok(texture(s, name)?.mean())
         };
         match self {
-            BsdfDesc::Diffuse { reflectance } => textured(
-                Bsdf::Diffuse {
-                    reflectance: constant(reflectance, "reflectance")?,
-                },
-                reflectance,
-                "reflectance",
-            ),
+            BsdfDesc::Diffuse { reflectance } => {
+                let t = texture(reflectance, "reflectance")?;
+                textured(
+                    Bsdf::Diffuse {
+                        reflectance: t.mean(),
+                    },
+                    t,
+                )
+            }
             BsdfDesc::Conductor {
                 eta,
                 k: kk,
@@ -399,13 +451,14 @@ impl BsdfDesc {
                     BsdfDesc::Roughconductor { alpha, .. } => alpha_ok(*alpha)?,
                     _ => 0.0,
                 };
+                let t = texture(s, "specular_reflectance")?;
                 let bsdf = Bsdf::Conductor {
                     eta: Vec3::from(*eta),
                     k: Vec3::from(*kk),
                     alpha,
-                    specular: constant(s, "specular_reflectance")?,
+                    specular: t.mean(),
                 };
-                textured(bsdf, s, "specular_reflectance")
+                textured(bsdf, t)
             }
             BsdfDesc::Dielectric { int_ior, ext_ior } => Ok(Side {
                 bsdf: Bsdf::Dielectric {
@@ -438,19 +491,20 @@ impl BsdfDesc {
                 ext_ior,
                 nonlinear,
             } => {
-                let bsdf = Bsdf::Plastic(Plastic {
-                    diffuse: constant(diffuse_reflectance, "diffuse_reflectance")?,
-                    specular: constant(specular_reflectance, "specular_reflectance")?,
-                    eta: eta_of(int_ior, ext_ior)?,
-                    nonlinear: *nonlinear,
-                });
                 if let SpectrumDesc::Texture(_) = specular_reflectance {
                     return Err(SceneError(format!(
                         "{}: a texture is not supported here (only for diffuse_reflectance)",
                         k("specular_reflectance")
                     )));
                 }
-                textured(bsdf, diffuse_reflectance, "diffuse_reflectance")
+                let t = texture(diffuse_reflectance, "diffuse_reflectance")?;
+                let bsdf = Bsdf::Plastic(Plastic {
+                    diffuse: t.mean(),
+                    specular: constant(specular_reflectance, "specular_reflectance")?,
+                    eta: eta_of(int_ior, ext_ior)?,
+                    nonlinear: *nonlinear,
+                });
+                textured(bsdf, t)
             }
             BsdfDesc::Roughplastic {
                 alpha,
@@ -466,20 +520,21 @@ impl BsdfDesc {
                         k("specular_reflectance")
                     )));
                 }
+                let t = texture(diffuse_reflectance, "diffuse_reflectance")?;
                 let bsdf = Bsdf::RoughPlastic(RoughPlastic::new(
-                    constant(diffuse_reflectance, "diffuse_reflectance")?,
+                    t.mean(),
                     constant(specular_reflectance, "specular_reflectance")?,
                     eta_of(int_ior, ext_ior)?,
                     alpha_ok(*alpha)?.max(1e-4),
                     *nonlinear,
                 ));
-                textured(bsdf, diffuse_reflectance, "diffuse_reflectance")
+                textured(bsdf, t)
             }
             BsdfDesc::Null => Ok(Side {
                 bsdf: Bsdf::Null,
                 texture: None,
             }),
-            BsdfDesc::Twosided { .. } => Ok(self.build(key)?.front),
+            BsdfDesc::Twosided { .. } => Ok(self.build(key, base)?.front),
         }
     }
 }
@@ -490,7 +545,7 @@ mod material_test {
 
     fn parse(s: &str) -> Result<Material, SceneError> {
         let d: BsdfDesc = toml::from_str(s).map_err(|e| SceneError(e.to_string()))?;
-        d.build("shapes.0.bsdf")
+        d.build("shapes.0.bsdf", Path::new("."))
     }
 
     #[test]
@@ -544,5 +599,36 @@ mod material_test {
         assert!(parse(r#"type = "null""#).unwrap().is_null());
         let e = parse("type = \"diffuse\"\nreflectance = [0.5, -1, 0]").unwrap_err();
         assert!(e.0.contains("shapes.0.bsdf.reflectance"), "{e}");
+    }
+
+    #[test]
+    fn bitmap_files_and_options_are_checked() {
+        let e = parse(
+            r#"type = "diffuse"
+               reflectance = { type = "bitmap", filename = "no_such_texture.png" }"#,
+        )
+        .unwrap_err();
+        assert!(e.0.contains("no_such_texture.png"), "{e:?}");
+        let dir = std::env::temp_dir().join(format!("fogbank_material_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        image::RgbImage::new(2, 2).save(dir.join("t.png")).unwrap();
+        let d: BsdfDesc = toml::from_str(
+            r#"type = "diffuse"
+               reflectance = { type = "bitmap", filename = "t.png", filter_type = "cubic" }"#,
+        )
+        .unwrap();
+        let e = d.build("shapes.0.bsdf", &dir).unwrap_err();
+        assert!(
+            e.0.contains("shapes.0.bsdf.reflectance") && e.0.contains("cubic"),
+            "{e:?}"
+        );
+        let d: BsdfDesc = toml::from_str(
+            r#"type = "diffuse"
+               reflectance = { type = "bitmap", filename = "t.png", wrap_mode = "mirror" }"#,
+        )
+        .unwrap();
+        let m = d.build("shapes.0.bsdf", &dir).unwrap();
+        assert!(matches!(m.front.texture, Some(Texture::Bitmap(_))));
+        std::fs::remove_dir_all(&dir).ok();
     }
 }

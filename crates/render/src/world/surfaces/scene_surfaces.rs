@@ -115,7 +115,7 @@ impl Surfaces {
         let (mut normals, mut uvs) = (Vec::new(), Vec::new());
         for (i, d) in descs.iter().enumerate() {
             let mesh = d.mesh(i, base)?;
-            let material = d.bsdf().build(&format!("shapes.{i}.bsdf"))?;
+            let material = d.bsdf().build(&format!("shapes.{i}.bsdf"), base)?;
             let emission = d.emitter.as_ref().map(|e| Vec3::from(e.radiance));
             if emission.is_some() && material.is_null() {
                 return Err(SceneError(format!(
