@@ -432,7 +432,7 @@ fn frames_render_a_sequence_and_stop_at_a_missing_frame() {
     );
 }
 
-/// What the GPU backend does not render yet — chromatic extinction, and
+/// What the GPU backend does not render yet — chromatic extinction and
 /// surfaces outside `volpath` and `direct` — it refuses with a message
 /// pointing to the CPU.
 #[test]
@@ -444,7 +444,10 @@ fn gpu_refuses_chromatic_media_and_shapes_outside_volpath_naming_the_cpu() {
     let scene = dir.join("s.toml");
     let media = "[camera]\nwidth = 8\nheight = 8\n[[media]]\ndensity = { procedural = \"constant\", resolution = 2 }\n";
     for (extra, needle) in [
-        ("sigma_t_scale = [1, 2, 3]\n", "chromatic"),
+        (
+            "sigma_t_scale = [1, 2, 3]\n[integrator]\ntype = \"transmittance\"\n",
+            "chromatic",
+        ),
         (
             "[[shapes]]\ntype = \"cube\"\n[integrator]\ntype = \"transmittance\"\n",
             "[[shapes]]",

@@ -55,6 +55,12 @@ impl Kernel {
             IntegratorKind::Direct(_) | IntegratorKind::VolPath(_)
         ) {
             crate::surfaces::refuse_surfaces(scene, scene.integrator.name())?;
+            if let Some(i) = scene.media.iter().position(|m| m.chroma.is_some()) {
+                return Err(GpuError(format!(
+                    "media.{i}: the GPU backend renders chromatic extinction (sigma_t_scale = [r, g, b]) with volpath and direct only, not {}: render it with --device cpu",
+                    scene.integrator.name()
+                )));
+            }
         }
         let surfaces = if scene.world.surfaces.is_some() {
             crate::contract::INTEGRATOR_SURFACES

@@ -62,7 +62,7 @@ impl LightBuffers {
     pub fn upload(
         gpu: &Gpu,
         scene: &Scene,
-        properties: &[[u32; 3]],
+        properties: &[[u32; 5]],
     ) -> Result<LightBuffers, GpuError> {
         // `ament` marches to every light and picks none: any sampler does.
         let unpicked;
@@ -209,7 +209,8 @@ impl LightBuffers {
             .collect();
         // Per medium three vec4s: (albedo grid first + 1, its channels,
         // emission kind, emission grid first + 1) as small exact floats,
-        // (radiance, temperature scale), (temperature offset, 0, 0, 0).
+        // (radiance, temperature scale), (temperature offset, chromatic
+        // channels' first record + 1, 1 when their k varies, 0).
         // Emission kind: 0 none, 1 colour, 2 blackbody.
         let mut ext: Vec<[f32; 4]> = Vec::new();
         for (m, prop) in scene.media.iter().zip(properties) {
@@ -227,7 +228,7 @@ impl LightBuffers {
             };
             ext.push([prop[0] as f32, prop[1] as f32, kind, prop[2] as f32]);
             ext.push(v4(radiance, scale));
-            ext.push([offset, 0.0, 0.0, 0.0]);
+            ext.push([offset, prop[3] as f32, prop[4] as f32, 0.0]);
         }
         let (bb_min, bb_step, bb) = fogbank_render::world::blackbody::blackbody_table();
         let mut table: Vec<[f32; 4]> = vec![[bb_min, bb_step, bb.len() as f32, 0.0]];

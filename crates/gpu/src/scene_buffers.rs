@@ -39,8 +39,10 @@ pub struct SceneBuffers {
     /// (albedo, emission, temperature), which reuse the grid fetch code.
     pub media: Vec<MediumGpu>,
     /// Per scene medium: (first record + 1 of its albedo grid or 0, its
-    /// channels, first record + 1 of its emission/temperature grid or 0).
-    pub properties: Vec<[u32; 3]>,
+    /// channels, first record + 1 of its emission/temperature grid or 0,
+    /// first record + 1 of its chromatic channels' media or 0, 1 when their
+    /// ratios k vary in space).
+    pub properties: Vec<[u32; 5]>,
     pub bind_group_layout: wgpu::BindGroupLayout,
     pub bind_group: wgpu::BindGroup,
     /// Bytes uploaded (for stats).
@@ -58,9 +60,10 @@ struct Packed {
     data: Vec<u32>,
     supervoxels: Vec<[f32; 4]>,
     /// Grids already packed, by the address of their shared voxel data
-    /// (instances of one medium), with their super-voxels' offset: copies
-    /// are uploaded once.
-    packed: Vec<(usize, PackedData, u32)>,
+    /// (instances of one medium, chromatic channels), with the scale and
+    /// offset of their super-voxels: copies are uploaded once, and
+    /// super-voxels (in σ_t units) once per scale.
+    packed: Vec<(usize, PackedData, f32, u32)>,
 }
 
 fn pack_grid<T: Voxel>(
@@ -106,11 +109,6 @@ impl SceneBuffers {
         extra: &[&Medium],
         fields: &[&fogbank_render::world::field::Field],
     ) -> Result<SceneBuffers, GpuError> {
-        if let Some(i) = scene.media.iter().position(|m| m.chroma.is_some()) {
-            return Err(GpuError(format!(
-                "media.{i}: the GPU backend does not render chromatic extinction (sigma_t_scale = [r, g, b]) yet: render it with --device cpu"
-            )));
-        }
         let mut p = Packed::default();
         let mut media = Vec::new();
         for (i, sm) in scene.media.iter().enumerate() {
@@ -141,7 +139,20 @@ impl SceneBuffers {
                 Some(Emission::Blackbody { temperature, .. }) => push(temperature)?,
                 _ => 0,
             };
-            properties.push([albedo.0, albedo.1, emission]);
+            // Chromatic extinction: each channel's medium (Chroma::channels).
+            let chroma = match &sm.chroma {
+                Some(c) => {
+                    let first = media.len() as u32 + 1;
+                    for (k, cm) in c.channels.iter().enumerate() {
+                        media.push(pack_medium(cm, scene.camera.origin, &mut p).map_err(|e| {
+                            GpuError(format!("media.{i} ({}) channel {k}: {}", sm.source, e.0))
+                        })?);
+                    }
+                    (first, c.varying() as u32)
+                }
+                None => (0, 0),
+            };
+            properties.push([albedo.0, albedo.1, emission, chroma.0, chroma.1]);
         }
         let extra_first = media.len() as u32;
         for (i, m) in extra.iter().enumerate() {
@@ -250,20 +261,26 @@ fn data_address(d: &DensityData) -> Option<usize> {
 
 fn pack_medium(m: &Medium, camera: glam::Vec3, p: &mut Packed) -> Result<MediumGpu, GpuError> {
     let address = data_address(&m.data);
-    // Instances share data, scale and super-voxel statistics.
-    let seen = p
+    // Instances share data, scale and super-voxel statistics; chromatic
+    // channels share data only.
+    let scale = m.sigma_t_scale;
+    let seen = p.packed.iter().find(|e| Some(e.0) == address);
+    let same_scale = p
         .packed
         .iter()
-        .find(|(a, _, _)| Some(*a) == address)
-        .map(|&(_, d, sv)| (d, sv));
-    let ((offsets, precision, dims), sv_offset) = match seen {
-        Some(x) => x,
+        .find(|e| Some(e.0) == address && e.2 == scale)
+        .map(|e| e.3);
+    let (offsets, precision, dims) = match seen {
+        Some(e) => e.1,
+        None => pack_data(
+            &m.data,
+            p,
+            "analytic media other than constant are CPU-only; use a voxel grid (cloud, vdb, vol, raw)",
+        )?,
+    };
+    let sv_offset = match same_scale {
+        Some(sv) => sv,
         None => {
-            let packed = pack_data(
-                &m.data,
-                p,
-                "analytic media other than constant are CPU-only; use a voxel grid (cloud, vdb, vol, raw)",
-            )?;
             let sv_offset = p.supervoxels.len() as u32;
             p.supervoxels.extend(
                 m.supervoxels
@@ -272,9 +289,10 @@ fn pack_medium(m: &Medium, camera: glam::Vec3, p: &mut Packed) -> Result<MediumG
                     .map(|c| [c.min, c.max, c.mean, c.importance]),
             );
             if let Some(a) = address {
-                p.packed.push((a, packed, sv_offset));
+                p.packed
+                    .push((a, (offsets, precision, dims), scale, sv_offset));
             }
-            (packed, sv_offset)
+            sv_offset
         }
     };
     let a = m.world_to_index;

@@ -11,7 +11,7 @@ use fogbank_gpu::{render as gpu_render, test_gpu};
 use fogbank_render::{load_scene, Progress, RenderOptions, Scene};
 
 mod common;
-use common::assert_gpu_matches_cpu;
+use common::{assert_gpu_image_matches_cpu, assert_gpu_matches_cpu};
 
 #[path = "../../render/tests/support/mitsuba_agreement.rs"]
 mod mitsuba_agreement;
@@ -60,7 +60,17 @@ fn dielectrics_and_textured_plastics_match_the_cpu() {
     matches_cpu("bitmap_textures", 48);
 }
 
-const SCENES: [&str; 9] = [
+/// Chromatic extinction, homogeneous and gridded (constant k, ratio
+/// tracking NEE): the GPU estimates each channel's transmittance with its
+/// own walk where the CPU shares one (`fogbank_estimators::scaled`), so the
+/// images agree and the lookups do not.
+#[test]
+fn chromatic_media_match_the_cpu() {
+    let Some(gpu) = test_gpu() else { return };
+    assert_gpu_image_matches_cpu(&gpu, &scene("chromatic"), 192, 1e-4, "chromatic");
+}
+
+const SCENES: [&str; 10] = [
     "null_mesh_medium",
     "thin_area",
     "light_in_medium",
@@ -70,6 +80,7 @@ const SCENES: [&str; 9] = [
     "fog_emitters",
     "spot_fog",
     "bitmap_textures",
+    "chromatic",
 ];
 
 #[test]

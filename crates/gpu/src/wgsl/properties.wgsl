@@ -102,3 +102,50 @@ fn emitted(mi: u32, p: vec3<f32>, albedo: vec3<f32>) -> vec3<f32> {
     }
     return (vec3<f32>(1.0) - albedo) * le;
 }
+
+// Chromatic extinction (world/chroma.rs): the record + 1 of medium mi's
+// first channel medium (0: achromatic), from medium_ext's third row.
+fn chroma_first(mi: u32) -> u32 {
+    return u32(medium_ext(3u * mi + 2u).y);
+}
+
+// Whether the channels' k varies in space (per-channel grids).
+fn chroma_varying(mi: u32) -> bool {
+    return medium_ext(3u * mi + 2u).z != 0.0;
+}
+
+// Chroma::k of constant ratios: each channel's scale over the tracked one's.
+fn chroma_k(mi: u32, first: u32) -> vec3<f32> {
+    return vec3<f32>(media[first - 1u].scale, media[first].scale, media[first + 1u].scale)
+        / media[mi].scale;
+}
+
+// Medium::sigma_t_smooth at index point q: trilinear, 0 outside [0, dims].
+fn sigma_t_smooth(m: MediumGpu, q: vec3<f32>) -> f32 {
+    if (any(q < vec3<f32>(0.0)) || any(q > vec3<f32>(m.dims))) {
+        return 0.0;
+    }
+    return m.scale * classify(m, trilinear(m, q));
+}
+
+// Chroma::k_at: each channel's extinction over the tracked channel's at a
+// collision at world point p (constant: the ratio of their scales).
+fn chroma_k_at(mi: u32, first: u32, p: vec3<f32>, lookups: ptr<function, u32>) -> vec3<f32> {
+    if (!chroma_varying(mi)) {
+        return chroma_k(mi, first);
+    }
+    let m = media[mi];
+    let r = media[first - 1u];
+    let g = media[first];
+    let b = media[first + 1u];
+    let o = vec4<f32>(p, 1.0);
+    let q = vec3<f32>(dot(m.w2i0, o), dot(m.w2i1, o), dot(m.w2i2, o));
+    *lookups += 4u;
+    let tracked = sigma_t_smooth(m, q);
+    if (!(tracked > 0.0)) {
+        return vec3<f32>(0.0);
+    }
+    // ≤ 1 but for rounding: the tracked grid bounds each channel's.
+    let k = vec3<f32>(sigma_t_smooth(r, q), sigma_t_smooth(g, q), sigma_t_smooth(b, q)) / tracked;
+    return min(k, vec3<f32>(1.0));
+}

@@ -81,21 +81,45 @@ fn next_collision(world: Ray, depth: u32, from_camera: bool, t_end: f32, current
     return hit;
 }
 
-// free_flight::media_transmittance for NEE at scattering vertex `vertex`.
+// free_flight::media_transmittance for NEE at scattering vertex `vertex`,
+// per channel: a chromatic medium estimates each channel with its own
+// medium (Chroma::transmittance; channels of equal constant k share one
+// estimate). One estimator call site, for lavapipe's compile time.
 fn media_shadow(world: Ray, distance: f32, vertex: u32, current: u32,
-                rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+                rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> vec3<f32> {
     let kind = shadow_kind(vertex);
-    var tr = 1.0;
+    var tr = vec3<f32>(1.0);
     for (var i = 0u; i < frame.media_count; i++) {
         if (!medium_active(i, current)) {
             continue;
         }
-        let m = media[i];
-        var r: Ray;
-        let range = to_index(m, world, distance, &r);
-        if (range.z != 0.0) {
-            tr *= tracked_transmittance(kind, i, m, r, range.x, range.y, rng, lookups);
+        let first = chroma_first(i);
+        let k_varies = first != 0u && chroma_varying(i);
+        var k = vec3<f32>(1.0);
+        if (first != 0u && !k_varies) {
+            k = chroma_k(i, first);
         }
+        var t = vec3<f32>(1.0);
+        for (var c = 0u; c < select(1u, 3u, first != 0u); c++) {
+            var same = c;
+            for (var b = 0u; b < c; b++) {
+                if (same == c && !k_varies && k[b] == k[c]) {
+                    same = b;
+                }
+            }
+            if (same != c) {
+                t[c] = t[same];
+                continue;
+            }
+            let mi = select(i, first - 1u + c, first != 0u);
+            let m = media[mi];
+            var r: Ray;
+            let range = to_index(m, world, distance, &r);
+            if (range.z != 0.0) {
+                t[c] = tracked_transmittance(kind, mi, m, r, range.x, range.y, rng, lookups);
+            }
+        }
+        tr *= select(t, vec3<f32>(t.x), first == 0u);
     }
     return tr;
 }
@@ -125,6 +149,11 @@ const STEP_STOP: u32 = 0u;
 const STEP_SCATTER: u32 = 1u;
 // Straight through an index-matched boundary: not a vertex.
 const STEP_CROSS: u32 = 2u;
+// A null collision of a chromatic medium: not a vertex either.
+const STEP_NULL: u32 = 3u;
+
+// Null collisions of chromatic media one path may take (volpath.rs).
+const MAX_NULL_COLLISIONS: u32 = 16777216u;
 
 // Index-matched boundaries a ray may cross in a row (free_flight.rs).
 const MAX_CROSSINGS: u32 = 1024u;
@@ -180,7 +209,7 @@ fn no_query() -> ShadowQuery {
     return q;
 }
 
-fn query_value(q: ShadowQuery, surface: bool, tr: f32) -> vec3<f32> {
+fn query_value(q: ShadowQuery, surface: bool, tr: vec3<f32>) -> vec3<f32> {
     if (q.den == 0.0) {
         if (q.w < 0.0) {
             return q.le * tr;
@@ -269,8 +298,10 @@ fn roulette(path: ptr<function, Path>, depth: u32, albedo: vec3<f32>,
 
 // The vertex a medium collision at (t, medium) `c` makes, after its
 // emission and albedo (VolPath::medium_vertex's start); invalid (g = 2)
-// when the throughput is gone.
-fn medium_start(path: ptr<function, Path>, c: vec2<f32>) -> Vertex {
+// when the throughput is gone, a null collision (g = 3) when the path
+// passes a chromatic medium's collision.
+fn medium_start(path: ptr<function, Path>, c: vec2<f32>,
+                rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> Vertex {
     let ray = (*path).ray;
     let mi = u32(c.y);
     var v: Vertex;
@@ -279,7 +310,36 @@ fn medium_start(path: ptr<function, Path>, c: vec2<f32>) -> Vertex {
     v.g = shading[mi].w;
     v.p = ray.o + c.x * ray.d;
     v.albedo = albedo_at(mi, v.p);
-    (*path).radiance += (*path).beta * emitted(mi, v.p, v.albedo);
+    let first = chroma_first(mi);
+    if (first != 0u) {
+        // Chroma::event: a collision of the tracked (largest) channel; each
+        // channel scatters, absorbs (emits) or passes with its own
+        // probability, the path picks scatter or pass by the larger weight.
+        let k = chroma_k_at(mi, first, v.p, lookups);
+        (*path).radiance += (*path).beta * (emitted(mi, v.p, v.albedo) * k);
+        let beta = (*path).beta;
+        let scatter = v.albedo * k;
+        let passed = vec3<f32>(1.0) - k;
+        let bs = beta * scatter;
+        let bp = beta * passed;
+        let ws = max(bs.x, max(bs.y, bs.z));
+        let wp = max(bp.x, max(bp.y, bp.z));
+        let u = pcg32_next_f32(rng);
+        if (!(ws + wp > 0.0)) {
+            v.g = 2.0;
+            return v;
+        }
+        let p_scatter = ws / (ws + wp);
+        if (u >= p_scatter) {
+            (*path).beta *= passed / (1.0 - p_scatter);
+            (*path).ray = Ray(v.p, ray.d);
+            v.g = 3.0;
+            return v;
+        }
+        v.albedo = scatter / p_scatter;
+    } else {
+        (*path).radiance += (*path).beta * emitted(mi, v.p, v.albedo);
+    }
     (*path).beta *= v.albedo;
     if (all((*path).beta == vec3<f32>(0.0))) {
         v.g = 2.0;
@@ -404,16 +464,19 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
     path.medium = camera_medium();
     var depth = 0u;
     var crossings = 0u;
+    var nulls = 0u;
     while (depth < frame.max_depth) {
         let hit = intersect_surfaces(path.ray.o, path.ray.d, F32_INF, false);
         let t_end = select(F32_INF, hit.t, hit.valid);
-        let from_camera = depth == 0u && crossings == 0u;
+        let from_camera = depth == 0u && crossings == 0u && nulls == 0u;
         let c = next_collision(path.ray, depth, from_camera, t_end, path.medium, &rng, lookups);
         var step = STEP_CROSS;
         if (c.x >= 0.0) {
-            let v = medium_start(&path, c);
+            let v = medium_start(&path, c, &rng, lookups);
             step = STEP_STOP;
-            if (v.g != 2.0) {
+            if (v.g == 3.0) {
+                step = STEP_NULL;
+            } else if (v.g != 2.0) {
                 step = scatter(&path, v, depth, &rng, lookups);
             }
         } else if (hit.valid) {
@@ -432,6 +495,11 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
         }
         if (step == STEP_SCATTER) {
             depth++;
+        } else if (step == STEP_NULL) {
+            nulls++;
+            if (nulls > MAX_NULL_COLLISIONS) {
+                break;
+            }
         } else {
             crossings++;
             if (crossings > MAX_CROSSINGS) {

@@ -143,6 +143,11 @@ impl Chroma {
         }
     }
 
+    /// Whether k varies in space (per-channel grids, `density_rgb`).
+    pub fn varying(&self) -> bool {
+        self.varying
+    }
+
     /// k when every channel is the tracked density times a constant (an
     /// estimator may then serve all three from one walk), else `None`.
     pub fn shared_scale(&self) -> Option<[f32; 3]> {

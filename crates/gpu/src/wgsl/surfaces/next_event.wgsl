@@ -9,20 +9,20 @@
 // free_flight::shadow_transmittance_in: [0, distance] of `world` from
 // bounded medium `current` (+ 1), for NEE at scattering vertex `vertex`.
 fn shadow(world: Ray, distance: f32, vertex: u32, current: u32,
-          rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
+          rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> vec3<f32> {
     if (!has_surfaces()) {
         return media_shadow(world, distance, vertex, current, rng, lookups);
     }
     if (!shadows_walk()) {
         if (bvh_trace(world.o, world.d, distance, true, true).slot != 0xffffffffu) {
-            return 0.0;
+            return vec3<f32>(0.0);
         }
         return media_shadow(world, distance, vertex, current, rng, lookups);
     }
     var ray = world;
     var left = distance;
     var medium = current;
-    var tr = 1.0;
+    var tr = vec3<f32>(1.0);
     for (var i = 0u; i < MAX_CROSSINGS; i++) {
         let h = intersect_surfaces(ray.o, ray.d, left, false);
         if (!h.valid) {
@@ -30,17 +30,17 @@ fn shadow(world: Ray, distance: f32, vertex: u32, current: u32,
         }
         let passed = material_null_transmission(h, dot(h.ns, ray.d));
         if (passed < 0.0) {
-            return 0.0;
+            return vec3<f32>(0.0);
         }
         tr *= passed * media_shadow(ray, h.t, vertex, medium, rng, lookups);
-        if (tr == 0.0) {
-            return 0.0;
+        if (all(tr == vec3<f32>(0.0))) {
+            return vec3<f32>(0.0);
         }
         medium = target_medium(h, ray.d, medium);
         left -= h.t;
         ray = Ray(spawn_origin(h, ray.d), ray.d);
     }
-    return 0.0;
+    return vec3<f32>(0.0);
 }
 
 // next_event::emitter_weight: the balance heuristic of an emitting
