@@ -24,11 +24,12 @@ const FLAG_UNIFORM_JITTER: u32 = FLAGS[0].1;
 const FLAG_CLIP: u32 = FLAGS[1].1;
 const FLAG_DOUBLED: u32 = FLAGS[2].1;
 /// Bits of `Frame::integrator_flags` (WGSL `INTEGRATOR_*`).
-pub const INTEGRATOR_FLAGS: [(&str, u32); 4] = [
+pub const INTEGRATOR_FLAGS: [(&str, u32); 5] = [
     ("LIGHT_ONLY", 1),
     ("RAY_MARCHING", 2),
     ("UNQUANTISED", 4),
     ("SURFACES", 8),
+    ("TRANSMITTANCE", 16),
 ];
 /// volpath's `restir_baseline` preset: light sampling only (no
 /// phase-sampled escape MIS) and Russian roulette by albedo.
@@ -40,6 +41,9 @@ pub const INTEGRATOR_UNQUANTISED: u32 = INTEGRATOR_FLAGS[2].1;
 /// The scene has shapes: rays meet surfaces (issue 23); without, the
 /// driver compiles the surface code out.
 pub const INTEGRATOR_SURFACES: u32 = INTEGRATOR_FLAGS[3].1;
+/// `transmittance` with surfaces or chromatic media: the scatter kernel's
+/// shadow walk along the camera ray (transmittance.rs `sample`).
+pub const INTEGRATOR_TRANSMITTANCE: u32 = INTEGRATOR_FLAGS[4].1;
 
 /// `vec4`s per shape record: media and lights, flags, emission, two sides.
 pub const SHAPE_STRIDE: u32 = 3 + 2 * SIDE_STRIDE;

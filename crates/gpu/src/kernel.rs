@@ -50,14 +50,17 @@ impl Kernel {
                 estimator.name()
             ))
         })?;
+        let chromatic = scene.media.iter().any(|m| m.chroma.is_some());
         if !matches!(
             scene.integrator,
-            IntegratorKind::Direct(_) | IntegratorKind::VolPath(_)
+            IntegratorKind::Direct(_)
+                | IntegratorKind::VolPath(_)
+                | IntegratorKind::Transmittance { .. }
         ) {
             crate::surfaces::refuse_surfaces(scene, scene.integrator.name())?;
             if let Some(i) = scene.media.iter().position(|m| m.chroma.is_some()) {
                 return Err(GpuError(format!(
-                    "media.{i}: the GPU backend renders chromatic extinction (sigma_t_scale = [r, g, b]) with volpath and direct only, not {}: render it with --device cpu",
+                    "media.{i}: the GPU backend renders chromatic extinction (sigma_t_scale = [r, g, b]) with volpath, direct and transmittance only, not {}: render it with --device cpu",
                     scene.integrator.name()
                 )));
             }
@@ -68,6 +71,23 @@ impl Kernel {
             0
         };
         let k = match &scene.integrator {
+            // With surfaces or chromatic media: the scatter kernel's shadow
+            // walk, as the CPU's `transmittance::sample` takes its shadow
+            // transmittance.
+            IntegratorKind::Transmittance { background, .. } if surfaces != 0 || chromatic => {
+                Kernel {
+                    source: KernelSource::Scatter,
+                    mis_samples: 0,
+                    flags: crate::contract::INTEGRATOR_TRANSMITTANCE | surfaces,
+                    scatter: true,
+                    est,
+                    background: *background,
+                    max_depth: 0,
+                    rr_depth: u32::MAX,
+                    sampler: 0,
+                    pins: PinParams::default(),
+                }
+            }
             IntegratorKind::Transmittance { background, .. } => Kernel {
                 source: KernelSource::Transmittance,
                 mis_samples: 0,

@@ -69,7 +69,9 @@ impl LightBuffers {
         let sampler = match &scene.integrator {
             IntegratorKind::Direct(d) => &d.lights,
             IntegratorKind::VisOpt(v) => &v.lights,
-            IntegratorKind::Ament(_) => {
+            // Transmittance through surfaces (the scatter kernel) picks no
+            // light; its bindings still hold the scene's.
+            IntegratorKind::Ament(_) | IntegratorKind::Transmittance { .. } => {
                 unpicked = fogbank_render::lights::sample::LightSampler::new(
                     &scene.world.lights,
                     scene.world.radius(),
@@ -79,10 +81,6 @@ impl LightBuffers {
             IntegratorKind::VolPath(v) => &v.lights,
             IntegratorKind::PointMis(p) => &p.lights,
             IntegratorKind::Restir(r) => &r.lights,
-            _ => return Err(GpuError(
-                "lights are uploaded for direct, volpath, point_mis, restir, visopt and ament only"
-                    .into(),
-            )),
         };
         let cdf = sampler.cdf(Vertex::Medium);
         // A light's CDF entry and pmf for points of kind `at`.

@@ -70,6 +70,28 @@ fn chromatic_media_match_the_cpu() {
     assert_gpu_image_matches_cpu(&gpu, &scene("chromatic"), 192, 1e-4, "chromatic");
 }
 
+/// `transmittance` with surfaces (a null boundary around a medium, an
+/// opaque ground) and with chromatic media: the scatter kernel's shadow
+/// walk along the camera ray, as the CPU's.
+#[test]
+fn transmittance_through_surfaces_and_chromatic_media_matches_the_cpu() {
+    let Some(gpu) = test_gpu() else { return };
+    let transmittance = |name: &str| {
+        let overrides =
+            ["integrator={type=\"transmittance\",background=[1.0,0.8,0.6]}".to_string()];
+        load_scene(Some(&scenes().join(format!("{name}.xml"))), &overrides).unwrap()
+    };
+    assert_gpu_matches_cpu(
+        &gpu,
+        &transmittance("null_mesh_medium"),
+        64,
+        1e-3,
+        "null_mesh_medium",
+    );
+    // Per-channel walks on the GPU, one shared walk on the CPU: images only.
+    assert_gpu_image_matches_cpu(&gpu, &transmittance("chromatic"), 512, 1e-3, "chromatic");
+}
+
 const SCENES: [&str; 10] = [
     "null_mesh_medium",
     "thin_area",

@@ -462,6 +462,11 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
     path.prev_pdf = -1.0;
     path.prev_surface = false;
     path.medium = camera_medium();
+    if ((INTEGRATOR_FLAGS & INTEGRATOR_TRANSMITTANCE) != 0u) {
+        // transmittance.rs `sample` with surfaces or chromatic media: the
+        // background seen through them along the camera ray.
+        return frame.background.xyz * shadow(path.ray, F32_INF, 0u, path.medium, &rng, lookups);
+    }
     var depth = 0u;
     var crossings = 0u;
     var nulls = 0u;

@@ -2,7 +2,7 @@
 //! plugin names and parameter names (see `world::surfaces::material`).
 
 use super::plugin::{Ids, Plugin};
-use super::xml::{find_file, Document, Element};
+use super::xml::{Document, Element};
 use crate::error::SceneError;
 use toml::{Table, Value};
 
@@ -61,10 +61,7 @@ fn texture(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError> 
             }
         }
         "bitmap" => {
-            let f = p
-                .string("filename")?
-                .ok_or_else(|| p.error("needs `filename`"))?;
-            let path = find_file(&e.file, &doc.paths, f).map_err(|m| p.error(m))?;
+            let path = p.filename(doc)?;
             t.insert("filename".into(), path.display().to_string().into());
             for k in ["filter_type", "wrap_mode"] {
                 if let Some(v) = p.string(k)? {

@@ -3,7 +3,7 @@
 
 use super::bsdfs::rgb_value;
 use super::plugin::{Ids, Plugin};
-use super::xml::{find_file, Document, Element};
+use super::xml::{Document, Element};
 use crate::error::SceneError;
 use glam::{DMat3, DQuat, DVec3};
 use toml::{Table, Value};
@@ -26,10 +26,7 @@ pub fn light(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError
             t.insert("radiance".into(), rgb_value(rgb("radiance")?));
         }
         "envmap" => {
-            let f = p
-                .string("filename")?
-                .ok_or_else(|| p.error("needs `filename`"))?;
-            let path = find_file(&e.file, &doc.paths, f).map_err(|m| p.error(m))?;
+            let path = p.filename(doc)?;
             t.insert("type".into(), "envmap".into());
             t.insert("file".into(), path.display().to_string().into());
             t.insert("filter".into(), "bilinear".into());

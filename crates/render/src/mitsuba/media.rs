@@ -6,7 +6,7 @@
 use super::bsdfs::rgb_value;
 use super::plugin::{Ids, Plugin};
 use super::shapes::matrix_table;
-use super::xml::{find_file, Document, Element};
+use super::xml::{Document, Element};
 use crate::error::SceneError;
 use fogbank_math::Aabb;
 use glam::{DMat4, DVec3};
@@ -42,10 +42,7 @@ fn grid(e: &Element, ids: &Ids, doc: &Document) -> Result<(Table, DMat4, u32), S
             p.ty
         )));
     }
-    let f = p
-        .string("filename")?
-        .ok_or_else(|| p.error("needs `filename`"))?;
-    let path = find_file(&e.file, &doc.paths, f).map_err(|m| p.error(m))?;
+    let path = p.filename(doc)?;
     let (channels, lo, hi) = vol_header(&path).map_err(|m| p.error(m))?;
     let m = p.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
     let grid_bbox = p.boolean("use_grid_bbox")?.unwrap_or(false);

@@ -5,7 +5,7 @@
 
 use super::transform::read_transform;
 use super::values::{numbers, xyz};
-use super::xml::Element;
+use super::xml::{find_file, Document, Element};
 use crate::error::SceneError;
 use glam::DMat4;
 use std::cell::RefCell;
@@ -103,6 +103,15 @@ impl<'a> Plugin<'a> {
             "false" => Ok(Some(false)),
             v => Err(c.error(format!("`{v}` is not true or false"))),
         }
+    }
+
+    /// The required `filename`, found beside the element's file or in the
+    /// document's `<path>` folders.
+    pub fn filename(&self, doc: &Document) -> Result<std::path::PathBuf, SceneError> {
+        let f = self
+            .string("filename")?
+            .ok_or_else(|| self.error("needs `filename`"))?;
+        find_file(&self.e.file, &doc.paths, f).map_err(|m| self.error(m))
     }
 
     pub fn string(&self, name: &str) -> Result<Option<&'a str>, SceneError> {

@@ -4,7 +4,7 @@
 use super::bsdfs::bsdf;
 use super::emitters::area;
 use super::plugin::{Ids, Plugin};
-use super::xml::{find_file, Document, Element};
+use super::xml::{Document, Element};
 use crate::error::SceneError;
 use glam::{DMat4, DVec3};
 use toml::{Table, Value};
@@ -42,10 +42,7 @@ pub fn shape<'a>(
     let mut m = p.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
     match p.ty {
         "obj" | "ply" => {
-            let f = p
-                .string("filename")?
-                .ok_or_else(|| p.error("needs `filename`"))?;
-            let path = find_file(&e.file, &doc.paths, f).map_err(|m| p.error(m))?;
+            let path = p.filename(doc)?;
             t.insert("file".into(), path.display().to_string().into());
             for k in ["face_normals", "flip_normals"] {
                 if let Some(b) = p.boolean(k)? {

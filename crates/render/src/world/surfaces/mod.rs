@@ -9,6 +9,7 @@ pub mod ior;
 pub mod material;
 pub mod scene_surfaces;
 pub mod shape;
+pub mod spectrum;
 
 pub use frame::ShadingFrame;
 pub use material::{BsdfDesc, Material, SurfaceBsdf};
