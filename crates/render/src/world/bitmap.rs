@@ -96,8 +96,9 @@ impl WrapMode {
     }
 }
 
-/// Images larger than this many texels are refused before decoding.
-pub const MAX_TEXELS: u64 = 1 << 28;
+/// Images larger than this many texels (8192², 768 MiB as f32 RGB) are
+/// refused before decoding.
+pub const MAX_TEXELS: u64 = 1 << 26;
 
 /// A loaded bitmap texture.
 #[derive(Clone, Debug, PartialEq)]
