@@ -260,16 +260,20 @@ fn assert_same_method(what: &str, gpu: &Film, cpu: &Film) {
         "{what}: invalid samples"
     );
     let (g, c) = (gpu.lookups as f64, cpu.lookups as f64);
-    assert!(
-        (g - c).abs() <= 0.02 * c.max(1.0),
-        "{what}: lookups {g} vs {c}"
-    );
     let (gm, cm) = (gpu.mean(), cpu.mean());
     let close = gm
         .iter()
         .zip(&cm)
         .filter(|(a, b)| (0..3).all(|k| (a[k] - b[k]).abs() <= 1e-3 * b[k].abs().max(1.0)))
         .count();
+    eprintln!(
+        "{what}: lookups gpu {g} cpu {c}; {close} of {} pixels agree",
+        gm.len()
+    );
+    assert!(
+        (g - c).abs() <= 0.02 * c.max(1.0),
+        "{what}: lookups {g} vs {c}"
+    );
     assert!(
         close * 3 >= gm.len() * 2,
         "{what}: only {close} of {} pixels agree",

@@ -137,8 +137,8 @@ pub fn bvh_queries(
     accel: &fogbank_geometry::MeshAccel,
     queries: &[BvhQuery],
 ) -> Result<Vec<[u32; 4]>, GpuError> {
-    // An empty hierarchy is one node with an empty box (bindings cannot be
-    // empty): the root test fails and nothing is hit.
+    // An empty hierarchy is one node with count 0 and index 0 (bindings
+    // cannot be empty), which bvh_trace recognises: nothing is hit.
     let empty = [fogbank_geometry::BvhNode {
         min: [f32::INFINITY; 3],
         count: 0,
@@ -169,7 +169,16 @@ pub fn bvh_queries(
     }
     let n = gpu.storage_buffer("bvh_nodes", bytemuck::cast_slice(nodes));
     let t = gpu.storage_buffer("surface_triangles", bytemuck::cast_slice(&tris));
-    let q = gpu.storage_buffer("bvh_queries", bytemuck::cast_slice(queries));
+    // Finite t_max, as the kernels pass (F32_INF): shader compilers may
+    // assume infinities away.
+    let finite: Vec<BvhQuery> = queries
+        .iter()
+        .map(|q| BvhQuery {
+            t_max: q.t_max.min(f32::MAX),
+            ..*q
+        })
+        .collect();
+    let q = gpu.storage_buffer("bvh_queries", bytemuck::cast_slice(&finite));
     let out = output_buffer(gpu, "bvh_answers", queries.len() as u64 * 16);
     let source = [shaders::FLOAT, shaders::BVH, shaders::BVH_QUERIES_KERNEL].join("\n");
     let bytes = run_once(

@@ -37,8 +37,8 @@ fn v4(v: glam::Vec3, w: f32) -> [f32; 4] {
 }
 
 /// The packed nodes and data of `scene`'s surfaces; without any, an empty
-/// hierarchy (one node with an empty box, never entered) and a header
-/// saying there are no shapes.
+/// hierarchy (one node with count 0 and index 0, which bvh_trace returns
+/// on) and a header saying there are no shapes.
 pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
     let empty = BvhNode {
         min: [f32::INFINITY; 3],

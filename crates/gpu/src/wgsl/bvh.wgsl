@@ -123,21 +123,27 @@ fn intersect_triangle(f: RayFrame, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, 
 const SLAB_GROW: f32 = 1.0000003576;
 
 // Entry distance into the node's box within (0, t_max), or -1 (Traversal::
-// enter). An axis with a NaN slab distance (0·∞: the ray runs parallel to
-// it with its origin on one of the box's planes there) constrains nothing:
-// the origin lies in the closed slab. `t_max` is finite (F32_INF is
-// f32::MAX): with an infinite one, a box that a parallel ray passes beside
-// (entry at +∞) would be entered.
-fn node_enter(o: vec3<f32>, inv_d: vec3<f32>, n: BvhNode, t_max: f32) -> f32 {
+// enter). An axis the ray runs parallel to (d = ±0) constrains nothing when
+// the origin lies in the closed slab and excludes the box otherwise; it is
+// decided from d itself, never from 0·∞ = NaN as on the CPU: GPU compilers
+// may assume NaN and infinities away (an NVIDIA H100 folded such a NaN
+// test and missed rays grazing box planes that lavapipe hit). Directions
+// below 1e-30 count as parallel (their 1/d would overflow). `t_max` is
+// finite (F32_INF is f32::MAX).
+fn node_enter(o: vec3<f32>, d: vec3<f32>, inv_d: vec3<f32>, n: BvhNode, t_max: f32) -> f32 {
     var t0 = 0.0;
     var t1 = t_max;
     for (var a = 0u; a < 3u; a++) {
+        if (abs(d[a]) < 1e-30) {
+            if (o[a] < n.min[a] || o[a] > n.max[a]) {
+                return -1.0;
+            }
+            continue;
+        }
         let ta = (n.min[a] - o[a]) * inv_d[a];
         let tb = (n.max[a] - o[a]) * inv_d[a];
-        if (ta == ta && tb == tb) {
-            t0 = max(t0, min(ta, tb));
-            t1 = min(t1, max(ta, tb) * SLAB_GROW);
-        }
+        t0 = max(t0, min(ta, tb));
+        t1 = min(t1, max(ta, tb) * SLAB_GROW);
     }
     return select(-1.0, t0, t0 <= t1);
 }
@@ -154,10 +160,20 @@ fn bvh_trace(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any: bool, opaque: bool)
     if (arrayLength(&bvh_nodes) == 0u) {
         return best;
     }
+    // An empty hierarchy (no triangles: the binding still holds one node)
+    // is a root with count 0 and index 0, which no built hierarchy has (an
+    // inner root's children start at 1). Its box, of infinities, is never
+    // tested: GPU compilers may assume infinities away, and on an NVIDIA
+    // H100 the root then "entered" and the walk descended into node 0
+    // forever.
+    let root = bvh_nodes[0];
+    if (root.count == 0u && root.index == 0u) {
+        return best;
+    }
     var t_max = t_max_in;
     let f = ray_frame(o, d);
     let inv_d = vec3<f32>(1.0) / d;
-    if (node_enter(o, inv_d, bvh_nodes[0], t_max) < 0.0) {
+    if (node_enter(o, d, inv_d, root, t_max) < 0.0) {
         return best;
     }
     var stack: array<u32, 64>;
@@ -184,8 +200,8 @@ fn bvh_trace(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any: bool, opaque: bool)
         } else {
             let l = n.index;
             let r = n.index + 1u;
-            let tl = node_enter(o, inv_d, bvh_nodes[l], t_max);
-            let tr = node_enter(o, inv_d, bvh_nodes[r], t_max);
+            let tl = node_enter(o, d, inv_d, bvh_nodes[l], t_max);
+            let tr = node_enter(o, d, inv_d, bvh_nodes[r], t_max);
             if (tl >= 0.0 && tr >= 0.0) {
                 let near_left = tl <= tr;
                 stack[top] = select(l, r, near_left);
