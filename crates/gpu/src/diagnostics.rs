@@ -139,12 +139,7 @@ pub fn bvh_queries(
 ) -> Result<Vec<[u32; 4]>, GpuError> {
     // An empty hierarchy is one node with count 0 and index 0 (bindings
     // cannot be empty), which bvh_trace recognises: nothing is hit.
-    let empty = [fogbank_geometry::BvhNode {
-        min: [f32::INFINITY; 3],
-        count: 0,
-        max: [f32::NEG_INFINITY; 3],
-        index: 0,
-    }];
+    let empty = [fogbank_geometry::BvhNode::EMPTY];
     let nodes = if accel.bvh.nodes.is_empty() {
         &empty[..]
     } else {

@@ -40,12 +40,7 @@ fn v4(v: glam::Vec3, w: f32) -> [f32; 4] {
 /// hierarchy (one node with count 0 and index 0, which bvh_trace returns
 /// on) and a header saying there are no shapes.
 pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
-    let empty = BvhNode {
-        min: [f32::INFINITY; 3],
-        count: 0,
-        max: [f32::NEG_INFINITY; 3],
-        index: 0,
-    };
+    let empty = BvhNode::EMPTY;
     let Some(s) = scene.world.surfaces.as_ref() else {
         return (vec![empty], vec![[0.0; 4], [0.0; 4]]);
     };

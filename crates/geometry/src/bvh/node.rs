@@ -17,6 +17,17 @@ pub struct BvhNode {
 }
 
 impl BvhNode {
+    /// What a GPU binding holds for a hierarchy with nothing to hit
+    /// (bindings cannot be empty): an inner node (count 0) whose children
+    /// would start at 0, which no built hierarchy has (an inner root's start
+    /// at 1). The WGSL walk returns on it before testing its empty box.
+    pub const EMPTY: BvhNode = BvhNode {
+        min: [f32::INFINITY; 3],
+        count: 0,
+        max: [f32::NEG_INFINITY; 3],
+        index: 0,
+    };
+
     pub fn bounds(&self) -> Aabb {
         Aabb::new(Vec3::from(self.min), Vec3::from(self.max))
     }

@@ -222,21 +222,21 @@ fn decode(path: &Path, raw: bool) -> Result<Decoded, String> {
         let texels = image.rgb.iter().flatten().copied().collect();
         return Ok((image.width as u32, image.height as u32, 3, texels));
     }
-    let reader = image::ImageReader::open(path)
+    use image::ImageDecoder;
+    let decoder = image::ImageReader::open(path)
         .and_then(|r| r.with_guessed_format())
-        .map_err(|e| e.to_string())?;
-    let (w, h) = reader
-        .into_dimensions()
+        .map_err(|e| e.to_string())?
+        .into_decoder()
         .map_err(|e| format!("not a PNG, JPEG, EXR or HDR image: {e}"))?;
+    let (w, h) = decoder.dimensions();
     if w as u64 * h as u64 > MAX_TEXELS {
         return Err(format!("{w}×{h} texels exceed the limit of {MAX_TEXELS}"));
     }
-    let reader = image::ImageReader::open(path)
-        .and_then(|r| r.with_guessed_format())
-        .map_err(|e| e.to_string())?;
-    let image = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| reader.decode()))
-        .map_err(|_| "the decoder failed".to_string())?
-        .map_err(|e| e.to_string())?;
+    let image = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        image::DynamicImage::from_decoder(decoder)
+    }))
+    .map_err(|_| "the decoder failed".to_string())?
+    .map_err(|e| e.to_string())?;
     use image::ColorType as C;
     let color = image.color();
     let grey = matches!(color, C::L8 | C::La8 | C::L16 | C::La16);
