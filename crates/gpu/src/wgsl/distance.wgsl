@@ -35,7 +35,7 @@ fn delta_tracking_ratio(m: MediumGpu, r: Ray, t0: f32, t1: f32,
                 out.sigma_t = sigma_t;
                 return out;
             }
-            out.ratio *= 1.0 - sigma_t / sigma_maj;
+            out.ratio *= null_probability(sigma_t, sigma_maj);
         }
     }
     return out;

@@ -40,7 +40,7 @@ fn null_collision_walk(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32,
             if (mode == WALK_RESIDUAL) {
                 tr *= 1.0 - (sigma_t - sigma_c) / sigma_maj;
             } else {
-                tr *= 1.0 - sigma_t / sigma_maj;
+                tr *= null_probability(sigma_t, sigma_maj);
                 if (tr == 0.0) {
                     return 0.0;
                 }

@@ -44,7 +44,7 @@ fn visopt_walk(m: MediumGpu, r: Ray, world: Ray, t0: f32, t1: f32, l: RayList, o
                     return t;
                 }
             } else {
-                tr *= 1.0 - sigma_t / sigma_maj;
+                tr *= null_probability(sigma_t, sigma_maj);
                 if (tr == 0.0) {
                     return 0.0;
                 }
