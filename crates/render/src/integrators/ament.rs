@@ -16,10 +16,12 @@
 //! | `shading`, `n` | false, 40 | HG plus the gradient lobe, as `visopt` |
 //!
 //! Importance is the medium's `[[media.importance]]` (post-interpolative,
-//! as the paper's comparison replaces AZD17's own).
+//! as the paper's comparison replaces AZD17's own). Shapes are opaque black
+//! occluders (`shared/occluders.rs`): camera rays are marched up to the
+//! first surface and shadow rays a surface cuts carry no light.
 
 use super::shared::next_event::delta_lights;
-use super::shared::{estimator_rng, primary_ray, PixelSample};
+use super::shared::{estimator_rng, occluders, primary_ray, PixelSample};
 use super::visopt::segments::mu_factor;
 use crate::error::SceneError;
 use crate::params::{Param, ParamReader};
@@ -215,6 +217,7 @@ impl Ament {
                 world.media.len()
             )));
         }
+        occluders::check(world, "ament")?;
         let b = world.media[0].medium.world_bounds();
         let extent = (b.max - b.min).max_element();
         if !(extent > 0.0 && extent.is_finite()) {
@@ -294,9 +297,13 @@ impl Ament {
         out
     }
 
-    /// Optimised transmittance from `p` toward a light `distance` away.
-    fn shadow(&self, m: &SceneMedium, p: Vec3, wi: Vec3, distance: f32) -> f32 {
+    /// Optimised transmittance from `p` toward a light `distance` away (0
+    /// behind a surface).
+    fn shadow(&self, world: &World, m: &SceneMedium, p: Vec3, wi: Vec3, distance: f32) -> f32 {
         let ray = Ray::new(p, wi);
+        if !occluders::visible(world, &ray, distance) {
+            return 0.0;
+        }
         let Some((_, s0, s1)) = m.medium.to_index(&ray, 0.0, distance) else {
             return 1.0;
         };
@@ -309,7 +316,9 @@ impl Ament {
         let mut rng = estimator_rng(key);
         let ray = primary_ray(world, x, y, key);
         let m = &world.media[0];
-        let Some((_, t0, t1)) = m.medium.to_index(&ray, 0.0, f32::INFINITY) else {
+        // Marched up to the first surface (occluders.rs).
+        let t_end = occluders::first_surface(world, &ray);
+        let Some((_, t0, t1)) = m.medium.to_index(&ray, 0.0, t_end) else {
             return PixelSample {
                 radiance: Vec3::ZERO,
                 lookups: 0,
@@ -334,7 +343,7 @@ impl Ament {
             let f = |wi| dvr_phase(m, p, ray.d, wi, lobe, self.unit);
             let lit = delta_lights(world, p, f, |wi, distance| {
                 lookups += 1;
-                self.shadow(m, p, wi, distance)
+                self.shadow(world, m, p, wi, distance)
             });
             radiance += transmittance * alpha * (m.emitted(p, albedo) + albedo * lit);
             transmittance *= 1.0 - alpha;
@@ -351,7 +360,8 @@ impl Ament {
     pub fn factors(&self, world: &World, x: u32, y: u32) -> Vec<(Vec3, f32)> {
         let m = &world.media[0];
         let ray = world.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
-        let Some((_, t0, t1)) = m.medium.to_index(&ray, 0.0, f32::INFINITY) else {
+        let t_end = occluders::first_surface(world, &ray);
+        let Some((_, t0, t1)) = m.medium.to_index(&ray, 0.0, t_end) else {
             return Vec::new();
         };
         let mk = self.march(m, &ray, t0, t1, 0.5);

@@ -179,26 +179,21 @@ impl IntegratorDesc {
                     .into(),
             ));
         }
-        // Surfaces reach volpath first (issue 23); the others would render
-        // through them, so they refuse rather than show a wrong image.
-        let renders_surfaces = matches!(
+        // Chromatic media reach volpath first (issue 23).
+        let renders_chroma = matches!(
             self,
             IntegratorDesc::VolPath(_)
                 | IntegratorDesc::Direct(_)
                 | IntegratorDesc::Transmittance(_)
         );
-        if world.media.iter().any(|m| m.chroma.is_some()) && !renders_surfaces {
+        if world.media.iter().any(|m| m.chroma.is_some()) && !renders_chroma {
             return Err(SceneError(format!(
                 "integrator.type: `{}` does not render chromatic extinction (sigma_t_scale = [r, g, b]) yet (use volpath, direct or transmittance)",
                 self.name()
             )));
         }
-        if world.surfaces.is_some() && !renders_surfaces {
-            return Err(SceneError(format!(
-                "integrator.type: `{}` does not render [[shapes]] yet (use volpath, direct or transmittance)",
-                self.name()
-            )));
-        }
+        // restir, visopt, ament and point_mis see shapes as opaque black
+        // occluders (shared/occluders.rs) and refuse the rest themselves.
         Ok(match self {
             IntegratorDesc::Transmittance(p) => IntegratorKind::Transmittance {
                 estimator: p.estimator,

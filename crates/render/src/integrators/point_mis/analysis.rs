@@ -139,6 +139,7 @@ pub fn jackknife_weights(
         light: Vec3::ZERO,
         intensity: Vec3::ZERO,
         hg: HenyeyGreenstein { g: 0.0 },
+        surfaces: None,
     };
     let (w0, w1) = match medium.medium.view() {
         MediumView::F16(v) => weights_pair(&pm, &v, &seg, t, p0, rng, &mut lookups),

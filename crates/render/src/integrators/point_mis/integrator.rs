@@ -5,11 +5,12 @@
 use super::params::PointMisParams;
 use super::strategy::Strategy;
 use crate::error::SceneError;
-use crate::integrators::shared::{balance, estimator_rng, primary_ray, PixelSample};
+use crate::integrators::shared::{balance, estimator_rng, occluders, primary_ray, PixelSample};
 use crate::lights::sample::{LightSampler, Vertex};
 use crate::lights::Light;
 use crate::world::medium::SceneMedium;
 use crate::world::phase::HenyeyGreenstein;
+use crate::world::surfaces::Surfaces;
 use crate::world::World;
 use fogbank_estimators::distance::{delta_tracking_ratio, equiangular};
 use fogbank_estimators::jackknife::{optical_depths, StepMode};
@@ -32,8 +33,9 @@ pub struct PointMis {
 
 impl PointMis {
     /// Builds `point_mis`, rejecting worlds it cannot render: exactly one
-    /// medium and only point lights.
+    /// medium, only point lights, shapes only as opaque occluders.
     pub fn new(p: &PointMisParams, world: &World) -> Result<PointMis, SceneError> {
+        occluders::check(world, "point_mis")?;
         if world.media.len() != 1 {
             return Err(SceneError(format!(
                 "integrator.type = \"point_mis\": needs exactly one medium, the scene has {}",
@@ -77,6 +79,9 @@ pub(super) struct Segment<'a> {
     pub(super) light: Vec3,
     pub(super) intensity: Vec3,
     pub(super) hg: HenyeyGreenstein,
+    /// The scene's shapes: opaque occluders of light rays
+    /// (`shared/occluders.rs`).
+    pub(super) surfaces: Option<&'a Surfaces>,
 }
 
 impl PointMis {
@@ -111,7 +116,9 @@ impl PointMis {
     ) -> Option<(Segment<'a>, f32)> {
         let medium = world.media.first()?;
         let ray = primary_ray(world, x, y, key);
-        let (index, a, b) = medium.medium.to_index(&ray, 0.0, f32::INFINITY)?;
+        // The camera ray's medium segment ends at the first surface.
+        let t_end = occluders::first_surface(world, &ray);
+        let (index, a, b) = medium.medium.to_index(&ray, 0.0, t_end)?;
         let (li, pmf) = self.lights.pick(rng.next_f32(), Vertex::Medium)?;
         let Light::Point {
             position,
@@ -132,6 +139,7 @@ impl PointMis {
             light: position,
             intensity,
             hg: HenyeyGreenstein { g: medium.phase_g },
+            surfaces: world.surfaces.as_ref(),
         };
         Some((seg, pmf))
     }
@@ -155,10 +163,11 @@ impl PointMis {
         let dist = dist2.sqrt();
         let wi = to_light / dist;
         let f = s.hg.eval(s.world.d.dot(wi));
-        if f <= 0.0 {
+        let light_ray = Ray::new(p, wi);
+        if f <= 0.0 || s.surfaces.is_some_and(|o| o.occluded(&light_ray, dist)) {
             return Vec3::ZERO;
         }
-        let e = transmittance(self.nee, &s.medium.medium, &Ray::new(p, wi), dist, rng);
+        let e = transmittance(self.nee, &s.medium.medium, &light_ray, dist, rng);
         *lookups += e.lookups;
         s.medium.albedo_at(p) * s.intensity * (f * e.transmittance / dist2)
     }

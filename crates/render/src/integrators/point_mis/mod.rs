@@ -20,7 +20,9 @@
 //!
 //! Only point lights and exactly one medium are supported: the free-flight
 //! pdf T(t)μ(t) of overlapping media would need the summed extinction in
-//! every optical-depth estimate; [`settings`] rejects other scenes.
+//! every optical-depth estimate; [`settings`] rejects other scenes. Shapes
+//! are opaque black occluders (`shared/occluders.rs`): the camera segment
+//! ends at the first surface and light rays a surface cuts carry nothing.
 //!
 //! | key | default | meaning |
 //! |---|---|---|

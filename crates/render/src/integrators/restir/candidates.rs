@@ -14,13 +14,15 @@
 //! candidates of one walk lie in disjoint path spaces and are each drawn
 //! once per walk, so the walk's sum Σ p̂/p needs no 1/n_j, and a walk counts
 //! M = 1 (Eq. 19–21). Russian roulette by albedo after x_3 when K > 3
-//! (§6.1) enters p.
+//! (§6.1) enters p. Surfaces (opaque occluders, `shared/occluders.rs`) end
+//! a walk and veto the NEE and escape candidates they block.
 
 use super::integrator::{FrameData, Restir};
 use super::path::{PathEnd, PathSample};
 use super::reservoir::Reservoir;
 use super::target::{environment, luminance};
 use super::volume::{sigma_t, track, SegmentT};
+use crate::integrators::shared::occluders::{first_surface, visible};
 use crate::lights::sample::Vertex;
 use crate::world::phase::HenyeyGreenstein;
 use fogbank_math::{Pcg32, Ray, Vec3};
@@ -85,8 +87,10 @@ impl Restir {
             };
             let flight = track(data.mips.level(full, level), level == 0, &ray, rng);
             *lookups += flight.lookups;
-            let Some(t) = flight.t else {
-                if k == 1 {
+            // A surface ends the walk: F is 0 past it (occluders.rs).
+            let t_surface = first_surface(world, &ray);
+            let Some(t) = flight.t.filter(|&t| t < t_surface) else {
+                if k == 1 && t_surface == f32::INFINITY {
                     // p = T* of the whole ray, p̂ = T*·lum(L_env): w = lum(L_env).
                     let w = luminance(environment(world, ray.d));
                     let p_escape = (-flight.tau).exp();
@@ -187,7 +191,10 @@ impl Restir {
             return;
         };
         let fp = hg.pdf(-d, ls.wi);
-        if fp <= 0.0 || ls.radiance == Vec3::ZERO {
+        if fp <= 0.0
+            || ls.radiance == Vec3::ZERO
+            || !visible(world, &Ray::new(x, ls.wi), ls.distance)
+        {
             return;
         }
         let t_nee = if self.params.nee_transmittance {

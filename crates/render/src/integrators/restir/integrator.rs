@@ -9,7 +9,7 @@ use super::reservoir::Reservoir;
 use super::target::{evaluate, luminance};
 use super::volume::{Mips, SegmentT};
 use crate::error::SceneError;
-use crate::integrators::shared::{estimator_rng, PixelSample};
+use crate::integrators::shared::{estimator_rng, occluders, PixelSample};
 use crate::lights::sample::LightSampler;
 use crate::world::World;
 use fogbank_estimators::Estimator;
@@ -43,6 +43,7 @@ impl Restir {
                 world.media.len()
             )));
         }
+        occluders::check(world, "restir")?;
         let m = &world.media[0].medium;
         if matches!(m.data, DensityData::Analytic(_)) {
             return Err(SceneError(

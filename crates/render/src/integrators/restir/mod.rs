@@ -11,7 +11,9 @@
 //! frame, so the image is the mean of independent last frames and its
 //! variance layer is their variance (what the z-test against `volpath`
 //! needs). Primary rays go through pixel centres (`render.pixel_jitter` is
-//! ignored): reuse compares targets of fixed pixel rays.
+//! ignored): reuse compares targets of fixed pixel rays. Shapes are opaque
+//! black occluders until surface vertices join the paths (issue 24;
+//! `shared/occluders.rs`); the GPU backend refuses them.
 //!
 //! | key | default | meaning |
 //! |---|---|---|

@@ -7,10 +7,12 @@
 //!
 //! Vertex σ_s and σ_a are the full-resolution trilinear values F uses, so
 //! p̂ = 0 exactly where F = 0 (checklist, open choices). A shifted vertex
-//! outside the medium or at zero density makes the path worth nothing.
+//! outside the medium or at zero density makes the path worth nothing, and
+//! so does a segment a surface cuts (both F and p̂ carry the visibility).
 
 use super::path::{PathEnd, PathSample};
 use super::volume::{sigma_t, SegmentT};
+use crate::integrators::shared::occluders::visible;
 use crate::lights::Light;
 use crate::world::phase::HenyeyGreenstein;
 use crate::world::World;
@@ -58,7 +60,7 @@ pub fn evaluate(
     let full = &m.medium;
     if y.end == PathEnd::Background {
         let le = environment(world, ray0.d);
-        if le == Vec3::ZERO {
+        if le == Vec3::ZERO || !visible(world, ray0, f32::INFINITY) {
             return Vec3::ZERO;
         }
         return le * tr.eval_primary(full, ray0, f32::INFINITY, lookups);
@@ -93,6 +95,9 @@ pub fn evaluate(
         }
         d = next_d;
         let seg = Ray::new(x, d);
+        if !visible(world, &seg, z) {
+            return Vec3::ZERO;
+        }
         x = seg.at(z);
         let sigma = sigma_t(full, x);
         if sigma <= 0.0 {
@@ -122,7 +127,7 @@ pub fn evaluate(
             return Vec3::ZERO;
         };
         let fp = hg.pdf(-d, wi);
-        if fp <= 0.0 || li == Vec3::ZERO {
+        if fp <= 0.0 || li == Vec3::ZERO || !visible(world, &Ray::new(x, wi), dist) {
             return Vec3::ZERO;
         }
         f *= li * fp * tr.eval(full, &Ray::new(x, wi), dist, lookups);

@@ -6,6 +6,7 @@
 
 pub mod free_flight;
 pub mod next_event;
+pub mod occluders;
 pub mod pin_params;
 pub mod tracking;
 

@@ -8,7 +8,7 @@
 //! (scatter-to-scatter segments are never optimised), with NEE at every
 //! vertex, optimised only with `all`. Light sampling is the only strategy
 //! toward lights (the lobe has no sampling routine), so escaping paths add
-//! nothing.
+//! nothing. Shapes are opaque black occluders (`shared/occluders.rs`).
 
 use super::lists::{light_list, CameraLists};
 use super::optimised::{Optimised, RayList, Weights};
@@ -17,7 +17,9 @@ use super::segments::Segment;
 use crate::error::SceneError;
 use crate::integrators::shared::free_flight::next_collision;
 use crate::integrators::shared::next_event::escaped;
-use crate::integrators::shared::{estimator_rng, primary_ray, DistanceSampler, PixelSample};
+use crate::integrators::shared::{
+    estimator_rng, occluders, primary_ray, DistanceSampler, PixelSample,
+};
 use crate::lights::sample::{LightSampler, Vertex};
 use crate::world::medium::SceneMedium;
 use crate::world::phase::HenyeyGreenstein;
@@ -63,6 +65,7 @@ impl VisOpt {
                 world.media.len()
             )));
         }
+        occluders::check(world, "visopt")?;
         let b = world.media[0].medium.world_bounds();
         let extent = (b.max - b.min).max_element();
         if !(extent > 0.0 && extent.is_finite()) {
@@ -99,9 +102,15 @@ impl VisOpt {
         let ray = primary_ray(world, x, y, key);
         let mut lookups = 0u32;
         let m = &world.media[0];
-        let Some((r, t0, t1)) = m.medium.to_index(&ray, 0.0, f32::INFINITY) else {
+        let t_end = occluders::first_surface(world, &ray);
+        // The environment, unless a surface hides it (black: occluders.rs).
+        let background = || match t_end {
+            f32::INFINITY => escaped(world, &self.lights, ray.d, None),
+            _ => Vec3::ZERO,
+        };
+        let Some((r, t0, t1)) = m.medium.to_index(&ray, 0.0, t_end) else {
             return PixelSample {
-                radiance: escaped(world, &self.lights, ray.d, None),
+                radiance: background(),
                 lookups,
             };
         };
@@ -124,7 +133,7 @@ impl VisOpt {
         lookups += flight.lookups;
         let Some(t) = flight.t else {
             return PixelSample {
-                radiance: escaped(world, &self.lights, ray.d, None),
+                radiance: background(),
                 lookups,
             };
         };
@@ -167,7 +176,7 @@ impl VisOpt {
                 DistanceSampler::DeltaTracking.into(),
                 world,
                 &ray,
-                f32::INFINITY,
+                occluders::first_surface(world, &ray),
                 None,
                 rng,
                 lookups,
@@ -218,6 +227,9 @@ impl VisOpt {
             return Vec3::ZERO;
         }
         let shadow = Ray::new(p, ls.wi);
+        if !occluders::visible(world, &shadow, ls.distance) {
+            return Vec3::ZERO;
+        }
         let tr = match m.medium.to_index(&shadow, 0.0, ls.distance) {
             None => 1.0,
             Some((r, s0, s1)) => {

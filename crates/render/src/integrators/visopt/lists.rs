@@ -14,6 +14,7 @@ use super::optimised::importance_at;
 use super::params::VisOptParams;
 use super::sampling;
 use super::segments::{self, Segment};
+use crate::integrators::shared::occluders;
 use crate::world::medium::SceneMedium;
 use crate::world::World;
 use fogbank_math::{Pcg32, Ray, SampleKey};
@@ -44,7 +45,8 @@ impl CameraLists {
                     dimension: 0x7151,
                 }
                 .rng();
-                camera_list(m, &ray, p, unit, &mut rng)
+                let t_end = occluders::first_surface(world, &ray);
+                camera_list(m, &ray, t_end, p, unit, &mut rng)
             })
             .collect();
         let mut lists = CameraLists {
@@ -76,11 +78,12 @@ impl CameraLists {
 pub fn camera_list(
     m: &SceneMedium,
     ray: &Ray,
+    t_end: f32,
     p: &VisOptParams,
     unit: f32,
     rng: &mut Pcg32,
 ) -> (Vec<Segment>, f32, f32) {
-    let Some((_, t0, t1)) = m.medium.to_index(ray, 0.0, f32::INFINITY) else {
+    let Some((_, t0, t1)) = m.medium.to_index(ray, 0.0, t_end) else {
         return (Vec::new(), 0.0, 0.0);
     };
     let length = (t1 - t0) * unit;

@@ -43,6 +43,9 @@ impl VisOpt {
         {
             return Err("delta lights only".into());
         }
+        if world.surfaces.is_some() {
+            return Err("no surfaces".into());
+        }
         let m = &world.media[0];
         let ray = world.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
         let Some((_, t0, t1)) = m.medium.to_index(&ray, 0.0, f32::INFINITY) else {
