@@ -57,7 +57,6 @@ impl Kernel {
                 | IntegratorKind::VolPath(_)
                 | IntegratorKind::Transmittance { .. }
         ) {
-            crate::surfaces::refuse_surfaces(scene, scene.integrator.name())?;
             if let Some(i) = scene.media.iter().position(|m| m.chroma.is_some()) {
                 return Err(GpuError(format!(
                     "media.{i}: the GPU backend renders chromatic extinction (sigma_t_scale = [r, g, b]) with volpath, direct and transmittance only, not {}: render it with --device cpu",
@@ -65,6 +64,8 @@ impl Kernel {
                 )));
             }
         }
+        // point_mis, visopt and ament see shapes as opaque occluders
+        // (occluders.wgsl; the CPU refused every other kind of shape).
         let surfaces = if scene.world.surfaces.is_some() {
             crate::contract::INTEGRATOR_SURFACES
         } else {
@@ -133,7 +134,7 @@ impl Kernel {
                 rr_depth: u32::MAX,
                 sampler: strategy_id(p.strategy),
                 mis_samples: p.mis_samples,
-                flags: 0,
+                flags: surfaces,
                 pins: PinParams::default(),
             },
             IntegratorKind::Restir(_) => return Err(no_restir()),
@@ -150,7 +151,7 @@ impl Kernel {
                 rr_depth: u32::MAX,
                 sampler: 0,
                 mis_samples: 0,
-                flags: 0,
+                flags: surfaces,
                 pins: PinParams::default(),
             },
         };

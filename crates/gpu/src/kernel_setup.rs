@@ -184,7 +184,13 @@ pub(crate) fn pipeline(
 fn specialisation(kernel: &Kernel) -> Vec<(&'static str, f64)> {
     let mut constants = vec![("ESTIMATOR", kernel.est.id as f64)];
     match kernel.source {
-        KernelSource::PointMis => constants.push(("STRATEGY", kernel.sampler as f64)),
+        KernelSource::PointMis => constants.extend([
+            ("STRATEGY", kernel.sampler as f64),
+            ("OCCLUDERS", occluders(kernel)),
+        ]),
+        KernelSource::VisOpt | KernelSource::Ament => {
+            constants.push(("OCCLUDERS", occluders(kernel)))
+        }
         KernelSource::Scatter => constants.extend([
             ("SAMPLER", kernel.sampler as f64),
             ("PIN_MODE", pin_mode_id(kernel.pins.mode) as f64),
@@ -193,6 +199,11 @@ fn specialisation(kernel: &Kernel) -> Vec<(&'static str, f64)> {
         _ => {}
     }
     constants
+}
+
+/// occluders.wgsl's pipeline constant: the scene has shapes.
+fn occluders(kernel: &Kernel) -> f64 {
+    ((kernel.flags & crate::contract::INTEGRATOR_SURFACES) != 0) as u32 as f64
 }
 
 /// The frame uniform before the first dispatch.

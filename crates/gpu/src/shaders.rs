@@ -39,6 +39,8 @@ pub const MICROFACET: &str = include_str!("wgsl/surfaces/microfacet.wgsl");
 pub const BSDF: &str = include_str!("wgsl/surfaces/bsdf.wgsl");
 pub const BITMAP: &str = include_str!("wgsl/surfaces/bitmap.wgsl");
 pub const SURFACES: &str = include_str!("wgsl/surfaces/surfaces.wgsl");
+pub const SURFACE_DATA: &str = include_str!("wgsl/surfaces/surface_data.wgsl");
+pub const OCCLUDERS: &str = include_str!("wgsl/occluders.wgsl");
 pub const NEXT_EVENT: &str = include_str!("wgsl/surfaces/next_event.wgsl");
 pub const POINT_MIS_KERNEL: &str = include_str!("wgsl/point_mis_kernel.wgsl");
 pub const ACCUMULATE: &str = include_str!("wgsl/accumulate.wgsl");
@@ -115,6 +117,7 @@ pub fn scatter_kernel() -> String {
             BVH,
             MICROFACET,
             BSDF,
+            SURFACE_DATA,
             SURFACES,
             BITMAP,
             NEXT_EVENT,
@@ -129,14 +132,20 @@ pub fn pin_gather_kernel() -> String {
     [&estimators(), PINS, PIN_GRID, PIN_GATHER_KERNEL].join("\n")
 }
 
+/// A kernel of an integrator that sees shapes as opaque occluders only
+/// (occluders.wgsl, compiled out without shapes).
+fn occluding_kernel(kernel: &str) -> String {
+    scattering_kernel(&[BVH, SURFACE_DATA, OCCLUDERS, kernel].join("\n"))
+}
+
 /// `point_mis`.
 pub fn point_mis_kernel() -> String {
-    scattering_kernel(POINT_MIS_KERNEL)
+    occluding_kernel(POINT_MIS_KERNEL)
 }
 
 /// `visopt` (seed 003 §5.4): importance rules, lists, the optimised view.
 pub fn visopt_kernel() -> String {
-    scattering_kernel(
+    occluding_kernel(
         &[
             VISOPT_PARAMS,
             VISOPT_IMPORTANCE,
@@ -149,7 +158,7 @@ pub fn visopt_kernel() -> String {
 
 /// `ament` (seed 003's ray-marched baseline).
 pub fn ament_kernel() -> String {
-    scattering_kernel(&[VISOPT_PARAMS, VISOPT_IMPORTANCE, AMENT_KERNEL].join("\n"))
+    occluding_kernel(&[VISOPT_PARAMS, VISOPT_IMPORTANCE, AMENT_KERNEL].join("\n"))
 }
 
 /// `restir`: the scattering prelude without the per-sample entry point,

@@ -228,12 +228,12 @@ impl SurfaceBuffers {
     }
 }
 
-/// Whether the GPU renders `scene`'s surfaces: with `volpath` and `direct`;
-/// other kernels refuse scenes with shapes rather than drop them.
+/// The GPU's `restir` has no surface code yet (the CPU's sees shapes as
+/// opaque occluders): it refuses scenes with shapes rather than drop them.
 pub fn refuse_surfaces(scene: &Scene, integrator: &str) -> Result<(), GpuError> {
     if scene.world.surfaces.is_some() {
         return Err(GpuError(format!(
-            "the GPU backend renders [[shapes]] with volpath and direct only, not {integrator}: render it with --device cpu"
+            "the GPU backend's {integrator} does not render [[shapes]] yet (the CPU's sees them as occluders): render it with --device cpu"
         )));
     }
     Ok(())

@@ -158,6 +158,20 @@ fn point_mis_matches_the_cpu_for_every_strategy() {
         let s = Scene::build(parse_scene(text, "t", &extra).unwrap(), Path::new(".")).unwrap();
         assert_gpu_matches_cpu(&gpu, &s, 192, 1e-3, &format!("{strategy}/{filter}"));
     }
+    // Shapes as opaque occluders (occluders.wgsl): one hides part of the
+    // view, one shadows part of the cloud.
+    let occluded = format!(
+        "{text}[[shapes]]\ntype = \"rectangle\"\nto_world = {{ translate = [-0.15, 0.0, 0.75], scale = 0.1 }}\n\
+         bsdf = {{ type = \"diffuse\", reflectance = 0.0 }}\n\
+         [[shapes]]\ntype = \"rectangle\"\n\
+         to_world = {{ translate = [0.15, 0.0, 0.0], rotate = [0.0, 1.0, 0.0, 90.0], scale = 0.3 }}\n\
+         bsdf = {{ type = \"diffuse\", reflectance = 0.0 }}\n"
+    );
+    for strategy in ["mis_jackknife", "equiangular"] {
+        let extra = vec![format!("integrator.strategy={strategy}")];
+        let s = Scene::build(parse_scene(&occluded, "t", &extra).unwrap(), Path::new(".")).unwrap();
+        assert_gpu_matches_cpu(&gpu, &s, 192, 1e-3, &format!("{strategy} with occluders"));
+    }
 }
 
 /// Albedo grids (scalar and RGB) and emission (colour × grid, blackbody of

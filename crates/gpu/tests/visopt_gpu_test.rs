@@ -42,10 +42,47 @@ position = [1.5, 1.5, 1.0]
 intensity = [40.0, 40.0, 40.0]
 "#;
 
+/// Opaque black occluders (occluders.wgsl): one square hides part of the
+/// view, one shadows part of the cloud from the light.
+const OCCLUDERS: &str = r#"
+[[shapes]]
+type = "rectangle"
+to_world = { translate = [-0.2, 0.1, 0.8], scale = 0.12 }
+bsdf = { type = "diffuse", reflectance = 0.0 }
+[[shapes]]
+type = "rectangle"
+to_world = { translate = [0.3, 0.4, 0.0], rotate = [1.0, 0.0, 0.0, -90.0], scale = 0.3 }
+bsdf = { type = "diffuse", reflectance = 0.0 }
+"#;
+
 fn scene(extra: &[&str]) -> Scene {
+    scene_of(SCENE, extra)
+}
+
+fn scene_of(text: &str, extra: &[&str]) -> Scene {
     let extra: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
-    let desc = parse_scene(SCENE, "test", &extra).unwrap();
+    let desc = parse_scene(text, "test", &extra).unwrap();
     Scene::build(desc, Path::new(".")).unwrap()
+}
+
+#[test]
+fn visopt_and_ament_with_occluders_match_the_cpu() {
+    let Some(gpu) = test_gpu() else { return };
+    let text = format!("{SCENE}{OCCLUDERS}");
+    let s = scene_of(
+        &text,
+        &["integrator.type=\"visopt\"", "integrator.light_samples=16"],
+    );
+    assert_gpu_matches_cpu(&gpu, &s, 48, 0.005, "visopt with occluders");
+    let s = scene_of(
+        &text,
+        &[
+            "integrator.type=\"ament\"",
+            "integrator.step=0.1",
+            "integrator.jitter=true",
+        ],
+    );
+    assert_gpu_matches_cpu(&gpu, &s, 32, 0.005, "ament with occluders");
 }
 
 #[test]

@@ -82,12 +82,12 @@ fn in_scattered(m: MediumGpu, s: Segment, t: f32, rng: ptr<function, Pcg32>,
     let dist = sqrt(dist2);
     let wi = to_light / dist;
     let f = hg_eval(s.g, dot(s.world.d, wi));
-    if (f <= 0.0) {
-        return vec3<f32>(0.0);
-    }
     var lr: Ray;
     lr.o = p;
     lr.d = wi;
+    if (f <= 0.0 || !visible(lr, dist)) {
+        return vec3<f32>(0.0);
+    }
     var r: Ray;
     let range = to_index(m, lr, dist, &r);
     var tr = 1.0;
@@ -222,7 +222,8 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
     let world = primary_ray(x, y, pixel, sample);
     let m = media[0];
     var index: Ray;
-    let range = to_index_from_camera(m, world, F32_INF, &index);
+    // The camera segment ends at the first surface (occluders.wgsl).
+    let range = to_index_from_camera(m, world, first_surface(world), &index);
     if (range.z == 0.0) {
         return vec3<f32>(0.0);
     }

@@ -3,22 +3,7 @@
 // Mitsuba's twosided), medium transitions, and the emission of a hit. The
 // buffer layout is fogbank-gpu's surfaces.rs.
 
-@group(2) @binding(5) var<storage, read> bvh_nodes: array<BvhNode>;
-@group(2) @binding(6) var<storage, read> surface_data: array<vec4<f32>>;
-
-fn surface_word(i: u32, k: u32) -> u32 {
-    return bitcast<u32>(surface_data[i][k]);
-}
-
-fn surface_corner(slot: u32, k: u32) -> vec3<f32> {
-    return surface_data[surface_word(0u, 1u) + 3u * slot + k].xyz;
-}
-
-// Whether light passes straight through the slot's shape (null, thin
-// dielectric): the corner records' third w.
-fn surface_passes(slot: u32) -> bool {
-    return surface_word(surface_word(0u, 1u) + 3u * slot + 2u, 3u) != 0u;
-}
+// The bindings and triangle records are surface_data.wgsl's.
 
 fn has_surfaces() -> bool {
     return (INTEGRATOR_FLAGS & INTEGRATOR_SURFACES) != 0u;

@@ -62,6 +62,9 @@ fn ament_shadow(m: MediumGpu, p: vec3<f32>, wi: vec3<f32>, distance: f32) -> f32
     var world: Ray;
     world.o = p;
     world.d = wi;
+    if (!visible(world, distance)) {
+        return 0.0;
+    }
     var r: Ray;
     let range = to_index(m, world, distance, &r);
     if (range.z == 0.0) {
@@ -103,7 +106,8 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
     let ray = primary_ray(x, y, pixel, sample);
     let m = media[0];
     var r: Ray;
-    let range = to_index_from_camera(m, ray, F32_INF, &r);
+    // Marched up to the first surface (occluders.wgsl).
+    let range = to_index_from_camera(m, ray, first_surface(ray), &r);
     if (range.z == 0.0) {
         return vec3<f32>(0.0);
     }

@@ -74,13 +74,13 @@ fn visopt_next_event(p: vec3<f32>, d: vec3<f32>, optimise: bool, slot: u32,
         return vec3<f32>(0.0);
     }
     let f = dvr_phase(p, d, ls.wi);
-    if (f <= 0.0 || all(ls.radiance == vec3<f32>(0.0))) {
-        return vec3<f32>(0.0);
-    }
-    let m = media[0];
     var world: Ray;
     world.o = p;
     world.d = ls.wi;
+    if (f <= 0.0 || all(ls.radiance == vec3<f32>(0.0)) || !visible(world, ls.distance)) {
+        return vec3<f32>(0.0);
+    }
+    let m = media[0];
     var r: Ray;
     let range = to_index(m, world, ls.distance, &r);
     var tr = 1.0;
@@ -123,12 +123,14 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
         var r: Ray;
         var range: vec3<f32>;
         var l = RayList(LIST_CAMERA, 0u, 0u, 0.0, 0.0, 0.0, 1.0);
+        // Media end at the first surface (occluders.wgsl).
+        let t_end = first_surface(ray);
         if (depth == 0u) {
-            range = to_index_from_camera(m, ray, F32_INF, &r);
+            range = to_index_from_camera(m, ray, t_end, &r);
             let h = bitcast<vec4<u32>>(seed003_data[vo.lists_first + pixel]);
             l = RayList(LIST_CAMERA, h.x, h.y, bitcast<f32>(h.z), bitcast<f32>(h.w), range.x, 1.0);
         } else {
-            range = to_index(m, ray, F32_INF, &r);
+            range = to_index(m, ray, t_end, &r);
         }
         var t = NO_HIT;
         if (range.z != 0.0) {
@@ -136,7 +138,7 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
                             &rng, lookups);
         }
         if (t < 0.0) {
-            if (depth == 0u) {
+            if (depth == 0u && t_end == F32_INF) {
                 radiance = escaped(ray.d, -1.0, false);
             }
             break;
