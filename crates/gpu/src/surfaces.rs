@@ -227,14 +227,3 @@ impl SurfaceBuffers {
         })
     }
 }
-
-/// The GPU's `restir` has no surface code yet (the CPU's sees shapes as
-/// opaque occluders): it refuses scenes with shapes rather than drop them.
-pub fn refuse_surfaces(scene: &Scene, integrator: &str) -> Result<(), GpuError> {
-    if scene.world.surfaces.is_some() {
-        return Err(GpuError(format!(
-            "the GPU backend's {integrator} does not render [[shapes]] yet (the CPU's sees them as occluders): render it with --device cpu"
-        )));
-    }
-    Ok(())
-}

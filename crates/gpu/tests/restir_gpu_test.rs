@@ -133,6 +133,20 @@ fn restir_gpu_matches_the_cpu_on_lit_clouds() {
     }
 }
 
+/// Opaque black shapes (occluders.wgsl): one hides part of the slab from
+/// the camera, one cuts through it.
+#[test]
+fn restir_gpu_matches_the_cpu_with_occluders() {
+    let Some(gpu) = test_gpu() else { return };
+    let shapes = "[[shapes]]\ntype = \"rectangle\"\nto_world = { translate = [-0.3, 0.05, 0.7], scale = 0.15 }\n\
+        bsdf = { type = \"diffuse\", reflectance = [0.0, 0.0, 0.0] }\n\
+        [[shapes]]\ntype = \"rectangle\"\n\
+        to_world = { translate = [0.2, 0.05, 0.0], rotate = [1.0, 0.0, 0.0, -90.0], scale = 0.3 }\n\
+        bsdf = { type = \"diffuse\", reflectance = [0.0, 0.0, 0.0] }\n";
+    let text = slab(&format!("{ENV}{POINT}{shapes}"), "");
+    assert!(compare(&gpu, &text, 3, &[]).pass);
+}
+
 #[test]
 fn restir_gpu_matches_the_cpu_on_the_explosion() {
     let Some(gpu) = test_gpu() else { return };

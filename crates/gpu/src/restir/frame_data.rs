@@ -74,7 +74,6 @@ pub(super) fn upload_frame(
         Some(Velocity::Grid { field, .. }) => vec![field],
         _ => vec![],
     };
-    crate::surfaces::refuse_surfaces(scene, "restir")?;
     let media = SceneBuffers::upload_with(gpu, scene, &extra, &fields)?;
     let velocity = VelocityGpu::new(
         sm.velocity.as_ref(),

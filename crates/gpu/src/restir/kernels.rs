@@ -107,7 +107,7 @@ impl RestirGpu {
             bc4: p.reuse_bc4.then_some(first.media.extra_first + 3),
         };
         Ok(RestirGpu {
-            pipelines: pipelines(gpu, &layouts, est.id)?,
+            pipelines: pipelines(gpu, &layouts, est.id, scene.world.surfaces.is_some())?,
             uniform: RestirUniform::new(p, &mips, batch),
             uniform_buf,
             restir_group,
@@ -281,11 +281,13 @@ fn restir_bind_group_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
     )
 }
 
-/// One pipeline per pass, with the shading estimator `ESTIMATOR`.
+/// One pipeline per pass, with the shading estimator `ESTIMATOR` and, in a
+/// scene with shapes, their occlusion (`OCCLUDERS`, occluders.wgsl).
 fn pipelines(
     gpu: &Gpu,
     layouts: &[Option<&wgpu::BindGroupLayout>],
     estimator: u32,
+    occluders: bool,
 ) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
     let source = shaders::restir_kernel();
     PASSES
@@ -295,7 +297,10 @@ fn pipelines(
                 label: "restir",
                 source: &source,
                 entry,
-                constants: &[("ESTIMATOR", estimator as f64)],
+                constants: &[
+                    ("ESTIMATOR", estimator as f64),
+                    ("OCCLUDERS", occluders as u32 as f64),
+                ],
                 layouts: Some(layouts),
             })
         })

@@ -29,14 +29,14 @@ fn nee_candidate(y: ptr<function, Path>, x: vec3<f32>, d: vec3<f32>, beta: vec3<
         return;
     }
     let fp = hg_pdf(g, -d, ls.wi);
-    if (fp <= 0.0 || all(ls.radiance == vec3<f32>(0.0))) {
+    var sr: Ray;
+    sr.o = x;
+    sr.d = ls.wi;
+    if (fp <= 0.0 || all(ls.radiance == vec3<f32>(0.0)) || !visible(sr, ls.distance)) {
         return;
     }
     var t_nee = 1.0;
     if (rp.nee_transmittance != 0u) {
-        var sr: Ray;
-        sr.o = x;
-        sr.d = ls.wi;
         t_nee = marched_t(rp.nee_record, 1.0, sr, ls.distance, lookups);
     }
     var p_light = pmf;
@@ -70,8 +70,10 @@ fn walk(ray0: Ray, rng: ptr<function, Pcg32>, res: ptr<function, Reservoir>,
             record = rp.primary_record;
         }
         let flight = restir_track(record, ray, rng, lookups);
-        if (flight.t < 0.0) {
-            if (k == 1u) {
+        // A surface ends the walk: F is 0 past it (occluders.wgsl).
+        let t_surface = first_surface(ray);
+        if (flight.t < 0.0 || flight.t >= t_surface) {
+            if (k == 1u && t_surface == F32_INF) {
                 // p = T* of the whole ray, p̂ = T*·lum(L_env): w = lum(L_env).
                 let w = luminance(restir_environment(ray.d));
                 var bg = background_path();

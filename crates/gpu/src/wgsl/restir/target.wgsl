@@ -128,6 +128,10 @@ fn evaluate(ray0: Ray, y: ptr<function, Path>, mode: u32, rng: ptr<function, Pcg
         } else {
             break;
         }
+        // Every step a surface cuts is worth nothing, in p̂ and F alike.
+        if (!visible(seg, dist)) {
+            return vec3<f32>(0.0);
+        }
         f *= before * segment_t(mode, seg, dist, rng, lookups);
         f *= after;
         if (all(f == vec3<f32>(0.0))) {

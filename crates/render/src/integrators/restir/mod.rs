@@ -13,7 +13,7 @@
 //! needs). Primary rays go through pixel centres (`render.pixel_jitter` is
 //! ignored): reuse compares targets of fixed pixel rays. Shapes are opaque
 //! black occluders until surface vertices join the paths (issue 24;
-//! `shared/occluders.rs`); the GPU backend refuses them.
+//! `shared/occluders.rs`), on the CPU and the GPU.
 //!
 //! | key | default | meaning |
 //! |---|---|---|
