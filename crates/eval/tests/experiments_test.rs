@@ -376,11 +376,14 @@ fn pins_bias_settings_all_build() {
 #[test]
 fn pins_boundary_methods_build_and_regions_split_a_disk() {
     use fogbank_eval::experiments::{pins_boundary, restir_protocol::build};
-    let text = pins_boundary::scene(
-        "[[media]]\ndensity = { procedural = \"cloud\", resolution = 16, seed = 7 }\n",
-    );
-    for (label, set) in pins_boundary::methods(0.08) {
-        build(&text, &set).unwrap_or_else(|e| panic!("{label}: {e}"));
+    for (_, light_label, light) in pins_boundary::LIGHTS {
+        let text = pins_boundary::scene(
+            "[[media]]\ndensity = { procedural = \"cloud\", resolution = 16, seed = 7 }\n",
+            light,
+        );
+        for (label, set) in pins_boundary::methods(0.08) {
+            build(&text, &set).unwrap_or_else(|e| panic!("{light_label}, {label}: {e}"));
+        }
     }
     let (w, h) = (64usize, 48usize);
     let img: Vec<[f32; 3]> = (0..w * h)

@@ -3,12 +3,12 @@
 //! the hard boundaries of dense volumes lit from the side — contrast lost
 //! at the edges, the shadowed back brighter. fogbank measures it on the
 //! Teapot stand-in of Fig. 4.11 (`sphere.vdb` as a dense fog, hard-edged)
-//! against the soft procedural cloud, both lit from the left by a point
-//! light (fogbank has no area lights; a point light is the harder case)
-//! plus a dim ambient, 8 bounces: the relative error of PinMS and of ray
-//! marching in three bands of the unbiased reference's brightness on the
-//! object (shadowed third, middle, lit third), on its silhouette pixels,
-//! and the lit/shadowed contrast over the reference's.
+//! against the soft procedural cloud, both lit from the left — by a square
+//! area light as in the thesis (Figs. 4.12–4.13), and by a point light, the
+//! harder case — plus a dim ambient, 8 bounces: the relative error of PinMS
+//! and of ray marching in three bands of the unbiased reference's
+//! brightness on the object (shadowed third, middle, lit third), on its
+//! silhouette pixels, and the lit/shadowed contrast over the reference's.
 
 use super::pins_runtime::CASES;
 use super::restir_protocol::{build, lum, Reference};
@@ -38,10 +38,29 @@ fn volumes() -> [(&'static str, String, f32); 2] {
     ]
 }
 
-pub fn scene(media: &str) -> String {
+/// (file key, label, scene text) of the two key lights, both at the left:
+/// a 1 × 1 square facing the object (the thesis's area light) of radiance
+/// 12, whose irradiance at the object nearly matches the point light's
+/// (intensity 12 at distance 2.5).
+pub const LIGHTS: [(&str, &str, &str); 2] = [
+    (
+        "area",
+        "area light (thesis)",
+        "[[shapes]]\ntype = \"rectangle\"\n\
+         to_world = { translate = [-2.5, 0.4, 0.3], rotate = [0.0, 1.0, 0.0, 90.0], scale = 0.5 }\n\
+         emitter = { radiance = [12.0, 12.0, 12.0] }\n",
+    ),
+    (
+        "point",
+        "point light",
+        "[[lights]]\ntype = \"point\"\nposition = [-2.5, 0.4, 0.3]\nintensity = [12.0, 12.0, 12.0]\n",
+    ),
+];
+
+pub fn scene(media: &str, light: &str) -> String {
     format!(
         "[camera]\nfrom = [0.0, 0.3, 2.4]\nto = [0.0, 0.0, 0.0]\nfov = 40.0\nwidth = {WIDTH}\nheight = {HEIGHT}\n\
-         {media}[[lights]]\ntype = \"point\"\nposition = [-2.5, 0.4, 0.3]\nintensity = [12.0, 12.0, 12.0]\n\
+         {media}{light}\
          [[lights]]\ntype = \"constant\"\nradiance = [{AMBIENT}, {AMBIENT}, {AMBIENT}]\n\
          [integrator]\ntype = \"volpath\"\nmax_depth = 8\n[render]\npixel_jitter = false\n"
     )
@@ -146,54 +165,58 @@ fn contrast(img: &[[f32; 3]], reference: &[[f32; 3]], r: &Regions) -> f64 {
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let spp = trials.unwrap_or(DEFAULT_SPP).clamp(1, 1 << 16) as u32;
     let (mut rows, mut lines) = (Vec::new(), Vec::new());
-    for (vi, (volume, media, step)) in volumes().into_iter().enumerate() {
-        let text = scene(&media);
-        let reference = Reference::render(&build(&text, &[])?, 4 * spp, 0x0B0D);
-        let regions = Regions::of(&reference.rgb);
-        w.png(
-            &format!("volume{vi}_reference.png"),
-            WIDTH,
-            HEIGHT,
-            &reference.rgb,
-            0.0,
-        )?;
-        let check = Reference::render(&build(&text, &[])?, spp, 0x0B0E);
-        let mut all = vec![("unbiased volpath (noise only)", check.rgb)];
-        for (mi, (label, set)) in methods(step).into_iter().enumerate() {
-            let img = Reference::render(&build(&text, &set)?, spp, 0x0B0F);
-            w.png(
-                &format!("volume{vi}_method{mi}.png"),
-                WIDTH,
-                HEIGHT,
-                &img.rgb,
-                0.0,
-            )?;
-            all.push((label, img.rgb));
-        }
-        for (label, img) in all {
-            let e: Vec<f64> = regions
-                .thirds
-                .iter()
-                .chain([&regions.silhouette])
-                .map(|set| relative(&img, &reference.rgb, set))
-                .collect();
-            let c = contrast(&img, &reference.rgb, &regions) - 1.0;
-            lines.push(format!(
-                "| {volume} | {label} | {:+.1} % | {:+.1} % | {:+.1} % | {:+.1} % | {:+.1} % |",
-                100.0 * e[0],
-                100.0 * e[1],
-                100.0 * e[2],
-                100.0 * e[3],
-                100.0 * c
-            ));
-            let mut row = vec![volume.to_string(), label.to_string()];
-            row.extend(e.iter().chain([&c]).map(|x| format!("{x:+.5}")));
-            rows.push(row);
+    for (key, light_label, light) in LIGHTS {
+        for (vi, (volume, media, step)) in volumes().into_iter().enumerate() {
+            let text = scene(&media, light);
+            let reference = Reference::render(&build(&text, &[])?, 4 * spp, 0x0B0D);
+            let regions = Regions::of(&reference.rgb);
+            let png = |w: &mut Writer, name: &str, rgb: &[[f32; 3]]| {
+                w.png(
+                    &format!("{key}_volume{vi}_{name}.png"),
+                    WIDTH,
+                    HEIGHT,
+                    rgb,
+                    0.0,
+                )
+            };
+            png(w, "reference", &reference.rgb)?;
+            let check = Reference::render(&build(&text, &[])?, spp, 0x0B0E);
+            let mut all = vec![("unbiased volpath (noise only)", check.rgb)];
+            for (mi, (label, set)) in methods(step).into_iter().enumerate() {
+                let img = Reference::render(&build(&text, &set)?, spp, 0x0B0F);
+                png(w, &format!("method{mi}"), &img.rgb)?;
+                all.push((label, img.rgb));
+            }
+            for (label, img) in all {
+                let e: Vec<f64> = regions
+                    .thirds
+                    .iter()
+                    .chain([&regions.silhouette])
+                    .map(|set| relative(&img, &reference.rgb, set))
+                    .collect();
+                let c = contrast(&img, &reference.rgb, &regions) - 1.0;
+                lines.push(format!(
+                    "| {light_label} | {volume} | {label} | {:+.1} % | {:+.1} % | {:+.1} % | {:+.1} % | {:+.1} % |",
+                    100.0 * e[0],
+                    100.0 * e[1],
+                    100.0 * e[2],
+                    100.0 * e[3],
+                    100.0 * c
+                ));
+                let mut row = vec![
+                    light_label.to_string(),
+                    volume.to_string(),
+                    label.to_string(),
+                ];
+                row.extend(e.iter().chain([&c]).map(|x| format!("{x:+.5}")));
+                rows.push(row);
+            }
         }
     }
     w.csv(
         "boundary.csv",
         &[
+            "light",
             "volume",
             "method",
             "shadowed_third",
@@ -205,12 +228,14 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &rows,
     )?;
     Ok(format!(
-        "Seed 004 Fig. 4.12, boundary bias: {WIDTH}×{HEIGHT}, point light from the left + ambient {AMBIENT}, \
+        "Seed 004 Figs. 4.12–4.13, boundary bias: {WIDTH}×{HEIGHT}, a 1 × 1 area light (the thesis's) or a point light \
+         from the left + ambient {AMBIENT}, \
          8 bounces, {spp} spp per method against unbiased `volpath` at {} spp. Relative error of the summed \
          luminance over the object's shadowed / middle / lit third of pixels (by the reference's brightness) \
          and over its silhouette; contrast = (lit ÷ shadowed) over the reference's, minus 1 (negative: contrast \
-         lost). Images: volumeV_reference.png, volumeV_methodM.png (M as the rows, ray marching first).\n\n\
-         | volume | method | shadowed | middle | lit | silhouette | contrast |\n|---|---|---|---|---|---|---|\n{}\n",
+         lost). Images: L_volumeV_reference.png, L_volumeV_methodM.png (L: area or point; M as the rows, ray \
+         marching first).\n\n\
+         | light | volume | method | shadowed | middle | lit | silhouette | contrast |\n|---|---|---|---|---|---|---|---|\n{}\n",
         4 * spp,
         lines.join("\n")
     ))
