@@ -21,6 +21,8 @@ use fogbank_render::world::bsdf::Bsdf;
 use fogbank_render::world::surfaces::material::Side;
 use fogbank_render::world::texture::Texture;
 use fogbank_render::Scene;
+use std::collections::HashMap;
+use std::sync::Arc;
 
 /// The two buffers, ready to bind.
 pub(crate) struct SurfaceBuffers {
@@ -56,9 +58,13 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
         data[2 + i as usize / 4][i as usize % 4] = u(s.bounds_medium(i as usize) as u32);
     }
     let shape_base = data.len() as u32;
-    let mut coatings = Vec::new();
     let coating_base =
         shape_base + SHAPE_STRIDE * s.shapes.len() as u32 + 7 * accel.bvh.order.len() as u32;
+    let mut tables = Tables {
+        rows: Vec::new(),
+        base: coating_base,
+        bitmaps: HashMap::new(),
+    };
     for (i, shape) in s.shapes.iter().enumerate() {
         let (normals, uvs) = shape.shading_data();
         let m = &shape.material;
@@ -78,12 +84,7 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
         data.push([u(flags), u(i as u32), 0.0, 0.0]);
         data.push(v4(shape.emission.unwrap_or_default(), 0.0));
         for side in [Some(&m.front), m.back.as_ref()] {
-            pack_side(
-                side.unwrap_or(&m.front),
-                &mut data,
-                &mut coatings,
-                coating_base,
-            );
+            pack_side(side.unwrap_or(&m.front), &mut data, &mut tables);
         }
     }
     let tri_base = data.len() as u32;
@@ -119,7 +120,7 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
         data.push([uv(1).y, uv(2).x, uv(2).y, 0.0]);
     }
     debug_assert_eq!(data.len() as u32, coating_base);
-    data.extend(coatings);
+    data.extend(tables.rows);
     data[0] = [
         u(shape_base),
         u(tri_base),
@@ -135,8 +136,42 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
     (nodes, data)
 }
 
+/// The tables after the triangles: rough plastics' coating tables and
+/// bitmap texels, each bitmap file's texels once however many sides read
+/// it (`BitmapFiles` shares them).
+struct Tables {
+    rows: Vec<[f32; 4]>,
+    /// Where `rows` starts in the surface buffer.
+    base: u32,
+    /// Texel storage (by address) → its offset.
+    bitmaps: HashMap<usize, u32>,
+}
+
+impl Tables {
+    /// Appends `values`, four to a row (the last padded): their offset.
+    fn push(&mut self, values: &[f32]) -> u32 {
+        let offset = self.base + self.rows.len() as u32;
+        self.rows.extend(values.chunks(4).map(|c| {
+            let mut v = [0.0; 4];
+            v[..c.len()].copy_from_slice(c);
+            v
+        }));
+        offset
+    }
+
+    fn texels(&mut self, texels: &Arc<[f32]>) -> u32 {
+        let key = Arc::as_ptr(texels) as *const f32 as usize;
+        if let Some(&offset) = self.bitmaps.get(&key) {
+            return offset;
+        }
+        let offset = self.push(texels);
+        self.bitmaps.insert(key, offset);
+        offset
+    }
+}
+
 /// One side's record: (kind, α, η, flags), parameters a, b, c, texture.
-fn pack_side(side: &Side, data: &mut Vec<[f32; 4]>, coatings: &mut Vec<[f32; 4]>, base: u32) {
+fn pack_side(side: &Side, data: &mut Vec<[f32; 4]>, tables: &mut Tables) {
     let z = glam::Vec3::ZERO;
     let (alpha, eta, nonlinear, a, b, c) = match side.bsdf {
         Bsdf::Diffuse { reflectance } => (0.0, 1.0, false, reflectance, z, [0.0; 4]),
@@ -151,8 +186,7 @@ fn pack_side(side: &Side, data: &mut Vec<[f32; 4]>, coatings: &mut Vec<[f32; 4]>
         Bsdf::Plastic(p) => (0.0, p.eta, p.nonlinear, p.diffuse, p.specular, [0.0; 4]),
         Bsdf::RoughPlastic(p) => {
             let (table, internal) = p.coating();
-            let offset = base + coatings.len() as u32;
-            coatings.extend(table.chunks(4).map(|c| [c[0], c[1], c[2], c[3]]));
+            let offset = tables.push(table);
             (
                 p.alpha,
                 p.eta,
@@ -190,12 +224,7 @@ fn pack_side(side: &Side, data: &mut Vec<[f32; 4]>, coatings: &mut Vec<[f32; 4]>
             // wrap ids and t.y; the linear part of to_uv (as the
             // checkerboard's, so one to_uv reads both).
             let (m, t) = (b.to_uv.matrix2, b.to_uv.translation);
-            let offset = base + coatings.len() as u32;
-            coatings.extend(b.texels.chunks(4).map(|c| {
-                let mut v = [0.0; 4];
-                v[..c.len()].copy_from_slice(c);
-                v
-            }));
+            let offset = tables.texels(&b.texels);
             data.push([u(offset), u(b.width), u(b.height), t.x]);
             let flags = b.channels | b.filter.id() << 2 | b.wrap.id() << 3;
             data.push([u(flags), 0.0, 0.0, t.y]);
@@ -225,5 +254,36 @@ impl SurfaceBuffers {
             nodes: gpu.storage_buffer("bvh_nodes", bytemuck::cast_slice(&nodes)),
             data: gpu.storage_buffer("surface_data", bytemuck::cast_slice(&data)),
         })
+    }
+}
+
+#[cfg(test)]
+mod surfaces_test {
+    use super::pack;
+    use fogbank_render::{parse_scene, Scene};
+    use std::path::Path;
+
+    fn scene(second: &str) -> Scene {
+        let tex = "{ type = \"bitmap\", filename = \"mitsuba/textures/tiles_24x16.png\" }";
+        let text = format!(
+            "[[shapes]]\ntype = \"rectangle\"\nbsdf = {{ type = \"diffuse\", reflectance = {tex} }}\n\
+             [[shapes]]\ntype = \"rectangle\"\nto_world = {{ translate = [0.0, 0.0, 1.0] }}\n\
+             bsdf = {{ type = \"diffuse\", reflectance = {second} }}\n"
+        );
+        let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+        Scene::build(parse_scene(&text, "test", &[]).unwrap(), &base).unwrap()
+    }
+
+    /// Two shapes textured by one file upload its texels once: the buffer
+    /// is as long as with the second shape untextured.
+    #[test]
+    fn a_bitmap_file_is_uploaded_once() {
+        let shared = scene(
+            "{ type = \"bitmap\", filename = \"mitsuba/textures/tiles_24x16.png\", filter_type = \"nearest\" }",
+        );
+        let plain = scene("0.5");
+        let (_, a) = pack(&shared);
+        let (_, b) = pack(&plain);
+        assert_eq!(a.len(), b.len());
     }
 }

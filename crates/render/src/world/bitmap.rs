@@ -22,7 +22,10 @@
 
 use crate::error::SceneError;
 use glam::{Affine2, Vec2, Vec3};
-use std::path::Path;
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Interpolation of the texels (`filter_type`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -107,8 +110,9 @@ pub struct Bitmap {
     pub height: u32,
     /// 1 (grey) or 3 (RGB).
     pub channels: u32,
-    /// Row-major texels, `channels` values each, linear.
-    pub texels: Vec<f32>,
+    /// Row-major texels, `channels` values each, linear; shared by every
+    /// texture that reads the same file ([`BitmapFiles`]).
+    pub texels: Arc<[f32]>,
     pub filter: BitmapFilter,
     pub wrap: WrapMode,
     pub to_uv: Affine2,
@@ -194,11 +198,54 @@ impl Bitmap {
             width,
             height,
             channels,
-            texels,
+            texels: texels.into(),
             filter,
             wrap,
             to_uv,
         })
+    }
+}
+
+/// The bitmap files of one scene, each decoded once: textures that read the
+/// same file (with the same `raw`) share its texels, in memory and in the
+/// GPU's surface buffer, whatever their filter, wrap and `to_uv`.
+#[derive(Debug)]
+pub struct BitmapFiles {
+    base: PathBuf,
+    decoded: RefCell<HashMap<(PathBuf, bool), Bitmap>>,
+}
+
+impl BitmapFiles {
+    /// Files relative to `base` (the scene file's folder).
+    pub fn new(base: &Path) -> BitmapFiles {
+        BitmapFiles {
+            base: base.to_path_buf(),
+            decoded: RefCell::new(HashMap::new()),
+        }
+    }
+
+    /// [`Bitmap::load`] of `filename`, decoding it on its first use only.
+    pub fn load(
+        &self,
+        filename: &str,
+        raw: bool,
+        filter: BitmapFilter,
+        wrap: WrapMode,
+        to_uv: Affine2,
+    ) -> Result<Bitmap, SceneError> {
+        let path = self.base.join(filename);
+        let key = (path.clone(), raw);
+        if let Some(b) = self.decoded.borrow().get(&key) {
+            return Ok(Bitmap {
+                filter,
+                wrap,
+                to_uv,
+                ..b.clone()
+            });
+        }
+        let b = Bitmap::load(&path, raw, filter, wrap, to_uv)?;
+        self.decoded.borrow_mut().insert(key, b.clone());
+        Ok(b)
     }
 }
 
@@ -270,7 +317,7 @@ mod bitmap_test {
             width: 3,
             height: 2,
             channels: 1,
-            texels: (0..6).map(|i| i as f32).collect(),
+            texels: (0..6).map(|i| i as f32).collect::<Vec<_>>().into(),
             filter,
             wrap,
             to_uv: Affine2::IDENTITY,
@@ -343,6 +390,49 @@ mod bitmap_test {
         )
         .unwrap_err();
         assert!(e.0.contains("bad.png"), "{e:?}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// A scene's textures that read one file share its texels, each with
+    /// its own lookup parameters; `raw` and other files decode apart.
+    #[test]
+    fn files_are_decoded_once_per_scene() {
+        let dir = std::env::temp_dir().join(format!("fogbank_bitmaps_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        image::RgbImage::from_pixel(3, 2, image::Rgb([10, 20, 30]))
+            .save(dir.join("a.png"))
+            .unwrap();
+        image::RgbImage::from_pixel(3, 2, image::Rgb([10, 20, 30]))
+            .save(dir.join("b.png"))
+            .unwrap();
+        let files = BitmapFiles::new(&dir);
+        let id = Affine2::IDENTITY;
+        let a = files
+            .load("a.png", false, BitmapFilter::Nearest, WrapMode::Repeat, id)
+            .unwrap();
+        let shifted = Affine2::from_translation(Vec2::new(0.5, 0.0));
+        let again = files
+            .load(
+                "a.png",
+                false,
+                BitmapFilter::Bilinear,
+                WrapMode::Clamp,
+                shifted,
+            )
+            .unwrap();
+        assert!(Arc::ptr_eq(&a.texels, &again.texels));
+        assert_eq!(
+            (again.filter, again.wrap, again.to_uv),
+            (BitmapFilter::Bilinear, WrapMode::Clamp, shifted)
+        );
+        let raw = files
+            .load("a.png", true, BitmapFilter::Nearest, WrapMode::Repeat, id)
+            .unwrap();
+        let other = files
+            .load("b.png", false, BitmapFilter::Nearest, WrapMode::Repeat, id)
+            .unwrap();
+        assert!(!Arc::ptr_eq(&a.texels, &raw.texels) && a.texels != raw.texels);
+        assert!(!Arc::ptr_eq(&a.texels, &other.texels) && a.texels == other.texels);
         std::fs::remove_dir_all(&dir).ok();
     }
 }

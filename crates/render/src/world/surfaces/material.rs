@@ -27,6 +27,7 @@
 use super::ior::{ior, IorDesc};
 pub use super::spectrum::{SpectrumDesc, TextureDesc, UvTransformDesc};
 use crate::error::SceneError;
+use crate::world::bitmap::BitmapFiles;
 use crate::world::bsdf::{Bsdf, BsdfSample, Plastic, RoughPlastic, TwoSided};
 use crate::world::texture::Texture;
 use glam::{Vec2, Vec3};
@@ -263,6 +264,12 @@ impl BsdfDesc {
     /// The material; `key` names the table in messages (`shapes.2.bsdf`),
     /// `base` is the folder that texture files are relative to.
     pub fn build(&self, key: &str, base: &Path) -> Result<Material, SceneError> {
+        self.build_with(key, &BitmapFiles::new(base))
+    }
+
+    /// [`BsdfDesc::build`] reading texture files through `files` (shared by
+    /// a scene's shapes, so each file is decoded once).
+    pub fn build_with(&self, key: &str, files: &BitmapFiles) -> Result<Material, SceneError> {
         if let BsdfDesc::Twosided { bsdf, front, back } = self {
             let (f, b) = match (bsdf, front, back) {
                 (Some(x), None, None) => (x, x),
@@ -277,7 +284,7 @@ impl BsdfDesc {
                 if matches!(d, BsdfDesc::Twosided { .. }) {
                     return Err(SceneError(format!("{k}: twosided inside twosided")));
                 }
-                Ok(d.build(k, base)?.front)
+                Ok(d.build_with(k, files)?.front)
             };
             return Ok(Material {
                 front: side(f, &format!("{key}.front"))?,
@@ -285,12 +292,12 @@ impl BsdfDesc {
             });
         }
         Ok(Material {
-            front: self.side(key, base)?,
+            front: self.side(key, files)?,
             back: None,
         })
     }
 
-    fn side(&self, key: &str, base: &Path) -> Result<Side, SceneError> {
+    fn side(&self, key: &str, files: &BitmapFiles) -> Result<Side, SceneError> {
         let k = |name: &str| format!("{key}.{name}");
         let eta_of = |int: &IorDesc, ext: &IorDesc| -> Result<f32, SceneError> {
             Ok(int.value(&k("int_ior"))? / ext.value(&k("ext_ior"))?)
@@ -304,7 +311,7 @@ impl BsdfDesc {
         };
         // The BSDF holds the texture's mean (for sampling weights); the
         // side looks the texture itself up at each hit.
-        let texture = |s: &SpectrumDesc, name: &str| s.texture(&k(name), base);
+        let texture = |s: &SpectrumDesc, name: &str| s.texture(&k(name), files);
         let textured = |bsdf: Bsdf, t: Texture| -> Result<Side, SceneError> {
             Ok(match t {
                 Texture::Constant(_) => Side {
@@ -428,7 +435,7 @@ impl BsdfDesc {
                 bsdf: Bsdf::Null,
                 texture: None,
             }),
-            BsdfDesc::Twosided { .. } => Ok(self.build(key, base)?.front),
+            BsdfDesc::Twosided { .. } => Ok(self.build_with(key, files)?.front),
         }
     }
 }

@@ -8,6 +8,7 @@ use super::shape::ShapeDesc;
 use crate::error::SceneError;
 use crate::lights::area::AreaTriangle;
 use crate::lights::Light;
+use crate::world::bitmap::BitmapFiles;
 use crate::world::medium::SceneMedium;
 use fogbank_geometry::{MeshAccel, MeshHit, TriangleMesh};
 use fogbank_math::{Aabb, Ray, Vec3};
@@ -113,9 +114,10 @@ impl Surfaces {
         let mut all = TriangleMesh::default();
         let (mut shapes, mut shape_of) = (Vec::new(), Vec::new());
         let (mut normals, mut uvs) = (Vec::new(), Vec::new());
+        let files = BitmapFiles::new(base);
         for (i, d) in descs.iter().enumerate() {
             let mesh = d.mesh(i, base)?;
-            let material = d.bsdf().build(&format!("shapes.{i}.bsdf"), base)?;
+            let material = d.bsdf().build_with(&format!("shapes.{i}.bsdf"), &files)?;
             let emission = d.emitter.as_ref().map(|e| Vec3::from(e.radiance));
             if emission.is_some() && material.is_null() {
                 return Err(SceneError(format!(

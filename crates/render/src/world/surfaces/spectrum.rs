@@ -3,11 +3,10 @@
 //! with file names relative to the scene's folder.
 
 use crate::error::SceneError;
-use crate::world::bitmap::{Bitmap, BitmapFilter, WrapMode};
+use crate::world::bitmap::{BitmapFiles, BitmapFilter, WrapMode};
 use crate::world::texture::Texture;
 use glam::{Affine2, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
-use std::path::Path;
 use std::sync::Arc;
 
 /// A reflectance: grey, RGB, or a texture.
@@ -75,8 +74,8 @@ fn checker1() -> [f32; 3] {
 }
 
 impl SpectrumDesc {
-    /// The texture; `base` is the folder that file names are relative to.
-    pub(crate) fn texture(&self, key: &str, base: &Path) -> Result<Texture, SceneError> {
+    /// The texture; `files` resolves and decodes file names.
+    pub(crate) fn texture(&self, key: &str, files: &BitmapFiles) -> Result<Texture, SceneError> {
         let check = |c: [f32; 3]| {
             if c.iter().all(|v| v.is_finite() && *v >= 0.0) {
                 Ok(Vec3::from(c))
@@ -104,8 +103,8 @@ impl SpectrumDesc {
                 wrap_mode,
                 raw,
                 to_uv,
-            }) => Texture::Bitmap(Arc::new(Bitmap::load(
-                &base.join(filename),
+            }) => Texture::Bitmap(Arc::new(files.load(
+                filename,
                 *raw,
                 BitmapFilter::parse(filter_type, key)?,
                 WrapMode::parse(wrap_mode, key)?,
