@@ -96,6 +96,9 @@ pub fn run(a: RenderArgs) -> CliResult {
         }
     }
     let scene = load_scene(a.scene.as_deref(), &overrides)?;
+    if let Some(note) = scene.integrator.notice(&scene.world).filter(|_| !a.quiet) {
+        eprintln!("note: {note}");
+    }
     let spp = match (a.spp, a.time_budget) {
         (None, Some(_)) => u32::MAX,
         _ => scene.desc.render.spp,

@@ -129,6 +129,44 @@ fn bad_set_key_is_an_error_naming_it() {
     );
 }
 
+/// An integrator that sees shapes only as black occluders says so, unless
+/// `--quiet`.
+#[test]
+fn occluding_integrators_say_what_they_do_with_shapes() {
+    let scene = tmp("occluder_scene.toml");
+    std::fs::write(
+        &scene,
+        "[camera]\nwidth = 4\nheight = 3\n\
+         [[media]]\ndensity = { procedural = \"cloud\", resolution = 8 }\n\
+         [[shapes]]\ntype = \"rectangle\"\nto_world = { translate = [0.0, 0.0, -1.0] }\n\
+         [[lights]]\ntype = \"point\"\nposition = [0.0, 1.0, 1.0]\nintensity = [1.0, 1.0, 1.0]\n\
+         [integrator]\ntype = \"point_mis\"\n",
+    )
+    .unwrap();
+    let out = tmp("occluder.exr");
+    let args = |quiet: bool| {
+        let mut v = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "--spp",
+            "1",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        if quiet {
+            v.push("--quiet");
+        }
+        v.into_iter().map(String::from).collect::<Vec<_>>()
+    };
+    let err = String::from_utf8_lossy(&run_ok(fogbank().args(args(false))).stderr).to_string();
+    assert!(
+        err.contains("point_mis sees the scene's 1 shape(s) as opaque black occluders"),
+        "{err}"
+    );
+    let err = String::from_utf8_lossy(&run_ok(fogbank().args(args(true))).stderr).to_string();
+    assert!(!err.contains("occluders"), "{err}");
+}
+
 #[test]
 fn info_reports_the_dragon() {
     let Some(p) = shared_data("dragon.vdb") else {

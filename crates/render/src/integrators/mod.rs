@@ -250,6 +250,26 @@ impl IntegratorKind {
         }
     }
 
+    /// What the user should know before rendering `world` with this
+    /// integrator: shapes that it sees only as black occluders.
+    pub fn notice(&self, world: &World) -> Option<String> {
+        let s = world.surfaces.as_ref()?;
+        matches!(
+            self,
+            IntegratorKind::PointMis(_)
+                | IntegratorKind::Restir(_)
+                | IntegratorKind::VisOpt(_)
+                | IntegratorKind::Ament(_)
+        )
+        .then(|| {
+            format!(
+                "{} sees the scene's {} shape(s) as opaque black occluders: their BSDFs and emitters are not rendered (volpath renders them)",
+                self.name(),
+                s.shapes.len()
+            )
+        })
+    }
+
     /// The transmittance estimator (for `volpath`: the NEE estimator).
     pub fn estimator(&self) -> Estimator {
         match self {
