@@ -164,7 +164,7 @@ impl PointMis {
         let wi = to_light / dist;
         let f = s.hg.eval(s.world.d.dot(wi));
         let light_ray = Ray::new(p, wi);
-        if f <= 0.0 || s.surfaces.is_some_and(|o| o.occluded(&light_ray, dist)) {
+        if f <= 0.0 || !occluders::unblocked(s.surfaces, &light_ray, dist) {
             return Vec3::ZERO;
         }
         let e = transmittance(self.nee, &s.medium.medium, &light_ray, dist, rng);

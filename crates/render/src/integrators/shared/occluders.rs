@@ -10,6 +10,7 @@
 //! bounds nothing is invisible to both.
 
 use crate::error::SceneError;
+use crate::world::surfaces::Surfaces;
 use crate::world::World;
 use fogbank_math::Ray;
 
@@ -36,5 +37,11 @@ pub fn first_surface(world: &World, ray: &Ray) -> f32 {
 /// Whether no surface cuts `ray` in (0, t).
 #[inline]
 pub fn visible(world: &World, ray: &Ray, t: f32) -> bool {
-    world.surfaces.as_ref().is_none_or(|s| !s.occluded(ray, t))
+    unblocked(world.surfaces.as_ref(), ray, t)
+}
+
+/// [`visible`] for code that holds the shapes alone (no shapes: always).
+#[inline]
+pub fn unblocked(surfaces: Option<&Surfaces>, ray: &Ray, t: f32) -> bool {
+    surfaces.is_none_or(|s| !s.occluded(ray, t))
 }
