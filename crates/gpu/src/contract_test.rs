@@ -93,7 +93,7 @@ fn wgsl_structs_have_the_layout_of_the_rust_structs() {
         size_of::<LightGpu>(),
         &[
             ("kind", offset_of!(LightGpu, kind)),
-            ("pad0", offset_of!(LightGpu, pad)),
+            ("trail", offset_of!(LightGpu, trail)),
             ("cdf_surface", surface),
             ("pmf_surface", surface + 4),
             ("a", offset_of!(LightGpu, a)),
@@ -121,9 +121,9 @@ fn wgsl_structs_have_the_layout_of_the_rust_structs() {
             ("props_blackbody", offset_of!(EnvParams, props_blackbody)),
             ("environments", offset_of!(EnvParams, environments)),
             ("bilinear", offset_of!(EnvParams, bilinear)),
+            ("bvh_first", offset_of!(EnvParams, bvh_first)),
+            ("bvh_nodes", offset_of!(EnvParams, bvh_nodes)),
             ("pad0", offset_of!(EnvParams, pad)),
-            ("pad1", offset_of!(EnvParams, pad) + 4),
-            ("pad2", offset_of!(EnvParams, pad) + 8),
         ],
     );
 }

@@ -52,7 +52,6 @@ fn run_once(
     items: usize,
     out: &wgpu::Buffer,
 ) -> Result<Vec<u8>, GpuError> {
-    let device = &gpu.device;
     let pipeline = gpu.compute_pipeline(&crate::pipelines::PipelineSpec {
         label,
         source: &source,
@@ -67,17 +66,86 @@ fn run_once(
             gpu.bind_group_of(label, &pipeline.get_bind_group_layout(g as u32), buffers)
         })
         .collect();
-    let mut enc = device.create_command_encoder(&Default::default());
+    dispatch(gpu, &pipeline, &bind.iter().collect::<Vec<_>>(), items, out)
+}
+
+/// Runs `pipeline` once per item with `bind[g]` at group g and reads `out`
+/// back.
+fn dispatch(
+    gpu: &Gpu,
+    pipeline: &wgpu::ComputePipeline,
+    bind: &[&wgpu::BindGroup],
+    items: usize,
+    out: &wgpu::Buffer,
+) -> Result<Vec<u8>, GpuError> {
+    let mut enc = gpu.device.create_command_encoder(&Default::default());
     {
         let mut pass = enc.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
+        pass.set_pipeline(pipeline);
         for (g, b) in bind.iter().enumerate() {
-            pass.set_bind_group(g as u32, b, &[]);
+            pass.set_bind_group(g as u32, *b, &[]);
         }
         pass.dispatch_workgroups((items as u32).div_ceil(64), 1, 1);
     }
     gpu.queue.submit([enc.finish()]);
     gpu.read_back(out)
+}
+
+/// Each query (point xyz, u in w) answered by lights.wgsl and
+/// light_bvh.wgsl with `scene`'s lights for a point in a medium:
+/// [`pick_light`'s light (u32::MAX: none), its pmf bits, `light_pmf_at`
+/// of that light bits, 0] — to compare with `LightSampler::pick` and
+/// `pmf`.
+pub fn light_picks(
+    gpu: &Gpu,
+    scene: &fogbank_render::Scene,
+    queries: &[[f32; 4]],
+) -> Result<Vec<[u32; 4]>, GpuError> {
+    let properties = vec![[0u32; 5]; scene.media.len()];
+    let lights = crate::lights::LightBuffers::upload(gpu, scene, &properties)?;
+    let q = gpu.storage_buffer("pick_queries", bytemuck::cast_slice(queries));
+    let out = output_buffer(gpu, "pick_answers", queries.len() as u64 * 16);
+    let source = [
+        shaders::estimators().as_str(),
+        shaders::FRAME,
+        shaders::MIS,
+        shaders::PHASE,
+        shaders::LIGHTS,
+        shaders::PROPERTIES,
+        shaders::LIGHT_BVH,
+        shaders::LIGHT_PICKS_KERNEL,
+    ]
+    .join("\n");
+    let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    let empty = gpu.bind_group_layout("empty", &[]);
+    let io = gpu.bind_group_layout("light_picks", &[storage(0, true), storage(1, false)]);
+    let layouts = [
+        Some(&empty),
+        Some(&empty),
+        Some(&lights.bind_group_layout),
+        Some(&io),
+    ];
+    let pipeline = gpu.compute_pipeline(&crate::pipelines::PipelineSpec {
+        label: "light_picks",
+        source: &source,
+        entry: "main",
+        constants: &[],
+        layouts: Some(&layouts),
+    })?;
+    let none = gpu.bind_group_of("empty", &empty, &[]);
+    let io_group = gpu.bind_group_of("light_picks", &io, &[&q, &out]);
+    let bind = [&none, &none, &lights.bind_group, &io_group];
+    let bytes = dispatch(gpu, &pipeline, &bind, queries.len(), &out)?;
+    Ok(bytemuck::cast_slice(&bytes)[..queries.len()].to_vec())
 }
 
 /// One pin query along a unit-cube ray (WGSL `ChordQuery`).

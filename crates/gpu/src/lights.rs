@@ -15,7 +15,9 @@ use wgpu::util::DeviceExt;
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub(crate) struct LightGpu {
     pub(crate) kind: u32,
-    pub(crate) pad: u32,
+    /// Emitting triangles in the light BVH: the bit trail from its root
+    /// (`LightBvh::trails`).
+    pub(crate) trail: u32,
     /// `LightSampler`'s CDF entry and pmf for points on surfaces (`d.zw`:
     /// for points in media).
     pub(crate) surface: [f32; 2],
@@ -45,7 +47,12 @@ pub(crate) struct EnvParams {
     pub(crate) environments: u32,
     /// 1: read the map bilinearly (Mitsuba's lookup).
     pub(crate) bilinear: u32,
-    pub(crate) pad: [u32; 3],
+    /// Lights from this index on are picked through the light BVH
+    /// (`light_count`: no tree), whose nodes start at this vec4 of the
+    /// `shading` buffer.
+    pub(crate) bvh_first: u32,
+    pub(crate) bvh_nodes: u32,
+    pub(crate) pad: u32,
 }
 
 pub struct LightBuffers {
@@ -75,6 +82,7 @@ impl LightBuffers {
                 unpicked = fogbank_render::lights::sample::LightSampler::new(
                     &scene.world.lights,
                     scene.world.radius(),
+                    scene.world.light_selection,
                 );
                 &unpicked
             }
@@ -86,7 +94,7 @@ impl LightBuffers {
         // A light's CDF entry and pmf for points of kind `at`.
         let pick = |i: usize, at| {
             let c = sampler.cdf(at).get(i).copied().unwrap_or(1.0);
-            [c, sampler.pmf(i, at)]
+            [c, sampler.cdf_pmf(i, at)]
         };
         let mut env = EnvParams {
             to_local: [
@@ -107,7 +115,9 @@ impl LightBuffers {
                 .rposition(|l| l.is_environment())
                 .map_or(0, |i| i as u32 + 1),
             bilinear: 0,
-            pad: [0; 3],
+            bvh_first: scene.lights.len() as u32,
+            bvh_nodes: 0,
+            pad: 0,
         };
         let (mut env_rgb, mut env_cdf) = (vec![[0.0f32; 4]], vec![0.0f32, 1.0, 0.0, 1.0]);
         let mut records = Vec::new();
@@ -116,9 +126,12 @@ impl LightBuffers {
             let [c, pmf] = pick(i, Vertex::Medium);
             let surface = pick(i, Vertex::Surface);
             let zero = [0.0; 4];
+            let trail = (sampler.bvh())
+                .filter(|b| b.holds(i))
+                .map_or(0, |b| b.trails[i - b.first]);
             let rec = |kind, a, b, c4, d: [f32; 2]| LightGpu {
                 kind,
-                pad: 0,
+                trail,
                 surface,
                 a,
                 b,
@@ -235,6 +248,11 @@ impl LightBuffers {
         // the ranges start at `EnvParams::props_ext` and `props_blackbody`.
         shading.extend(ext);
         shading.extend(table);
+        if let Some(b) = sampler.bvh() {
+            env.bvh_first = b.first as u32;
+            env.bvh_nodes = shading.len() as u32;
+            shading.extend(light_bvh_nodes(b)?);
+        }
         let surfaces = crate::surfaces::SurfaceBuffers::upload(gpu, scene)?;
         let lights_buf = gpu.storage_buffer("lights", bytemuck::cast_slice(&records));
         let env_buf = gpu
@@ -288,4 +306,27 @@ impl LightBuffers {
             bind_group,
         })
     }
+}
+
+/// The light BVH's nodes for `light_bvh.wgsl`: three vec4s each, (min,
+/// φ), (max, cos θ_o), (cone axis, index as an exact float: the second
+/// child, or −(light + 1) for a leaf).
+fn light_bvh_nodes(b: &fogbank_render::lights::bvh::LightBvh) -> Result<Vec<[f32; 4]>, GpuError> {
+    if b.nodes.len() >= 1 << 24 {
+        return Err(GpuError(format!(
+            "{} emitting triangles: the GPU's light BVH takes fewer than 2^23",
+            b.trails.len()
+        )));
+    }
+    Ok((b.nodes.iter())
+        .flat_map(|n| {
+            let index = if n.leaf {
+                -(n.index as f32 + 1.0)
+            } else {
+                n.index as f32
+            };
+            let l = &n.bounds;
+            [v4(l.min, l.phi), v4(l.max, l.cos_theta_o), v4(l.w, index)]
+        })
+        .collect())
 }

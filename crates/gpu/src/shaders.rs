@@ -25,6 +25,7 @@ pub const MIS: &str = include_str!("wgsl/mis.wgsl");
 pub const PHASE: &str = include_str!("wgsl/phase.wgsl");
 pub const LIGHTS: &str = include_str!("wgsl/lights.wgsl");
 pub const PROPERTIES: &str = include_str!("wgsl/properties.wgsl");
+pub const LIGHT_BVH: &str = include_str!("wgsl/light_bvh.wgsl");
 pub const SCATTER_KERNEL: &str = include_str!("wgsl/scatter_kernel.wgsl");
 pub const RAY_MARCHING_STEP: &str = include_str!("wgsl/ray_marching_step.wgsl");
 pub const PINS: &str = include_str!("wgsl/pins.wgsl");
@@ -35,6 +36,7 @@ pub const CHORD_QUERIES_KERNEL: &str = include_str!("wgsl/chord_queries_kernel.w
 /// Surfaces: watertight triangles and BVH traversal.
 pub const BVH: &str = include_str!("wgsl/bvh.wgsl");
 pub const BVH_QUERIES_KERNEL: &str = include_str!("wgsl/bvh_queries_kernel.wgsl");
+pub const LIGHT_PICKS_KERNEL: &str = include_str!("wgsl/light_picks_kernel.wgsl");
 pub const MICROFACET: &str = include_str!("wgsl/surfaces/microfacet.wgsl");
 pub const BSDF: &str = include_str!("wgsl/surfaces/bsdf.wgsl");
 pub const BITMAP: &str = include_str!("wgsl/surfaces/bitmap.wgsl");
@@ -99,6 +101,7 @@ fn scattering_kernel(kernel: &str) -> String {
         PHASE,
         LIGHTS,
         PROPERTIES,
+        LIGHT_BVH,
         kernel,
         ACCUMULATE,
     ]
@@ -171,6 +174,7 @@ pub fn restir_kernel() -> String {
         PHASE,
         LIGHTS,
         PROPERTIES,
+        LIGHT_BVH,
         DISTANCE_TRILINEAR,
         BVH,
         SURFACE_DATA,

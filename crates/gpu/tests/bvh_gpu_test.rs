@@ -130,3 +130,63 @@ fn axis_parallel_rays_on_box_planes_hit_on_the_gpu() {
         assert_eq!(a[3], 1, "any hit {q:?}");
     }
 }
+
+/// The light BVH's descent and pmf (light_bvh.wgsl) against
+/// `LightSampler::pick` and `pmf` at points in the fog of 300 emitting
+/// triangles: the same light for almost every (point, u) — GPU division
+/// may put a u right at a child's boundary on the other side — with the
+/// same probability, and the GPU's pmf re-derived along the trail equal to
+/// the pick's.
+#[test]
+fn light_bvh_picks_match_the_cpu() {
+    use fogbank_render::integrators::IntegratorKind;
+    use fogbank_render::lights::sample::Vertex;
+    let Some(gpu) = test_gpu() else { return };
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes/mitsuba/fog_emitters.xml");
+    let scene =
+        fogbank_render::load_scene(Some(&path), &["render.light_sampler=bvh".into()]).unwrap();
+    let IntegratorKind::VolPath(v) = &scene.integrator else {
+        panic!("volpath")
+    };
+    assert!(v.lights.bvh().is_some());
+    let mut rng = Pcg32::new(9, 1);
+    let queries: Vec<[f32; 4]> = (0..4096)
+        .map(|_| {
+            let r = |rng: &mut Pcg32| 6.0 * rng.next_f32() - 3.0;
+            [r(&mut rng), r(&mut rng), r(&mut rng), rng.next_f32()]
+        })
+        .collect();
+    let answers = fogbank_gpu::diagnostics::light_picks(&gpu, &scene, &queries).unwrap();
+    let mut same = 0;
+    for (q, a) in queries.iter().zip(&answers) {
+        let p = Vec3::new(q[0], q[1], q[2]);
+        let cpu = v.lights.pick(q[3], Vertex::Medium, p);
+        let (pmf, pmf_at) = (f32::from_bits(a[1]), f32::from_bits(a[2]));
+        let close = |a: f32, b: f32| (a - b).abs() <= 1e-4 * a.abs().max(b.abs());
+        match cpu {
+            None => {
+                assert_eq!(a[0], u32::MAX, "{p}: the CPU picks nothing");
+                same += 1;
+            }
+            Some((i, cpu_pmf)) if i as u32 == a[0] => {
+                same += 1;
+                assert!(
+                    close(cpu_pmf, pmf),
+                    "{p}: light {i} pmf cpu {cpu_pmf} gpu {pmf}"
+                );
+            }
+            Some(_) => {}
+        }
+        if a[0] != u32::MAX {
+            assert!(close(pmf, pmf_at), "{p}: gpu pick {pmf} vs pmf {pmf_at}");
+            let cpu_pmf = v.lights.pmf(a[0] as usize, Vertex::Medium, p);
+            assert!(
+                close(cpu_pmf, pmf_at),
+                "{p}: light {} pmf cpu {cpu_pmf} gpu {pmf_at}",
+                a[0]
+            );
+        }
+    }
+    assert!(same >= 4096 * 99 / 100, "{same} of 4096 picks agree");
+}

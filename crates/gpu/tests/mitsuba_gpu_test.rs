@@ -60,6 +60,24 @@ fn dielectrics_and_textured_plastics_match_the_cpu() {
     matches_cpu("bitmap_textures", 48);
 }
 
+/// 300 small emitting triangles in fog picked through the light BVH
+/// (`render.light_sampler = "bvh"`; light_bvh.wgsl) on both devices; MIS
+/// weights of emission hit by phase-sampled directions re-derive its pmf.
+#[test]
+fn many_emitters_through_the_light_bvh_match_the_cpu() {
+    let Some(gpu) = test_gpu() else { return };
+    let path = scenes().join("fog_emitters.xml");
+    let s = load_scene(Some(&path), &["render.light_sampler=bvh".into()]).unwrap();
+    let fogbank_render::integrators::IntegratorKind::VolPath(v) = &s.integrator else {
+        panic!("fog_emitters renders with volpath");
+    };
+    assert!(
+        v.lights.bvh().is_some(),
+        "the emitters are picked through the BVH"
+    );
+    assert_gpu_matches_cpu(&gpu, &s, 64, 1e-4, "fog_emitters with a light BVH");
+}
+
 /// Chromatic extinction, homogeneous and gridded (constant k, ratio
 /// tracking NEE): the GPU estimates each channel's transmittance with its
 /// own walk where the CPU shares one (`fogbank_estimators::scaled`), so the

@@ -5,6 +5,7 @@
 use crate::animation::AnimationDesc;
 use crate::error::SceneError;
 use crate::integrators::{IntegratorDesc, IntegratorKind, REGISTRY};
+use crate::lights::sample::LightSelection;
 use crate::lights::LightDesc;
 use crate::overrides::{apply_override, parse_value};
 use crate::world::camera::CameraDesc;
@@ -48,6 +49,7 @@ pub struct SceneDesc {
 /// | `pixel_jitter` | true | jitter primary rays within pixels (false: pixel centres) |
 /// | `exposure` | 0 | stops applied before the tone curve, for PNG output and the viewer |
 /// | `tonemap` | `linear` | tone curve for PNG and the viewer: `linear`, `aces`, `agx` (see `fogbank_image::tonemap`); EXR stays linear |
+/// | `light_sampler` | `auto` | how NEE picks lights: `power` (a CDF by power), `bvh` (emitting triangles through a light BVH by their importance at the point, pbrt-v4's default), `auto` (`bvh` from 1024 emitting triangles on) |
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
 pub struct RenderDesc {
@@ -59,6 +61,8 @@ pub struct RenderDesc {
     pub pixel_jitter: bool,
     pub exposure: f32,
     pub tonemap: ToneCurve,
+    #[serde(skip_serializing_if = "LightSelection::is_auto")]
+    pub light_sampler: LightSelection,
 }
 
 impl RenderDesc {
@@ -79,6 +83,7 @@ impl Default for RenderDesc {
             pixel_jitter: true,
             exposure: 0.0,
             tonemap: ToneCurve::Linear,
+            light_sampler: LightSelection::Auto,
         }
     }
 }
@@ -181,6 +186,7 @@ impl Scene {
                 &desc.lights,
                 &desc.shapes,
                 desc.render.pixel_jitter,
+                desc.render.light_sampler,
                 base,
             )?,
             Some(a) => {
@@ -203,6 +209,7 @@ impl Scene {
                     &lights,
                     &desc.shapes,
                     desc.render.pixel_jitter,
+                    desc.render.light_sampler,
                     base,
                 )
                 .map_err(|SceneError(e)| SceneError(format!("frame {frame}: {e}")))?;

@@ -14,8 +14,13 @@ mod mitsuba_agreement;
 use mitsuba_agreement::{assert_agrees, scenes, spp_for};
 
 fn agree(name: &str) {
+    agree_with(name, &[]);
+}
+
+/// [`agree`] with `--set` overrides.
+fn agree_with(name: &str, overrides: &[String]) {
     let spp = spp_for(name);
-    let scene = load_scene(Some(&scenes().join(format!("{name}.xml"))), &[]).unwrap();
+    let scene = load_scene(Some(&scenes().join(format!("{name}.xml"))), overrides).unwrap();
     let opts = RenderOptions {
         spp,
         seed: 7,
@@ -57,6 +62,14 @@ fn surfaces_under_an_environment_map_and_an_area_light_agree_with_mitsuba() {
 #[test]
 fn fog_among_many_small_emitters_agrees_with_mitsuba() {
     agree("fog_emitters");
+}
+
+/// The same 300 emitters picked through the light BVH: NEE by importance
+/// at the point, MIS weights with the pmf re-derived along each light's
+/// trail.
+#[test]
+fn fog_among_many_small_emitters_through_a_light_bvh_agrees_with_mitsuba() {
+    agree_with("fog_emitters", &["render.light_sampler=bvh".into()]);
 }
 
 #[test]

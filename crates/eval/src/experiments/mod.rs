@@ -17,6 +17,7 @@ pub mod fig4;
 pub mod fig5;
 pub mod fig7;
 mod fit;
+pub mod light_bvh;
 pub mod pins_ablation;
 pub mod pins_bias;
 pub mod pins_boundary;
@@ -101,6 +102,7 @@ pub fn names() -> &'static [&'static str] {
         "visopt-denoise",
         "visopt-gpu-frame-time",
         "bvh-perf",
+        "light-bvh",
     ]
 }
 
@@ -151,6 +153,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "visopt-teaser" => visopt_teaser::run(&mut w, trials),
         "visopt-denoise" => visopt_denoise::run(&mut w, trials),
         "bvh-perf" => bvh_perf::run(&mut w, trials),
+        "light-bvh" => light_bvh::run(&mut w, trials),
         "visopt-gpu-frame-time" => visopt_gpu_frame_time::run(&mut w, trials),
         _ => {
             return Err(format!(

@@ -5,7 +5,8 @@
 
 struct LightGpu {
     kind: u32,
-    pad0: u32,
+    // Emitting triangles in the light BVH: the bit trail from its root.
+    trail: u32,
     // LightSampler's CDF entry and pmf for points on surfaces (d.zw: in media).
     cdf_surface: f32,
     pmf_surface: f32,
@@ -34,9 +35,12 @@ struct EnvParams {
     environments: u32,
     // 1: the map is read bilinearly, as Mitsuba 3's `envmap` (Envmap::bilinear).
     bilinear: u32,
+    // Lights from this index on are picked through the light BVH
+    // (light_bvh.wgsl; light_count: no tree), whose nodes start at this
+    // vec4 of `shading`.
+    bvh_first: u32,
+    bvh_nodes: u32,
     pad0: u32,
-    pad1: u32,
-    pad2: u32,
 }
 
 @group(2) @binding(0) var<storage, read> lights: array<LightGpu>;
@@ -54,10 +58,18 @@ fn luminance(c: vec3<f32>) -> f32 {
     return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
 }
 
-// LightSampler::pick: first light whose CDF (for a point on a surface or
-// in a medium) exceeds u (the last if none), by bisection: scenes with
-// emitting shapes have a light per triangle.
-fn pick_light(u: f32, surface: bool) -> u32 {
+// LightSampler::pick's answer: a light and its selection probability
+// (index NO_LIGHT: none).
+struct LightPick {
+    index: u32,
+    pmf: f32,
+}
+
+// LightSampler::pick at p: the first light whose CDF (for a point on a
+// surface or in a medium) exceeds u (the last if none), by bisection;
+// with a light BVH, the emitting triangles' shared entry descends the
+// tree with u rescaled.
+fn pick_light(u: f32, surface: bool, p: vec3<f32>) -> LightPick {
     var lo = 0u;
     var hi = env.light_count - 1u;
     while (lo < hi) {
@@ -68,7 +80,26 @@ fn pick_light(u: f32, surface: bool) -> u32 {
             hi = mid;
         }
     }
-    return lo;
+    if (lo < env.bvh_first) {
+        return LightPick(lo, light_pmf(lights[lo], surface));
+    }
+    let shared_entry = lights[env.bvh_first];
+    let width = light_pmf(shared_entry, surface);
+    if (width <= 0.0) {
+        return LightPick(NO_LIGHT, 0.0);
+    }
+    let below = select(shared_entry.d.z, shared_entry.cdf_surface, surface) - width;
+    var b = light_bvh_pick(clamp((u - below) / width, 0.0, ONE_MINUS_EPSILON), p);
+    b.pmf *= width;
+    return b;
+}
+
+// LightSampler::pmf: the probability that pick_light at p returns li.
+fn light_pmf_at(li: u32, surface: bool, p: vec3<f32>) -> f32 {
+    if (li < env.bvh_first) {
+        return light_pmf(lights[li], surface);
+    }
+    return light_pmf(lights[env.bvh_first], surface) * light_bvh_pmf(li, p);
 }
 
 fn env_pixel(dir_world: vec3<f32>) -> u32 {

@@ -231,7 +231,8 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
     if (env.pickable == 0u) {
         return vec3<f32>(0.0);
     }
-    let light = lights[pick_light(u_pick, false)];
+    // Point lights only: no light BVH.
+    let light = lights[pick_light(u_pick, false, world.o).index];
     let pmf = light.d.w;
     if (light.kind != LIGHT_POINT || pmf <= 0.0) {
         return vec3<f32>(0.0);

@@ -233,8 +233,12 @@ fn light_query(v: Vertex, current: u32, rng: ptr<function, Pcg32>) -> ShadowQuer
     if (env.pickable == 0u) {
         return no_query();
     }
-    let light = lights[pick_light(u_pick, v.surface)];
-    let pmf = light_pmf(light, v.surface);
+    let picked = pick_light(u_pick, v.surface, v.p);
+    if (picked.index == NO_LIGHT) {
+        return no_query();
+    }
+    let light = lights[picked.index];
+    let pmf = picked.pmf;
     let u0 = pcg32_next_f32(rng);
     let u1 = pcg32_next_f32(rng);
     let ls = light_sample_li(light, v.p, u0, u1);

@@ -56,7 +56,7 @@ impl Direct {
         Ok(Direct {
             distance,
             nee,
-            lights: LightSampler::new(&world.lights, world.radius()),
+            lights: LightSampler::new(&world.lights, world.radius(), world.light_selection),
             with_surfaces,
         })
     }

@@ -181,7 +181,7 @@ impl VolPath {
             nee,
             max_depth: p.max_depth,
             rr_depth: p.rr_depth,
-            lights: LightSampler::new(&world.lights, world.radius()),
+            lights: LightSampler::new(&world.lights, world.radius(), world.light_selection),
             light_only: p.scatter.preset == Some(Preset::RestirBaseline),
             pin_set: {
                 if p.pins.mode != PinMode::Off && world.media.iter().any(|m| m.chroma.is_some()) {

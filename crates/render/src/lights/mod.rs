@@ -1,7 +1,9 @@
 //! Light sources: their scene description and the built lights.
 
 pub mod area;
+pub mod bvh;
 pub mod envmap;
+pub mod light_bounds;
 pub mod sample;
 pub mod sky;
 

@@ -20,6 +20,7 @@ pub mod transfer;
 pub mod velocity;
 
 use crate::error::SceneError;
+use crate::lights::sample::LightSelection;
 use crate::lights::{Light, LightDesc};
 use camera::{Camera, CameraDesc};
 use fogbank_math::{Ray, Vec3};
@@ -38,6 +39,8 @@ pub struct World {
     pub surfaces: Option<Surfaces>,
     /// Jitter primary rays within the pixel (`render.pixel_jitter`).
     pub pixel_jitter: bool,
+    /// How NEE picks lights (`render.light_sampler`).
+    pub light_selection: LightSelection,
     /// Seconds between this frame and the previous one (1/`animation.fps`;
     /// 0 for a static scene): how far media move along their velocity.
     pub frame_dt: f32,
@@ -57,6 +60,7 @@ impl World {
         lights: &[LightDesc],
         shapes: &[ShapeDesc],
         pixel_jitter: bool,
+        light_selection: LightSelection,
         base: &Path,
     ) -> Result<World, SceneError> {
         let media: Vec<SceneMedium> = media
@@ -99,6 +103,7 @@ impl World {
             lights,
             surfaces,
             pixel_jitter,
+            light_selection,
             frame_dt: 0.0,
         })
     }

@@ -22,8 +22,12 @@ fn nee_candidate(y: ptr<function, Path>, x: vec3<f32>, d: vec3<f32>, beta: vec3<
     if (env.pickable == 0u) {
         return;
     }
-    let li = pick_light(u_pick, false);
-    let pmf = lights[li].d.w;
+    let picked = pick_light(u_pick, false, x);
+    if (picked.index == NO_LIGHT) {
+        return;
+    }
+    let li = picked.index;
+    let pmf = picked.pmf;
     let ls = light_sample_li(lights[li], x, u0, u1);
     if (!ls.valid) {
         return;

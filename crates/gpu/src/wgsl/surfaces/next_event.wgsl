@@ -53,7 +53,7 @@ fn emitter_weight(li: u32, q: vec3<f32>, d: vec3<f32>, prev_p: vec3<f32>, prev_p
     if (prev_pdf < 0.0 || l.kind != LIGHT_AREA) {
         return 1.0;
     }
-    return balance(prev_pdf, light_pmf(l, prev_surface) * area_pdf_solid(l, prev_p, q, d));
+    return balance(prev_pdf, light_pmf_at(li, prev_surface, prev_p) * area_pdf_solid(l, prev_p, q, d));
 }
 
 // next_event::sampled_direction_to_lights as a shadow query: the last

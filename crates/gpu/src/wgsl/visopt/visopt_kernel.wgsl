@@ -65,8 +65,12 @@ fn visopt_next_event(p: vec3<f32>, d: vec3<f32>, optimise: bool, slot: u32,
     if (env.pickable == 0u) {
         return vec3<f32>(0.0);
     }
-    let light = lights[pick_light(u_pick, false)];
-    let pmf = light.d.w;
+    let picked = pick_light(u_pick, false, p);
+    if (picked.index == NO_LIGHT) {
+        return vec3<f32>(0.0);
+    }
+    let light = lights[picked.index];
+    let pmf = picked.pmf;
     let u0 = pcg32_next_f32(rng);
     let u1 = pcg32_next_f32(rng);
     let ls = light_sample_li(light, p, u0, u1);

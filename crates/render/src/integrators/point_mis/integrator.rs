@@ -61,7 +61,7 @@ impl PointMis {
             nee: p.estimator,
             mis_samples: p.mis_samples,
             // Point-light power does not depend on the scene radius.
-            lights: LightSampler::new(&world.lights, 1.0),
+            lights: LightSampler::new(&world.lights, 1.0, world.light_selection),
         })
     }
 }
@@ -119,7 +119,7 @@ impl PointMis {
         // The camera ray's medium segment ends at the first surface.
         let t_end = occluders::first_surface(world, &ray);
         let (index, a, b) = medium.medium.to_index(&ray, 0.0, t_end)?;
-        let (li, pmf) = self.lights.pick(rng.next_f32(), Vertex::Medium)?;
+        let (li, pmf) = self.lights.pick(rng.next_f32(), Vertex::Medium, ray.o)?;
         let Light::Point {
             position,
             intensity,

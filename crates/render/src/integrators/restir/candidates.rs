@@ -184,7 +184,7 @@ impl Restir {
         let u_pick = rng.next_f32();
         let u = [rng.next_f32(), rng.next_f32()];
         let u_keep = rng.next_f32();
-        let Some((li, pmf)) = data.lights.pick(u_pick, Vertex::Medium) else {
+        let Some((li, pmf)) = data.lights.pick(u_pick, Vertex::Medium, x) else {
             return;
         };
         let Some(ls) = world.lights[li].sample_li(x, u) else {

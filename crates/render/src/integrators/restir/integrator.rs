@@ -58,7 +58,7 @@ impl Restir {
         Ok(Restir {
             params: p.clone(),
             mips: Mips::build(m, p.reuse_bc4.then_some(p.reuse_mip))?,
-            lights: LightSampler::new(&world.lights, world.radius()),
+            lights: LightSampler::new(&world.lights, world.radius(), world.light_selection),
         })
     }
 

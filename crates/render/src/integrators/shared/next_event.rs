@@ -36,7 +36,7 @@ fn pick_light(
     at: Vertex,
     rng: &mut Pcg32,
 ) -> Option<(LightSample, f32)> {
-    let (li, pmf) = lights.pick(rng.next_f32(), at)?;
+    let (li, pmf) = lights.pick(rng.next_f32(), at, p)?;
     let ls = world.lights[li].sample_li(p, [rng.next_f32(), rng.next_f32()])?;
     Some((ls, pmf))
 }
@@ -122,7 +122,7 @@ pub fn escaped(world: &World, lights: &LightSampler, d: Vec3, prev: Option<Sampl
     for (li, light) in world.lights.iter().enumerate() {
         if light.is_environment() {
             let w = prev.map_or(1.0, |s| {
-                balance(s.pdf, lights.pmf(li, s.at) * light.pdf_li(d))
+                balance(s.pdf, lights.pmf(li, s.at, s.p) * light.pdf_li(d))
             });
             l += light.le(d) * w;
         }
@@ -206,7 +206,9 @@ pub fn emitter_weight(
     prev: Option<SampledFrom>,
 ) -> f32 {
     match (prev, &world.lights[li]) {
-        (Some(s), Light::Area(a)) => balance(s.pdf, lights.pmf(li, s.at) * a.pdf_solid(s.p, q, d)),
+        (Some(s), Light::Area(a)) => {
+            balance(s.pdf, lights.pmf(li, s.at, s.p) * a.pdf_solid(s.p, q, d))
+        }
         _ => 1.0,
     }
 }

@@ -75,7 +75,7 @@ impl VisOpt {
         }
         Ok(VisOpt {
             params: p.clone(),
-            lights: LightSampler::new(&world.lights, world.radius()),
+            lights: LightSampler::new(&world.lights, world.radius(), world.light_selection),
             unit: 2.0 / extent,
             lists: Arc::new(OnceLock::new()),
         })
@@ -216,7 +216,7 @@ impl VisOpt {
         lookups: &mut u32,
     ) -> Vec3 {
         let m = &world.media[0];
-        let Some((li, pmf)) = self.lights.pick(rng.next_f32(), Vertex::Medium) else {
+        let Some((li, pmf)) = self.lights.pick(rng.next_f32(), Vertex::Medium, p) else {
             return Vec3::ZERO;
         };
         let Some(ls) = world.lights[li].sample_li(p, [rng.next_f32(), rng.next_f32()]) else {
