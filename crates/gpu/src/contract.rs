@@ -24,12 +24,13 @@ const FLAG_UNIFORM_JITTER: u32 = FLAGS[0].1;
 const FLAG_CLIP: u32 = FLAGS[1].1;
 const FLAG_DOUBLED: u32 = FLAGS[2].1;
 /// Bits of `Frame::integrator_flags` (WGSL `INTEGRATOR_*`).
-pub const INTEGRATOR_FLAGS: [(&str, u32); 5] = [
+pub const INTEGRATOR_FLAGS: [(&str, u32); 6] = [
     ("LIGHT_ONLY", 1),
     ("RAY_MARCHING", 2),
     ("UNQUANTISED", 4),
     ("SURFACES", 8),
     ("TRANSMITTANCE", 16),
+    ("CHROMATIC", 32),
 ];
 /// volpath's `restir_baseline` preset: light sampling only (no
 /// phase-sampled escape MIS) and Russian roulette by albedo.
@@ -44,6 +45,10 @@ pub const INTEGRATOR_SURFACES: u32 = INTEGRATOR_FLAGS[3].1;
 /// `transmittance` with surfaces or chromatic media: the scatter kernel's
 /// shadow walk along the camera ray (transmittance.rs `sample`).
 pub const INTEGRATOR_TRANSMITTANCE: u32 = INTEGRATOR_FLAGS[4].1;
+/// The scene has chromatic media: NEE shares one walk between channels
+/// where the estimator can (frame.wgsl `estimate_rgb`); without, the
+/// driver compiles that code out.
+pub const INTEGRATOR_CHROMATIC: u32 = INTEGRATOR_FLAGS[5].1;
 
 /// `vec4`s per shape record: media and lights, flags, emission, two sides.
 pub const SHAPE_STRIDE: u32 = 3 + 2 * SIDE_STRIDE;

@@ -155,7 +155,15 @@ impl Kernel {
                 pins: PinParams::default(),
             },
         };
-        Ok(k)
+        let chromatic_flag = if chromatic {
+            crate::contract::INTEGRATOR_CHROMATIC
+        } else {
+            0
+        };
+        Ok(Kernel {
+            flags: k.flags | chromatic_flag,
+            ..k
+        })
     }
 }
 

@@ -11,7 +11,7 @@ use fogbank_gpu::{render as gpu_render, test_gpu};
 use fogbank_render::{load_scene, Progress, RenderOptions, Scene};
 
 mod common;
-use common::{assert_gpu_image_matches_cpu, assert_gpu_matches_cpu};
+use common::assert_gpu_matches_cpu;
 
 #[path = "../../render/tests/support/mitsuba_agreement.rs"]
 mod mitsuba_agreement;
@@ -78,14 +78,17 @@ fn many_emitters_through_the_light_bvh_match_the_cpu() {
     assert_gpu_matches_cpu(&gpu, &s, 64, 1e-4, "fog_emitters with a light BVH");
 }
 
-/// Chromatic extinction, homogeneous and gridded (constant k, ratio
-/// tracking NEE): the GPU estimates each channel's transmittance with its
-/// own walk where the CPU shares one (`fogbank_estimators::scaled`), so the
-/// images agree and the lookups do not.
+/// Chromatic extinction, homogeneous and gridded (constant k), NEE by
+/// ratio tracking and by the jackknife: both devices estimate every
+/// channel's transmittance from one walk (`fogbank_estimators::scaled`,
+/// frame.wgsl `estimate_rgb`), so images and lookups agree.
 #[test]
 fn chromatic_media_match_the_cpu() {
     let Some(gpu) = test_gpu() else { return };
-    assert_gpu_image_matches_cpu(&gpu, &scene("chromatic"), 192, 1e-4, "chromatic");
+    assert_gpu_matches_cpu(&gpu, &scene("chromatic"), 192, 1e-4, "chromatic");
+    let path = scenes().join("chromatic.xml");
+    let jackknife = load_scene(Some(&path), &["integrator.estimator=jackknife".into()]).unwrap();
+    assert_gpu_matches_cpu(&gpu, &jackknife, 96, 1e-4, "chromatic, jackknife NEE");
 }
 
 /// `transmittance` with surfaces (a null boundary around a medium, an
@@ -106,8 +109,7 @@ fn transmittance_through_surfaces_and_chromatic_media_matches_the_cpu() {
         1e-3,
         "null_mesh_medium",
     );
-    // Per-channel walks on the GPU, one shared walk on the CPU: images only.
-    assert_gpu_image_matches_cpu(&gpu, &transmittance("chromatic"), 512, 1e-3, "chromatic");
+    assert_gpu_matches_cpu(&gpu, &transmittance("chromatic"), 512, 1e-3, "chromatic");
 }
 
 const SCENES: [&str; 10] = [

@@ -49,6 +49,11 @@ fn dual_integral(d: ptr<function, DualCell>, o: vec3<f32>, dir: vec3<f32>, a: f3
 }
 
 fn analytic_trilinear(m: MediumGpu, r: Ray, t0: f32, t1: f32, lookups: ptr<function, u32>) -> f32 {
+    return exp(-analytic_trilinear_tau(m, r, t0, t1, lookups));
+}
+
+// analytic_trilinear::optical_depth: the exact τ.
+fn analytic_trilinear_tau(m: MediumGpu, r: Ray, t0: f32, t1: f32, lookups: ptr<function, u32>) -> f32 {
     var shifted = r;
     shifted.o = r.o + vec3<f32>(0.5);
     var tau = 0.0;
@@ -67,5 +72,5 @@ fn analytic_trilinear(m: MediumGpu, r: Ray, t0: f32, t1: f32, lookups: ptr<funct
             tau += dual_integral(&cell, shifted.o, shifted.d, s.t0, s.t1);
         }
     }
-    return exp(-tau * m.scale);
+    return tau * m.scale;
 }

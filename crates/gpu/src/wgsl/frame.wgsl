@@ -148,6 +148,47 @@ fn estimate(m: MediumGpu, r: Ray, t0: f32, t1: f32,
     return t;
 }
 
+// estimators::scaled::transmittance_scaled: each channel's transmittance
+// through a chromatic medium of one density (channel c: extinction k_c
+// times m's) from one walk, for the estimators whose walk does not depend
+// on the scale; w = 0 when this one cannot share it (each channel then
+// walks its own medium).
+fn estimate_rgb(m: MediumGpu, r: Ray, t0: f32, t1: f32, k: vec3<f32>,
+                rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> vec4<f32> {
+    switch ESTIMATOR {
+        case EST_REGULAR_TRACKING: {
+            return vec4<f32>(exp(-k * regular_tracking_tau(m, r, t0, t1, lookups)), 1.0);
+        }
+        case EST_ANALYTIC_TRILINEAR: {
+            return vec4<f32>(exp(-k * analytic_trilinear_tau(m, r, t0, t1, lookups)), 1.0);
+        }
+        case EST_RAY_MARCHING: {
+            let clip = (frame.est_flags & FLAG_CLIP) != 0u;
+            return vec4<f32>(exp(-k * ray_marching_tau(m, r, t0, t1, frame.est_samples, clip, rng, lookups)), 1.0);
+        }
+        case EST_JACKKNIFE: {
+            // A fixed step's count scales with σ_t: the channels' walks differ.
+            if (frame.est_step != 0.0) {
+                return vec4<f32>(1.0, 1.0, 1.0, 0.0);
+            }
+            let uniform = (frame.est_flags & FLAG_UNIFORM_JITTER) != 0u;
+            var x: array<f32, 9>;
+            optical_depths(m, r, t0, t1, frame.est_samples, 0.0, false, uniform, 2u, rng, lookups, &x);
+            return vec4<f32>(jackknife_of(k.x * x[0], k.x * x[1]), jackknife_of(k.y * x[0], k.y * x[1]),
+                             jackknife_of(k.z * x[0], k.z * x[1]), 1.0);
+        }
+        case EST_RATIO_TRACKING: {
+            return vec4<f32>(null_collision_walk_rgb(m, r, t0, t1, WALK_RATIO, k, rng, lookups), 1.0);
+        }
+        case EST_RESIDUAL_RATIO_TRACKING: {
+            return vec4<f32>(null_collision_walk_rgb(m, r, t0, t1, WALK_RESIDUAL, k, rng, lookups), 1.0);
+        }
+        default: {
+            return vec4<f32>(1.0, 1.0, 1.0, 0.0);
+        }
+    }
+}
+
 fn estimate_with(m: MediumGpu, r: Ray, t0: f32, t1: f32,
                  rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
     let uniform = (frame.est_flags & FLAG_UNIFORM_JITTER) != 0u;

@@ -7,7 +7,12 @@ fn jackknife(m: MediumGpu, r: Ray, t0: f32, t1: f32, samples: u32, step: f32,
              rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
     var x: array<f32, 9>;
     optical_depths(m, r, t0, t1, samples, step, mean_importance, uniform_jitter, 2u, rng, lookups, &x);
-    return cos(0.5 * abs(x[0] - x[1])) * exp(-0.5 * (x[0] + x[1]));
+    return jackknife_of(x[0], x[1]);
+}
+
+// jackknife::jackknife_transmittance: seed 000 Eq. 4.
+fn jackknife_of(x0: f32, x1: f32) -> f32 {
+    return cos(0.5 * abs(x0 - x1)) * exp(-0.5 * (x0 + x1));
 }
 
 fn jackknife_naive(m: MediumGpu, r: Ray, t0: f32, t1: f32, samples: u32, uniform_jitter: bool,

@@ -63,3 +63,57 @@ fn control_extinction(sv: vec4<f32>, d: f32) -> f32 {
     let c = sv.x + delta * (exp2(1.0 / (d * delta)) - 1.0);
     return min(sv.z, max(c, sv.x));
 }
+
+// null_collisions::walk as ratio_tracking::transmittance_scaled and
+// residual_ratio_tracking::transmittance_scaled: every channel of a
+// chromatic medium (extinction k_c times m's, k_c ≤ 1) weighted at the
+// same tentative collisions of m's majorant. A copy of the walk above
+// rather than that walk with k = 1: the scalar walk is the hot loop of
+// every kernel, and this one is compiled only with chromatic media
+// (INTEGRATOR_CHROMATIC).
+fn null_collision_walk_rgb(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32, k: vec3<f32>,
+                           rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> vec3<f32> {
+    var tr = vec3<f32>(1.0);
+    var tau_c = 0.0;
+    let diagonal = m.sv_size * sqrt(3.0) / max(length(r.d), 1.1754944e-38);
+    var dda = dda_new(r, m.sv_size, m.sv_dims, t0, t1);
+    var s: DdaStep;
+    while (dda_next(&dda, &s)) {
+        let sv = supervoxel(m, s.cell);
+        var sigma_maj = sv.y;
+        var sigma_c = 0.0;
+        if (mode == WALK_RESIDUAL) {
+            if (sv.y <= 0.0) {
+                continue;
+            }
+            sigma_c = control_extinction(sv, diagonal);
+            tau_c += (s.t1 - s.t0) * sigma_c;
+            sigma_maj = max(sv.y - sigma_c, sigma_c - sv.x);
+        }
+        if (sigma_maj <= 0.0) {
+            continue;
+        }
+        var t = s.t0;
+        loop {
+            t += -log(1.0 - pcg32_next_f32(rng)) / sigma_maj;
+            if (t >= s.t1) {
+                break;
+            }
+            let sigma_t = sigma_t_at(m, ray_at(r, t), rng, lookups);
+            if (mode == WALK_RESIDUAL) {
+                tr *= vec3<f32>(1.0) - k * ((sigma_t - sigma_c) / sigma_maj);
+            } else {
+                tr *= vec3<f32>(null_probability(k.x * sigma_t, sigma_maj),
+                                null_probability(k.y * sigma_t, sigma_maj),
+                                null_probability(k.z * sigma_t, sigma_maj));
+                if (all(tr == vec3<f32>(0.0))) {
+                    return tr;
+                }
+            }
+        }
+    }
+    if (mode == WALK_RESIDUAL) {
+        return exp(-k * tau_c) * tr;
+    }
+    return tr;
+}

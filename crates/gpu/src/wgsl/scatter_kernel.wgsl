@@ -82,9 +82,12 @@ fn next_collision(world: Ray, depth: u32, from_camera: bool, t_end: f32, current
 }
 
 // free_flight::media_transmittance for NEE at scattering vertex `vertex`,
-// per channel: a chromatic medium estimates each channel with its own
-// medium (Chroma::transmittance; channels of equal constant k share one
-// estimate). One estimator call site, for lavapipe's compile time.
+// per channel: a chromatic medium of constant channel ratios shares one
+// walk between its channels where the estimator can
+// (tracking::transmittance_rgb, estimate_rgb); otherwise each channel is
+// estimated with its own medium (Chroma::transmittance; channels of equal
+// constant k share one estimate). One estimator call site, for lavapipe's
+// compile time.
 fn media_shadow(world: Ray, distance: f32, vertex: u32, current: u32,
                 rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> vec3<f32> {
     let kind = shadow_kind(vertex);
@@ -98,6 +101,20 @@ fn media_shadow(world: Ray, distance: f32, vertex: u32, current: u32,
         var k = vec3<f32>(1.0);
         if (first != 0u && !k_varies) {
             k = chroma_k(i, first);
+        }
+        if ((INTEGRATOR_FLAGS & INTEGRATOR_CHROMATIC) != 0u && first != 0u && !k_varies
+            && kind == TRACK_UNBIASED) {
+            let m = media[i];
+            var r: Ray;
+            let range = to_index(m, world, distance, &r);
+            if (range.z == 0.0) {
+                continue;
+            }
+            let shared_walk = estimate_rgb(m, r, range.x, range.y, k, rng, lookups);
+            if (shared_walk.w != 0.0) {
+                tr *= shared_walk.xyz;
+                continue;
+            }
         }
         var t = vec3<f32>(1.0);
         for (var c = 0u; c < select(1u, 3u, first != 0u); c++) {
