@@ -27,7 +27,8 @@ pub struct BenchArgs {
     /// Thread counts to time, comma separated.
     #[arg(long, default_value = "1,2", value_delimiter = ',')]
     pub threads: Vec<usize>,
-    /// Estimators (comma separated); default all.
+    /// Estimators (comma separated), each `NAME` or `NAME:KEY=VALUE:…`
+    /// (`ratio_tracking:roulette=0.1`); default all.
     #[arg(long, value_delimiter = ',')]
     pub estimators: Vec<String>,
     /// Extinction scale of the cloud.
@@ -82,8 +83,14 @@ pub fn run(a: BenchArgs) -> CliResult {
     } else {
         a.estimators
             .iter()
-            .map(|n| Estimator::parse(n).ok_or_else(|| format!("unknown estimator `{n}`")))
+            .map(|n| Estimator::parse_spec(n))
             .collect::<Result<_, _>>()?
+    };
+    // Rows name the estimator as given (options included).
+    let labels: Vec<String> = if a.estimators.is_empty() {
+        estimators.iter().map(|e| e.name().to_string()).collect()
+    } else {
+        a.estimators.clone()
     };
     eprintln!("building a {}³ cloud ...", a.resolution);
     let mut scene = cloud_scene(a.size, a.resolution, a.sigma_t_scale, a.frames)?;
@@ -178,16 +185,10 @@ pub fn run(a: BenchArgs) -> CliResult {
             };
             println!(
                 "| {} | {} | {:.1} | {:.2} | {:.1} | {} | {} |",
-                e.name(),
-                device,
-                ms,
-                mrays,
-                lpr,
-                bias,
-                std
+                labels[i], device, ms, mrays, lpr, bias, std
             );
             rows.push(serde_json::json!({
-                "estimator": e.name(), "threads": device, "ms_per_frame": ms, "mrays_per_s": mrays,
+                "estimator": labels[i], "threads": device, "ms_per_frame": ms, "mrays_per_s": mrays,
                 "lookups_per_ray": lpr,
                 "mean_abs_bias": accuracy[i].map(|v| v.0), "mean_std": accuracy[i].map(|v| v.1),
             }));

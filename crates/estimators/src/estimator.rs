@@ -14,8 +14,14 @@ pub enum Estimator {
     RegularTracking,
     AnalyticTrilinear,
     TrackLength,
-    RatioTracking,
-    ResidualRatioTracking,
+    /// `roulette`: the weight below which the walk plays Russian roulette
+    /// (0: never; [`crate::roulette`]).
+    RatioTracking {
+        roulette: f32,
+    },
+    ResidualRatioTracking {
+        roulette: f32,
+    },
     RayMarching {
         samples: u32,
         clip: bool,
@@ -52,6 +58,7 @@ pub struct EstimatorOptions {
     pub mult: Option<u32>,
     pub doubled: Option<bool>,
     pub clip: Option<bool>,
+    pub roulette: Option<f32>,
 }
 
 struct Info {
@@ -83,13 +90,13 @@ const INFO: [Info; 11] = [
     Info {
         name: "ratio_tracking",
         biased: false,
-        options: "",
+        options: "roulette=0 (Russian roulette below this weight; 0: off)",
         description: "ratio tracking with super-voxel majorants (Novák et al. 2014)",
     },
     Info {
         name: "residual_ratio_tracking",
         biased: false,
-        options: "",
+        options: "roulette=0 (Russian roulette below this weight; 0: off)",
         description:
             "ratio tracking of the residual over a per-super-voxel control (Novák et al. 2014)",
     },
@@ -132,6 +139,15 @@ const INFO: [Info; 11] = [
     },
 ];
 
+/// A roulette threshold: a weight in [0, 1) (0: off).
+fn parse_roulette(r: Option<f32>) -> Result<f32, String> {
+    let r = r.unwrap_or(0.0);
+    if !(0.0..1.0).contains(&r) {
+        return Err(format!("roulette: {r} is outside [0, 1)"));
+    }
+    Ok(r)
+}
+
 fn parse_jitter(j: &Option<String>) -> Result<Jitter, String> {
     match j.as_deref() {
         None | Some("stratified") => Ok(Jitter::Stratified),
@@ -164,8 +180,8 @@ impl Estimator {
             Estimator::RegularTracking => "regular_tracking",
             Estimator::AnalyticTrilinear => "analytic_trilinear",
             Estimator::TrackLength => "track_length",
-            Estimator::RatioTracking => "ratio_tracking",
-            Estimator::ResidualRatioTracking => "residual_ratio_tracking",
+            Estimator::RatioTracking { .. } => "ratio_tracking",
+            Estimator::ResidualRatioTracking { .. } => "residual_ratio_tracking",
             Estimator::RayMarching { .. } => "ray_marching",
             Estimator::BiasedRayMarching { .. } => "biased_ray_marching",
             Estimator::UnbiasedRayMarching { .. } => "unbiased_ray_marching",
@@ -196,6 +212,7 @@ impl Estimator {
             "unbiased_ray_marching" => &["mult"],
             "jackknife" => &["samples", "mode", "step", "jitter"],
             "jackknife_naive" | "jackknife_mean_importance" => &["samples", "jitter"],
+            "ratio_tracking" | "residual_ratio_tracking" => &["roulette"],
             _ => &[],
         };
         INFO.iter().any(|i| i.name == name).then_some(keys)
@@ -217,6 +234,8 @@ impl Estimator {
                 o.clip = Some(clip);
             }
             Estimator::BiasedRayMarching { doubled } => o.doubled = Some(doubled),
+            Estimator::RatioTracking { roulette }
+            | Estimator::ResidualRatioTracking { roulette } => o.roulette = Some(roulette),
             Estimator::UnbiasedRayMarching { mult } => o.mult = Some(mult),
             Estimator::Jackknife {
                 samples,
@@ -243,6 +262,32 @@ impl Estimator {
         o
     }
 
+    /// An estimator from the command line: `NAME` or `NAME:KEY=VALUE:…`
+    /// (`ratio_tracking:roulette=0.1`, `jackknife:samples=20:jitter=uniform`).
+    pub fn parse_spec(spec: &str) -> Result<Estimator, String> {
+        let (name, options) = spec.split_once(':').unwrap_or((spec, ""));
+        let mut o = EstimatorOptions::default();
+        for kv in options.split(':').filter(|s| !s.trim().is_empty()) {
+            let (k, v) = kv
+                .split_once('=')
+                .ok_or_else(|| format!("`{spec}`: expected KEY=VALUE, got `{kv}`"))?;
+            let (k, v) = (k.trim(), v.trim());
+            let num = |what| format!("`{spec}`: {k} = `{v}` is not {what}");
+            match k {
+                "samples" => o.samples = Some(v.parse().map_err(|_| num("a count"))?),
+                "mult" => o.mult = Some(v.parse().map_err(|_| num("a count"))?),
+                "step" => o.step = Some(v.parse().map_err(|_| num("a number"))?),
+                "roulette" => o.roulette = Some(v.parse().map_err(|_| num("a number"))?),
+                "doubled" => o.doubled = Some(v.parse().map_err(|_| num("true or false"))?),
+                "clip" => o.clip = Some(v.parse().map_err(|_| num("true or false"))?),
+                "mode" => o.mode = Some(v.to_string()),
+                "jitter" => o.jitter = Some(v.to_string()),
+                _ => return Err(format!("`{spec}`: estimator `{name}` has no option `{k}`")),
+            }
+        }
+        Estimator::with_options(name, &o).map_err(|e| format!("`{spec}`: {e}"))
+    }
+
     /// The estimator `name` with default options.
     pub fn parse(name: &str) -> Option<Estimator> {
         Estimator::with_options(name, &EstimatorOptions::default()).ok()
@@ -260,6 +305,7 @@ impl Estimator {
             ("mult", o.mult.is_some()),
             ("doubled", o.doubled.is_some()),
             ("clip", o.clip.is_some()),
+            ("roulette", o.roulette.is_some()),
         ];
         if let Some((bad, _)) = given.iter().find(|(k, set)| *set && !allowed.contains(k)) {
             return Err(format!("estimator `{name}` has no option `{bad}`"));
@@ -272,8 +318,12 @@ impl Estimator {
             "regular_tracking" => Estimator::RegularTracking,
             "analytic_trilinear" => Estimator::AnalyticTrilinear,
             "track_length" => Estimator::TrackLength,
-            "ratio_tracking" => Estimator::RatioTracking,
-            "residual_ratio_tracking" => Estimator::ResidualRatioTracking,
+            "ratio_tracking" => Estimator::RatioTracking {
+                roulette: parse_roulette(o.roulette)?,
+            },
+            "residual_ratio_tracking" => Estimator::ResidualRatioTracking {
+                roulette: parse_roulette(o.roulette)?,
+            },
             "ray_marching" => Estimator::RayMarching {
                 samples,
                 clip: o.clip.unwrap_or(false),
@@ -367,11 +417,11 @@ pub fn transmittance(
         Estimator::TrackLength => {
             with_view!(view, v => track_length::transmittance(&v, &r, t0, t1, rng))
         }
-        Estimator::RatioTracking => {
-            with_view!(view, v => ratio_tracking::transmittance(&v, &r, t0, t1, rng))
+        Estimator::RatioTracking { roulette } => {
+            with_view!(view, v => ratio_tracking::transmittance(&v, &r, t0, t1, rng, roulette))
         }
-        Estimator::ResidualRatioTracking => {
-            with_view!(view, v => residual_ratio_tracking::transmittance(&v, &r, t0, t1, rng))
+        Estimator::ResidualRatioTracking { roulette } => {
+            with_view!(view, v => residual_ratio_tracking::transmittance(&v, &r, t0, t1, rng, roulette))
         }
         Estimator::RayMarching { samples, clip } => {
             with_view!(view, v => ray_marching::transmittance(&v, &r, t0, t1, samples, clip, rng))
@@ -397,5 +447,43 @@ pub fn transmittance(
                 &v, &r, t0, t1, samples, StepMode::FixedCount, Importance::Mean, jitter, rng
             ))
         }
+    }
+}
+
+#[cfg(test)]
+mod estimator_test {
+    use super::*;
+
+    #[test]
+    fn specs_give_options_and_refuse_what_an_estimator_lacks() {
+        assert_eq!(
+            Estimator::parse_spec("ratio_tracking:roulette=0.1"),
+            Ok(Estimator::RatioTracking { roulette: 0.1 })
+        );
+        assert_eq!(
+            Estimator::parse_spec("residual_ratio_tracking"),
+            Ok(Estimator::ResidualRatioTracking { roulette: 0.0 })
+        );
+        assert_eq!(
+            Estimator::parse_spec("jackknife:samples=20:jitter=uniform"),
+            Ok(Estimator::Jackknife {
+                samples: 20,
+                mode: StepMode::FixedCount,
+                jitter: Jitter::Uniform
+            })
+        );
+        for bad in [
+            "ratio_tracking:samples=3",
+            "ratio_tracking:roulette=1.5",
+            "ratio_tracking:roulette=x",
+            "track_length:roulette=0.1",
+            "nope",
+            "jackknife:samples",
+        ] {
+            assert!(Estimator::parse_spec(bad).is_err(), "{bad}");
+        }
+        // Options survive the round trip through EstimatorOptions.
+        let e = Estimator::RatioTracking { roulette: 0.25 };
+        assert_eq!(Estimator::with_options(e.name(), &e.options()), Ok(e));
     }
 }

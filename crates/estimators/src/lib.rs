@@ -55,6 +55,7 @@ pub mod ratio_tracking;
 pub mod ray_marching;
 pub mod regular_tracking;
 pub mod residual_ratio_tracking;
+pub mod roulette;
 pub mod scaled;
 pub mod track_length;
 

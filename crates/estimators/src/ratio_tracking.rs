@@ -1,8 +1,12 @@
 //! Ratio tracking (Novák et al. 2014; seed 000 §2.2): tentative collisions
 //! from the super-voxel majorant, each weighting the estimate by the null
-//! probability 1 − σ_t/σ̄ instead of terminating. Unbiased.
+//! probability 1 − σ_t/σ̄ instead of terminating. Unbiased. With a
+//! `roulette` threshold > 0 the walk plays Russian roulette once its weight
+//! falls below it ([`crate::roulette`]), which bounds its cost in dense
+//! media.
 
 use crate::null_collisions::walk;
+use crate::roulette::roulette;
 use crate::Estimate;
 use fogbank_math::{Pcg32, Ray};
 use fogbank_volume::VolumeAccess;
@@ -13,8 +17,9 @@ pub fn transmittance<V: VolumeAccess>(
     t0: f32,
     t1: f32,
     rng: &mut Pcg32,
+    threshold: f32,
 ) -> Estimate {
-    Estimate::of_one_channel(transmittance_scaled(v, ray, t0, t1, rng, [1.0]))
+    Estimate::of_one_channel(transmittance_scaled(v, ray, t0, t1, rng, [1.0], threshold))
 }
 
 /// Ratio tracking of k_c σ_t for each channel c at once (k_c ≤ 1: the
@@ -27,6 +32,7 @@ pub fn transmittance_scaled<V: VolumeAccess, const N: usize>(
     t1: f32,
     rng: &mut Pcg32,
     k: [f32; N],
+    threshold: f32,
 ) -> ([f32; N], u32) {
     let mut lookups = 0;
     let mut tr = [1.0f32; N];
@@ -38,11 +44,11 @@ pub fn transmittance_scaled<V: VolumeAccess, const N: usize>(
         rng,
         &mut lookups,
         |s, _| (s.max, 0.0),
-        |_, sigma_t, sigma_maj, _, _| {
+        |_, sigma_t, sigma_maj, _, rng| {
             for (t, k) in tr.iter_mut().zip(k) {
                 *t *= 1.0 - k * sigma_t / sigma_maj;
             }
-            tr != [0.0; N]
+            tr != [0.0; N] && roulette(&mut tr, [1.0; N], threshold, rng)
         },
     );
     (tr, lookups)

@@ -6,8 +6,13 @@
 //! Control heuristic (notes, from the volumetric ReSTIR code):
 //! μ_c = min(μ_avg, max(μ_min, μ_min + Δ(2^{1/(DΔ)} − 1))), Δ = μ_max − μ_min,
 //! D the super-voxel diagonal in world units.
+//!
+//! With a `roulette` threshold > 0 the walk plays Russian roulette on its
+//! running estimate exp(−τ_c)·(residual weight) once that falls below it
+//! ([`crate::roulette`]).
 
 use crate::null_collisions::walk;
+use crate::roulette::roulette;
 use crate::Estimate;
 use fogbank_math::{Pcg32, Ray};
 use fogbank_volume::{SuperVoxel, VolumeAccess};
@@ -28,8 +33,9 @@ pub fn transmittance<V: VolumeAccess>(
     t0: f32,
     t1: f32,
     rng: &mut Pcg32,
+    threshold: f32,
 ) -> Estimate {
-    Estimate::of_one_channel(transmittance_scaled(v, ray, t0, t1, rng, [1.0]))
+    Estimate::of_one_channel(transmittance_scaled(v, ray, t0, t1, rng, [1.0], threshold))
 }
 
 /// Residual ratio tracking of k_c σ_t with control k_c μ_c for each
@@ -42,22 +48,24 @@ pub fn transmittance_scaled<V: VolumeAccess, const N: usize>(
     t1: f32,
     rng: &mut Pcg32,
     k: [f32; N],
+    threshold: f32,
 ) -> ([f32; N], u32) {
     // Index units per world unit along this ray turn the super-voxel's
     // index-space diagonal into world units.
     let diagonal =
         v.supervoxels().size as f32 * 3f32.sqrt() / ray.d.length().max(f32::MIN_POSITIVE);
     let mut lookups = 0;
-    let mut tau_c = 0.0f64;
+    let tau_c = std::cell::Cell::new(0.0f64);
     let mut ratio = [1.0f32; N];
     let rate = |s: &SuperVoxel, len: f32| {
         if s.max <= 0.0 {
             return (0.0, 0.0);
         }
         let sigma_c = control_extinction(s, diagonal);
-        tau_c += len as f64 * sigma_c as f64;
+        tau_c.set(tau_c.get() + len as f64 * sigma_c as f64);
         ((s.max - sigma_c).max(sigma_c - s.min), sigma_c)
     };
+    let control = |k: f32| (-(k as f64 * tau_c.get())).exp() as f32;
     walk(
         v,
         ray,
@@ -66,16 +74,16 @@ pub fn transmittance_scaled<V: VolumeAccess, const N: usize>(
         rng,
         &mut lookups,
         rate,
-        |_, sigma_t, sigma_r, sigma_c, _| {
+        |_, sigma_t, sigma_r, sigma_c, rng| {
             for (r, k) in ratio.iter_mut().zip(k) {
                 *r *= 1.0 - k * (sigma_t - sigma_c) / sigma_r;
             }
-            true
+            threshold <= 0.0 || roulette(&mut ratio, k.map(control), threshold, rng)
         },
     );
     let mut t = [0.0f32; N];
     for ((t, r), k) in t.iter_mut().zip(ratio).zip(k) {
-        *t = ((-(k as f64 * tau_c)).exp() as f32) * r;
+        *t = control(k) * r;
     }
     (t, lookups)
 }

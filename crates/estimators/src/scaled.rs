@@ -70,15 +70,15 @@ pub fn transmittance_scaled(
             ));
             (Depths::Jackknife(x), lookups)
         }
-        Estimator::RatioTracking => {
+        Estimator::RatioTracking { roulette } => {
             return Some(with_view!(view, v => ratio_tracking::transmittance_scaled(
-                &v, &r, t0, t1, rng, k
+                &v, &r, t0, t1, rng, k, roulette
             )))
         }
-        Estimator::ResidualRatioTracking => {
+        Estimator::ResidualRatioTracking { roulette } => {
             return Some(
                 with_view!(view, v => residual_ratio_tracking::transmittance_scaled(
-                    &v, &r, t0, t1, rng, k
+                    &v, &r, t0, t1, rng, k, roulette
                 )),
             )
         }
@@ -185,7 +185,12 @@ mod tests {
         .unwrap()
         .0;
         assert!(exact[2] > 0.02 && exact[2] < 0.9, "{exact:?}");
-        for e in [Estimator::RatioTracking, Estimator::ResidualRatioTracking] {
+        for e in [
+            Estimator::RatioTracking { roulette: 0.0 },
+            Estimator::ResidualRatioTracking { roulette: 0.0 },
+            Estimator::RatioTracking { roulette: 0.5 },
+            Estimator::ResidualRatioTracking { roulette: 0.5 },
+        ] {
             let n = 20_000;
             let (mut sum, mut sum2) = ([0.0f64; 3], [0.0f64; 3]);
             let mut rng = Pcg32::new(9, 3);

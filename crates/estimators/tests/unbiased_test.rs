@@ -176,14 +176,29 @@ fn track_length_is_unbiased() {
 
 #[test]
 fn ratio_tracking_is_unbiased() {
-    unbiased_on_analytic_media(Estimator::RatioTracking);
-    unbiased_on_a_procedural_cloud(Estimator::RatioTracking);
+    let e = Estimator::RatioTracking { roulette: 0.0 };
+    unbiased_on_analytic_media(e);
+    unbiased_on_a_procedural_cloud(e);
 }
 
 #[test]
 fn residual_ratio_tracking_is_unbiased() {
-    unbiased_on_analytic_media(Estimator::ResidualRatioTracking);
-    unbiased_on_a_procedural_cloud(Estimator::ResidualRatioTracking);
+    let e = Estimator::ResidualRatioTracking { roulette: 0.0 };
+    unbiased_on_analytic_media(e);
+    unbiased_on_a_procedural_cloud(e);
+}
+
+/// Russian roulette on the running weight (a high threshold, so that most
+/// walks play it; at τ = 10 every walk does) keeps both unbiased.
+#[test]
+fn tracking_with_roulette_is_unbiased() {
+    for e in [
+        Estimator::RatioTracking { roulette: 0.3 },
+        Estimator::ResidualRatioTracking { roulette: 0.3 },
+    ] {
+        unbiased_on_analytic_media(e);
+        unbiased_on_a_procedural_cloud(e);
+    }
 }
 
 #[test]

@@ -15,7 +15,10 @@ fn scene() -> Scene {
 #[test]
 fn unbiased_estimator_has_mean_bias_within_4_se() {
     let s = scene();
-    for e in [Estimator::RatioTracking, Estimator::TrackLength] {
+    for e in [
+        Estimator::RatioTracking { roulette: 0.0 },
+        Estimator::TrackLength,
+    ] {
         let st = transmittance_stats(&s, e, Some(Estimator::AnalyticTrilinear), 1024, 3).summary();
         assert!(st.pixels > 50);
         assert!(st.mean_bias_se > 0.0);

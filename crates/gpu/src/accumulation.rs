@@ -41,7 +41,9 @@ pub(crate) struct Frame {
     pub(crate) chunks: u32,
     /// Pixels of this dispatch's band (width × its rows).
     pub(crate) band_pixels: u32,
-    pub(crate) pad: [u32; 4],
+    /// Ratio and residual ratio tracking's roulette threshold (0: off).
+    pub(crate) est_roulette: f32,
+    pub(crate) pad: [u32; 3],
 }
 
 pub use crate::contract::SAMPLES_PER_CHUNK;
@@ -81,7 +83,8 @@ impl Frame {
             tile_y: 0,
             chunks: 1,
             band_pixels: 0,
-            pad: [0; 4],
+            est_roulette: est.roulette,
+            pad: [0; 3],
         }
     }
 }

@@ -187,6 +187,8 @@ pub struct GpuEstimator {
     pub samples: u32,
     pub step: f32,
     pub flags: u32,
+    /// Ratio and residual ratio tracking: the roulette threshold (0: off).
+    pub roulette: f32,
 }
 
 /// Every estimator has a WGSL port; `None` is kept for future CPU-only ones.
@@ -200,21 +202,30 @@ pub fn gpu_estimator(e: Estimator) -> Option<GpuEstimator> {
     };
     let id = estimator_id(e);
     Some(match e {
-        Estimator::RegularTracking
-        | Estimator::TrackLength
-        | Estimator::RatioTracking
-        | Estimator::AnalyticTrilinear
-        | Estimator::ResidualRatioTracking => GpuEstimator {
-            id,
-            samples: 0,
-            step: 0.0,
-            flags: 0,
-        },
+        Estimator::RegularTracking | Estimator::TrackLength | Estimator::AnalyticTrilinear => {
+            GpuEstimator {
+                id,
+                samples: 0,
+                step: 0.0,
+                flags: 0,
+                roulette: 0.0,
+            }
+        }
+        Estimator::RatioTracking { roulette } | Estimator::ResidualRatioTracking { roulette } => {
+            GpuEstimator {
+                id,
+                samples: 0,
+                step: 0.0,
+                flags: 0,
+                roulette,
+            }
+        }
         Estimator::RayMarching { samples, clip } => GpuEstimator {
             id,
             samples,
             step: 0.0,
             flags: if clip { FLAG_CLIP } else { 0 },
+            roulette: 0.0,
         },
         Estimator::Jackknife {
             samples,
@@ -228,30 +239,35 @@ pub fn gpu_estimator(e: Estimator) -> Option<GpuEstimator> {
                 StepMode::FixedStep(s) => s.max(1e-6),
             },
             flags: jitter(j),
+            roulette: 0.0,
         },
         Estimator::JackknifeNaive { samples, jitter: j } => GpuEstimator {
             id,
             samples,
             step: 0.0,
             flags: jitter(j),
+            roulette: 0.0,
         },
         Estimator::JackknifeMeanImportance { samples, jitter: j } => GpuEstimator {
             id,
             samples,
             step: 0.0,
             flags: jitter(j),
+            roulette: 0.0,
         },
         Estimator::BiasedRayMarching { doubled } => GpuEstimator {
             id,
             samples: 0,
             step: 0.0,
             flags: if doubled { FLAG_DOUBLED } else { 0 },
+            roulette: 0.0,
         },
         Estimator::UnbiasedRayMarching { mult } => GpuEstimator {
             id,
             samples: mult,
             step: 0.0,
             flags: 0,
+            roulette: 0.0,
         },
     })
 }

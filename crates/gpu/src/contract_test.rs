@@ -54,10 +54,10 @@ fn wgsl_structs_have_the_layout_of_the_rust_structs() {
             ("tile_y", offset_of!(Frame, tile_y)),
             ("chunks", offset_of!(Frame, chunks)),
             ("band_pixels", offset_of!(Frame, band_pixels)),
-            ("pad2", offset_of!(Frame, pad)),
-            ("pad3", offset_of!(Frame, pad) + 4),
-            ("pad4", offset_of!(Frame, pad) + 8),
-            ("pad5", offset_of!(Frame, pad) + 12),
+            ("est_roulette", offset_of!(Frame, est_roulette)),
+            ("pad3", offset_of!(Frame, pad)),
+            ("pad4", offset_of!(Frame, pad) + 4),
+            ("pad5", offset_of!(Frame, pad) + 8),
         ],
     );
     let w2i = offset_of!(MediumGpu, w2i);

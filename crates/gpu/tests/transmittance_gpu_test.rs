@@ -101,6 +101,8 @@ fn stochastic_estimators_agree_with_the_cpu() {
         ("track_length", &[]),
         ("ratio_tracking", &[]),
         ("residual_ratio_tracking", &[]),
+        ("ratio_tracking", &["integrator.roulette=0.3"]),
+        ("residual_ratio_tracking", &["integrator.roulette=0.3"]),
         ("ray_marching", &["integrator.samples=7"]),
         ("ray_marching", &["integrator.clip=true"]),
         ("jackknife", &[]),

@@ -146,6 +146,7 @@ pub fn take_estimator(r: &mut ParamReader) -> Result<Estimator, SceneError> {
             "mult" => o.mult = from.take(k)?,
             "doubled" => o.doubled = from.take(k)?,
             "clip" => o.clip = from.take(k)?,
+            "roulette" => o.roulette = from.take(k)?,
             _ => unreachable!("option keys are listed in Estimator::option_keys"),
         }
     }
@@ -178,5 +179,6 @@ pub fn estimator_value(e: Estimator) -> toml::Value {
     put("mult", o.mult.map(|m| i64::from(m).into()));
     put("doubled", o.doubled.map(Into::into));
     put("clip", o.clip.map(Into::into));
+    put("roulette", o.roulette.map(|r| f64::from(r).into()));
     toml::Value::Table(t)
 }

@@ -125,7 +125,9 @@ fn post_classified_transmittance_is_unbiased_against_fine_marching() {
                 "track_length",
                 track_length::transmittance::<_> as fn(&_, &Ray, f32, f32, &mut Pcg32) -> _,
             ),
-            ("ratio_tracking", ratio_tracking::transmittance::<_>),
+            ("ratio_tracking", |v, r, a, b, rng| {
+                ratio_tracking::transmittance(v, r, a, b, rng, 0.0)
+            }),
         ] {
             let (mut sum, mut sum2) = (0.0f64, 0.0f64);
             for _ in 0..n {

@@ -41,7 +41,8 @@ struct Frame {
     // the pixels of this dispatch's band.
     chunks: u32,
     band_pixels: u32,
-    pad2: u32,
+    // Ratio and residual ratio tracking's roulette threshold (0: off).
+    est_roulette: f32,
     pad3: u32,
     pad4: u32,
     pad5: u32,
@@ -178,10 +179,10 @@ fn estimate_rgb(m: MediumGpu, r: Ray, t0: f32, t1: f32, k: vec3<f32>,
                              jackknife_of(k.z * x[0], k.z * x[1]), 1.0);
         }
         case EST_RATIO_TRACKING: {
-            return vec4<f32>(null_collision_walk_rgb(m, r, t0, t1, WALK_RATIO, k, rng, lookups), 1.0);
+            return vec4<f32>(null_collision_walk_rgb(m, r, t0, t1, WALK_RATIO, k, frame.est_roulette, rng, lookups), 1.0);
         }
         case EST_RESIDUAL_RATIO_TRACKING: {
-            return vec4<f32>(null_collision_walk_rgb(m, r, t0, t1, WALK_RESIDUAL, k, rng, lookups), 1.0);
+            return vec4<f32>(null_collision_walk_rgb(m, r, t0, t1, WALK_RESIDUAL, k, frame.est_roulette, rng, lookups), 1.0);
         }
         default: {
             return vec4<f32>(1.0, 1.0, 1.0, 0.0);
@@ -200,13 +201,13 @@ fn estimate_with(m: MediumGpu, r: Ray, t0: f32, t1: f32,
             return track_length(m, r, t0, t1, rng, lookups);
         }
         case EST_RATIO_TRACKING: {
-            return ratio_tracking(m, r, t0, t1, rng, lookups);
+            return ratio_tracking(m, r, t0, t1, frame.est_roulette, rng, lookups);
         }
         case EST_ANALYTIC_TRILINEAR: {
             return analytic_trilinear(m, r, t0, t1, lookups);
         }
         case EST_RESIDUAL_RATIO_TRACKING: {
-            return residual_ratio_tracking(m, r, t0, t1, rng, lookups);
+            return residual_ratio_tracking(m, r, t0, t1, frame.est_roulette, rng, lookups);
         }
         case EST_RAY_MARCHING: {
             return ray_marching(m, r, t0, t1, frame.est_samples, (frame.est_flags & FLAG_CLIP) != 0u, rng, lookups);

@@ -2,12 +2,14 @@
 // it: track-length (stop at the first real collision) and ratio tracking
 // (multiply by 1 − μ/μ̄ at each event) over super-voxel majorants, and
 // residual ratio tracking (control μ_c per super-voxel, ratio tracking of
-// the residual with majorant max(μ_max − μ_c, μ_c − μ_min)).
+// the residual with majorant max(μ_max − μ_c, μ_c − μ_min)); both play
+// Russian roulette once the running estimate falls below `roulette` (0:
+// never; fogbank_estimators::roulette).
 
 const WALK_RATIO: u32 = 0u;
 const WALK_RESIDUAL: u32 = 1u;
 
-fn null_collision_walk(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32,
+fn null_collision_walk(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32, roulette: f32,
                        rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
     var tr = 1.0;
     var tau_c = 0.0;
@@ -45,6 +47,19 @@ fn null_collision_walk(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32,
                     return 0.0;
                 }
             }
+            if (roulette > 0.0) {
+                var running = abs(tr);
+                if (mode == WALK_RESIDUAL) {
+                    running *= exp(-tau_c);
+                }
+                let q = running / roulette;
+                if (q < 1.0) {
+                    if (!(q > 0.0) || pcg32_next_f32(rng) >= q) {
+                        return 0.0;
+                    }
+                    tr /= q;
+                }
+            }
         }
     }
     if (mode == WALK_RESIDUAL) {
@@ -72,7 +87,8 @@ fn control_extinction(sv: vec4<f32>, d: f32) -> f32 {
 // every kernel, and this one is compiled only with chromatic media
 // (INTEGRATOR_CHROMATIC).
 fn null_collision_walk_rgb(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32, k: vec3<f32>,
-                           rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> vec3<f32> {
+                           roulette: f32, rng: ptr<function, Pcg32>,
+                           lookups: ptr<function, u32>) -> vec3<f32> {
     var tr = vec3<f32>(1.0);
     var tau_c = 0.0;
     let diagonal = m.sv_size * sqrt(3.0) / max(length(r.d), 1.1754944e-38);
@@ -108,6 +124,19 @@ fn null_collision_walk_rgb(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32, k:
                                 null_probability(k.z * sigma_t, sigma_maj));
                 if (all(tr == vec3<f32>(0.0))) {
                     return tr;
+                }
+            }
+            if (roulette > 0.0) {
+                var running = abs(tr);
+                if (mode == WALK_RESIDUAL) {
+                    running *= exp(-k * tau_c);
+                }
+                let q = max(running.x, max(running.y, running.z)) / roulette;
+                if (q < 1.0) {
+                    if (!(q > 0.0) || pcg32_next_f32(rng) >= q) {
+                        return vec3<f32>(0.0);
+                    }
+                    tr /= q;
                 }
             }
         }

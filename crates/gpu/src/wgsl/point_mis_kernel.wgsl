@@ -189,9 +189,9 @@ fn point_mis_radiance(m: MediumGpu, s: Segment, rng: ptr<function, Pcg32>,
                 continue;
             }
             if (STRATEGY == STRATEGY_EQUIANGULAR) {
-                c = ratio_tracking(m, s.index, s.a, t, rng, lookups) * sigma_t / e.y;
+                c = ratio_tracking(m, s.index, s.a, t, 0.0, rng, lookups) * sigma_t / e.y;
             } else if (STRATEGY == STRATEGY_MIS_MILLER) {
-                let tr = ratio_tracking(m, s.index, s.a, t, rng, lookups);
+                let tr = ratio_tracking(m, s.index, s.a, t, 0.0, rng, lookups);
                 c = balance(sigma_t * tr, e.y);
                 if (c == 0.0) {
                     continue;
@@ -199,7 +199,7 @@ fn point_mis_radiance(m: MediumGpu, s: Segment, rng: ptr<function, Pcg32>,
             } else if (STRATEGY == STRATEGY_MIS_JACKKNIFE) {
                 let x = depths(m, s, t, false, rng, lookups);
                 let w0 = mis_weight(0.0, e.y, sigma_t_w, e.y, x.x, x.y);
-                let tr = ratio_tracking(m, s.index, s.a, t, rng, lookups);
+                let tr = ratio_tracking(m, s.index, s.a, t, 0.0, rng, lookups);
                 c = w0 * tr * sigma_t / e.y;
                 if (c == 0.0 || !finite(c)) {
                     continue;

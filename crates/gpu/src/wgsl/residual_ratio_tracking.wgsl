@@ -1,5 +1,6 @@
-// fogbank_estimators::residual_ratio_tracking (Novák et al. 2014).
-fn residual_ratio_tracking(m: MediumGpu, r: Ray, t0: f32, t1: f32,
+// fogbank_estimators::residual_ratio_tracking (Novák et al. 2014), with
+// Russian roulette below the running estimate `roulette` (0: off).
+fn residual_ratio_tracking(m: MediumGpu, r: Ray, t0: f32, t1: f32, roulette: f32,
                            rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
-    return null_collision_walk(m, r, t0, t1, WALK_RESIDUAL, rng, lookups);
+    return null_collision_walk(m, r, t0, t1, WALK_RESIDUAL, roulette, rng, lookups);
 }

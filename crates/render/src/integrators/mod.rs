@@ -162,9 +162,9 @@ impl IntegratorDesc {
             IntegratorDesc::PointMis(p) => p.estimator,
             IntegratorDesc::Restir(p) => p.estimator,
             // NEE rays are ratio-tracked through μ' (§5.3).
-            IntegratorDesc::VisOpt(_) => Estimator::RatioTracking,
+            IntegratorDesc::VisOpt(_) => Estimator::RatioTracking { roulette: 0.0 },
             // Deterministic marching; the estimator is not used.
-            IntegratorDesc::Ament(_) => Estimator::RatioTracking,
+            IntegratorDesc::Ament(_) => Estimator::RatioTracking { roulette: 0.0 },
         }
     }
 
@@ -278,7 +278,9 @@ impl IntegratorKind {
             IntegratorKind::VolPath(v) => v.nee,
             IntegratorKind::PointMis(p) => p.nee,
             IntegratorKind::Restir(r) => r.params.estimator,
-            IntegratorKind::VisOpt(_) | IntegratorKind::Ament(_) => Estimator::RatioTracking,
+            IntegratorKind::VisOpt(_) | IntegratorKind::Ament(_) => {
+                Estimator::RatioTracking { roulette: 0.0 }
+            }
         }
     }
 

@@ -40,7 +40,7 @@ pub struct TransmittanceParams {
 impl Default for TransmittanceParams {
     fn default() -> Self {
         TransmittanceParams {
-            estimator: Estimator::RatioTracking,
+            estimator: Estimator::RatioTracking { roulette: 0.0 },
             background: [1.0; 3],
         }
     }

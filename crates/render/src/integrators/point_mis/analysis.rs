@@ -126,7 +126,7 @@ pub fn jackknife_weights(
     let mut lookups = 0u32;
     let pm = PointMis {
         strategy: Strategy::MisJackknife,
-        nee: Estimator::RatioTracking,
+        nee: Estimator::RatioTracking { roulette: 0.0 },
         mis_samples,
         lights: LightSampler::default(),
     };

@@ -221,7 +221,7 @@ impl PointMis {
                 if pdf0 > 0.0 && pdf0.is_finite() {
                     let sigma_t = Self::segment_sigma_t(v, s, t0, rng, lookups);
                     if sigma_t > 0.0 {
-                        let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng);
+                        let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng, 0.0);
                         *lookups += tr.lookups;
                         let l = self.in_scattered(s, t0, rng, lookups);
                         total += l * (tr.transmittance * sigma_t / pdf0);
@@ -245,7 +245,7 @@ impl PointMis {
                 if pdf0 > 0.0 && pdf0.is_finite() {
                     let sigma_t = Self::segment_sigma_t(v, s, t0, rng, lookups);
                     if sigma_t > 0.0 {
-                        let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng);
+                        let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng, 0.0);
                         *lookups += tr.lookups;
                         let c = balance(sigma_t * tr.transmittance, pdf0);
                         if c != 0.0 {
@@ -287,7 +287,7 @@ impl PointMis {
                         let (x0, x1) = self.depths(v, s, t0, false, rng, lookups);
                         let (mw, p) = (sigma_t_w as f64, pdf0 as f64);
                         let w0 = mis_weight(0.0, p, mw, p, x0, x1) as f32;
-                        let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng);
+                        let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng, 0.0);
                         *lookups += tr.lookups;
                         let c = w0 * tr.transmittance * sigma_t / pdf0;
                         if c != 0.0 && c.is_finite() {

@@ -40,7 +40,7 @@ impl Default for PointMisParams {
     fn default() -> Self {
         PointMisParams {
             strategy: Strategy::MisJackknife,
-            estimator: Estimator::RatioTracking,
+            estimator: Estimator::RatioTracking { roulette: 0.0 },
             mis_samples: DEFAULT_MIS_SAMPLES,
         }
     }

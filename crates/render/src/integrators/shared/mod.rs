@@ -175,7 +175,7 @@ impl Default for ScatterParams {
     fn default() -> Self {
         ScatterParams {
             distance_sampler: None,
-            estimator: Estimator::RatioTracking,
+            estimator: Estimator::RatioTracking { roulette: 0.0 },
             preset: None,
         }
     }
@@ -231,7 +231,7 @@ impl ScatterParams {
             (
                 self.distance_sampler
                     .unwrap_or(DistanceSampler::DecompositionTracking),
-                Estimator::ResidualRatioTracking,
+                Estimator::ResidualRatioTracking { roulette: 0.0 },
             )
         } else {
             (

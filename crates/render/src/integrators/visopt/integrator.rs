@@ -247,11 +247,11 @@ impl VisOpt {
                         };
                         with_view!(m, v => {
                             let o = Optimised { inner: &v, medium: m, ray: r, list, weights: self.weights(), unit: self.unit };
-                            ratio_tracking::transmittance(&o, &r, s0, s1, rng)
+                            ratio_tracking::transmittance(&o, &r, s0, s1, rng, 0.0)
                         })
                     })
                 } else {
-                    with_view!(m, v => ratio_tracking::transmittance(&v, &r, s0, s1, rng))
+                    with_view!(m, v => ratio_tracking::transmittance(&v, &r, s0, s1, rng, 0.0))
                 };
                 *lookups += est.lookups;
                 est.transmittance
