@@ -226,12 +226,12 @@ impl LightSelection {
 }
 
 /// From this many emitting triangles with power on, `auto` picks them
-/// through the light BVH. Its descent costs a few importance evaluations
+/// through the light BVH. Its descent costs two importance evaluations
 /// per level: on 300 triangles scattered in fog
-/// (`scenes/mitsuba/fog_emitters.xml`) it lowered relMSE 15 % at 1.35×
-/// the time, a loss; on the 3200 windows of `scenes/street` it lowers the
-/// variance 2.2× in fog and on the road at 1.4× the time
-/// (`docs/results/surfaces/light_bvh.md`).
+/// (`scenes/mitsuba/fog_emitters.xml`) it lost at equal time (relMSE 1.21×
+/// higher); on the 3200 windows of `scenes/street` it lowers relMSE 1.26×
+/// and the variance in fog and on the road 1.36× at equal time
+/// (`docs/results/surfaces/README.md`).
 pub const LIGHT_BVH_MIN: usize = 1024;
 
 /// Picks lights for next-event estimation (a 1D CDF per [`Vertex`]) in

@@ -119,7 +119,7 @@ pub fn delta_lights(
 /// lobe, which no light strategy could have produced).
 pub fn escaped(world: &World, lights: &LightSampler, d: Vec3, prev: Option<SampledFrom>) -> Vec3 {
     let mut l = Vec3::ZERO;
-    for (li, light) in world.lights.iter().enumerate() {
+    for (li, light) in world.scene_lights() {
         if light.is_environment() {
             let w = prev.map_or(1.0, |s| {
                 balance(s.pdf, lights.pmf(li, s.at, s.p) * light.pdf_li(d))
@@ -184,7 +184,7 @@ pub fn sampled_direction_to_lights(
             return le * (w * tr);
         }
     }
-    if !world.lights.iter().any(|l| l.is_environment()) {
+    if !world.scene_lights().any(|(_, l)| l.is_environment()) {
         return Vec3::ZERO;
     }
     let le = escaped(world, lights, ray.d, prev);
