@@ -138,7 +138,10 @@ pub fn light_picks(
         label: "light_picks",
         source: &source,
         entry: "main",
-        constants: &[],
+        constants: &[(
+            "LIGHT_BVH",
+            crate::lights::has_light_bvh(scene) as u32 as f64,
+        )],
         layouts: Some(&layouts),
     })?;
     let none = gpu.bind_group_of("empty", &empty, &[]);

@@ -26,6 +26,8 @@ pub(crate) struct Kernel {
     /// `volpath`'s seed 004 keys (`pins`, `tracking`, `march_step`,
     /// `pin_grid`); the default is plain `volpath`.
     pub(crate) pins: PinParams,
+    /// Emitting triangles are picked through a light BVH (`LIGHT_BVH`).
+    pub(crate) light_bvh: bool,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -87,6 +89,7 @@ impl Kernel {
                     rr_depth: u32::MAX,
                     sampler: 0,
                     pins: PinParams::default(),
+                    light_bvh: false,
                 }
             }
             IntegratorKind::Transmittance { background, .. } => Kernel {
@@ -100,6 +103,7 @@ impl Kernel {
                 rr_depth: 0,
                 sampler: 0,
                 pins: PinParams::default(),
+                light_bvh: false,
             },
             IntegratorKind::Direct(d) => Kernel {
                 source: KernelSource::Scatter,
@@ -112,6 +116,7 @@ impl Kernel {
                 rr_depth: u32::MAX,
                 sampler: sampler_id(d.distance),
                 pins: PinParams::default(),
+                light_bvh: false,
             },
             IntegratorKind::VolPath(v) => Kernel {
                 source: KernelSource::Scatter,
@@ -124,6 +129,7 @@ impl Kernel {
                 rr_depth: v.rr_depth,
                 sampler: sampler_id(v.distance),
                 pins: v.pins.clone(),
+                light_bvh: false,
             },
             IntegratorKind::PointMis(p) => Kernel {
                 source: KernelSource::PointMis,
@@ -136,6 +142,7 @@ impl Kernel {
                 mis_samples: p.mis_samples,
                 flags: surfaces,
                 pins: PinParams::default(),
+                light_bvh: false,
             },
             IntegratorKind::Restir(_) => return Err(no_restir()),
             IntegratorKind::VisOpt(_) | IntegratorKind::Ament(_) => Kernel {
@@ -153,6 +160,7 @@ impl Kernel {
                 mis_samples: 0,
                 flags: surfaces,
                 pins: PinParams::default(),
+                light_bvh: false,
             },
         };
         let chromatic_flag = if chromatic {
@@ -162,6 +170,7 @@ impl Kernel {
         };
         Ok(Kernel {
             flags: k.flags | chromatic_flag,
+            light_bvh: crate::lights::has_light_bvh(scene),
             ..k
         })
     }

@@ -183,18 +183,21 @@ pub(crate) fn pipeline(
 /// flags), so that the driver compiles the branches not taken out.
 fn specialisation(kernel: &Kernel) -> Vec<(&'static str, f64)> {
     let mut constants = vec![("ESTIMATOR", kernel.est.id as f64)];
+    let light_bvh = ("LIGHT_BVH", kernel.light_bvh as u32 as f64);
     match kernel.source {
         KernelSource::PointMis => constants.extend([
             ("STRATEGY", kernel.sampler as f64),
             ("OCCLUDERS", occluders(kernel)),
+            light_bvh,
         ]),
         KernelSource::VisOpt | KernelSource::Ament => {
-            constants.push(("OCCLUDERS", occluders(kernel)))
+            constants.extend([("OCCLUDERS", occluders(kernel)), light_bvh])
         }
         KernelSource::Scatter => constants.extend([
             ("SAMPLER", kernel.sampler as f64),
             ("PIN_MODE", pin_mode_id(kernel.pins.mode) as f64),
             ("INTEGRATOR_FLAGS", kernel.flags as f64),
+            light_bvh,
         ]),
         _ => {}
     }

@@ -6,7 +6,7 @@
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
 use fogbank_render::integrators::IntegratorKind;
-use fogbank_render::lights::sample::Vertex;
+use fogbank_render::lights::sample::{LightSampler, Vertex};
 use fogbank_render::lights::Light;
 use fogbank_render::Scene;
 use wgpu::util::DeviceExt;
@@ -55,6 +55,35 @@ pub(crate) struct EnvParams {
     pub(crate) pad: u32,
 }
 
+/// The integrator's light sampler, which the GPU mirrors.
+pub(crate) fn light_sampler(scene: &Scene) -> std::borrow::Cow<'_, LightSampler> {
+    use std::borrow::Cow;
+    match &scene.integrator {
+        IntegratorKind::Direct(d) => Cow::Borrowed(&d.lights),
+        IntegratorKind::VisOpt(v) => Cow::Borrowed(&v.lights),
+        // `ament` marches to every light and picks none, transmittance
+        // through surfaces (the scatter kernel) picks no light: any sampler
+        // does, its bindings still hold the scene's.
+        IntegratorKind::Ament(_) | IntegratorKind::Transmittance { .. } => {
+            Cow::Owned(LightSampler::new(
+                &scene.world.lights,
+                scene.world.radius(),
+                scene.world.light_selection,
+            ))
+        }
+        IntegratorKind::VolPath(v) => Cow::Borrowed(&v.lights),
+        IntegratorKind::PointMis(p) => Cow::Borrowed(&p.lights),
+        IntegratorKind::Restir(r) => Cow::Borrowed(&r.lights),
+    }
+}
+
+/// light_bvh.wgsl's pipeline constant `LIGHT_BVH`: whether the scene's
+/// emitting triangles are picked through a light BVH (without one the
+/// driver compiles the descent out).
+pub(crate) fn has_light_bvh(scene: &Scene) -> bool {
+    light_sampler(scene).bvh().is_some()
+}
+
 pub struct LightBuffers {
     pub bind_group_layout: wgpu::BindGroupLayout,
     pub bind_group: wgpu::BindGroup,
@@ -71,25 +100,7 @@ impl LightBuffers {
         scene: &Scene,
         properties: &[[u32; 5]],
     ) -> Result<LightBuffers, GpuError> {
-        // `ament` marches to every light and picks none: any sampler does.
-        let unpicked;
-        let sampler = match &scene.integrator {
-            IntegratorKind::Direct(d) => &d.lights,
-            IntegratorKind::VisOpt(v) => &v.lights,
-            // Transmittance through surfaces (the scatter kernel) picks no
-            // light; its bindings still hold the scene's.
-            IntegratorKind::Ament(_) | IntegratorKind::Transmittance { .. } => {
-                unpicked = fogbank_render::lights::sample::LightSampler::new(
-                    &scene.world.lights,
-                    scene.world.radius(),
-                    scene.world.light_selection,
-                );
-                &unpicked
-            }
-            IntegratorKind::VolPath(v) => &v.lights,
-            IntegratorKind::PointMis(p) => &p.lights,
-            IntegratorKind::Restir(r) => &r.lights,
-        };
+        let sampler = &*light_sampler(scene);
         let cdf = sampler.cdf(Vertex::Medium);
         // A light's CDF entry and pmf for points of kind `at`.
         let pick = |i: usize, at| {

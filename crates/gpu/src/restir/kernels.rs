@@ -107,7 +107,13 @@ impl RestirGpu {
             bc4: p.reuse_bc4.then_some(first.media.extra_first + 3),
         };
         Ok(RestirGpu {
-            pipelines: pipelines(gpu, &layouts, est.id, scene.world.surfaces.is_some())?,
+            pipelines: pipelines(
+                gpu,
+                &layouts,
+                est.id,
+                scene.world.surfaces.is_some(),
+                crate::lights::has_light_bvh(scene),
+            )?,
             uniform: RestirUniform::new(p, &mips, batch),
             uniform_buf,
             restir_group,
@@ -281,13 +287,15 @@ fn restir_bind_group_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
     )
 }
 
-/// One pipeline per pass, with the shading estimator `ESTIMATOR` and, in a
-/// scene with shapes, their occlusion (`OCCLUDERS`, occluders.wgsl).
+/// One pipeline per pass, with the shading estimator `ESTIMATOR`, in a
+/// scene with shapes their occlusion (`OCCLUDERS`, occluders.wgsl), and
+/// whether lights are picked through a light BVH (`LIGHT_BVH`).
 fn pipelines(
     gpu: &Gpu,
     layouts: &[Option<&wgpu::BindGroupLayout>],
     estimator: u32,
     occluders: bool,
+    light_bvh: bool,
 ) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
     let source = shaders::restir_kernel();
     PASSES
@@ -300,6 +308,7 @@ fn pipelines(
                 constants: &[
                     ("ESTIMATOR", estimator as f64),
                     ("OCCLUDERS", occluders as u32 as f64),
+                    ("LIGHT_BVH", light_bvh as u32 as f64),
                 ],
                 layouts: Some(layouts),
             })

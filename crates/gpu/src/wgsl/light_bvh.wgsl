@@ -7,6 +7,9 @@
 // `trail`. Lights from env.bvh_first on are picked through the tree.
 
 const NO_LIGHT: u32 = 0xffffffffu;
+// The scene picks its emitting triangles through the tree (pipeline
+// constant: without one the driver compiles the descent out).
+override LIGHT_BVH: bool = false;
 const ONE_MINUS_EPSILON: f32 = 0.99999994;
 
 // Node k's second child, or for a leaf its light with BVH_LEAF set.

@@ -80,7 +80,7 @@ fn pick_light(u: f32, surface: bool, p: vec3<f32>) -> LightPick {
             hi = mid;
         }
     }
-    if (lo < env.bvh_first) {
+    if (!LIGHT_BVH || lo < env.bvh_first) {
         return LightPick(lo, light_pmf(lights[lo], surface));
     }
     let shared_entry = lights[env.bvh_first];
@@ -96,7 +96,7 @@ fn pick_light(u: f32, surface: bool, p: vec3<f32>) -> LightPick {
 
 // LightSampler::pmf: the probability that pick_light at p returns li.
 fn light_pmf_at(li: u32, surface: bool, p: vec3<f32>) -> f32 {
-    if (li < env.bvh_first) {
+    if (!LIGHT_BVH || li < env.bvh_first) {
         return light_pmf(lights[li], surface);
     }
     return light_pmf(lights[env.bvh_first], surface) * light_bvh_pmf(li, p);
