@@ -319,9 +319,9 @@ impl LightBuffers {
     }
 }
 
-/// The light BVH's nodes for `light_bvh.wgsl`: three vec4s each, (min,
-/// φ), (max, cos θ_o), (cone axis, index as an exact float: the second
-/// child, or −(light + 1) for a leaf).
+/// The light BVH's nodes for `light_bvh.wgsl`: three vec4s each of its
+/// `Importance`, (centre, φ), (cone axis, cos θ_o), (r², d²_min, sin θ_o,
+/// index as an exact float: the second child, or −(light + 1) for a leaf).
 fn light_bvh_nodes(b: &fogbank_render::lights::bvh::LightBvh) -> Result<Vec<[f32; 4]>, GpuError> {
     if b.nodes.len() >= 1 << 24 {
         return Err(GpuError(format!(
@@ -336,8 +336,12 @@ fn light_bvh_nodes(b: &fogbank_render::lights::bvh::LightBvh) -> Result<Vec<[f32
             } else {
                 n.index as f32
             };
-            let l = &n.bounds;
-            [v4(l.min, l.phi), v4(l.max, l.cos_theta_o), v4(l.w, index)]
+            let i = &n.importance;
+            [
+                v4(i.centre, i.phi),
+                v4(i.w, i.cos_theta_o),
+                [i.r2, i.d2_min, i.sin_theta_o, index],
+            ]
         })
         .collect())
 }

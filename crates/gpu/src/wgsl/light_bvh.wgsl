@@ -1,8 +1,8 @@
 // fogbank_render::lights::bvh and light_bounds: the light BVH over the
 // emitting triangles. Its nodes are three vec4s each in `shading` from
-// env.bvh_nodes on: (min, φ), (max, cos θ_o), (normal-cone axis, the
-// index as an exact float: interior node → its second child, leaf →
-// −(light + 1)).
+// env.bvh_nodes on, their light_bounds::Importance: (centre, φ),
+// (normal-cone axis, cos θ_o), (r², d²_min, sin θ_o, the index as an exact
+// float: interior node → its second child, leaf → −(light + 1)).
 // A light's bit trail (bit k: second child at depth k) is its record's
 // `trail`. Lights from env.bvh_first on are picked through the tree.
 
@@ -34,23 +34,21 @@ fn sin_of(c: f32) -> f32 {
     return sqrt(max(1.0 - c * c, 0.0));
 }
 
-// LightBounds::importance of node k at p.
+// light_bounds::Importance::of node k at p.
 fn light_node_importance(k: u32, p: vec3<f32>) -> f32 {
     let base = env.bvh_nodes + 3u * k;
     let a = shading[base];
     let b = shading[base + 1u];
-    let w = shading[base + 2u].xyz;
-    let diagonal = b.xyz - a.xyz;
-    let to_p = p - 0.5 * (a.xyz + b.xyz);
+    let c = shading[base + 2u];
+    let to_p = p - a.xyz;
     let d2_centre = dot(to_p, to_p);
-    let d2 = max(d2_centre, 0.5 * length(diagonal));
-    let r2 = 0.25 * dot(diagonal, diagonal);
-    if (d2_centre <= r2) {
+    let d2 = max(d2_centre, c.y);
+    if (d2_centre <= c.x) {
         return a.w / d2;
     }
-    let cos_w = dot(w, to_p / sqrt(d2_centre));
-    let sin2_b = r2 / d2_centre;
-    let x = sub_clamped(vec2<f32>(cos_w, sin_of(cos_w)), vec2<f32>(b.w, sin_of(b.w)));
+    let cos_w = dot(b.xyz, to_p / sqrt(d2_centre));
+    let sin2_b = c.x / d2_centre;
+    let x = sub_clamped(vec2<f32>(cos_w, sin_of(cos_w)), vec2<f32>(b.w, c.z));
     let cos_p = sub_clamped(x, vec2<f32>(sqrt(max(1.0 - sin2_b, 0.0)), sqrt(sin2_b))).x;
     if (cos_p <= 0.0) {
         return 0.0;

@@ -8,13 +8,15 @@
 //! thousands of small emitters this replaces picking by power alone,
 //! which spends most samples on lights far away.
 
-use super::light_bounds::LightBounds;
+use super::light_bounds::{Importance, LightBounds};
 use fogbank_math::Vec3;
 
 /// One node, depth first: an interior node's first child follows it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightNode {
     pub bounds: LightBounds,
+    /// What the descent evaluates of `bounds`.
+    pub importance: Importance,
     /// Leaf: the light's index in the scene's lights; interior: the index
     /// of the second child.
     pub index: u32,
@@ -65,6 +67,7 @@ impl LightBvh {
             self.trails[*light as usize - self.first] = trail;
             self.nodes.push(LightNode {
                 bounds: *bounds,
+                importance: (&*bounds).into(),
                 index: *light,
                 leaf: true,
             });
@@ -73,6 +76,7 @@ impl LightBvh {
         let bounds = (items[1..].iter()).fold(items[0].1, |b, (_, o)| b.union(o));
         self.nodes.push(LightNode {
             bounds,
+            importance: (&bounds).into(),
             index: 0,
             leaf: false,
         });
@@ -93,8 +97,8 @@ impl LightBvh {
     /// when neither child can light `p`).
     fn first_child_probability(&self, n: usize, p: Vec3) -> Option<f32> {
         let second = self.nodes[n].index as usize;
-        let i0 = self.nodes[n + 1].bounds.importance(p);
-        let i1 = self.nodes[second].bounds.importance(p);
+        let i0 = self.nodes[n + 1].importance.of(p);
+        let i1 = self.nodes[second].importance.of(p);
         let sum = i0 + i1;
         (sum > 0.0).then(|| i0 / sum)
     }

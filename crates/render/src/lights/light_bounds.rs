@@ -66,37 +66,9 @@ impl LightBounds {
         }
     }
 
-    /// How much the set may light the point `p` (pbrt-v4's
-    /// `LightBounds::Importance` for a point in a medium): φ cos θ' / d²,
-    /// θ' the smallest angle between a normal of the cone and a direction
-    /// from the box toward `p`; zero when that angle exceeds θ_e = π/2.
-    /// d² is clamped below by half the box diagonal, so points near or
-    /// inside the box do not blow up.
+    /// [`Importance::of`] these bounds at `p`.
     pub fn importance(&self, p: Vec3) -> f32 {
-        let pc = self.centroid();
-        let diagonal = self.max - self.min;
-        let to_p = p - pc;
-        let d2_centre = to_p.length_squared();
-        let d2 = d2_centre.max(0.5 * diagonal.length());
-        // Radius² of the sphere around the box: from inside it every
-        // direction leaves the box, so nothing bounds θ'.
-        let r2 = 0.25 * diagonal.length_squared();
-        if d2_centre <= r2 {
-            return self.phi / d2;
-        }
-        let wi = to_p / d2_centre.sqrt();
-        let cos_w = self.w.dot(wi);
-        let sin2_b = r2 / d2_centre;
-        let cos_b = (1.0 - sin2_b).max(0.0).sqrt();
-        let theta_x = sub_clamped(
-            (cos_w, sin_of(cos_w)),
-            (self.cos_theta_o, sin_of(self.cos_theta_o)),
-        );
-        let (cos_p, _) = sub_clamped(theta_x, (cos_b, sin2_b.sqrt()));
-        if cos_p <= 0.0 {
-            return 0.0;
-        }
-        (self.phi * cos_p / d2).max(0.0)
+        Importance::from(self).of(p)
     }
 
     /// The orientation measure M_Ω of the cone with θ_e = π/2 (pbrt-v4's
@@ -110,6 +82,64 @@ impl LightBounds {
                 * PI
                 * (2.0 * theta_w * sin_o - (theta_o - 2.0 * theta_w).cos() - 2.0 * theta_o * sin_o
                     + self.cos_theta_o)
+    }
+}
+
+/// What [`Importance::of`] reads of a [`LightBounds`], computed once per
+/// node: the tree evaluates two nodes per level of every pick.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Importance {
+    pub centre: Vec3,
+    pub phi: f32,
+    pub w: Vec3,
+    pub cos_theta_o: f32,
+    /// Radius² of the sphere around the box.
+    pub r2: f32,
+    /// The lower clamp of d²: half the box diagonal.
+    pub d2_min: f32,
+    pub sin_theta_o: f32,
+}
+
+impl From<&LightBounds> for Importance {
+    fn from(b: &LightBounds) -> Importance {
+        let diagonal = b.max - b.min;
+        Importance {
+            centre: b.centroid(),
+            phi: b.phi,
+            w: b.w,
+            cos_theta_o: b.cos_theta_o,
+            r2: 0.25 * diagonal.length_squared(),
+            d2_min: 0.5 * diagonal.length(),
+            sin_theta_o: sin_of(b.cos_theta_o),
+        }
+    }
+}
+
+impl Importance {
+    /// How much the set may light the point `p` (pbrt-v4's
+    /// `LightBounds::Importance` for a point in a medium): φ cos θ' / d²,
+    /// θ' the smallest angle between a normal of the cone and a direction
+    /// from the box toward `p`; zero when that angle exceeds θ_e = π/2.
+    /// d² is clamped below by half the box diagonal, so points near or
+    /// inside the box do not blow up.
+    pub fn of(&self, p: Vec3) -> f32 {
+        let to_p = p - self.centre;
+        let d2_centre = to_p.length_squared();
+        let d2 = d2_centre.max(self.d2_min);
+        // From inside the sphere around the box every direction leaves
+        // the box, so nothing bounds θ'.
+        if d2_centre <= self.r2 {
+            return self.phi / d2;
+        }
+        let cos_w = self.w.dot(to_p / d2_centre.sqrt());
+        let sin2_b = self.r2 / d2_centre;
+        let cos_b = (1.0 - sin2_b).max(0.0).sqrt();
+        let theta_x = sub_clamped((cos_w, sin_of(cos_w)), (self.cos_theta_o, self.sin_theta_o));
+        let (cos_p, _) = sub_clamped(theta_x, (cos_b, sin2_b.sqrt()));
+        if cos_p <= 0.0 {
+            return 0.0;
+        }
+        (self.phi * cos_p / d2).max(0.0)
     }
 }
 
