@@ -240,7 +240,7 @@ mod bvh_test {
         (0..count)
             .map(|i| {
                 let o = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 4.0 - 2.0;
-                let n = crate::lights::sample::uniform_sphere([rng.next_f32(), rng.next_f32()]);
+                let n = crate::lights::light_bounds::light_bounds_test::unit(rng);
                 let (t, b) = (
                     n.any_orthonormal_pair().0 * 0.05,
                     n.any_orthonormal_pair().1 * 0.05,

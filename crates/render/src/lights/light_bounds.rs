@@ -168,12 +168,17 @@ fn cone_union(a: (Vec3, f32), b: (Vec3, f32)) -> (Vec3, f32) {
 }
 
 #[cfg(test)]
-mod light_bounds_test {
+pub(crate) mod light_bounds_test {
     use super::*;
     use fogbank_math::Pcg32;
 
-    fn unit(rng: &mut Pcg32) -> Vec3 {
-        crate::lights::sample::uniform_sphere([rng.next_f32(), rng.next_f32()])
+    /// A uniform direction (not `sample::uniform_sphere`: the sampler
+    /// imports this module).
+    pub(crate) fn unit(rng: &mut Pcg32) -> Vec3 {
+        let z = 1.0 - 2.0 * rng.next_f32();
+        let phi = 2.0 * PI * rng.next_f32();
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        Vec3::new(r * phi.cos(), r * phi.sin(), z)
     }
 
     #[test]
