@@ -110,7 +110,7 @@ fn misplaced_and_misspelt_integrator_keys_are_refused() {
     let e = file_err("type = \"transmittance\"\nmax_depth = 4");
     assert!(
         e.contains(
-            "integrator.max_depth is not a parameter of \"transmittance\"; it takes estimator, background"
+            "integrator.max_depth is not a parameter of \"transmittance\" with estimator \"ratio_tracking\"; it takes estimator, background, roulette"
         ) && e.contains("line"),
         "{e}"
     );
@@ -123,12 +123,14 @@ fn misplaced_and_misspelt_integrator_keys_are_refused() {
     );
     let e = file_err("type = \"direct\"\nmax_depht = 4");
     assert!(
-        e.contains("integrator.max_depht is not a parameter of \"direct\"; it takes distance_sampler, estimator, preset"),
+        e.contains("integrator.max_depht is not a parameter of \"direct\"")
+            && e.contains("it takes distance_sampler, estimator, preset"),
         "{e}"
     );
     let e = file_err("type = \"point_mis\"\nrr_depth = 2");
     assert!(
-        e.contains("integrator.rr_depth is not a parameter of \"point_mis\"; it takes strategy, estimator, mis_samples"),
+        e.contains("integrator.rr_depth is not a parameter of \"point_mis\"")
+            && e.contains("it takes strategy, estimator, mis_samples"),
         "{e}"
     );
     // Through --set.
@@ -156,7 +158,7 @@ fn misplaced_and_misspelt_integrator_keys_are_refused() {
     // An estimator option the estimator does not take.
     let e = err(&["integrator.samples=4"]);
     assert!(
-        e.contains("integrator.samples is not a parameter of \"transmittance\"; it takes estimator, background"),
+        e.contains("integrator.samples is not a parameter of \"transmittance\" with estimator \"ratio_tracking\"; it takes estimator, background, roulette"),
         "{e}"
     );
     let e = err(&["integrator.estimator=jackknife", "integrator.clip=true"]);
