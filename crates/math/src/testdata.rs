@@ -70,6 +70,13 @@ pub fn checker_slab_raw(name: &str) -> String {
             }
         }
     }
-    std::fs::write(&path, bytes).expect("writing the test volume");
+    // Written beside and renamed into place: tests of one binary run in
+    // parallel threads, and one truncating the file while another read it
+    // made the reader see 0 bytes (restir_gpu_test, CI).
+    static WRITES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let k = WRITES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let tmp = path.with_extension(format!("raw.{k}.tmp"));
+    std::fs::write(&tmp, bytes).expect("writing the test volume");
+    std::fs::rename(&tmp, &path).expect("moving the test volume into place");
     path.display().to_string().replace('\\', "/")
 }
