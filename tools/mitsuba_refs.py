@@ -68,6 +68,7 @@ SCENES = [
     "fog_emitters",
     "spot_fog",
     "bitmap_textures",
+    "analytic_shapes",
 ]
 TOTAL_SAMPLES = 25_000_000  # per image, default of --samples
 

@@ -1,36 +1,63 @@
-//! A triangle mesh with its BVH: closest-hit and any-hit queries.
+//! A triangle mesh and analytic shapes with one BVH over them all:
+//! closest-hit and any-hit queries. Primitive `i` is triangle `i` of the
+//! mesh below `mesh.len()`, analytic shape `i − mesh.len()` from there.
 
+use crate::analytic::AnalyticShape;
 use crate::bvh::Bvh;
 use crate::mesh::TriangleMesh;
 use crate::triangle::{intersect, RayFrame, TriangleHit};
 use fogbank_math::{Ray, Vec3};
 
-/// The closest triangle a ray meets.
+/// The closest primitive a ray meets (on an analytic shape `b1 = b2 = 0`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MeshHit {
-    pub triangle: u32,
+    pub primitive: u32,
     pub hit: TriangleHit,
 }
 
 #[derive(Clone, Debug)]
 pub struct MeshAccel {
     pub mesh: TriangleMesh,
+    pub analytic: Vec<AnalyticShape>,
     pub bvh: Bvh,
     /// The corners of each triangle in the BVH's leaf order: a leaf's
-    /// triangles lie side by side, read without going through the indices.
+    /// triangles lie side by side, read without going through the indices
+    /// (zero for analytic shapes).
     corners: Vec<[Vec3; 3]>,
 }
 
 impl MeshAccel {
     pub fn new(mesh: TriangleMesh) -> MeshAccel {
-        let bounds: Vec<_> = (0..mesh.len()).map(|i| mesh.triangle_bounds(i)).collect();
+        MeshAccel::with_analytic(mesh, Vec::new())
+    }
+
+    pub fn with_analytic(mesh: TriangleMesh, analytic: Vec<AnalyticShape>) -> MeshAccel {
+        let bounds: Vec<_> = (0..mesh.len())
+            .map(|i| mesh.triangle_bounds(i))
+            .chain(analytic.iter().map(|a| a.bounds()))
+            .collect();
         let bvh = Bvh::new(&bounds);
         let corners = bvh
             .order
             .iter()
-            .map(|&i| mesh.corners(i as usize))
+            .map(|&i| match (i as usize) < mesh.len() {
+                true => mesh.corners(i as usize),
+                false => [Vec3::ZERO; 3],
+            })
             .collect();
-        MeshAccel { mesh, bvh, corners }
+        MeshAccel {
+            mesh,
+            analytic,
+            bvh,
+            corners,
+        }
+    }
+
+    /// The analytic shape primitive `i` is, if it is one.
+    pub fn analytic_of(&self, primitive: u32) -> Option<&AnalyticShape> {
+        (primitive as usize)
+            .checked_sub(self.mesh.len())
+            .map(|k| &self.analytic[k])
     }
 
     /// The triangles' corners in leaf order (what the GPU's
@@ -39,9 +66,18 @@ impl MeshAccel {
         &self.corners
     }
 
-    fn test(&self, frame: &RayFrame, slot: u32, t_max: f32) -> Option<TriangleHit> {
-        let [p0, p1, p2] = self.corners[slot as usize];
-        intersect(frame, p0, p1, p2, t_max)
+    fn test(&self, ray: &Ray, frame: &RayFrame, slot: u32, t_max: f32) -> Option<TriangleHit> {
+        match self.analytic_of(self.bvh.order[slot as usize]) {
+            None => {
+                let [p0, p1, p2] = self.corners[slot as usize];
+                intersect(frame, p0, p1, p2, t_max)
+            }
+            Some(a) => a.intersect(ray, t_max).map(|t| TriangleHit {
+                t,
+                b1: 0.0,
+                b2: 0.0,
+            }),
+        }
     }
 
     /// The closest hit in `(0, t_max)`.
@@ -50,7 +86,7 @@ impl MeshAccel {
     }
 
     /// The closest hit in `(0, t_max)` among the triangles `keep` accepts
-    /// (by triangle index): the scene skips index-matched boundaries so.
+    /// (by primitive index): the scene skips index-matched boundaries so.
     pub fn intersect_where(
         &self,
         ray: &Ray,
@@ -60,30 +96,30 @@ impl MeshAccel {
         let frame = RayFrame::new(ray);
         let mut best = None;
         self.bvh.closest_hit(ray, t_max, |slot, t_max| {
-            let triangle = self.bvh.order[slot as usize];
-            if !keep(triangle) {
+            let primitive = self.bvh.order[slot as usize];
+            if !keep(primitive) {
                 return None;
             }
-            let h = self.test(&frame, slot, t_max)?;
-            best = Some(MeshHit { triangle, hit: h });
+            let h = self.test(ray, &frame, slot, t_max)?;
+            best = Some(MeshHit { primitive, hit: h });
             Some(h.t)
         })?;
         best
     }
 
-    /// Whether any triangle lies on the ray in `(0, t_max)`.
+    /// Whether any primitive lies on the ray in `(0, t_max)`.
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         self.occluded_where(ray, t_max, |_| true)
     }
 
-    /// Whether any triangle `keep` accepts lies on the ray in `(0, t_max)`.
+    /// Whether any primitive `keep` accepts lies on the ray in `(0, t_max)`.
     pub fn occluded_where(&self, ray: &Ray, t_max: f32, keep: impl Fn(u32) -> bool) -> bool {
         let frame = RayFrame::new(ray);
         self.bvh.any_hit(ray, t_max, |slot, t_max| {
             if !keep(self.bvh.order[slot as usize]) {
                 return None;
             }
-            self.test(&frame, slot, t_max).map(|h| h.t)
+            self.test(ray, &frame, slot, t_max).map(|h| h.t)
         })
     }
 }

@@ -1,6 +1,6 @@
-//! Surfaces: triangle meshes, watertight ray–triangle intersection and the
-//! BVH (one flat node array for the CPU and the GPU). A layer beside
-//! `fogbank-volume`, on top of `fogbank-math`.
+//! Surfaces: triangle meshes and analytic spheres and disks, watertight
+//! ray–triangle intersection and the BVH (one flat node array for the CPU
+//! and the GPU). A layer beside `fogbank-volume`, on top of `fogbank-math`.
 
 pub mod accel;
 pub mod analytic;
@@ -11,6 +11,7 @@ pub mod shapes;
 pub mod triangle;
 
 pub use accel::{MeshAccel, MeshHit};
+pub use analytic::{AnalyticHit, AnalyticShape, Quadric};
 pub use bvh::{Bvh, BvhNode};
 pub use loaders::load_mesh;
 pub use mesh::TriangleMesh;

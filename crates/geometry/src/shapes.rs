@@ -1,10 +1,9 @@
 //! Mitsuba 3's mesh-backed analytic shapes, generated in their object
 //! space (the scene's `to_world` places them): `rectangle` — the square
 //! [−1, 1]² in the z = 0 plane facing +z; `cube` — [−1, 1]³ with outward
-//! faces, 24 vertices so that each face has its own normal and UVs;
-//! `sphere` and `disk` — Mitsuba's analytic unit sphere and disk,
-//! tessellated (with their normals and UVs) until analytic shapes exist.
-//! Also test and benchmark meshes (`uv_sphere`, `quad_grid`).
+//! faces, 24 vertices so that each face has its own normal and UVs
+//! (`sphere` and `disk` are analytic: `crate::analytic`). Also test and
+//! benchmark meshes (`uv_sphere`, `quad_grid`).
 
 use crate::mesh::TriangleMesh;
 use glam::{Vec2, Vec3};
@@ -61,59 +60,6 @@ pub fn cube() -> TriangleMesh {
         }
     }
     TriangleMesh::new("cube", p, t, n, uv).expect("valid indices")
-}
-
-/// Mitsuba's unit `sphere` tessellated into 2·n·2n triangles (a seam of
-/// duplicated vertices so that UVs run 0..1): normals are the positions,
-/// UVs are Mitsuba's (φ / 2π, θ / π) with φ = atan2(y, x) in [0, 2π) and
-/// θ measured from +z.
-pub fn sphere(n: usize) -> TriangleMesh {
-    let n = n.max(2);
-    let (mut p, mut uv) = (Vec::new(), Vec::new());
-    for i in 0..=n {
-        let theta = std::f32::consts::PI * i as f32 / n as f32;
-        for j in 0..=2 * n {
-            let phi = std::f32::consts::PI * j as f32 / n as f32;
-            p.push(Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.sin() * phi.sin(),
-                theta.cos(),
-            ));
-            uv.push(Vec2::new(j as f32 / (2 * n) as f32, i as f32 / n as f32));
-        }
-    }
-    let idx = |i: usize, j: usize| (i * (2 * n + 1) + j) as u32;
-    let mut t = Vec::with_capacity(4 * n * n);
-    for i in 0..n {
-        for j in 0..2 * n {
-            // Counter-clockwise seen from outside; the pole rows would be
-            // degenerate, so they get one triangle per quad.
-            if i > 0 {
-                t.push([idx(i, j), idx(i + 1, j), idx(i, j + 1)]);
-            }
-            if i + 1 < n {
-                t.push([idx(i, j + 1), idx(i + 1, j), idx(i + 1, j + 1)]);
-            }
-        }
-    }
-    let normals = p.clone();
-    TriangleMesh::new("sphere", p, t, normals, uv).expect("valid indices")
-}
-
-/// Mitsuba's unit `disk` (radius 1 in the z = 0 plane, facing +z) as a fan
-/// of `n` triangles; UVs are Mitsuba's (r, φ / 2π).
-pub fn disk(n: usize) -> TriangleMesh {
-    let n = n.max(3);
-    let mut p = vec![Vec3::ZERO];
-    let mut uv = vec![Vec2::ZERO];
-    for j in 0..=n {
-        let phi = 2.0 * std::f32::consts::PI * j as f32 / n as f32;
-        p.push(Vec3::new(phi.cos(), phi.sin(), 0.0));
-        uv.push(Vec2::new(1.0, j as f32 / n as f32));
-    }
-    let t = (0..n as u32).map(|j| [0, j + 1, j + 2]).collect();
-    let normals = vec![Vec3::Z; p.len()];
-    TriangleMesh::new("disk", p, t, normals, uv).expect("valid indices")
 }
 
 /// A latitude–longitude sphere of 2·n·2n triangles about the origin with
@@ -177,7 +123,7 @@ mod shapes_test {
     /// exactly once (a closed, watertight surface).
     #[test]
     fn windings_match_normals_and_the_cube_is_closed() {
-        for m in [rectangle(), cube(), sphere(8), disk(12)] {
+        for m in [rectangle(), cube()] {
             for (i, tri) in m.triangles.iter().enumerate() {
                 let [a, b, c] = m.corners(i);
                 let g = (b - a).cross(c - a).normalize();

@@ -65,7 +65,7 @@ fn check_range(accel: &MeshAccel, range: std::ops::Range<usize>) -> usize {
         let ray = Ray::new(o, d);
         let t_max = if k % 3 == 0 { 0.9 } else { f32::INFINITY };
         let want = brute(&accel.mesh, &ray, t_max);
-        let got = accel.intersect(&ray, t_max).map(|h| (h.triangle, h.hit.t));
+        let got = accel.intersect(&ray, t_max).map(|h| (h.primitive, h.hit.t));
         assert_eq!(got, want, "ray {k}: {ray:?}");
         assert_eq!(
             accel.occluded(&ray, t_max),

@@ -132,11 +132,11 @@ pub fn strategy_id(s: Strategy) -> u32 {
     position(&Strategy::ALL.map(Strategy::name), s.name())
 }
 
-/// Light kinds on the device: the scene's, then the emitting triangles of
-/// shapes (`area`, which scenes do not list).
+/// Light kinds on the device: the scene's, then the emitting shapes'
+/// (`area` triangles, `sphere`, `disk`: scenes do not list them).
 pub fn light_kinds() -> Vec<&'static str> {
     let mut k = Light::KINDS.to_vec();
-    k.push("area");
+    k.extend(["area", "sphere", "disk"]);
     k
 }
 
@@ -283,6 +283,10 @@ fn enumeration(out: &mut String, prefix: &str, names: &[&str]) {
     out.push_str(&format!("const {prefix}_COUNT: u32 = {}u;\n", names.len()));
 }
 
+/// Set in an analytic shape's primitive index in the surface records
+/// (surfaces.rs): the slot holds a sphere or disk, not a triangle.
+pub const PRIMITIVE_ANALYTIC: u32 = 1 << 31;
+
 /// Samples one invocation takes in a row and merges into the pixel's
 /// moments at once: the unit of the device's accumulation order, so images
 /// are the same however many chunks a dispatch runs side by side.
@@ -302,6 +306,10 @@ pub fn wgsl_prelude() -> String {
     );
     enumeration(&mut s, "STRATEGY", &Strategy::ALL.map(Strategy::name));
     enumeration(&mut s, "LIGHT", &light_kinds());
+    enumeration(&mut s, "QUADRIC", &fogbank_geometry::Quadric::NAMES);
+    s.push_str(&format!(
+        "const PRIMITIVE_ANALYTIC: u32 = {PRIMITIVE_ANALYTIC}u;\n"
+    ));
     enumeration(&mut s, "BSDF", &Bsdf::NAMES);
     enumeration(&mut s, "TEXTURE", &Texture::NAMES);
     enumeration(&mut s, "FILTER", &BitmapFilter::NAMES);

@@ -111,6 +111,7 @@ pub fn light_picks(
         shaders::MIS,
         shaders::PHASE,
         shaders::LIGHTS,
+        shaders::SHAPE_LIGHTS,
         shaders::PROPERTIES,
         shaders::LIGHT_BVH,
         shaders::LIGHT_PICKS_KERNEL,
@@ -246,7 +247,14 @@ pub fn bvh_queries(
         .collect();
     let q = gpu.storage_buffer("bvh_queries", bytemuck::cast_slice(&finite));
     let out = output_buffer(gpu, "bvh_answers", queries.len() as u64 * 16);
-    let source = [shaders::FLOAT, shaders::BVH, shaders::BVH_QUERIES_KERNEL].join("\n");
+    let source = [
+        &crate::contract::wgsl_prelude(),
+        shaders::FLOAT,
+        shaders::BVH,
+        shaders::ANALYTIC_SHAPES,
+        shaders::BVH_QUERIES_KERNEL,
+    ]
+    .join("\n");
     let bytes = run_once(
         gpu,
         "bvh_queries",

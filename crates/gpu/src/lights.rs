@@ -25,7 +25,7 @@ pub(crate) struct LightGpu {
     pub(crate) b: [f32; 4],
     pub(crate) c: [f32; 4],
     pub(crate) d: [f32; 4],
-    /// Area lights: the second edge.
+    /// Area lights: the second edge (disks: the second half-axis).
     pub(crate) e: [f32; 4],
 }
 
@@ -219,6 +219,25 @@ impl LightBuffers {
                         v4(t.radiance, 0.0),
                         // The emitting side relative to the winding.
                         v4(t.e1, t.n.dot(t.e1.cross(t.e2)).signum()),
+                        [0.0; 2],
+                    )
+                },
+                Light::Sphere(l) => rec(
+                    kind(),
+                    v4(l.centre, l.radius),
+                    v4(l.radiance, 0.0),
+                    [0.0, 0.0, 0.0, l.inward as u32 as f32],
+                    [0.0; 2],
+                ),
+                // As an emitting triangle: centre and area, half-axes u, v,
+                // the emitting side relative to u × v.
+                Light::Disk(l) => LightGpu {
+                    e: v4(l.v, 0.0),
+                    ..rec(
+                        kind(),
+                        v4(l.centre, l.area),
+                        v4(l.radiance, 0.0),
+                        v4(l.u, l.n.dot(l.u.cross(l.v)).signum()),
                         [0.0; 2],
                     )
                 },

@@ -24,6 +24,7 @@ pub const DISTANCE: &str = include_str!("wgsl/distance.wgsl");
 pub const MIS: &str = include_str!("wgsl/mis.wgsl");
 pub const PHASE: &str = include_str!("wgsl/phase.wgsl");
 pub const LIGHTS: &str = include_str!("wgsl/lights.wgsl");
+pub const SHAPE_LIGHTS: &str = include_str!("wgsl/shape_lights.wgsl");
 pub const PROPERTIES: &str = include_str!("wgsl/properties.wgsl");
 pub const LIGHT_BVH: &str = include_str!("wgsl/light_bvh.wgsl");
 pub const SCATTER_KERNEL: &str = include_str!("wgsl/scatter_kernel.wgsl");
@@ -35,6 +36,8 @@ pub const PIN_GATHER_KERNEL: &str = include_str!("wgsl/pin_gather_kernel.wgsl");
 pub const CHORD_QUERIES_KERNEL: &str = include_str!("wgsl/chord_queries_kernel.wgsl");
 /// Surfaces: watertight triangles and BVH traversal.
 pub const BVH: &str = include_str!("wgsl/bvh.wgsl");
+/// Surfaces: analytic spheres and disks.
+pub const ANALYTIC_SHAPES: &str = include_str!("wgsl/analytic_shapes.wgsl");
 pub const BVH_QUERIES_KERNEL: &str = include_str!("wgsl/bvh_queries_kernel.wgsl");
 pub const LIGHT_PICKS_KERNEL: &str = include_str!("wgsl/light_picks_kernel.wgsl");
 pub const MICROFACET: &str = include_str!("wgsl/surfaces/microfacet.wgsl");
@@ -100,6 +103,7 @@ fn scattering_kernel(kernel: &str) -> String {
         MIS,
         PHASE,
         LIGHTS,
+        SHAPE_LIGHTS,
         PROPERTIES,
         LIGHT_BVH,
         kernel,
@@ -118,6 +122,7 @@ pub fn scatter_kernel() -> String {
             PIN_GRID,
             TRACKING,
             BVH,
+            ANALYTIC_SHAPES,
             MICROFACET,
             BSDF,
             SURFACE_DATA,
@@ -138,7 +143,7 @@ pub fn pin_gather_kernel() -> String {
 /// A kernel of an integrator that sees shapes as opaque occluders only
 /// (occluders.wgsl, compiled out without shapes).
 fn occluding_kernel(kernel: &str) -> String {
-    scattering_kernel(&[BVH, SURFACE_DATA, OCCLUDERS, kernel].join("\n"))
+    scattering_kernel(&[BVH, ANALYTIC_SHAPES, SURFACE_DATA, OCCLUDERS, kernel].join("\n"))
 }
 
 /// `point_mis`.
@@ -173,10 +178,12 @@ pub fn restir_kernel() -> String {
         FRAME,
         PHASE,
         LIGHTS,
+        SHAPE_LIGHTS,
         PROPERTIES,
         LIGHT_BVH,
         DISTANCE_TRILINEAR,
         BVH,
+        ANALYTIC_SHAPES,
         SURFACE_DATA,
         OCCLUDERS,
         RESTIR_PARAMS,

@@ -10,11 +10,11 @@
 //! | 1 | `walk` (shadow rays walk surface to surface), shape count |
 //! | 2 … | per world medium, 1 when shapes bound it (four per `vec4`) |
 //! | shapes | [`SHAPE_STRIDE`] `vec4` per shape: media, lights, flags, emission, two sides of [`crate::contract::SIDE_STRIDE`] |
-//! | triangles | per leaf slot three corners; `w`: shape, mesh triangle, passes light |
-//! | shading | per leaf slot four `vec4`: vertex normals and UVs |
+//! | triangles | per leaf slot three corners; `w`: shape, primitive, passes light (an analytic shape: centre, radius; its primitive with [`PRIMITIVE_ANALYTIC`]) |
+//! | shading | per leaf slot four `vec4`: vertex normals and UVs (an analytic shape: its world → object rows, quadric and flip) |
 //! | tables | 64 + 1 floats per rough plastic (tabulated transmittance, internal reflectance); bitmap texels (`channels` floats each, rows in file order, padded to a `vec4`) |
 
-use crate::contract::{bsdf_id, texture_id, SHAPE_STRIDE};
+use crate::contract::{bsdf_id, texture_id, PRIMITIVE_ANALYTIC, SHAPE_STRIDE};
 use crate::{Gpu, GpuError};
 use fogbank_geometry::BvhNode;
 use fogbank_render::world::bsdf::Bsdf;
@@ -92,13 +92,19 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
     for (slot, &t) in accel.bvh.order.iter().enumerate() {
         let corners = accel.leaf_corners()[slot];
         let shape = s.shape_of()[t as usize];
+        let passes = u(s.shape_passes_light(shape as usize) as u32);
+        if let Some(a) = accel.analytic_of(t) {
+            // Centre and radius (what hits are put back onto).
+            let centre = a.to_world.translation.as_vec3();
+            let radius = a.to_world.matrix3.x_axis.length() as f32;
+            data.push(v4(centre, u(shape)));
+            data.push([radius, 0.0, 0.0, u(t | PRIMITIVE_ANALYTIC)]);
+            data.push([0.0, 0.0, 0.0, passes]);
+            continue;
+        }
         // A non-finite corner: a point, never hit (as on the CPU).
         let finite = corners.iter().all(|p| p.is_finite());
-        let w = [
-            u(shape),
-            u(t),
-            u(s.shape_passes_light(shape as usize) as u32),
-        ];
+        let w = [u(shape), u(t), passes];
         for k in 0..3 {
             let p = if finite { corners[k] } else { glam::Vec3::ZERO };
             data.push(v4(p, w[k]));
@@ -106,6 +112,16 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
     }
     let mesh = &accel.mesh;
     for &t in &accel.bvh.order {
+        if let Some(a) = accel.analytic_of(t) {
+            // The world → object map's rows, then the quadric and flip.
+            let m = a.to_object;
+            for r in 0..3 {
+                let row = m.matrix3.row(r).as_vec3();
+                data.push(v4(row, m.translation[r] as f32));
+            }
+            data.push([u(a.quadric as u32), u(a.flip as u32), 0.0, 0.0]);
+            continue;
+        }
         let tri = mesh.triangles[t as usize];
         let n = |k: usize| {
             mesh.normals

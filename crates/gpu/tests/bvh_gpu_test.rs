@@ -80,7 +80,7 @@ fn gpu_bvh_matches_the_cpu_ray_by_ray() {
                     h.hit.t
                 );
                 let tri = accel.bvh.order[a[0] as usize];
-                if tri != h.triangle {
+                if tri != h.primitive {
                     // Only on an edge or vertex shared at the same distance.
                     ties += 1;
                 }

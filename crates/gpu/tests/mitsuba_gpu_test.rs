@@ -8,7 +8,7 @@
 //! `cargo test --release -p fogbank-gpu --test mitsuba_gpu_test -- --ignored`.
 
 use fogbank_gpu::{render as gpu_render, test_gpu};
-use fogbank_render::{load_scene, Progress, RenderOptions, Scene};
+use fogbank_render::{load_scene, parse_scene, Progress, RenderOptions, Scene};
 
 mod common;
 use common::assert_gpu_matches_cpu;
@@ -45,7 +45,7 @@ fn agrees_with_mitsuba(name: &str) {
 // smooth and rough dielectrics around homogeneous media; plastics,
 // textures, twosided and a bilinear envmap; bitmaps with every filter and
 // wrap mode). Mitsuba's spot light is covered by scatter_gpu_test (a
-// `linear` spot). The ignored test below covers all nine surface scenes
+// `linear` spot). The ignored test below covers all eleven scenes
 // against Mitsuba.
 #[test]
 fn null_boundaries_and_thin_dielectrics_match_the_cpu() {
@@ -58,6 +58,26 @@ fn dielectrics_and_textured_plastics_match_the_cpu() {
     matches_cpu("dielectric_media", 48);
     matches_cpu("surfaces_env_area", 48);
     matches_cpu("bitmap_textures", 48);
+}
+
+/// Analytic spheres and disks (analytic_shapes.wgsl) and their lights
+/// (shape_lights.wgsl: cone-sampled sphere, elliptical disk).
+/// And a furnace: a sphere emitting inward around the camera (sampled by
+/// area from inside).
+#[test]
+fn analytic_spheres_and_disks_match_the_cpu() {
+    matches_cpu("analytic_shapes", 48);
+    let Some(gpu) = test_gpu() else { return };
+    let furnace = "[camera]\nfrom = [0.1, -0.5, 0.2]\nto = [0, 1, 0]\nwidth = 8\nheight = 8\n\
+                   [[shapes]]\ntype = \"sphere\"\nflip_normals = true\n\
+                   bsdf = { type = \"diffuse\", reflectance = 0.5 }\nemitter = { radiance = [1, 1, 1] }\n\
+                   [integrator]\ntype = \"volpath\"\nmax_depth = 3\n";
+    let s = Scene::build(
+        parse_scene(furnace, "furnace", &[]).unwrap(),
+        std::path::Path::new("."),
+    )
+    .unwrap();
+    assert_gpu_matches_cpu(&gpu, &s, 64, 1e-4, "inward emitting sphere");
 }
 
 /// 300 small emitting triangles in fog picked through the light BVH
@@ -112,8 +132,9 @@ fn transmittance_through_surfaces_and_chromatic_media_matches_the_cpu() {
     assert_gpu_matches_cpu(&gpu, &transmittance("chromatic"), 512, 1e-3, "chromatic");
 }
 
-const SCENES: [&str; 10] = [
+const SCENES: [&str; 11] = [
     "null_mesh_medium",
+    "analytic_shapes",
     "thin_area",
     "light_in_medium",
     "dielectric_media",

@@ -10,6 +10,7 @@ pub mod ray;
 pub mod rng;
 pub mod special;
 pub mod testdata;
+pub mod warp;
 
 pub use bbox::Aabb;
 pub use glam::{DAffine3, DVec3, Vec3};

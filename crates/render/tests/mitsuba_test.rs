@@ -82,6 +82,15 @@ fn spot_light_in_fog_agrees_with_mitsuba() {
     agree("spot_fog");
 }
 
+/// Analytic `sphere`s and `disk`s: intersected exactly, Mitsuba's normals
+/// and UVs (checkerboards in both parameterisations), a medium bounded by a
+/// null sphere, an emitting sphere sampled by its cone and an emitting
+/// elliptical disk.
+#[test]
+fn analytic_spheres_and_disks_agree_with_mitsuba() {
+    agree("analytic_shapes");
+}
+
 #[test]
 fn bitmap_textures_agree_with_mitsuba() {
     agree("bitmap_textures");

@@ -1,7 +1,8 @@
 //! `volpath` with surfaces (issue 23) against analytic answers: a lit
 //! diffuse plane, a convex object under a uniform sky, irradiance from a
-//! rectangular area light, and emitting furnaces (closed boxes, with and
-//! without a medium inside) whose radiance is Le / (1 − ρ).
+//! rectangular area light, and emitting furnaces (closed boxes and
+//! spheres, with and without a medium inside) whose radiance is
+//! Le / (1 − ρ).
 
 use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene};
 use std::path::Path;
@@ -108,37 +109,43 @@ fn square_area_light_irradiance() {
     );
 }
 
-/// Inside a closed box whose walls emit Le and reflect ρ (diffuse), the
+/// Inside a closed box or sphere whose walls emit Le and reflect ρ (diffuse), the
 /// radiance is Le Σ_k ρ^k = Le (1 − ρ^(n+1)) / (1 − ρ) for paths of up to
 /// n vertices: emission seen directly, then one more bounce per vertex,
 /// each found by light sampling and by BSDF sampling together (MIS).
 /// A non-absorbing medium inside leaves the uniform, isotropic field as it
 /// is (with unlimited depth).
 #[test]
-fn emitting_furnace_box_with_and_without_a_medium() {
-    let walls = "[camera]\nfrom = [0.1, -0.5, 0.2]\nto = [0, 1, 0]\nwidth = 8\nheight = 8\nfov = 60\n\
-                 [[shapes]]\ntype = \"cube\"\nflip_normals = true\n\
-                 bsdf = { type = \"diffuse\", reflectance = 0.5 }\nemitter = { radiance = [1, 1, 1] }\n";
-    for (extra, depth, expected, spp) in [
-        ("", 3, (1.0 - 0.5f64.powi(4)) / 0.5, 256),
-        (
-            "[[media]]\ndensity = { procedural = \"constant\", resolution = 4 }\nsigma_t_scale = 1.5\n\
-             albedo = [1, 1, 1]\nto_world = { scale = 1.9 }\n",
-            100_000,
-            2.0,
-            2048,
-        ),
-    ] {
-        let s = build(&format!(
-            "{walls}{extra}[integrator]\ntype = \"volpath\"\nmax_depth = {depth}\n"
-        ));
-        let f = film(&s, spp);
-        let (mean, se) = pooled(&f, |_| true);
-        assert!(
-            (mean - expected).abs() < 4.0 * se && se < 0.01,
-            "depth {depth}: {mean} ± {se} vs {expected}"
+fn emitting_furnace_box_and_sphere_with_and_without_a_medium() {
+    // A cube, and an analytic sphere emitting inward (sampled by area from
+    // inside, sphere.rs).
+    for shape in ["cube", "sphere"] {
+        let walls = format!(
+            "[camera]\nfrom = [0.1, -0.5, 0.2]\nto = [0, 1, 0]\nwidth = 8\nheight = 8\nfov = 60\n\
+             [[shapes]]\ntype = \"{shape}\"\nflip_normals = true\n\
+             bsdf = {{ type = \"diffuse\", reflectance = 0.5 }}\nemitter = {{ radiance = [1, 1, 1] }}\n"
         );
-        assert_eq!(f.nan_samples + f.inf_samples, 0);
+        for (extra, depth, expected, spp) in [
+            ("", 3, (1.0 - 0.5f64.powi(4)) / 0.5, 256),
+            (
+                "[[media]]\ndensity = { procedural = \"constant\", resolution = 4 }\nsigma_t_scale = 1.5\n\
+                 albedo = [1, 1, 1]\nto_world = { scale = 1.9 }\n",
+                100_000,
+                2.0,
+                2048,
+            ),
+        ] {
+            let s = build(&format!(
+                "{walls}{extra}[integrator]\ntype = \"volpath\"\nmax_depth = {depth}\n"
+            ));
+            let f = film(&s, spp);
+            let (mean, se) = pooled(&f, |_| true);
+            assert!(
+                (mean - expected).abs() < 4.0 * se && se < 0.01,
+                "{shape}, depth {depth}: {mean} ± {se} vs {expected}"
+            );
+            assert_eq!(f.nan_samples + f.inf_samples, 0);
+        }
     }
 }
 
@@ -174,6 +181,24 @@ fn shape_errors_name_the_key() {
     .unwrap();
     assert!(
         e.0.contains("shapes.0") && e.0.contains("missing.obj"),
+        "{e}"
+    );
+    // Analytic shapes: a sphere has one radius; they have no vertices.
+    let build_err = |shape: &str| {
+        let text = format!("[[shapes]]\n{shape}\n[integrator]\ntype = \"volpath\"\n");
+        Scene::build(parse_scene(&text, "t", &[]).unwrap(), Path::new("."))
+            .err()
+            .unwrap()
+            .0
+    };
+    let e = build_err("type = \"sphere\"\nto_world = { scale = [1, 2, 1] }");
+    assert!(
+        e.contains("shapes.0.to_world") && e.contains("uniform scale"),
+        "{e}"
+    );
+    let e = build_err("type = \"disk\"\nface_normals = true");
+    assert!(
+        e.contains("shapes.0.face_normals") && e.contains("disk"),
         "{e}"
     );
 }

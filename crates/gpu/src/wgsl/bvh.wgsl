@@ -1,5 +1,6 @@
 // Surfaces: watertight ray–triangle intersection and BVH traversal, the
-// mirror of fogbank_geometry (triangle.rs, bvh/traverse.rs). The node array
+// mirror of fogbank_geometry (triangle.rs, bvh/traverse.rs; analytic
+// shapes in analytic_shapes.wgsl). The node array
 // is the same 32-byte layout the CPU builds; triangles are their corners in
 // the BVH's leaf order (slot i holds the triangle of leaf entry i). WGSL has
 // no f64, so the CPU's double-precision recomputation of edge functions
@@ -154,7 +155,8 @@ fn node_enter(o: vec3<f32>, d: vec3<f32>, inv_d: vec3<f32>, n: BvhNode, t_max: f
 // the closest hit in (0, t_max), or with `any` the first hit found; with
 // `opaque`, triangles that let light through (surface_passes) are skipped.
 // The kernel that includes this file declares `bvh_nodes` and provides
-// surface_corner(slot, k) and surface_passes(slot).
+// surface_corner(slot, k), surface_passes(slot), surface_is_analytic(slot)
+// and surface_analytic(slot) (analytic_shapes.wgsl).
 fn bvh_trace(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any: bool, opaque: bool) -> SurfaceHit {
     var best = SurfaceHit(0xffffffffu, 0.0, 0.0, 0.0);
     if (arrayLength(&bvh_nodes) == 0u) {
@@ -187,8 +189,13 @@ fn bvh_trace(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any: bool, opaque: bool)
                 if (opaque && surface_passes(slot)) {
                     continue;
                 }
-                let h = intersect_triangle(f, surface_corner(slot, 0u), surface_corner(slot, 1u),
+                var h: TriHit;
+                if (surface_is_analytic(slot)) {
+                    h = intersect_analytic(surface_analytic(slot), o, d, t_max);
+                } else {
+                    h = intersect_triangle(f, surface_corner(slot, 0u), surface_corner(slot, 1u),
                                            surface_corner(slot, 2u), t_max);
+                }
                 if (h.hit) {
                     t_max = h.t;
                     best = SurfaceHit(slot, h.t, h.b1, h.b2);

@@ -34,3 +34,13 @@ fn surface_corner(slot: u32, k: u32) -> vec3<f32> {
 fn surface_passes(slot: u32) -> bool {
     return false;
 }
+
+// The queries' meshes are triangles only.
+fn surface_is_analytic(slot: u32) -> bool {
+    return false;
+}
+
+fn surface_analytic(slot: u32) -> Analytic {
+    let z = vec4<f32>(0.0);
+    return Analytic(z, z, z, 0u, false, z.xyz, 0.0);
+}

@@ -286,8 +286,8 @@ fn light_sample_li(l: LightGpu, p: vec3<f32>, u0: f32, u1: f32) -> LightSample {
             ls.radiance = l.b.xyz;
             ls.valid = true;
         }
-        case LIGHT_AREA: {
-            ls = area_sample(l, p, u0, u1);
+        case LIGHT_AREA, LIGHT_SPHERE, LIGHT_DISK: {
+            ls = shape_light_sample(l, p, u0, u1);
         }
         case LIGHT_POINT, LIGHT_SPOT: {
             let d = l.a.xyz - p;
@@ -308,51 +308,5 @@ fn light_sample_li(l: LightGpu, p: vec3<f32>, u0: f32, u1: f32) -> LightSample {
             invalid_id();
         }
     }
-    return ls;
-}
-
-// Shadow rays toward a point on an emitter stop this fraction short of it
-// (lights/area.rs SHADOW_SHORTEN), so the emitter does not occlude itself.
-const SHADOW_SHORTEN: f32 = 1e-4;
-
-// AreaTriangle's emitting normal: the winding's, flipped to the side the
-// shape's normals give (the sign is in c.w).
-fn area_normal(l: LightGpu) -> vec3<f32> {
-    return normalize(cross(l.c.xyz, l.e.xyz)) * l.c.w;
-}
-
-// AreaTriangle::pdf_solid: d² / (|cos θ_l| A) for the point q seen from p.
-fn area_pdf_solid(l: LightGpu, p: vec3<f32>, q: vec3<f32>, wi: vec3<f32>) -> f32 {
-    let c = abs(dot(area_normal(l), wi));
-    if (c <= 0.0) {
-        return 0.0;
-    }
-    let d = q - p;
-    return dot(d, d) / (c * l.a.w);
-}
-
-// Light::sample_li for an emitting triangle: a uniform point (Heitz's
-// square-to-triangle map), radiance on the emitting side only.
-fn area_sample(l: LightGpu, p: vec3<f32>, u0: f32, u1: f32) -> LightSample {
-    var ls: LightSample;
-    ls.is_delta = false;
-    ls.valid = false;
-    var b0: f32;
-    var b1: f32;
-    if (u0 < u1) {
-        b0 = 0.5 * u0;
-        b1 = u1 - b0;
-    } else {
-        b1 = 0.5 * u1;
-        b0 = u0 - b1;
-    }
-    let q = l.a.xyz + b0 * l.c.xyz + b1 * l.e.xyz;
-    let d = q - p;
-    let dist = length(d);
-    ls.wi = d / dist;
-    ls.pdf = area_pdf_solid(l, p, q, ls.wi);
-    ls.radiance = select(vec3<f32>(0.0), l.b.xyz, dot(area_normal(l), ls.wi) < 0.0);
-    ls.distance = dist * (1.0 - SHADOW_SHORTEN);
-    ls.valid = dist > 0.0 && ls.pdf > 0.0 && finite(ls.pdf) && any(ls.radiance != vec3<f32>(0.0));
     return ls;
 }

@@ -172,13 +172,8 @@ pub(crate) mod light_bounds_test {
     use super::*;
     use fogbank_math::Pcg32;
 
-    /// A uniform direction (not `sample::uniform_sphere`: the sampler
-    /// imports this module).
     pub(crate) fn unit(rng: &mut Pcg32) -> Vec3 {
-        let z = 1.0 - 2.0 * rng.next_f32();
-        let phi = 2.0 * PI * rng.next_f32();
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        Vec3::new(r * phi.cos(), r * phi.sin(), z)
+        fogbank_math::warp::uniform_sphere([rng.next_f32(), rng.next_f32()])
     }
 
     #[test]

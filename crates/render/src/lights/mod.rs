@@ -2,10 +2,12 @@
 
 pub mod area;
 pub mod bvh;
+pub mod disk;
 pub mod envmap;
 pub mod light_bounds;
 pub mod sample;
 pub mod sky;
+pub mod sphere;
 
 use crate::error::SceneError;
 use fogbank_math::Vec3;
@@ -125,11 +127,15 @@ pub enum Light {
     /// One triangle of an emitting shape (built from `[[shapes]]`, not
     /// `[[lights]]`).
     Area(area::AreaTriangle),
+    /// An emitting analytic sphere or disk (from `[[shapes]]`).
+    Sphere(sphere::SphereLight),
+    Disk(disk::DiskLight),
 }
 
 impl Light {
     /// Every kind of light, by the name its `type` has in a scene
-    /// (`area` lights come from shapes' emitters and are not listed).
+    /// (`area`, `sphere` and `disk` lights come from shapes' emitters and
+    /// are not listed).
     pub const KINDS: [&'static str; 5] = ["constant", "envmap", "point", "directional", "spot"];
 
     pub fn kind(&self) -> &'static str {
@@ -140,7 +146,15 @@ impl Light {
             Light::Directional { .. } => "directional",
             Light::Spot { .. } => "spot",
             Light::Area(_) => "area",
+            Light::Sphere(_) => "sphere",
+            Light::Disk(_) => "disk",
         }
+    }
+
+    /// Whether the light is an emitting shape's (these follow the scene's
+    /// `[[lights]]` in `World::lights`).
+    pub fn is_shape(&self) -> bool {
+        matches!(self, Light::Area(_) | Light::Sphere(_) | Light::Disk(_))
     }
 }
 

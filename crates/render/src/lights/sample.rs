@@ -7,6 +7,7 @@
 use super::bvh::LightBvh;
 use super::light_bounds::LightBounds;
 use super::{Light, SpotCurve};
+use fogbank_math::warp::uniform_sphere;
 use fogbank_math::Vec3;
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
@@ -27,13 +28,6 @@ fn luminance(c: Vec3) -> f32 {
     0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
 }
 
-/// Uniform direction on the sphere.
-pub fn uniform_sphere(u: [f32; 2]) -> Vec3 {
-    let z = 1.0 - 2.0 * u[0];
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * PI * u[1];
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
-}
 
 impl Light {
     /// A power proxy for light selection; `radius` is the scene's bounding
@@ -52,6 +46,8 @@ impl Light {
                 ..
             } => 2.0 * PI * (1.0 - 0.5 * (cos_falloff_start + cos_total)) * luminance(*intensity),
             Light::Area(a) => PI * a.area * luminance(a.radiance),
+            Light::Sphere(l) => PI * l.area() * luminance(l.radiance),
+            Light::Disk(l) => PI * l.area * luminance(l.radiance),
         }
     }
 
@@ -75,6 +71,36 @@ impl Light {
             Light::Envmap(e) => e.pdf(wi),
             _ => 0.0,
         }
+    }
+
+    /// Solid-angle density at `p` of sampling the point `q` of an
+    /// emitting shape seen along unit `wi` (0 for other lights).
+    pub fn pdf_solid(&self, p: Vec3, q: Vec3, wi: Vec3) -> f32 {
+        match self {
+            Light::Area(a) => a.pdf_solid(p, q, wi),
+            Light::Sphere(l) => l.pdf_solid(p, q, wi),
+            Light::Disk(l) => l.pdf_solid(p, q, wi),
+            _ => 0.0,
+        }
+    }
+
+    /// The sample toward the point `q` of an emitting shape, seen from `p`,
+    /// radiance `le(wi)`; the shadow ray stops short of the emitter.
+    fn sample_shape(&self, p: Vec3, q: Vec3, le: impl Fn(Vec3) -> Vec3) -> Option<LightSample> {
+        let d = q - p;
+        let dist = d.length();
+        let wi = d / dist;
+        let pdf = self.pdf_solid(p, q, wi);
+        let radiance = le(wi);
+        (dist > 0.0 && pdf > 0.0 && pdf.is_finite() && radiance != Vec3::ZERO).then_some(
+            LightSample {
+                wi,
+                radiance,
+                pdf,
+                distance: dist * (1.0 - super::area::SHADOW_SHORTEN),
+                is_delta: false,
+            },
+        )
     }
 
     pub fn sample_li(&self, p: Vec3, u: [f32; 2]) -> Option<LightSample> {
@@ -137,23 +163,12 @@ impl Light {
                     is_delta: true,
                 })
             }
-            Light::Area(a) => {
-                let q = a.sample_point(u);
-                let d = q - p;
-                let dist = d.length();
-                let wi = d / dist;
-                let pdf = a.pdf_solid(p, q, wi);
-                let radiance = a.le(wi);
-                (dist > 0.0 && pdf > 0.0 && pdf.is_finite() && radiance != Vec3::ZERO).then_some(
-                    LightSample {
-                        wi,
-                        radiance,
-                        pdf,
-                        distance: dist * (1.0 - super::area::SHADOW_SHORTEN),
-                        is_delta: false,
-                    },
-                )
+            Light::Area(a) => self.sample_shape(p, a.sample_point(u), |wi| a.le(wi)),
+            Light::Sphere(l) => {
+                let q = l.sample(p, u)?.q;
+                self.sample_shape(p, q, |wi| l.le(q, wi))
             }
+            Light::Disk(l) => self.sample_shape(p, l.sample_point(u), |wi| l.le(wi)),
             Light::Directional {
                 direction,
                 irradiance,

@@ -144,12 +144,7 @@ fn shape_bounds(t: &Table, i: usize) -> Result<Aabb, SceneError> {
     let d: ShapeDesc = Value::Table(t.clone())
         .try_into()
         .map_err(|e| SceneError(format!("{e}")))?;
-    let mesh = d.mesh(i, Path::new("."))?;
-    let mut b = Aabb::new(Vec3::INFINITY, Vec3::NEG_INFINITY);
-    for p in mesh.positions.iter().filter(|p| p.is_finite()) {
-        b = union(b, Aabb::new(*p, *p));
-    }
-    Ok(b)
+    d.bounds(i, Path::new("."))
 }
 
 /// `volpath`, `volpathmis` (the same for fogbank's achromatic media) or a

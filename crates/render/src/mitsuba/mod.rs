@@ -10,7 +10,7 @@
 //! homogeneous and heterogeneous with `gridvolume` (`.vol`,
 //! `use_grid_bbox`) or `constvolume`, `phase` isotropic and hg; `rgb` and
 //! constant `spectrum` values; shapes obj, ply, rectangle, cube, sphere,
-//! disk (the last two tessellated); the BSDFs of
+//! disk (the last two analytic); the BSDFs of
 //! `world::surfaces::material`; `checkerboard` and `bitmap` textures; emitters area,
 //! constant, envmap, point, directional, spot.
 //!

@@ -120,10 +120,11 @@ impl World {
     }
 
     /// The lights of `[[lights]]` with their indices: all but the emitting
-    /// triangles of shapes, which follow them (so a scene with thousands
-    /// of emitters does not walk them looking for its environment).
+    /// shapes' (triangles, spheres, disks), which follow them (so a scene
+    /// with thousands of emitters does not walk them looking for its
+    /// environment).
     pub fn scene_lights(&self) -> impl Iterator<Item = (usize, &Light)> {
-        (self.lights.iter().enumerate()).take_while(|(_, l)| !matches!(l, Light::Area(_)))
+        (self.lights.iter().enumerate()).take_while(|(_, l)| !l.is_shape())
     }
 
     /// Whether medium `i` is present for a ray in bounded medium `current`

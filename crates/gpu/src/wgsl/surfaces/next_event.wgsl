@@ -50,10 +50,10 @@ fn shadow(world: Ray, distance: f32, vertex: u32, current: u32,
 fn emitter_weight(li: u32, q: vec3<f32>, d: vec3<f32>, prev_p: vec3<f32>, prev_pdf: f32,
                   prev_surface: bool) -> f32 {
     let l = lights[li];
-    if (prev_pdf < 0.0 || l.kind != LIGHT_AREA) {
+    if (prev_pdf < 0.0 || !is_shape_light(l)) {
         return 1.0;
     }
-    return balance(prev_pdf, light_pmf_at(li, prev_surface, prev_p) * area_pdf_solid(l, prev_p, q, d));
+    return balance(prev_pdf, light_pmf_at(li, prev_surface, prev_p) * shape_pdf_solid(l, prev_p, q, d));
 }
 
 // next_event::sampled_direction_to_lights as a shadow query: the last

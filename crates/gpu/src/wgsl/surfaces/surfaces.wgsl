@@ -49,8 +49,9 @@ struct Hit {
     ns: vec3<f32>,
     uv: vec2<f32>,
     shape: u32,
-    // The triangle's index in the scene mesh (for its light).
-    triangle: u32,
+    // The primitive's index (triangle of the scene mesh, or analytic
+    // shape after them), for its light.
+    primitive: u32,
 }
 
 fn no_hit() -> Hit {
@@ -68,6 +69,11 @@ fn intersect_surfaces(o: vec3<f32>, d: vec3<f32>, t_max: f32, opaque: bool) -> H
         return no_hit();
     }
     let base = surface_word(0u, 1u) + 3u * s.slot;
+    if (surface_is_analytic(s.slot)) {
+        let a = analytic_hit(surface_analytic(s.slot), o, d, s.t);
+        return Hit(true, s.t, a.p, a.n, a.n, a.uv, bitcast<u32>(surface_data[base].w),
+                   surface_word(base + 1u, 3u) & ~PRIMITIVE_ANALYTIC);
+    }
     let c0 = surface_data[base];
     let c1 = surface_data[base + 1u];
     let c2 = surface_data[base + 2u];
@@ -76,7 +82,7 @@ fn intersect_surfaces(o: vec3<f32>, d: vec3<f32>, t_max: f32, opaque: bool) -> H
     h.valid = true;
     h.t = s.t;
     h.shape = bitcast<u32>(c0.w);
-    h.triangle = bitcast<u32>(c1.w);
+    h.primitive = bitcast<u32>(c1.w);
     // The barycentric point, not o + t d: it lies on the triangle.
     h.p = b.x * c0.xyz + b.y * c1.xyz + b.z * c2.xyz;
     let all_finite = finite(h.p.x) && finite(h.p.y) && finite(h.p.z);
@@ -129,14 +135,14 @@ struct Emitted {
 }
 
 // Surfaces::emitted: the radiance toward -d on the emitting side (the
-// shading normal's) and the index of the triangle's light.
+// shading normal's) and the index of the primitive's light.
 fn surface_emitted(h: Hit, d: vec3<f32>) -> Emitted {
     let base = shape_base(h.shape);
     if ((shape_flags(h.shape) & SHAPE_EMITS) == 0u || dot(h.ns, d) >= 0.0) {
         return Emitted(vec3<f32>(0.0), 0u, false);
     }
     let r = surface_data[base];
-    let light = bitcast<u32>(r.z) + h.triangle - bitcast<u32>(r.w);
+    let light = bitcast<u32>(r.z) + h.primitive - bitcast<u32>(r.w);
     return Emitted(surface_data[base + 2u].xyz, light, true);
 }
 

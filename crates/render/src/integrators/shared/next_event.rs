@@ -10,7 +10,6 @@ use super::free_flight::shadow_transmittance_in;
 use super::tracking::Shadow;
 use crate::lights::area::SHADOW_SHORTEN;
 use crate::lights::sample::{LightSample, LightSampler, Vertex};
-use crate::lights::Light;
 use crate::world::phase::HenyeyGreenstein;
 use crate::world::surfaces::{ShadingFrame, SurfaceBsdf, SurfaceHit};
 use crate::world::World;
@@ -205,10 +204,11 @@ pub fn emitter_weight(
     d: Vec3,
     prev: Option<SampledFrom>,
 ) -> f32 {
-    match (prev, &world.lights[li]) {
-        (Some(s), Light::Area(a)) => {
-            balance(s.pdf, lights.pmf(li, s.at, s.p) * a.pdf_solid(s.p, q, d))
-        }
+    match prev {
+        Some(s) if world.lights[li].is_shape() => balance(
+            s.pdf,
+            lights.pmf(li, s.at, s.p) * world.lights[li].pdf_solid(s.p, q, d),
+        ),
         _ => 1.0,
     }
 }

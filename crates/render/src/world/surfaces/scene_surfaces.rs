@@ -1,26 +1,32 @@
-//! Every shape of the scene in one triangle mesh with one BVH: closest
-//! hits with their shading data, occlusion of shadow rays (index-matched
-//! `null` boundaries let light through), and the area light behind each
-//! emitting triangle.
+//! Every shape of the scene in one BVH over one triangle mesh and the
+//! analytic spheres and disks: closest hits with their shading data,
+//! occlusion of shadow rays (index-matched `null` boundaries let light
+//! through), and the area light behind each emitting triangle, sphere or
+//! disk.
 
 use super::material::Material;
-use super::shape::ShapeDesc;
+use super::shape::{Geometry, ShapeDesc};
 use crate::error::SceneError;
 use crate::lights::area::AreaTriangle;
+use crate::lights::disk::DiskLight;
+use crate::lights::sphere::SphereLight;
 use crate::lights::Light;
 use crate::world::bitmap::BitmapFiles;
 use crate::world::medium::SceneMedium;
-use fogbank_geometry::{MeshAccel, MeshHit, TriangleMesh};
+use fogbank_geometry::{AnalyticShape, MeshAccel, MeshHit, Quadric, TriangleMesh};
 use fogbank_math::{Aabb, Ray, Vec3};
 use glam::Vec2;
 use std::path::Path;
 
-/// A built shape: its material and emission, and where its triangles and
-/// (when it emits) its lights sit in the scene's arrays.
+/// A built shape: its material and emission, and where its primitives
+/// (its triangles, or its one analytic shape) and (when it emits) its
+/// lights sit in the scene's arrays.
 #[derive(Clone, Debug)]
 pub struct Shape {
     pub material: Material,
     pub emission: Option<Vec3>,
+    /// Its first primitive (the BVH's index: triangles, then analytic
+    /// shapes).
     pub first_triangle: u32,
     /// Index in `World::lights` of the light of `first_triangle` (the
     /// shape's triangles' lights follow in order; degenerate triangles get
@@ -31,6 +37,8 @@ pub struct Shape {
     pub exterior: Option<usize>,
     has_normals: bool,
     has_uvs: bool,
+    /// An analytic sphere or disk (one primitive, after the triangles).
+    analytic: bool,
 }
 
 impl Shape {
@@ -51,7 +59,8 @@ pub struct SurfaceHit {
     pub ns: Vec3,
     pub uv: Vec2,
     pub shape: u32,
-    pub triangle: u32,
+    /// The triangle or analytic shape hit (the BVH's primitive index).
+    pub primitive: u32,
 }
 
 impl SurfaceHit {
@@ -86,6 +95,30 @@ pub struct Surfaces {
     walk: bool,
 }
 
+/// The light of an emitting analytic shape (`None`: its area overflows).
+fn analytic_light(a: &AnalyticShape, radiance: Vec3) -> Option<Light> {
+    let m = a.to_world.matrix3;
+    let centre = a.to_world.translation.as_vec3();
+    match a.quadric {
+        Quadric::Sphere => {
+            let radius = m.x_axis.length() as f32;
+            let l = SphereLight {
+                centre,
+                radius,
+                radiance,
+                inward: a.flip,
+            };
+            (l.area().is_finite() && radius > 0.0).then_some(Light::Sphere(l))
+        }
+        Quadric::Disk => {
+            let n = (a.to_object.matrix3.transpose() * glam::DVec3::Z).normalize();
+            let n = n.as_vec3() * if a.flip { -1.0 } else { 1.0 };
+            let (u, v) = (m.x_axis.as_vec3(), m.y_axis.as_vec3());
+            DiskLight::new(centre, u, v, n, radiance).map(Light::Disk)
+        }
+    }
+}
+
 /// The world medium of `[[media]]` entry `entry` for `key`; instanced
 /// media cannot be bounded by a shape.
 fn world_medium(media: &[SceneMedium], entry: usize, key: &str) -> Result<usize, SceneError> {
@@ -112,11 +145,19 @@ impl Surfaces {
     ) -> Result<Surfaces, SceneError> {
         let mut bounded = vec![false; media.len()];
         let mut all = TriangleMesh::default();
-        let (mut shapes, mut shape_of) = (Vec::new(), Vec::new());
+        let mut analytic = Vec::new();
+        let mut shapes = Vec::new();
+        // Per primitive, its shape: triangles first, then analytic shapes.
+        let (mut shape_of, mut analytic_shape_of) = (Vec::new(), Vec::new());
         let (mut normals, mut uvs) = (Vec::new(), Vec::new());
+        // Emitting analytic shapes' lights come before the emitting
+        // triangles' (the light BVH takes a run of triangles at the end);
+        // `first_triangle` and `first_light` count within their kind until
+        // both are known.
+        let (mut analytic_lights, mut triangle_lights) = (Vec::new(), Vec::new());
         let files = BitmapFiles::new(base);
         for (i, d) in descs.iter().enumerate() {
-            let mesh = d.mesh(i, base)?;
+            let geometry = d.geometry(i, base)?;
             let material = d.bsdf().build_with(&format!("shapes.{i}.bsdf"), &files)?;
             let emission = d.emitter.as_ref().map(|e| Vec3::from(e.radiance));
             if emission.is_some() && material.is_null() {
@@ -134,18 +175,39 @@ impl Surfaces {
             };
             let (interior, exterior) =
                 (side(d.interior, "interior")?, side(d.exterior, "exterior")?);
-            let v0 = all.positions.len() as u32;
-            let first_triangle = all.triangles.len() as u32;
-            let shape = Shape {
+            let mut shape = Shape {
                 material,
                 emission,
-                first_triangle,
-                first_light: lights.len() as u32,
+                first_triangle: 0,
+                first_light: 0,
                 interior,
                 exterior,
-                has_normals: !mesh.normals.is_empty(),
-                has_uvs: !mesh.uvs.is_empty(),
+                has_normals: false,
+                has_uvs: false,
+                analytic: false,
             };
+            let mesh = match geometry {
+                Geometry::Analytic(a) => {
+                    shape.analytic = true;
+                    shape.first_triangle = analytic.len() as u32;
+                    shape.first_light = analytic_lights.len() as u32;
+                    if let Some(le) = emission {
+                        analytic_lights.push(analytic_light(&a, le).ok_or_else(|| {
+                            SceneError(format!("shapes.{i}: its area is not finite"))
+                        })?);
+                    }
+                    analytic.push(a);
+                    analytic_shape_of.push(i as u32);
+                    shapes.push(shape);
+                    continue;
+                }
+                Geometry::Mesh(mesh) => mesh,
+            };
+            let v0 = all.positions.len() as u32;
+            shape.first_triangle = all.triangles.len() as u32;
+            shape.first_light = triangle_lights.len() as u32;
+            shape.has_normals = !mesh.normals.is_empty();
+            shape.has_uvs = !mesh.uvs.is_empty();
             if let Some(le) = emission {
                 for t in 0..mesh.len() {
                     let n = mesh.triangles[t]
@@ -153,7 +215,7 @@ impl Surfaces {
                         .map(|&v| mesh.normals.get(v as usize).copied().unwrap_or(Vec3::ZERO))
                         .sum();
                     let tri = AreaTriangle::new(mesh.corners(t), n, le);
-                    lights.push(Light::Area(tri.unwrap_or(AreaTriangle {
+                    triangle_lights.push(Light::Area(tri.unwrap_or(AreaTriangle {
                         p0: Vec3::ZERO,
                         e1: Vec3::ZERO,
                         e2: Vec3::ZERO,
@@ -180,6 +242,18 @@ impl Surfaces {
             shape_of.extend(std::iter::repeat_n(i as u32, mesh.triangles.len()));
             shapes.push(shape);
         }
+        let (triangles, scene_lights) = (all.triangles.len() as u32, lights.len() as u32);
+        for s in &mut shapes {
+            if s.analytic {
+                s.first_triangle += triangles;
+                s.first_light += scene_lights;
+            } else {
+                s.first_light += scene_lights + analytic_lights.len() as u32;
+            }
+        }
+        lights.extend(analytic_lights);
+        lights.extend(triangle_lights);
+        shape_of.extend(analytic_shape_of);
         all.normals = normals;
         all.uvs = uvs;
         let passes: Vec<bool> = shapes.iter().map(|s| s.material.passes_light()).collect();
@@ -188,7 +262,7 @@ impl Surfaces {
             .any(|s| s.material.passes_light() && !s.material.is_null());
         let walk = bounded.iter().any(|&b| b) || partial;
         let mut s = Surfaces {
-            accel: MeshAccel::new(all),
+            accel: MeshAccel::with_analytic(all, analytic),
             shape_of,
             shapes,
             bounded,
@@ -250,7 +324,8 @@ impl Surfaces {
         &self.accel
     }
 
-    /// Per triangle (in mesh order), the index of its shape.
+    /// Per primitive (triangles in mesh order, then analytic shapes), the
+    /// index of its shape.
     pub fn shape_of(&self) -> &[u32] {
         &self.shape_of
     }
@@ -260,23 +335,26 @@ impl Surfaces {
         self.passes[i]
     }
 
-    pub fn triangle_count(&self) -> usize {
+    /// Triangles and analytic shapes.
+    pub fn primitive_count(&self) -> usize {
         self.shape_of.len()
     }
 
-    /// Bounds of every vertex (finite ones).
+    /// Bounds of every vertex (finite ones) and analytic shape.
     pub fn bounds(&self) -> Aabb {
         let mut b = Aabb::new(Vec3::INFINITY, Vec3::NEG_INFINITY);
-        for p in self.accel.mesh.positions.iter().filter(|p| p.is_finite()) {
-            b.min = b.min.min(*p);
-            b.max = b.max.max(*p);
+        let analytic = self.accel.analytic.iter().map(|a| a.bounds());
+        let finite = self.accel.mesh.positions.iter().filter(|p| p.is_finite());
+        for q in finite.map(|p| Aabb::new(*p, *p)).chain(analytic) {
+            b.min = b.min.min(q.min);
+            b.max = b.max.max(q.max);
         }
         b
     }
 
     #[inline]
-    fn passes_light(&self, triangle: u32) -> bool {
-        self.passes[self.shape_of[triangle as usize] as usize]
+    fn passes_light(&self, primitive: u32) -> bool {
+        self.passes[self.shape_of[primitive as usize] as usize]
     }
 
     /// The closest surface on the ray in `(0, t_max)`, null boundaries included.
@@ -307,11 +385,23 @@ impl Surfaces {
     }
 
     fn hit(&self, ray: &Ray, h: MeshHit) -> SurfaceHit {
-        let shape = self.shape_of[h.triangle as usize];
+        let shape = self.shape_of[h.primitive as usize];
+        if let Some(a) = self.accel.analytic_of(h.primitive) {
+            let ah = a.hit(ray, h.hit.t);
+            return SurfaceHit {
+                t: h.hit.t,
+                p: ah.p,
+                ng: ah.n,
+                ns: ah.n,
+                uv: ah.uv,
+                shape,
+                primitive: h.primitive,
+            };
+        }
         let s = &self.shapes[shape as usize];
         let m = &self.accel.mesh;
-        let tri = m.triangles[h.triangle as usize];
-        let [p0, p1, p2] = m.corners(h.triangle as usize);
+        let tri = m.triangles[h.primitive as usize];
+        let [p0, p1, p2] = m.corners(h.primitive as usize);
         let b = [1.0 - h.hit.b1 - h.hit.b2, h.hit.b1, h.hit.b2];
         // The barycentric point, not o + t d: it lies on the triangle.
         let p = b[0] * p0 + b[1] * p1 + b[2] * p2;
@@ -336,7 +426,7 @@ impl Surfaces {
             ns: if ns == Vec3::ZERO { ng } else { ns },
             uv,
             shape,
-            triangle: h.triangle,
+            primitive: h.primitive,
         }
     }
 
@@ -350,7 +440,7 @@ impl Surfaces {
         (hit.ns.dot(d) < 0.0).then(|| {
             (
                 le,
-                (s.first_light + hit.triangle - s.first_triangle) as usize,
+                (s.first_light + hit.primitive - s.first_triangle) as usize,
             )
         })
     }

@@ -6,8 +6,8 @@
 //! | `file` | — | mesh file of `obj` and `ply`, relative to the scene |
 //! | `to_world` | identity | `translate`, `rotate` (`[x, y, z, degrees]`), `scale`, as for media |
 //! | `flip_normals` | false | turns the shape inside out (Mitsuba's `flip_normals`) |
-//! | `face_normals` | false | flat shading: no vertex normals (Mitsuba's `face_normals`); without it a mesh file without normals gets angle-weighted vertex normals, as in Mitsuba |
-//! | `flip_tex_coords` | false | v → 1 − v (Mitsuba flips OBJ files' by default; its XML reader sets this) |
+//! | `face_normals` | false | flat shading: no vertex normals (Mitsuba's `face_normals`); without it a mesh file without normals gets angle-weighted vertex normals, as in Mitsuba (meshes only) |
+//! | `flip_tex_coords` | false | v → 1 − v (Mitsuba flips OBJ files' by default; its XML reader sets this; meshes only) |
 //! | `bsdf` | diffuse 0.5 (black with an `emitter`, as in Mitsuba) | see [`super::material`] |
 //! | `emitter` | none | `{ radiance = [r, g, b] }`: an area light on the front side (Mitsuba's `area`) |
 //! | `interior`, `exterior` | none | index of the `[[media]]` entry inside (behind the normals) and outside the shape |
@@ -19,13 +19,17 @@
 //! medium transition: a ray that crosses it, or refracts through it,
 //! continues in the medium on the side it leaves toward, as in Mitsuba.
 //!
-//! `sphere` and `disk` are tessellated (128 × 256 and 256 triangles) until
-//! analytic shapes exist.
+//! `sphere` and `disk` are analytic (exact intersection, Mitsuba's normals
+//! and UVs; emitting ones are sampled as in Mitsuba: the sphere by the cone
+//! it subtends). A sphere's `to_world` must scale uniformly — Mitsuba's
+//! sphere has one radius — and a disk's may stretch it into an ellipse.
 
 use super::material::BsdfDesc;
 use crate::error::SceneError;
 use crate::world::medium::{transform, TransformDesc};
-use fogbank_geometry::{load_mesh, shapes, TriangleMesh};
+use fogbank_math::{Aabb, Vec3};
+use glam::DAffine3;
+use fogbank_geometry::{load_mesh, shapes, AnalyticShape, Quadric, TriangleMesh};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -84,9 +88,75 @@ impl ShapeDesc {
         }
     }
 
-    /// The shape's triangles in world space; `i` is its `[[shapes]]` index.
-    pub fn mesh(&self, i: usize, base: &Path) -> Result<TriangleMesh, SceneError> {
+    /// The shape in world space; `i` is its `[[shapes]]` index.
+    pub fn geometry(&self, i: usize, base: &Path) -> Result<Geometry, SceneError> {
         let key = format!("shapes.{i}");
+        self.check_emitter(&key)?;
+        self.to_world.check(&format!("{key}.to_world"))?;
+        let m = transform(&self.to_world);
+        if !m.is_finite() || m.matrix3.determinant() == 0.0 {
+            return Err(SceneError(format!("{key}.to_world: not invertible")));
+        }
+        let quadric = match self.kind {
+            ShapeType::Sphere => Quadric::Sphere,
+            ShapeType::Disk => Quadric::Disk,
+            _ => return Ok(Geometry::Mesh(self.mesh(&key, base, m)?)),
+        };
+        for (set, name) in [
+            (self.face_normals, "face_normals"),
+            (self.flip_tex_coords, "flip_tex_coords"),
+        ] {
+            if set {
+                return Err(SceneError(format!(
+                    "{key}.{name}: only obj and ply meshes take it, not a {}",
+                    quadric.name()
+                )));
+            }
+        }
+        if self.file.is_some() {
+            return Err(SceneError(format!(
+                "{key}.file: only obj and ply shapes read files"
+            )));
+        }
+        if quadric == Quadric::Sphere && !scales_uniformly(&m.matrix3) {
+            return Err(SceneError(format!(
+                "{key}.to_world: a sphere takes a uniform scale (Mitsuba's sphere has one \
+                 radius); an ellipsoid needs a mesh (obj or ply)"
+            )));
+        }
+        AnalyticShape::new(quadric, m, self.flip_normals)
+            .map(Geometry::Analytic)
+            .ok_or_else(|| SceneError(format!("{key}.to_world: not invertible")))
+    }
+
+    /// The box of the shape's finite vertices (or of its analytic shape).
+    pub fn bounds(&self, i: usize, base: &Path) -> Result<Aabb, SceneError> {
+        Ok(match self.geometry(i, base)? {
+            Geometry::Analytic(a) => a.bounds(),
+            Geometry::Mesh(mesh) => {
+                let mut b = Aabb::new(Vec3::INFINITY, Vec3::NEG_INFINITY);
+                for p in mesh.positions.iter().filter(|p| p.is_finite()) {
+                    b = Aabb::new(b.min.min(*p), b.max.max(*p));
+                }
+                b
+            }
+        })
+    }
+
+    fn check_emitter(&self, key: &str) -> Result<(), SceneError> {
+        match &self.emitter {
+            Some(e) if !e.radiance.iter().all(|v| v.is_finite() && *v >= 0.0) => {
+                Err(SceneError(format!(
+                    "{key}.emitter.radiance: {:?} has a negative or non-finite channel",
+                    e.radiance
+                )))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// A mesh shape's triangles in world space (`m`: its `to_world`).
+    fn mesh(&self, key: &str, base: &Path, m: DAffine3) -> Result<TriangleMesh, SceneError> {
         let mut mesh = match (self.kind, &self.file) {
             (ShapeType::Obj | ShapeType::Ply, None) => {
                 return Err(SceneError(format!("{key}: `file` is required")))
@@ -101,8 +171,9 @@ impl ShapeDesc {
             }
             (ShapeType::Rectangle, None) => shapes::rectangle(),
             (ShapeType::Cube, None) => shapes::cube(),
-            (ShapeType::Sphere, None) => shapes::sphere(128),
-            (ShapeType::Disk, None) => shapes::disk(256),
+            (ShapeType::Sphere | ShapeType::Disk, None) => {
+                unreachable!("geometry() builds analytic shapes")
+            }
         };
         if self.face_normals {
             mesh.normals.clear();
@@ -116,20 +187,26 @@ impl ShapeDesc {
             mesh.triangles.iter_mut().for_each(|t| t.swap(1, 2));
             mesh.normals.iter_mut().for_each(|n| *n = -*n);
         }
-        self.to_world.check(&format!("{key}.to_world"))?;
-        let m = transform(&self.to_world);
-        if !m.is_finite() || m.matrix3.determinant() == 0.0 {
-            return Err(SceneError(format!("{key}.to_world: not invertible")));
-        }
         mesh.transform(&glam::DMat4::from(m).as_mat4());
-        if let Some(e) = &self.emitter {
-            if !e.radiance.iter().all(|v| v.is_finite() && *v >= 0.0) {
-                return Err(SceneError(format!(
-                    "{key}.emitter.radiance: {:?} has a negative or non-finite channel",
-                    e.radiance
-                )));
-            }
-        }
         Ok(mesh)
     }
+}
+
+/// What a `[[shapes]]` entry builds.
+pub enum Geometry {
+    Mesh(TriangleMesh),
+    Analytic(AnalyticShape),
+}
+
+/// Whether `m` is a rotation (or reflection) times one scale: orthogonal
+/// columns of equal length, to a relative 10⁻⁴.
+fn scales_uniformly(m: &glam::DMat3) -> bool {
+    let c = [m.x_axis, m.y_axis, m.z_axis];
+    let l2 = c.map(|v| v.length_squared());
+    let tol = 1e-4 * l2[0];
+    (l2[1] - l2[0]).abs() <= tol
+        && (l2[2] - l2[0]).abs() <= tol
+        && [(0, 1), (0, 2), (1, 2)]
+            .iter()
+            .all(|&(a, b)| c[a].dot(c[b]).abs() <= tol)
 }
