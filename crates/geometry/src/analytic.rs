@@ -49,15 +49,22 @@ pub struct AnalyticHit {
 }
 
 impl AnalyticShape {
-    /// `None` when `to_world` is not invertible or not finite.
+    /// `None` when `to_world` or its inverse is not finite (not
+    /// invertible, or so near singular that the inverse overflows).
     pub fn new(quadric: Quadric, to_world: DAffine3, flip: bool) -> Option<AnalyticShape> {
         let det = to_world.matrix3.determinant();
-        (to_world.is_finite() && det != 0.0 && det.is_finite()).then(|| AnalyticShape {
+        if !(to_world.is_finite() && det != 0.0 && det.is_finite()) {
+            return None;
+        }
+        let to_object = to_world.inverse();
+        let shape = AnalyticShape {
             quadric,
             to_world,
-            to_object: to_world.inverse(),
+            to_object,
             flip,
-        })
+        };
+        let b = shape.bounds();
+        (to_object.is_finite() && b.min.is_finite() && b.max.is_finite()).then_some(shape)
     }
 
     /// The exact box: along world axis i the image of the unit ball
@@ -137,8 +144,8 @@ fn unit_sphere_t(o: DVec3, d: DVec3, t_max: f64) -> Option<f64> {
         return None;
     }
     let b = -o.dot(d); // half of −B
-    // Δ/4 = a·(1 − |o + (b/a)d|²): the squared distance of the line from
-    // the centre, computed directly rather than as b² − ac.
+                       // Δ/4 = a·(1 − |o + (b/a)d|²): the squared distance of the line from
+                       // the centre, computed directly rather than as b² − ac.
     let perp = o + (b / a) * d;
     let disc = a * (1.0 - perp.length_squared());
     if disc < 0.0 {
@@ -256,13 +263,23 @@ mod analytic_test {
         assert!((b.max - Vec3::new(1.5, 2.5, 3.5)).length() < 1e-6, "{b:?}");
         // A disk tilted 90° about x spans y = 0 and x, z in [−1, 1].
         let m = DAffine3::from_rotation_x(std::f64::consts::FRAC_PI_2);
-        let b = AnalyticShape::new(Quadric::Disk, m, false).unwrap().bounds();
-        assert!((b.min - Vec3::new(-1.0, 0.0, -1.0)).abs().max_element() < 1e-6, "{b:?}");
-        assert!((b.max - Vec3::new(1.0, 0.0, 1.0)).abs().max_element() < 1e-6, "{b:?}");
+        let b = AnalyticShape::new(Quadric::Disk, m, false)
+            .unwrap()
+            .bounds();
+        assert!(
+            (b.min - Vec3::new(-1.0, 0.0, -1.0)).abs().max_element() < 1e-6,
+            "{b:?}"
+        );
+        assert!(
+            (b.max - Vec3::new(1.0, 0.0, 1.0)).abs().max_element() < 1e-6,
+            "{b:?}"
+        );
         // The sphere's uv at the +y pole of the equator: φ = 90°, θ = 90°.
         let unit = AnalyticShape::new(Quadric::Sphere, DAffine3::IDENTITY, false).unwrap();
         let h = unit.hit(&Ray::new(Vec3::new(0.0, 3.0, 0.0), -Vec3::Y), 2.0);
         assert!((h.uv - Vec2::new(0.25, 0.5)).length() < 1e-6, "{:?}", h.uv);
         assert!(AnalyticShape::new(Quadric::Disk, DAffine3::ZERO, false).is_none());
+        let huge = DAffine3::from_scale(DVec3::splat(1e39));
+        assert!(AnalyticShape::new(Quadric::Sphere, huge, false).is_none());
     }
 }

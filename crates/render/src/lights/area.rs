@@ -55,22 +55,35 @@ impl AreaTriangle {
 
     /// Radiance leaving toward `-wi` (zero behind the emitting side).
     pub fn le(&self, wi: Vec3) -> Vec3 {
-        if self.n.dot(wi) < 0.0 {
-            self.radiance
-        } else {
-            Vec3::ZERO
-        }
+        flat_le(self.n, self.radiance, wi)
     }
 
     /// Solid-angle density at `p` of sampling the point `q` of the
-    /// triangle, seen along unit `wi`: d² / (|cos θ_l| A).
+    /// triangle, seen along unit `wi`.
     pub fn pdf_solid(&self, p: Vec3, q: Vec3, wi: Vec3) -> f32 {
-        let cos = self.n.dot(wi).abs();
-        if cos <= 0.0 {
-            return 0.0;
-        }
-        (q - p).length_squared() / (cos * self.area)
+        flat_pdf_solid(self.n, self.area, p, q, wi)
     }
+}
+
+/// A flat one-sided emitter's radiance toward `-wi`: `radiance` on the side
+/// of its normal `n`, zero behind.
+pub fn flat_le(n: Vec3, radiance: Vec3, wi: Vec3) -> Vec3 {
+    if n.dot(wi) < 0.0 {
+        radiance
+    } else {
+        Vec3::ZERO
+    }
+}
+
+/// Solid-angle density at `p` of sampling the point `q` of a flat emitter
+/// of normal `n` and area `area` uniformly by area, seen along unit `wi`:
+/// d² / (|cos θ_l| A).
+pub fn flat_pdf_solid(n: Vec3, area: f32, p: Vec3, q: Vec3, wi: Vec3) -> f32 {
+    let cos = n.dot(wi).abs();
+    if cos <= 0.0 {
+        return 0.0;
+    }
+    (q - p).length_squared() / (cos * area)
 }
 
 #[cfg(test)]

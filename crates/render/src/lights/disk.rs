@@ -3,6 +3,7 @@
 //! normal, sampled uniformly by area through the concentric map, as
 //! Mitsuba 3's `Disk::sample_position`.
 
+use super::area::{flat_le, flat_pdf_solid};
 use fogbank_math::warp::concentric_disk;
 use fogbank_math::Vec3;
 use std::f32::consts::PI;
@@ -41,21 +42,13 @@ impl DiskLight {
 
     /// Radiance leaving toward `-wi` (zero behind the emitting side).
     pub fn le(&self, wi: Vec3) -> Vec3 {
-        if self.n.dot(wi) < 0.0 {
-            self.radiance
-        } else {
-            Vec3::ZERO
-        }
+        flat_le(self.n, self.radiance, wi)
     }
 
     /// Solid-angle density at `p` of sampling the point `q`, seen along
-    /// unit `wi`: d² / (|cos θ_l| A).
+    /// unit `wi`.
     pub fn pdf_solid(&self, p: Vec3, q: Vec3, wi: Vec3) -> f32 {
-        let cos = self.n.dot(wi).abs();
-        if cos <= 0.0 {
-            return 0.0;
-        }
-        (q - p).length_squared() / (cos * self.area)
+        flat_pdf_solid(self.n, self.area, p, q, wi)
     }
 }
 
@@ -89,7 +82,11 @@ mod disk_test {
             sum += 1.0 / l.pdf_solid(p, q, wi) as f64;
         }
         let exact = 2.0 * std::f64::consts::PI * (1.0 - 2.0 / 5f64.sqrt());
-        assert!((sum / n as f64 - exact).abs() < 0.01 * exact, "{}", sum / n as f64);
+        assert!(
+            (sum / n as f64 - exact).abs() < 0.01 * exact,
+            "{}",
+            sum / n as f64
+        );
         assert_eq!(l.le(Vec3::Z * -1.0), Vec3::ZERO);
         assert!(DiskLight::new(Vec3::ZERO, Vec3::X, Vec3::X, Vec3::Z, Vec3::ONE).is_none());
     }

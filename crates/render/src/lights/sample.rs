@@ -28,7 +28,6 @@ fn luminance(c: Vec3) -> f32 {
     0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
 }
 
-
 impl Light {
     /// A power proxy for light selection; `radius` is the scene's bounding
     /// radius (distant lights deliver power over its cross-section).

@@ -152,7 +152,10 @@ mod sphere_test {
                 sum += 1.0 / s.pdf as f64;
             }
             let mean = sum / n as f64;
-            assert!(((mean as f32) - cap).abs() < 1e-3 * cap, "{dist}: {mean} vs {cap}");
+            assert!(
+                ((mean as f32) - cap).abs() < 1e-3 * cap,
+                "{dist}: {mean} vs {cap}"
+            );
         }
     }
 
@@ -204,7 +207,11 @@ mod sphere_test {
             sum += 1.0 / s.pdf as f64;
         }
         let four_pi = 4.0 * std::f64::consts::PI;
-        assert!((sum / n as f64 - four_pi).abs() < 0.02 * four_pi, "{}", sum / n as f64);
+        assert!(
+            (sum / n as f64 - four_pi).abs() < 0.02 * four_pi,
+            "{}",
+            sum / n as f64
+        );
         let outward = SphereLight { inward: false, ..l };
         assert!(outward.sample(p, [0.3, 0.6]).is_none());
         assert_eq!(outward.pdf_solid(p, Vec3::X * 2.0, Vec3::X), 0.0);

@@ -27,9 +27,9 @@
 use super::material::BsdfDesc;
 use crate::error::SceneError;
 use crate::world::medium::{transform, TransformDesc};
+use fogbank_geometry::{load_mesh, shapes, AnalyticShape, Quadric, TriangleMesh};
 use fogbank_math::{Aabb, Vec3};
 use glam::DAffine3;
-use fogbank_geometry::{load_mesh, shapes, AnalyticShape, Quadric, TriangleMesh};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -126,7 +126,11 @@ impl ShapeDesc {
         }
         AnalyticShape::new(quadric, m, self.flip_normals)
             .map(Geometry::Analytic)
-            .ok_or_else(|| SceneError(format!("{key}.to_world: not invertible")))
+            .ok_or_else(|| {
+                SceneError(format!(
+                    "{key}.to_world: not invertible, or places the shape beyond f32 range"
+                ))
+            })
     }
 
     /// The box of the shape's finite vertices (or of its analytic shape).
