@@ -8,7 +8,6 @@
 use fogbank_render::mitsuba::load_xml_str;
 use fogbank_render::SceneDesc;
 use libfuzzer_sys::fuzz_target;
-use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else {
