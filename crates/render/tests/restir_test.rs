@@ -103,6 +103,21 @@ fn restir_refuses_scenes_it_cannot_render() {
     );
     let e = build(&analytic, &[]).err().unwrap();
     assert!(e.contains("needs a voxel grid"), "{e}");
+    // Emitting shapes (area triangles, spheres, disks) wait for paths that
+    // keep their point on the light (issue 24); opaque shapes are fine.
+    for shape in ["rectangle", "sphere", "disk"] {
+        let lit = format!(
+            "{CLOUD}\n[[shapes]]\ntype = \"{shape}\"\nto_world = {{ translate = [0, 3, 0] }}\n"
+        );
+        assert!(build(&lit, &[]).is_ok(), "{shape}");
+        let e = build(&format!("{lit}emitter = {{ radiance = [1, 1, 1] }}\n"), &[])
+            .err()
+            .unwrap();
+        assert!(
+            e.contains("does not sample emitting shapes"),
+            "{shape}: {e}"
+        );
+    }
 }
 
 #[test]

@@ -225,11 +225,7 @@ impl Ament {
                 "integrator \"ament\": the medium has no extent".into(),
             ));
         }
-        if world.lights.iter().any(|l| {
-            l.is_environment()
-                || l.sample_li(Vec3::ZERO, [0.5, 0.5])
-                    .is_some_and(|s| !s.is_delta)
-        }) {
+        if world.lights.iter().any(|l| !l.is_delta()) {
             return Err(SceneError(
                 "integrator \"ament\" marches a shadow ray to every light: point, spot and directional lights only".into(),
             ));

@@ -63,6 +63,15 @@ impl Light {
         matches!(self, Light::Constant { .. } | Light::Envmap(_))
     }
 
+    /// Whether the light has one direction from every point (point, spot,
+    /// directional): what [`Light::sample_li`] marks `is_delta`.
+    pub fn is_delta(&self) -> bool {
+        matches!(
+            self,
+            Light::Point { .. } | Light::Spot { .. } | Light::Directional { .. }
+        )
+    }
+
     /// Solid-angle pdf of sampling `wi` with [`Light::sample_li`] (0 for delta lights).
     pub fn pdf_li(&self, wi: Vec3) -> f32 {
         match self {

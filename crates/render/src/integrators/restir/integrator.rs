@@ -44,6 +44,14 @@ impl Restir {
             )));
         }
         occluders::check(world, "restir")?;
+        if world.lights.iter().any(|l| l.is_shape()) {
+            // A path ending on an emitting shape would have to keep its
+            // point on the light (§4.2) and its area measure; the stored
+            // path keeps a light index and direction only (issue 24).
+            return Err(SceneError(
+                "integrator \"restir\" does not sample emitting shapes yet (a path keeps no point on an area light); use volpath".into(),
+            ));
+        }
         let m = &world.media[0].medium;
         if matches!(m.data, DensityData::Analytic(_)) {
             return Err(SceneError(

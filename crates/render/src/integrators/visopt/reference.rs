@@ -35,12 +35,7 @@ impl VisOpt {
         {
             return Err("single scattering with light rays unoptimised only".into());
         }
-        if world.lights.iter().any(|l| l.is_environment())
-            || world.lights.iter().any(|l| {
-                l.sample_li(Vec3::ZERO, [0.5, 0.5])
-                    .is_some_and(|s| !s.is_delta)
-            })
-        {
+        if world.lights.iter().any(|l| !l.is_delta()) {
             return Err("delta lights only".into());
         }
         if world.surfaces.is_some() {
