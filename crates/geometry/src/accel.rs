@@ -66,8 +66,16 @@ impl MeshAccel {
         &self.corners
     }
 
-    fn test(&self, ray: &Ray, frame: &RayFrame, slot: u32, t_max: f32) -> Option<TriangleHit> {
-        match self.analytic_of(self.bvh.order[slot as usize]) {
+    /// The hit of `primitive`, in leaf slot `slot`, below `t_max`.
+    fn test(
+        &self,
+        ray: &Ray,
+        frame: &RayFrame,
+        slot: u32,
+        primitive: u32,
+        t_max: f32,
+    ) -> Option<TriangleHit> {
+        match self.analytic_of(primitive) {
             None => {
                 let [p0, p1, p2] = self.corners[slot as usize];
                 intersect(frame, p0, p1, p2, t_max)
@@ -100,7 +108,7 @@ impl MeshAccel {
             if !keep(primitive) {
                 return None;
             }
-            let h = self.test(ray, &frame, slot, t_max)?;
+            let h = self.test(ray, &frame, slot, primitive, t_max)?;
             best = Some(MeshHit { primitive, hit: h });
             Some(h.t)
         })?;
@@ -116,10 +124,11 @@ impl MeshAccel {
     pub fn occluded_where(&self, ray: &Ray, t_max: f32, keep: impl Fn(u32) -> bool) -> bool {
         let frame = RayFrame::new(ray);
         self.bvh.any_hit(ray, t_max, |slot, t_max| {
-            if !keep(self.bvh.order[slot as usize]) {
+            let primitive = self.bvh.order[slot as usize];
+            if !keep(primitive) {
                 return None;
             }
-            self.test(ray, &frame, slot, t_max).map(|h| h.t)
+            self.test(ray, &frame, slot, primitive, t_max).map(|h| h.t)
         })
     }
 }

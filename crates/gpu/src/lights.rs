@@ -151,6 +151,18 @@ impl LightBuffers {
                 e: zero,
             };
             let kind = || crate::contract::light_id(l);
+            // A flat emitter (triangle, disk): origin and area, its two
+            // edges or half-axes a, b, the emitting side n relative to a × b.
+            let flat = |o, a: glam::Vec3, b: glam::Vec3, n: glam::Vec3, area, radiance| LightGpu {
+                e: v4(b, 0.0),
+                ..rec(
+                    kind(),
+                    v4(o, area),
+                    v4(radiance, 0.0),
+                    v4(a, n.dot(a.cross(b)).signum()),
+                    [0.0; 2],
+                )
+            };
             records.push(match l {
                 Light::Constant { radiance } => {
                     rec(kind(), zero, v4(*radiance, 0.0), zero, [0.0; 2])
@@ -211,17 +223,7 @@ impl LightBuffers {
                     v4(*direction, *curve as u32 as f32),
                     [*cos_falloff_start, *cos_total],
                 ),
-                Light::Area(t) => LightGpu {
-                    e: v4(t.e2, 0.0),
-                    ..rec(
-                        kind(),
-                        v4(t.p0, t.area),
-                        v4(t.radiance, 0.0),
-                        // The emitting side relative to the winding.
-                        v4(t.e1, t.n.dot(t.e1.cross(t.e2)).signum()),
-                        [0.0; 2],
-                    )
-                },
+                Light::Area(t) => flat(t.p0, t.e1, t.e2, t.n, t.area, t.radiance),
                 Light::Sphere(l) => rec(
                     kind(),
                     v4(l.centre, l.radius),
@@ -229,18 +231,8 @@ impl LightBuffers {
                     [0.0, 0.0, 0.0, l.inward as u32 as f32],
                     [0.0; 2],
                 ),
-                // As an emitting triangle: centre and area, half-axes u, v,
-                // the emitting side relative to u × v.
-                Light::Disk(l) => LightGpu {
-                    e: v4(l.v, 0.0),
-                    ..rec(
-                        kind(),
-                        v4(l.centre, l.area),
-                        v4(l.radiance, 0.0),
-                        v4(l.u, l.n.dot(l.u.cross(l.v)).signum()),
-                        [0.0; 2],
-                    )
-                },
+                // As a triangle: centre, half-axes u and v.
+                Light::Disk(l) => flat(l.centre, l.u, l.v, l.n, l.area, l.radiance),
             });
         }
         let mut shading: Vec<[f32; 4]> = scene
