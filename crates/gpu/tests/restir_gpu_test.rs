@@ -147,6 +147,28 @@ fn restir_gpu_matches_the_cpu_with_occluders() {
     assert!(compare(&gpu, &text, 3, &[]).pass);
 }
 
+/// Shapes that reflect or emit are path vertices of the CPU's restir only
+/// (issue 24): the GPU refuses them, naming the shape, instead of
+/// rendering them black.
+#[test]
+fn restir_gpu_refuses_shapes_that_reflect_or_emit() {
+    let Some(gpu) = test_gpu() else { return };
+    for shape in [
+        "bsdf = { type = \"diffuse\", reflectance = 0.5 }\n",
+        "bsdf = { type = \"diffuse\", reflectance = 0.0 }\nemitter = { radiance = [1, 1, 1] }\n",
+    ] {
+        let text = slab(
+            &format!("{ENV}[[shapes]]\ntype = \"rectangle\"\nto_world = {{ translate = [0, 0, -2] }}\n{shape}"),
+            "",
+        );
+        let e = gpu_render::render(&gpu, &scene(&text, &[]), &opts(1, 1), &Progress::default())
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("shapes.0 reflects or emits"), "{e}");
+    }
+}
+
 #[test]
 fn restir_gpu_matches_the_cpu_on_the_explosion() {
     let Some(gpu) = test_gpu() else { return };

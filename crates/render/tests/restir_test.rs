@@ -103,20 +103,26 @@ fn restir_refuses_scenes_it_cannot_render() {
     );
     let e = build(&analytic, &[]).err().unwrap();
     assert!(e.contains("needs a voxel grid"), "{e}");
-    // Emitting shapes (area triangles, spheres, disks) wait for paths that
-    // keep their point on the light (issue 24); opaque shapes are fine.
+    // Shapes of every kind, emitting or not, join paths (issue 24); BSDFs
+    // with a delta lobe cannot (light sampling alone ends the paths), nor
+    // can the vertex shift keep a vertex on a surface.
     for shape in ["rectangle", "sphere", "disk"] {
         let lit = format!(
             "{CLOUD}\n[[shapes]]\ntype = \"{shape}\"\nto_world = {{ translate = [0, 3, 0] }}\n"
         );
         assert!(build(&lit, &[]).is_ok(), "{shape}");
-        let e = build(&format!("{lit}emitter = {{ radiance = [1, 1, 1] }}\n"), &[])
-            .err()
-            .unwrap();
-        assert!(
-            e.contains("does not sample emitting shapes"),
-            "{shape}: {e}"
-        );
+        let emitting = format!("{lit}emitter = {{ radiance = [1, 1, 1] }}\n");
+        assert!(build(&emitting, &[]).is_ok(), "{shape}");
+        let e = build(&lit, &["integrator.shift=vertex"]).err().unwrap();
+        assert!(e.contains("on surfaces is not built"), "{shape}: {e}");
+    }
+    for bsdf in ["plastic", "conductor", "dielectric"] {
+        let smooth =
+            format!("{CLOUD}\n[[shapes]]\ntype = \"rectangle\"\nbsdf = {{ type = \"{bsdf}\" }}\n");
+        let e = build(&smooth, &[]).err().unwrap();
+        assert!(e.contains("smooth (delta) lobe of shapes.0"), "{bsdf}: {e}");
+        let rough = smooth.replace(bsdf, &format!("rough{bsdf}"));
+        assert!(build(&rough, &[]).is_ok(), "rough{bsdf}");
     }
 }
 

@@ -34,6 +34,7 @@ pub mod restir_equal_time;
 pub mod restir_gpu_frame_time;
 pub mod restir_protocol;
 pub mod restir_scenes;
+pub mod restir_surfaces;
 pub mod table1;
 pub mod trials;
 pub mod visopt_denoise;
@@ -79,6 +80,7 @@ pub fn names() -> &'static [&'static str] {
         "table1",
         "fig14",
         "restir-equal-time",
+        "restir-surfaces",
         "restir-ablation",
         "restir-dynamic",
         "restir-bias",
@@ -131,6 +133,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "table1" => table1::run(&mut w, trials),
         "fig14" => fig14::run(&mut w, trials),
         "restir-equal-time" => restir_equal_time::run(&mut w, trials),
+        "restir-surfaces" => restir_surfaces::run(&mut w, trials),
         "restir-ablation" => restir_ablation::run(&mut w, trials),
         "restir-dynamic" => restir_dynamic::run(&mut w, trials),
         "restir-bias" => restir_bias::run(&mut w, trials),

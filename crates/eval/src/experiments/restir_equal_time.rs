@@ -36,10 +36,11 @@ pub const FRAMES: u32 = 16;
 /// (`restir-ablation` measures 5, 10, 20 and 40 px).
 pub const RADIUS: f32 = 2.0;
 
-struct Case {
-    name: &'static str,
-    scene: String,
-    k: u32,
+/// One scene at one depth K.
+pub struct Case {
+    pub name: &'static str,
+    pub scene: String,
+    pub k: u32,
 }
 
 fn cloud(lights: &str, seed: u32, scale: f32) -> String {
@@ -137,17 +138,46 @@ fn measure(c: &Case, reference_spp: u32) -> Result<Measured, String> {
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let reference_spp = trials.unwrap_or(DEFAULT_REFERENCE_SPP).min(1 << 20) as u32;
     let threads = rayon::current_num_threads();
+    let table = compare(
+        w,
+        &cases(),
+        reference_spp,
+        "Seed 002 Fig. 22: MSE of accumulated frames vs time (solid ReSTIR, dashed baseline)",
+    )?;
+    Ok(format!(
+        "Seed 002 Figs. 16/17 (equal time) on fogbank's CPU backend ({threads} threads), \
+         128×96, pixel-centre rays, spatial radius {RADIUS} px, {WARM_UP} warm-up + {FRAMES} measured frames, \
+         reference `volpath` at {reference_spp} spp (its variance subtracted from every MSE). \
+         The paper reports lower MSE for ReSTIR than the baseline in every case, on an RTX 3090 at 1920×1080; \
+         fogbank's own goal is ≥ 4× on the light-probe cloud at K = 1 and lower at every K.\n\n{table}"
+    ))
+}
+
+/// Measures every case, writes `equal_time.csv` and the Fig. 22 curves
+/// (`mse_vs_time`, titled `figure_title`) and returns the Markdown table
+/// with its note.
+pub fn compare(
+    w: &mut Writer,
+    cases: &[Case],
+    reference_spp: u32,
+    figure_title: &str,
+) -> Result<String, String> {
+    let threads = rayon::current_num_threads();
     let mut rows = Vec::new();
     let mut lines = Vec::new();
+    let (width, height) = cases
+        .first()
+        .and_then(|c| build(&c.scene, &[]).ok())
+        .map_or((0, 0), |s| (s.camera.width, s.camera.height));
     let mut plot = LinePlot::new(
-        format!("accumulated frames, {threads} threads, 128x96"),
+        format!("accumulated frames, {threads} threads, {width}x{height}"),
         "time (s)",
         "MSE",
     )
     .log_x()
     .log_y()
     .legend(Corner::LowerLeft);
-    for (i, c) in cases().iter().enumerate() {
+    for (i, c) in cases.iter().enumerate() {
         let m = measure(c, reference_spp).map_err(|e| format!("{} K={}: {e}", c.name, c.k))?;
         let (r, b, b1) = (&m.restir, &m.baseline, &m.baseline_1spp);
         let matched = b.mse / r.mse;
@@ -205,16 +235,11 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         "mse_vs_time",
         &Figure::new(1)
             .panel_size(900, 640)
-            .title("Seed 002 Fig. 22: MSE of accumulated frames vs time (solid ReSTIR, dashed baseline)")
+            .title(figure_title)
             .with(plot),
     )?;
     Ok(format!(
-        "Seed 002 Figs. 16/17 (equal time) on fogbank's CPU backend ({threads} threads), \
-         128×96, pixel-centre rays, spatial radius {RADIUS} px, {WARM_UP} warm-up + {FRAMES} measured frames, \
-         reference `volpath` at {reference_spp} spp (its variance subtracted from every MSE). \
-         The paper reports lower MSE for ReSTIR than the baseline in every case, on an RTX 3090 at 1920×1080; \
-         fogbank's own goal is ≥ 4× on the light-probe cloud at K = 1 and lower at every K.\n\n\
-         | case | K | ReSTIR ms/frame | ReSTIR MSE | baseline spp (ms/frame) | baseline MSE | ratio at matched spp | ratio at equal time |\n\
+        "| case | K | ReSTIR ms/frame | ReSTIR MSE | baseline spp (ms/frame) | baseline MSE | ratio at matched spp | ratio at equal time |\n\
          |---|---|---|---|---|---|---|---|\n{}\n\n\
          \"ratio at equal time\" extrapolates the baseline's 1-spp MSE to exactly ReSTIR's frame time (MSE ∝ 1/spp for an \
          unbiased independent-sample estimator); \"matched\" renders the rounded spp.",

@@ -64,6 +64,7 @@ impl RestirGpu {
     /// size), running up to `max_batch` sequences per dispatch.
     pub fn new(gpu: &Gpu, scene: &Scene, max_batch: u32) -> Result<RestirGpu, GpuError> {
         let p = &restir_of(scene)?.params;
+        surfaces_check(scene)?;
         let est = shading_estimator(scene)?;
         let (w, h) = (scene.camera.width, scene.camera.height);
         let pixels = w as u64 * h as u64;
@@ -253,6 +254,24 @@ impl RestirGpu {
     /// The accumulation buffers as a film.
     pub fn film(&self, gpu: &Gpu) -> Result<Film, GpuError> {
         read_film(gpu, self.width, self.height, &self.moments, &self.lookups)
+    }
+}
+
+/// Surface vertices of ReSTIR paths are CPU-only so far (issue 24): the
+/// kernels see shapes as black occluders, so they take scenes whose shapes
+/// are just that.
+fn surfaces_check(scene: &Scene) -> Result<(), GpuError> {
+    let Some(s) = &scene.world.surfaces else {
+        return Ok(());
+    };
+    let lit = |sh: &fogbank_render::world::surfaces::scene_surfaces::Shape| {
+        !sh.material.passes_light() && (sh.emission.is_some() || !sh.material.is_black())
+    };
+    match s.shapes.iter().position(lit) {
+        Some(i) => Err(GpuError(format!(
+            "restir on the GPU sees shapes as black occluders; shapes.{i} reflects or emits, which only the CPU's restir renders so far (render with --device cpu)"
+        ))),
+        None => Ok(()),
     }
 }
 

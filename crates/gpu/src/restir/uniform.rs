@@ -176,7 +176,7 @@ impl RestirUniform {
             mis: mis_id(p.mis),
             neighbours: p.neighbours,
             radius: p.radius,
-            temporal_cap: p.temporal_cap,
+            temporal_cap: p.q(),
             primary_record: mips.level(p.primary_mip),
             indirect_record: mips.level(p.indirect_mip),
             nee_record: mips.level(p.nee_mip),

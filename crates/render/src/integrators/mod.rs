@@ -256,9 +256,7 @@ impl IntegratorKind {
         let s = world.surfaces.as_ref()?;
         matches!(
             self,
-            IntegratorKind::PointMis(_)
-                | IntegratorKind::Restir(_)
-                | IntegratorKind::VisOpt(_)
+            IntegratorKind::PointMis(_) | IntegratorKind::VisOpt(_)
                 | IntegratorKind::Ament(_)
         )
         .then(|| {

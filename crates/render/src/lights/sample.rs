@@ -111,6 +111,68 @@ impl Light {
         )
     }
 
+    /// The point of an emitting shape that [`Light::sample_li`] draws from
+    /// `p` with `u`, and that sample (`None` for other lights).
+    pub fn sample_point_li(&self, p: Vec3, u: [f32; 2]) -> Option<(Vec3, LightSample)> {
+        let q = match self {
+            Light::Area(a) => a.sample_point(u),
+            Light::Sphere(l) => l.sample(p, u)?.q,
+            Light::Disk(l) => l.sample_point(u),
+            _ => return None,
+        };
+        let s = self.sample_shape(p, q, |wi| self.le_at(q, wi))?;
+        Some((q, s))
+    }
+
+    /// Radiance an emitting shape's point `q` sends toward `-wi` (zero on
+    /// its dark side and for other lights).
+    fn le_at(&self, q: Vec3, wi: Vec3) -> Vec3 {
+        match self {
+            Light::Area(a) => a.le(wi),
+            Light::Sphere(l) => l.le(q, wi),
+            Light::Disk(l) => l.le(wi),
+            _ => Vec3::ZERO,
+        }
+    }
+
+    /// The point `q` of an emitting shape seen from `p`, in the area
+    /// measure of `q`: the direction toward it, L_e(q → p)·|cos θ_q|/|q − p|²
+    /// and the shadow ray's length (stopping short of the emitter). A path
+    /// that keeps its point on an area light under reuse (seed 002 §4.2)
+    /// evaluates its last segment so. `None` for other lights or a
+    /// degenerate segment.
+    pub fn toward_point(&self, p: Vec3, q: Vec3) -> Option<(Vec3, Vec3, f32)> {
+        let g = self.area_factor(p, q);
+        if !(g > 0.0 && g.is_finite()) {
+            return None;
+        }
+        let d = q - p;
+        let dist = d.length();
+        let wi = d / dist;
+        Some((
+            wi,
+            self.le_at(q, wi) * g,
+            dist * (1.0 - super::area::SHADOW_SHORTEN),
+        ))
+    }
+
+    /// |cos θ_q|/|q − p|²: the solid angle at `p` per unit area of an
+    /// emitting shape at its point `q` (0 for other lights).
+    pub fn area_factor(&self, p: Vec3, q: Vec3) -> f32 {
+        let n = match self {
+            Light::Area(a) => a.n,
+            Light::Disk(l) => l.n,
+            Light::Sphere(l) => (q - l.centre) / l.radius,
+            _ => return 0.0,
+        };
+        let d = q - p;
+        let dist2 = d.length_squared();
+        if dist2 <= 0.0 || dist2.is_nan() {
+            return 0.0;
+        }
+        n.dot(d).abs() / (dist2 * dist2.sqrt())
+    }
+
     pub fn sample_li(&self, p: Vec3, u: [f32; 2]) -> Option<LightSample> {
         match self {
             Light::Constant { radiance } => Some(LightSample {
@@ -171,12 +233,9 @@ impl Light {
                     is_delta: true,
                 })
             }
-            Light::Area(a) => self.sample_shape(p, a.sample_point(u), |wi| a.le(wi)),
-            Light::Sphere(l) => {
-                let q = l.sample(p, u)?.q;
-                self.sample_shape(p, q, |wi| l.le(q, wi))
+            Light::Area(_) | Light::Sphere(_) | Light::Disk(_) => {
+                self.sample_point_li(p, u).map(|(_, s)| s)
             }
-            Light::Disk(l) => self.sample_shape(p, l.sample_point(u), |wi| l.le(wi)),
             Light::Directional {
                 direction,
                 irradiance,

@@ -14,17 +14,22 @@
 //! candidates of one walk lie in disjoint path spaces and are each drawn
 //! once per walk, so the walk's sum Σ p̂/p needs no 1/n_j, and a walk counts
 //! M = 1 (Eq. 19–21). Russian roulette by albedo after x_3 when K > 3
-//! (§6.1) enters p. Surfaces (opaque occluders, `shared/occluders.rs`) end
-//! a walk and veto the NEE and escape candidates they block.
+//! (§6.1) enters p. A walk that reaches a surface before its next
+//! collision (probability T* up to it) makes it a vertex ([`super::surface`]):
+//! an emitter seen from the camera is a candidate, light sampling leaves
+//! from it with the BSDF, and BSDF sampling continues the walk. Surfaces
+//! veto the NEE and escape candidates they block.
 
 use super::integrator::{FrameData, Restir};
 use super::path::{PathEnd, PathSample};
 use super::reservoir::Reservoir;
+use super::surface::SurfaceVertex;
 use super::target::{environment, luminance};
 use super::volume::{sigma_t, track, SegmentT};
-use crate::integrators::shared::occluders::{first_surface, visible};
+use crate::integrators::shared::occluders::visible;
 use crate::lights::sample::Vertex;
 use crate::world::phase::HenyeyGreenstein;
+use fogbank_estimators::distance::TrackedFlight;
 use fogbank_math::{Pcg32, Ray, Vec3};
 
 impl Restir {
@@ -63,138 +68,257 @@ impl Restir {
     ) {
         let p = &self.params;
         let world = data.world;
-        let m = &world.media[0];
-        let full = &m.medium;
-        let hg = HenyeyGreenstein { g: m.phase_g };
+        let full = &world.media[0].medium;
         let mut y = PathSample::BACKGROUND;
         if p.vertex_reuse {
             y.fixed_from = 1;
         }
-        // ∏ 1/z_i² over the fixed vertices (vertex reuse): p and p̂ in the
-        // volume measure of a fixed vertex, so that the retargeting ratio
-        // compares values in the measure reuse evaluates p̂ in.
-        let mut g_fixed = 1.0f64;
-        let mut ray = *ray0;
-        // ∏ σ_s/σ_t* (and 1/q of roulette) up to the current vertex, RGB.
-        let mut beta = Vec3::ONE;
-        // The walk's pdf up to the current vertex, in (ω, z) measure.
-        let mut p_walk = 1.0f64;
+        let mut w = Walk {
+            g_fixed: 1.0,
+            ray: *ray0,
+            beta: Vec3::ONE,
+            p_walk: 1.0,
+        };
         for k in 1..=p.max_depth as usize {
             let level = if k == 1 {
                 p.primary_mip
             } else {
                 p.indirect_mip
             };
-            let flight = track(data.mips.level(full, level), level == 0, &ray, rng);
-            *lookups += flight.lookups;
-            // A surface ends the walk: F is 0 past it (occluders.rs).
-            let t_surface = first_surface(world, &ray);
-            let Some(t) = flight.t.filter(|&t| t < t_surface) else {
-                if k == 1 && t_surface == f32::INFINITY {
-                    // p = T* of the whole ray, p̂ = T*·lum(L_env): w = lum(L_env).
-                    let w = luminance(environment(world, ray.d));
-                    let p_escape = (-flight.tau).exp();
-                    res.stream(
-                        PathSample::BACKGROUND,
-                        w,
-                        w * p_escape as f32,
-                        rng.next_f32(),
-                    );
-                }
-                return;
-            };
-            let x = ray.at(t);
-            p_walk *= (-flight.tau).exp() * flight.sigma_t;
-            let sigma = sigma_t(full, x);
-            if sigma <= 0.0 || flight.sigma_t <= 0.0 {
-                // F is 0 for every path through x_k.
-                return;
-            }
-            let albedo = m.albedo_at(x);
-            y.k = k as u8;
-            y.z[k - 1] = t;
-            y.x[k - 1] = x;
-            if y.is_fixed(k - 1) {
-                // As `evaluate` computes it: 1/z² in f32.
-                g_fixed *= (1.0 / (t * t)) as f64;
-            }
-            let inv_sigma_star = 1.0 / flight.sigma_t as f32;
-            if m.emission.is_some() {
-                let mut ye = y;
-                ye.end = PathEnd::Emission;
-                let mut p_e = p_walk * g_fixed;
-                if k >= 2 && !ye.is_fixed(k - 1) {
-                    // An emitter is kept fixed in space under reuse.
-                    ye.fixed_from = (k - 1) as u8;
-                    p_e *= (1.0 / (t * t)) as f64;
-                }
-                let w = luminance(beta * m.emitted(x, albedo) * (sigma * inv_sigma_star));
-                res.stream(ye, w, w * p_e as f32, rng.next_f32());
-            }
-            self.nee_candidate(
-                data,
-                &y,
-                x,
-                ray.d,
-                beta * albedo * (sigma * inv_sigma_star),
-                p_walk * g_fixed,
-                &hg,
+            let ray = w.ray;
+            let surface = SurfaceVertex::closest(world, &ray);
+            let t_surface = surface.map_or(f32::INFINITY, |v| v.hit.t);
+            let flight = track(
+                data.mips.level(full, level),
+                level == 0,
+                &ray,
+                t_surface,
                 rng,
-                res,
-                lookups,
             );
-            beta *= albedo * (sigma * inv_sigma_star);
-            if k == p.max_depth as usize {
-                return;
-            }
-            let (wi, pdf) = hg.sample(-ray.d, [rng.next_f32(), rng.next_f32()]);
-            p_walk *= pdf as f64;
-            y.dir[k - 1] = wi;
-            if k as u32 >= p.rr_depth {
-                let q = albedo.max_element().clamp(0.0, 1.0);
-                if rng.next_f32() >= q {
+            *lookups += flight.lookups;
+            let Some(t) = flight.t.filter(|&t| t < t_surface) else {
+                // The walk passes every collision up to the surface (or
+                // out of the medium): probability T* of the range.
+                let p_pass = (-flight.tau).exp();
+                let Some(v) = surface else {
+                    if k == 1 {
+                        // p = T* of the whole ray, p̂ = T*·lum(L_env): w = lum(L_env).
+                        let w = luminance(environment(world, ray.d));
+                        res.stream(PathSample::BACKGROUND, w, w * p_pass as f32, rng.next_f32());
+                    }
+                    return;
+                };
+                w.p_walk *= p_pass;
+                if !self.surface_vertex(data, &mut y, &mut w, &v, k, rng, res, lookups) {
                     return;
                 }
-                p_walk *= q as f64;
-                beta /= q;
+                continue;
+            };
+            if !self.medium_vertex(data, &mut y, &mut w, t, &flight, k, rng, res, lookups) {
+                return;
             }
-            ray = Ray::new(x, wi);
         }
     }
 
-    /// The scattering candidate at `x` (reached along `d`; `beta` already
-    /// holds the σ_s/σ_t* of x): next-event estimation toward one light
-    /// picked by power, T̃ of the NEE mip on the shadow segment (Fig. 11).
+    /// Vertex x_k of the walk in the medium, at distance `t` along the
+    /// walk's ray where `flight` collided: emission (an emitter is kept
+    /// fixed in space under reuse), next-event estimation with the phase
+    /// function, then phase sampling. Returns whether the walk goes on.
+    #[allow(clippy::too_many_arguments)]
+    fn medium_vertex(
+        &self,
+        data: &FrameData,
+        y: &mut PathSample,
+        w: &mut Walk,
+        t: f32,
+        flight: &TrackedFlight,
+        k: usize,
+        rng: &mut Pcg32,
+        res: &mut Reservoir<PathSample>,
+        lookups: &mut u32,
+    ) -> bool {
+        let m = &data.world.media[0];
+        let full = &m.medium;
+        let hg = HenyeyGreenstein { g: m.phase_g };
+        let ray = w.ray;
+        let x = ray.at(t);
+        w.p_walk *= (-flight.tau).exp() * flight.sigma_t;
+        let sigma = sigma_t(full, x);
+        if sigma <= 0.0 || flight.sigma_t <= 0.0 {
+            // F is 0 for every path through x_k.
+            return false;
+        }
+        let albedo = m.albedo_at(x);
+        y.k = k as u8;
+        y.z[k - 1] = t;
+        y.x[k - 1] = x;
+        if y.is_fixed(k - 1) {
+            // As `evaluate` computes it: 1/z² in f32.
+            w.g_fixed *= (1.0 / (t * t)) as f64;
+        }
+        let inv_sigma_star = 1.0 / flight.sigma_t as f32;
+        if m.emission.is_some() {
+            let mut ye = *y;
+            ye.end = PathEnd::Emission;
+            let mut p_e = w.p_walk * w.g_fixed;
+            if k >= 2 && !ye.is_fixed(k - 1) {
+                ye.fixed_from = (k - 1) as u8;
+                p_e *= (1.0 / (t * t)) as f64;
+            }
+            let we = luminance(w.beta * m.emitted(x, albedo) * (sigma * inv_sigma_star));
+            res.stream(ye, we, we * p_e as f32, rng.next_f32());
+        }
+        let beta = w.beta * albedo * (sigma * inv_sigma_star);
+        let scatter = |wi: Vec3| Vec3::splat(hg.pdf(-ray.d, wi));
+        let from = Ray::new(x, ray.d);
+        let p_y = w.p_walk * w.g_fixed;
+        self.nee_candidate(data, y, &from, None, &scatter, beta, p_y, rng, res, lookups);
+        w.beta *= albedo * (sigma * inv_sigma_star);
+        if k == self.params.max_depth as usize {
+            return false;
+        }
+        let (wi, pdf) = hg.sample(-ray.d, [rng.next_f32(), rng.next_f32()]);
+        w.p_walk *= pdf as f64;
+        y.dir[k - 1] = wi;
+        if !self.roulette(w, k, albedo, rng) {
+            return false;
+        }
+        w.ray = Ray::new(x, wi);
+        true
+    }
+
+    /// Vertex x_k of the walk on surface `v`: an emitter seen straight from
+    /// the camera is a candidate (k = 1; later vertices reach emitters by
+    /// light sampling), then next-event estimation with the BSDF, then BSDF
+    /// sampling. Returns whether the walk goes on.
+    #[allow(clippy::too_many_arguments)]
+    fn surface_vertex(
+        &self,
+        data: &FrameData,
+        y: &mut PathSample,
+        w: &mut Walk,
+        v: &SurfaceVertex,
+        k: usize,
+        rng: &mut Pcg32,
+        res: &mut Reservoir<PathSample>,
+        lookups: &mut u32,
+    ) -> bool {
+        let d = w.ray.d;
+        y.k = k as u8;
+        y.surface |= 1 << (k - 1);
+        y.z[k - 1] = v.hit.t;
+        y.x[k - 1] = v.hit.p;
+        if k == 1 {
+            // p = T* up to the surface, p̂ = T*·lum(L_e): w = lum(L_e).
+            let we = luminance(v.emitted(data.world, d));
+            if we > 0.0 {
+                let mut ye = *y;
+                ye.end = PathEnd::Emission;
+                res.stream(ye, we, we * w.p_walk as f32, rng.next_f32());
+            }
+        }
+        let scatter = |wi: Vec3| v.scatter(d, wi);
+        let from = Ray::new(v.hit.p, d);
+        self.nee_candidate(
+            data,
+            y,
+            &from,
+            Some(v),
+            &scatter,
+            w.beta,
+            w.p_walk,
+            rng,
+            res,
+            lookups,
+        );
+        if k == self.params.max_depth as usize {
+            return false;
+        }
+        let wo = v.frame.to_local(-d);
+        let uc = rng.next_f32();
+        let Some(bs) = v.bsdf.sample(wo, uc, [rng.next_f32(), rng.next_f32()]) else {
+            return false;
+        };
+        let weight = bs.weight();
+        if bs.delta || !(bs.pdf > 0.0 && weight.is_finite() && weight.max_element() > 0.0) {
+            return false;
+        }
+        let wi = v.frame.to_world(bs.wi);
+        w.p_walk *= bs.pdf as f64;
+        w.beta *= weight;
+        y.dir[k - 1] = wi;
+        if !self.roulette(w, k, weight, rng) {
+            return false;
+        }
+        w.ray = v.leave(wi);
+        true
+    }
+
+    /// Russian roulette after vertex x_k from `rr_depth` on (§6.1), on the
+    /// vertex's albedo (a surface's f·|cos|/pdf); it enters p.
+    fn roulette(&self, w: &mut Walk, k: usize, albedo: Vec3, rng: &mut Pcg32) -> bool {
+        if (k as u32) < self.params.rr_depth {
+            return true;
+        }
+        let q = albedo.max_element().clamp(0.0, 1.0);
+        if rng.next_f32() >= q {
+            return false;
+        }
+        w.p_walk *= q as f64;
+        w.beta /= q;
+        true
+    }
+
+    /// The scattering candidate at the vertex `from.o` (reached along
+    /// `from.d`; on surface `surface` or in the medium; `beta` already
+    /// holds the vertex's σ_s/σ_t*): next-event estimation toward one light
+    /// picked by power, with the vertex's `scatter` factor (phase function,
+    /// or f_s·|cos θ|) and T̃ of the NEE mip on the shadow segment (Fig. 11).
+    /// An emitting shape's sampled point is kept with the path, in its area
+    /// measure: p̂ and p both carry |cos θ_q|/|q − x|², so w is unchanged.
     #[allow(clippy::too_many_arguments)]
     fn nee_candidate(
         &self,
         data: &FrameData,
         y: &PathSample,
-        x: Vec3,
-        d: Vec3,
+        from: &Ray,
+        surface: Option<&SurfaceVertex>,
+        scatter: &dyn Fn(Vec3) -> Vec3,
         beta: Vec3,
         p_walk: f64,
-        hg: &HenyeyGreenstein,
         rng: &mut Pcg32,
         res: &mut Reservoir<PathSample>,
         lookups: &mut u32,
     ) {
         let world = data.world;
         let full = &world.media[0].medium;
+        let x = from.o;
         let u_pick = rng.next_f32();
         let u = [rng.next_f32(), rng.next_f32()];
         let u_keep = rng.next_f32();
-        let Some((li, pmf)) = data.lights.pick(u_pick, Vertex::Medium, x) else {
+        let at = if surface.is_some() {
+            Vertex::Surface
+        } else {
+            Vertex::Medium
+        };
+        let Some((li, pmf)) = data.lights.pick(u_pick, at, x) else {
             return;
         };
-        let Some(ls) = world.lights[li].sample_li(x, u) else {
-            return;
+        let light = &world.lights[li];
+        let (ls, q) = if light.is_shape() {
+            let Some((q, ls)) = light.sample_point_li(x, u) else {
+                return;
+            };
+            (ls, Some(q))
+        } else {
+            let Some(ls) = light.sample_li(x, u) else {
+                return;
+            };
+            (ls, None)
         };
-        let fp = hg.pdf(-d, ls.wi);
-        if fp <= 0.0
-            || ls.radiance == Vec3::ZERO
-            || !visible(world, &Ray::new(x, ls.wi), ls.distance)
-        {
+        let fs = scatter(ls.wi);
+        let shadow = surface.map_or(Ray::new(x, ls.wi), |v| v.leave(ls.wi));
+        if fs == Vec3::ZERO || ls.radiance == Vec3::ZERO || !visible(world, &shadow, ls.distance) {
             return;
         }
         let t_nee = if self.params.nee_transmittance {
@@ -203,16 +327,33 @@ impl Restir {
                 step: 1.0,
                 primary: None,
             }
-            .eval(full, &Ray::new(x, ls.wi), ls.distance, lookups)
+            .eval(full, &shadow, ls.distance, lookups)
         } else {
             1.0
         };
         let p_light = pmf * if ls.is_delta { 1.0 } else { ls.pdf };
-        let w = luminance(beta * ls.radiance * (fp * t_nee)) / p_light;
+        let w = luminance(beta * ls.radiance * (fs * t_nee)) / p_light;
         let mut yl = *y;
         yl.end = PathEnd::Light;
         yl.light = li as u16;
         yl.light_dir = ls.wi;
-        res.stream(yl, w, w * (p_walk * p_light as f64) as f32, u_keep);
+        // The area measure of a point on a shape: |cos θ_q|/|q − x|².
+        let mut p_y = p_walk * p_light as f64;
+        if let Some(q) = q {
+            yl.light_point = q;
+            p_y *= light.area_factor(x, q) as f64;
+        }
+        res.stream(yl, w, w * p_y as f32, u_keep);
     }
+}
+
+/// A walk's state between vertices: its ray, throughput ∏ σ_s/σ_t* (and
+/// f·|cos|/pdf, 1/q), pdf in the (ω, z) measure and ∏ 1/z² over fixed
+/// vertices (vertex reuse), so that p and p̂ are in the measure reuse
+/// evaluates p̂ in.
+struct Walk {
+    ray: Ray,
+    beta: Vec3,
+    p_walk: f64,
+    g_fixed: f64,
 }

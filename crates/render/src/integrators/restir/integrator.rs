@@ -16,6 +16,31 @@ use fogbank_estimators::Estimator;
 use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
 use fogbank_volume::DensityData;
 
+/// Shapes join paths as surface vertices ([`super::surface`]) when no
+/// BSDF has a delta lobe (paths end by light sampling alone) and under
+/// direction reuse (a vertex kept fixed on a surface would need its area
+/// measure).
+fn surfaces_check(world: &World, p: &RestirParams) -> Result<(), SceneError> {
+    let Some(s) = &world.surfaces else {
+        return Ok(());
+    };
+    if let Some(i) = s
+        .shapes
+        .iter()
+        .position(|sh| !sh.material.passes_light() && sh.material.has_delta_lobe())
+    {
+        return Err(SceneError(format!(
+            "integrator \"restir\" ends paths by light sampling alone, which cannot follow the smooth (delta) lobe of shapes.{i}'s BSDF; make it rough (roughplastic, roughconductor, roughdielectric) or diffuse, or use volpath"
+        )));
+    }
+    if p.vertex_reuse {
+        return Err(SceneError(
+            "integrator \"restir\": shift = \"vertex\" keeps vertices fixed in space, which on surfaces is not built; use the default direction shift with shapes".into(),
+        ));
+    }
+    Ok(())
+}
+
 /// What a frame's passes read: the world of that frame, its medium's mips
 /// and its light selection, and (built by [`super::frame::Sequence`]) the
 /// reuse T̃ of its pixels' primary rays.
@@ -44,14 +69,7 @@ impl Restir {
             )));
         }
         occluders::check(world, "restir")?;
-        if world.lights.iter().any(|l| l.is_shape()) {
-            // A path ending on an emitting shape would have to keep its
-            // point on the light (§4.2) and its area measure; the stored
-            // path keeps a light index and direction only (issue 24).
-            return Err(SceneError(
-                "integrator \"restir\" does not sample emitting shapes yet (a path keeps no point on an area light); use volpath".into(),
-            ));
-        }
+        surfaces_check(world, p)?;
         let m = &world.media[0].medium;
         if matches!(m.data, DensityData::Analytic(_)) {
             return Err(SceneError(
@@ -63,8 +81,15 @@ impl Restir {
                 "integrator \"restir\" does not classify: its mips hold extinction, so give the medium's transfer `mode = \"pre\"` or use volpath".into(),
             ));
         }
+        let mut params = p.clone();
+        // §5.3: Q = 10 with surfaces.
+        params.temporal_cap =
+            Some(
+                p.temporal_cap
+                    .unwrap_or(if world.surfaces.is_some() { 10.0 } else { 4.0 }),
+            );
         Ok(Restir {
-            params: p.clone(),
+            params,
             mips: Mips::build(m, p.reuse_bc4.then_some(p.reuse_mip))?,
             lights: LightSampler::new(&world.lights, world.radius(), world.light_selection),
         })

@@ -11,17 +11,24 @@
 //! frame, so the image is the mean of independent last frames and its
 //! variance layer is their variance (what the z-test against `volpath`
 //! needs). Primary rays go through pixel centres (`render.pixel_jitter` is
-//! ignored): reuse compares targets of fixed pixel rays. Shapes are opaque
-//! black occluders until surface vertices join the paths (issue 24;
-//! `shared/occluders.rs`), on the CPU and the GPU.
+//! ignored): reuse compares targets of fixed pixel rays.
+//!
+//! Shapes are path vertices on the CPU ([`surface`], seed 002 §4.2): walks
+//! scatter off them by their BSDFs (which must have no delta lobe), light
+//! sampling leaves from them, a shifted surface vertex is the closest
+//! surface along the shifted ray, emitting shapes are light-sampling
+//! candidates picked by power whose point on the light stays fixed under
+//! reuse (area measure), and Q defaults to 10 (§5.3). Null boundaries and
+//! thin dielectrics are refused (`shared/occluders.rs`). The GPU kernels
+//! still see shapes as black occluders and take only such scenes (issue 24).
 //!
 //! | key | default | meaning |
 //! |---|---|---|
-//! | `max_depth` | 3 | K, the longest path in medium vertices (1..=8) |
+//! | `max_depth` | 3 | K, the longest path in vertices, medium or surface (1..=8) |
 //! | `candidates` | 4 | M, random walks per pixel and frame |
 //! | `reuse` | `spatiotemporal` | `none` (plain RIS), `spatial`, `temporal`, `spatiotemporal` |
 //! | `mis` | `talbot` | combination MIS: `talbot` (Eq. 11), `stochastic` (Eq. 10), `uniform` (1/M, Eq. 9, biased) |
-//! | `temporal_cap` | 4 | Q: the previous reservoir's M is capped at Q·M |
+//! | `temporal_cap` | 4 (10 with shapes) | Q: the previous reservoir's M is capped at Q·M |
 //! | `neighbours` | 3 | spatial neighbours besides the pixel itself (0..=32) |
 //! | `radius` | 10 | spatial reuse radius in pixels |
 //! | `frames` | 8 | frames per sequence of a static render (the last one is kept) |
@@ -34,7 +41,7 @@
 //! | `estimator` | `analytic_trilinear` | transmittance of final shading: exact, or any unbiased estimator |
 //! | `reuse_bc4` | false | march the reuse T̃ through a BC4-compressed copy of its mip (4 bits a voxel, §5.1; p̂ only, so no bias) |
 //! | `primary_table` | true | tabulate the reuse T̃ of every pixel's primary ray once per frame ([`primary`]): the same p̂ bit for bit with one lookup per first segment instead of a march (CPU; the GPU marches) |
-//! | `shift` | `direction` | path shift of reuse: `direction` (ω_i and z_i copied, §4.2's default) or `vertex` (x_2 … x_k kept, 1/z² terms) |
+//! | `shift` | `direction` | path shift of reuse: `direction` (ω_i and z_i copied, §4.2's default) or `vertex` (x_2 … x_k kept, 1/z² terms; not with shapes) |
 //! | `reprojection` | true | temporal reuse follows x_1 to the previous frame (false: the same pixel, Fig. 8) |
 //! | `velocity_resampling` | true | a sample without x_1 reprojects through a medium point resampled ∝ σ_t·T along its ray (§5.2, Fig. 13) |
 //! | `rr_depth` | 3 | Russian roulette by albedo after vertex x_rr_depth (only when K > rr_depth, §6.1) |
@@ -49,6 +56,7 @@ pub mod path;
 pub mod primary;
 pub mod reservoir;
 pub mod spatial;
+pub mod surface;
 pub mod target;
 pub mod temporal;
 pub mod velocity_resampling;

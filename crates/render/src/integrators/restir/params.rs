@@ -11,7 +11,7 @@ pub const PARAMS: [Param; 21] = [
     Param {
         key: "max_depth",
         default: "3",
-        meaning: "K, the longest path in medium vertices (1..=8)",
+        meaning: "K, the longest path in vertices, medium or surface (1..=8)",
     },
     Param {
         key: "candidates",
@@ -30,7 +30,7 @@ pub const PARAMS: [Param; 21] = [
     },
     Param {
         key: "temporal_cap",
-        default: "4",
+        default: "4 (10 with shapes)",
         meaning: "Q: the previous reservoir's M is capped at Q·M",
     },
     Param {
@@ -96,7 +96,7 @@ pub const PARAMS: [Param; 21] = [
     Param {
         key: "shift",
         default: "direction",
-        meaning: "path shift of reuse: direction (ω_i, z_i copied) or vertex (x_2 … kept)",
+        meaning: "path shift of reuse: direction (ω_i, z_i copied) or vertex (x_2 … kept; not with shapes)",
     },
     Param {
         key: "reprojection",
@@ -149,7 +149,9 @@ pub struct RestirParams {
     pub candidates: u32,
     pub reuse: Reuse,
     pub mis: ReuseMis,
-    pub temporal_cap: f32,
+    /// Q (§2.5); `None`: 4, or 10 in a scene with shapes (§5.3), which
+    /// the built integrator resolves.
+    pub temporal_cap: Option<f32>,
     pub neighbours: u32,
     pub radius: f32,
     pub frames: u32,
@@ -173,6 +175,13 @@ pub struct RestirParams {
     pub velocity_resampling: bool,
 }
 
+impl RestirParams {
+    /// Q as given, else the paper's 4 for volumes alone.
+    pub fn q(&self) -> f32 {
+        self.temporal_cap.unwrap_or(4.0)
+    }
+}
+
 impl Default for RestirParams {
     fn default() -> Self {
         RestirParams {
@@ -183,7 +192,7 @@ impl Default for RestirParams {
                 spatial: true,
             },
             mis: ReuseMis::Talbot,
-            temporal_cap: 4.0,
+            temporal_cap: None,
             neighbours: 3,
             radius: 10.0,
             frames: 8,
@@ -245,7 +254,7 @@ impl RestirParams {
                 ))
             })?,
         };
-        let temporal_cap: f32 = r.take("temporal_cap")?.unwrap_or(d.temporal_cap);
+        let temporal_cap: Option<f32> = r.take("temporal_cap")?;
         let neighbours = r.take("neighbours")?.unwrap_or(d.neighbours);
         let radius: f32 = r.take("radius")?.unwrap_or(d.radius);
         let frames = r.take("frames")?.unwrap_or(d.frames);
@@ -289,7 +298,10 @@ impl RestirParams {
             candidates: in_range(r, "candidates", candidates, 1, 1024)?,
             reuse,
             mis,
-            temporal_cap: in_range(r, "temporal_cap", temporal_cap, 0.01, 1e6)?,
+            temporal_cap: match temporal_cap {
+                Some(q) => Some(in_range(r, "temporal_cap", q, 0.01, 1e6)?),
+                None => None,
+            },
             neighbours: in_range(r, "neighbours", neighbours, 0, 32)?,
             radius: in_range(r, "radius", radius, 1.0, 1e4)?,
             frames: in_range(r, "frames", frames, 1, 1_000_000)?,
@@ -314,7 +326,9 @@ impl RestirParams {
         t.insert("candidates".into(), i64::from(self.candidates).into());
         t.insert("reuse".into(), self.reuse.name().into());
         t.insert("mis".into(), self.mis.name().into());
-        t.insert("temporal_cap".into(), f64::from(self.temporal_cap).into());
+        if let Some(q) = self.temporal_cap {
+            t.insert("temporal_cap".into(), f64::from(q).into());
+        }
         t.insert("neighbours".into(), i64::from(self.neighbours).into());
         t.insert("radius".into(), f64::from(self.radius).into());
         t.insert("frames".into(), i64::from(self.frames).into());

@@ -11,6 +11,7 @@
 //! so does a segment a surface cuts (both F and p̂ carry the visibility).
 
 use super::path::{PathEnd, PathSample};
+use super::surface::SurfaceVertex;
 use super::volume::{sigma_t, SegmentT};
 use crate::integrators::shared::occluders::visible;
 use crate::lights::Light;
@@ -26,10 +27,14 @@ pub fn luminance(c: Vec3) -> f32 {
 
 /// Where light `l` is seen from `x`: (direction, radiance arriving at x
 /// before attenuation, distance). Environment and directional lights keep
-/// the stored direction `dir` (§4.2), positional lights their position.
-pub fn light_towards(l: &Light, x: Vec3, dir: Vec3) -> Option<(Vec3, Vec3, f32)> {
+/// the stored direction `dir` (§4.2), positional lights their position,
+/// emitting shapes the stored point `q` on them, in its area measure.
+pub fn light_towards(l: &Light, x: Vec3, dir: Vec3, q: Vec3) -> Option<(Vec3, Vec3, f32)> {
     if l.is_environment() {
         return Some((dir, l.le(dir), f32::INFINITY));
+    }
+    if l.is_shape() {
+        return l.toward_point(x, q);
     }
     // Positional and directional lights ignore the random numbers.
     l.sample_li(x, [0.5, 0.5])
@@ -68,52 +73,62 @@ pub fn evaluate(
     let hg = HenyeyGreenstein { g: m.phase_g };
     let k = y.k as usize;
     let (mut x, mut d) = (ray0.o, ray0.d);
+    // The current vertex when it lies on a surface.
+    let mut at: Option<SurfaceVertex> = None;
     let mut f = Vec3::ONE;
     for i in 0..k {
         let last = i + 1 == k;
         // Segment i: from x_i along ω_i to x_{i+1}.
-        // On the path's own vertices (its own pixel, or a shift that left
-        // x_i in place) the stored ω_i and z_{i+1} rebuild x_{i+1} exactly
-        // as the candidate pass found it, so F and p̂ agree with the
-        // candidate's weights bit for bit; positions subtracted in f32 would
-        // not for tiny segments, where 1/z² amplifies the rounding.
-        let own = i >= 1 && x == y.x[i - 1];
-        let (next_d, z, g) = if y.is_fixed(i) && own {
-            (y.dir[i - 1], y.z[i], 1.0 / (y.z[i] * y.z[i]))
-        } else if y.is_fixed(i) {
-            let v = y.x[i] - x;
-            let z = v.length();
-            if z.is_nan() || z <= 0.0 {
-                return Vec3::ZERO;
-            }
-            (v / z, z, 1.0 / (z * z))
-        } else {
-            (if i == 0 { d } else { y.dir[i - 1] }, y.z[i], 1.0)
+        let (next_d, z, g) = match segment(y, i, x, d) {
+            Some(s) => s,
+            None => return Vec3::ZERO,
         };
         if i > 0 {
-            f *= hg.pdf(-d, next_d);
+            f *= match &at {
+                Some(v) => v.scatter(d, next_d),
+                None => Vec3::splat(hg.pdf(-d, next_d)),
+            };
         }
         d = next_d;
-        let seg = Ray::new(x, d);
-        if !visible(world, &seg, z) {
-            return Vec3::ZERO;
-        }
-        x = seg.at(z);
-        let sigma = sigma_t(full, x);
-        if sigma <= 0.0 {
-            return Vec3::ZERO;
-        }
-        let albedo = m.albedo_at(x);
-        let t = if i == 0 {
-            tr.eval_primary(full, &seg, z, lookups)
+        let seg = at.map_or(Ray::new(x, d), |v| v.leave(d));
+        if y.on_surface(i) {
+            // The closest surface along the segment (§4.2).
+            let Some(v) = SurfaceVertex::closest(world, &seg) else {
+                return Vec3::ZERO;
+            };
+            let t = if i == 0 {
+                tr.eval_primary(full, &seg, v.hit.t, lookups)
+            } else {
+                tr.eval(full, &seg, v.hit.t, lookups)
+            };
+            f *= t;
+            if last && y.end == PathEnd::Emission {
+                f *= v.emitted(world, d);
+            }
+            x = v.hit.p;
+            at = Some(v);
         } else {
-            tr.eval(full, &seg, z, lookups)
-        };
-        f *= g * t;
-        if last && y.end == PathEnd::Emission {
-            f *= m.emitted(x, albedo) * sigma;
-        } else {
-            f *= albedo * sigma;
+            if !visible(world, &seg, z) {
+                return Vec3::ZERO;
+            }
+            x = seg.at(z);
+            let sigma = sigma_t(full, x);
+            if sigma <= 0.0 {
+                return Vec3::ZERO;
+            }
+            let albedo = m.albedo_at(x);
+            let t = if i == 0 {
+                tr.eval_primary(full, &seg, z, lookups)
+            } else {
+                tr.eval(full, &seg, z, lookups)
+            };
+            f *= g * t;
+            if last && y.end == PathEnd::Emission {
+                f *= m.emitted(x, albedo) * sigma;
+            } else {
+                f *= albedo * sigma;
+            }
+            at = None;
         }
         if f == Vec3::ZERO {
             return Vec3::ZERO;
@@ -123,14 +138,43 @@ pub fn evaluate(
         let Some(l) = world.lights.get(y.light as usize) else {
             return Vec3::ZERO;
         };
-        let Some((wi, li, dist)) = light_towards(l, x, y.light_dir) else {
+        let Some((wi, li, dist)) = light_towards(l, x, y.light_dir, y.light_point) else {
             return Vec3::ZERO;
         };
-        let fp = hg.pdf(-d, wi);
-        if fp <= 0.0 || li == Vec3::ZERO || !visible(world, &Ray::new(x, wi), dist) {
+        let scatter = match &at {
+            Some(v) => v.scatter(d, wi),
+            None => Vec3::splat(hg.pdf(-d, wi)),
+        };
+        let shadow = at.map_or(Ray::new(x, wi), |v| v.leave(wi));
+        if scatter == Vec3::ZERO || li == Vec3::ZERO || !visible(world, &shadow, dist) {
             return Vec3::ZERO;
         }
-        f *= li * fp * tr.eval(full, &Ray::new(x, wi), dist, lookups);
+        f *= li * scatter * tr.eval(full, &shadow, dist, lookups);
     }
     f
+}
+
+/// Segment `i` of path `y` leaving `x` (reached along `d`): its direction,
+/// length and the 1/z² of a fixed end (1 otherwise); `None` when a fixed
+/// end coincides with `x`.
+///
+/// On the path's own vertices (its own pixel, or a shift that left x_i in
+/// place) the stored ω_i and z_{i+1} rebuild x_{i+1} exactly as the
+/// candidate pass found it, so F and p̂ agree with the candidate's weights
+/// bit for bit; positions subtracted in f32 would not for tiny segments,
+/// where 1/z² amplifies the rounding.
+fn segment(y: &PathSample, i: usize, x: Vec3, d: Vec3) -> Option<(Vec3, f32, f32)> {
+    let own = i >= 1 && x == y.x[i - 1];
+    if y.is_fixed(i) && own {
+        Some((y.dir[i - 1], y.z[i], 1.0 / (y.z[i] * y.z[i])))
+    } else if y.is_fixed(i) {
+        let v = y.x[i] - x;
+        let z = v.length();
+        if z.is_nan() || z <= 0.0 {
+            return None;
+        }
+        Some((v / z, z, 1.0 / (z * z)))
+    } else {
+        Some((if i == 0 { d } else { y.dir[i - 1] }, y.z[i], 1.0))
+    }
 }

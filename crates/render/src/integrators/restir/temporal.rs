@@ -92,7 +92,7 @@ impl Restir {
             })
             .unwrap_or(pixel);
         let mut old = prev.reservoirs[(from.1 * w + from.0) as usize];
-        old.cap(self.params.temporal_cap * cand.m);
+        old.cap(self.params.q() * cand.m);
         let inputs = [
             Input {
                 res: cand,

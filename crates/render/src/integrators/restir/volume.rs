@@ -85,12 +85,19 @@ pub fn sigma_t(m: &Medium, p: Vec3) -> f32 {
     m.sigma_t_scale * v.max(0.0)
 }
 
-/// Free flight along the world `ray` (unit direction) with a closed-form
-/// density (seed 002 Eq. 27–28): regular tracking through the nearest-
-/// filtered mip `mip` (≥ 1), or exact trilinear free flight at full
-/// resolution (`mip` = `full`).
-pub fn track(mip: &Medium, full_res: bool, ray: &Ray, rng: &mut Pcg32) -> TrackedFlight {
-    let Some((r, t0, t1)) = mip.to_index(ray, 0.0, f32::INFINITY) else {
+/// Free flight along the world `ray` (unit direction) up to `t_max` with
+/// a closed-form density (seed 002 Eq. 27–28): regular tracking through the
+/// nearest-filtered mip `mip` (≥ 1), or exact trilinear free flight at full
+/// resolution (`mip` = `full`). Without a collision, `tau` is the optical
+/// depth of the whole range (the walk passes with probability exp(−tau)).
+pub fn track(
+    mip: &Medium,
+    full_res: bool,
+    ray: &Ray,
+    t_max: f32,
+    rng: &mut Pcg32,
+) -> TrackedFlight {
+    let Some((r, t0, t1)) = mip.to_index(ray, 0.0, t_max) else {
         rng.next_f32(); // the same stream whether or not the box is hit
         return TrackedFlight {
             t: None,

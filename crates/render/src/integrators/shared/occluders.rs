@@ -1,9 +1,10 @@
-//! Surfaces for the integrators that have no surface rules yet — `restir`,
-//! `visopt`, `ament` and `point_mis` (issue 23 item 6): shapes are opaque
-//! black occluders. A segment a surface cuts carries nothing — for ReSTIR
-//! in candidate generation, in the reuse target p̂ and in F alike, so p̂ = 0
-//! exactly where F = 0 and resampling stays unbiased — and no surface
-//! reflects or emits. Such an image equals `volpath`'s (or `direct`'s) of
+//! Surfaces for the integrators that have no surface rules yet — `visopt`,
+//! `ament` and `point_mis` (issue 23 item 6): shapes are opaque black
+//! occluders. A segment a surface cuts carries nothing and no surface
+//! reflects or emits. `restir` uses the same visibility (in candidate
+//! generation, in the reuse target p̂ and in F alike, so p̂ = 0 exactly
+//! where F = 0) and the same refusal, and makes its shapes path vertices
+//! (`restir::surface`). Such an image equals `volpath`'s (or `direct`'s) of
 //! the same scene with every BSDF black and no emitter on the shapes, which
 //! is how it is tested. Null boundaries of media and thin dielectrics need
 //! `volpath`'s surface walk: those scenes are refused. A null shape that

@@ -69,6 +69,16 @@ impl Bsdf {
         }
     }
 
+    /// Whether some lobe is a delta (a smooth coat or interface, a pass
+    /// through): light along it cannot be reached by light sampling.
+    pub fn has_delta_lobe(&self) -> bool {
+        match *self {
+            Bsdf::Diffuse { .. } | Bsdf::RoughPlastic(_) => false,
+            Bsdf::Plastic(_) | Bsdf::ThinDielectric { .. } | Bsdf::Null => true,
+            Bsdf::Conductor { alpha, .. } | Bsdf::Dielectric { alpha, .. } => alpha < Ggx::SMOOTH,
+        }
+    }
+
     /// The fraction of light passing straight through at incident cosine
     /// `cos` when the surface lets light through unscattered in part
     /// (`null`: all; `thindielectric`: 1 − R′), else `None`: what shadow
