@@ -96,6 +96,9 @@ fn cases() -> Vec<Case> {
 }
 
 struct Measured {
+    /// The reference image and its size.
+    reference: Vec<[f32; 3]>,
+    size: (u32, u32),
     restir: Frames,
     baseline_1spp: Frames,
     baseline_spp: u32,
@@ -128,6 +131,8 @@ fn measure(c: &Case, reference_spp: u32) -> Result<Measured, String> {
     let baseline_spp = ((restir.ms / baseline_1spp.ms).round() as u32).max(1);
     let baseline = independent_frames(&baseline_scene, &reference, baseline_spp, FRAMES, 2000);
     Ok(Measured {
+        size: (restir_scene.camera.width, restir_scene.camera.height),
+        reference: reference.rgb.clone(),
         restir,
         baseline_1spp,
         baseline_spp,
@@ -165,6 +170,7 @@ pub fn compare(
     let threads = rayon::current_num_threads();
     let mut rows = Vec::new();
     let mut lines = Vec::new();
+    let mut images = Vec::new();
     let (width, height) = cases
         .first()
         .and_then(|c| build(&c.scene, &[]).ok())
@@ -200,6 +206,12 @@ pub fn compare(
             c.name, c.k, r.ms, r.mse, m.baseline_spp, b.ms, b.mse
         ));
         let label = format!("{} K={}", c.name, c.k);
+        // One frame of each at equal time beside the reference.
+        let file = format!("frames_{i}.png");
+        let exposure = Writer::auto_exposure(&m.reference);
+        let panels = [&r.last[..], &b.last[..], &m.reference[..]];
+        w.png_strip(&file, m.size.0, m.size.1, &panels, exposure)?;
+        images.push(format!("`{file}`: {label}"));
         plot = plot
             .with(Series::new(
                 format!("ReSTIR {label}"),
@@ -242,7 +254,9 @@ pub fn compare(
         "| case | K | ReSTIR ms/frame | ReSTIR MSE | baseline spp (ms/frame) | baseline MSE | ratio at matched spp | ratio at equal time |\n\
          |---|---|---|---|---|---|---|---|\n{}\n\n\
          \"ratio at equal time\" extrapolates the baseline's 1-spp MSE to exactly ReSTIR's frame time (MSE ∝ 1/spp for an \
-         unbiased independent-sample estimator); \"matched\" renders the rounded spp.",
-        lines.join("\n")
+         unbiased independent-sample estimator); \"matched\" renders the rounded spp.\n\n\
+         One frame of ReSTIR, one of the baseline at the matched spp, and the reference, left to right: {}.",
+        lines.join("\n"),
+        images.join("; ")
     ))
 }
