@@ -52,6 +52,7 @@ pub const ACCUMULATE: &str = include_str!("wgsl/accumulate.wgsl");
 pub const RESTIR_PARAMS: &str = include_str!("wgsl/restir/params.wgsl");
 pub const RESTIR_RESERVOIR: &str = include_str!("wgsl/restir/reservoir.wgsl");
 pub const RESTIR_VOLUME: &str = include_str!("wgsl/restir/volume.wgsl");
+pub const RESTIR_SURFACE: &str = include_str!("wgsl/restir/surface.wgsl");
 pub const RESTIR_TARGET: &str = include_str!("wgsl/restir/target.wgsl");
 pub const RESTIR_CANDIDATES: &str = include_str!("wgsl/restir/candidates.wgsl");
 pub const RESTIR_COMBINE: &str = include_str!("wgsl/restir/combine.wgsl");
@@ -184,11 +185,16 @@ pub fn restir_kernel() -> String {
         DISTANCE_TRILINEAR,
         BVH,
         ANALYTIC_SHAPES,
+        MICROFACET,
+        BSDF,
         SURFACE_DATA,
+        SURFACES,
+        BITMAP,
         OCCLUDERS,
         RESTIR_PARAMS,
         RESTIR_RESERVOIR,
         RESTIR_VOLUME,
+        RESTIR_SURFACE,
         RESTIR_TARGET,
         RESTIR_CANDIDATES,
         RESTIR_COMBINE,

@@ -64,7 +64,6 @@ impl RestirGpu {
     /// size), running up to `max_batch` sequences per dispatch.
     pub fn new(gpu: &Gpu, scene: &Scene, max_batch: u32) -> Result<RestirGpu, GpuError> {
         let p = &restir_of(scene)?.params;
-        surfaces_check(scene)?;
         let est = shading_estimator(scene)?;
         let (w, h) = (scene.camera.width, scene.camera.height);
         let pixels = w as u64 * h as u64;
@@ -257,24 +256,6 @@ impl RestirGpu {
     }
 }
 
-/// Surface vertices of ReSTIR paths are CPU-only so far (issue 24): the
-/// kernels see shapes as black occluders, so they take scenes whose shapes
-/// are just that.
-fn surfaces_check(scene: &Scene) -> Result<(), GpuError> {
-    let Some(s) = &scene.world.surfaces else {
-        return Ok(());
-    };
-    let lit = |sh: &fogbank_render::world::surfaces::scene_surfaces::Shape| {
-        !sh.material.passes_light() && (sh.emission.is_some() || !sh.material.is_black())
-    };
-    match s.shapes.iter().position(lit) {
-        Some(i) => Err(GpuError(format!(
-            "restir on the GPU sees shapes as black occluders; shapes.{i} reflects or emits, which only the CPU's restir renders so far (render with --device cpu)"
-        ))),
-        None => Ok(()),
-    }
-}
-
 /// Sequences per dispatch: at most `max_batch`, as many as keep the
 /// reservoirs within the budget and the device's binding limit.
 fn batch_for(gpu: &Gpu, w: u32, h: u32, max_batch: u32) -> Result<u32, GpuError> {
@@ -327,6 +308,15 @@ fn pipelines(
                 constants: &[
                     ("ESTIMATOR", estimator as f64),
                     ("OCCLUDERS", occluders as u32 as f64),
+                    // surfaces.wgsl's shapes (restir/surface.wgsl's vertices).
+                    (
+                        "INTEGRATOR_FLAGS",
+                        if occluders {
+                            crate::contract::INTEGRATOR_SURFACES
+                        } else {
+                            0
+                        } as f64,
+                    ),
                     ("LIGHT_BVH", light_bvh as u32 as f64),
                 ],
                 layouts: Some(layouts),

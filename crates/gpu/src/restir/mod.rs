@@ -13,7 +13,9 @@
 //! CPU. Timestamp queries give the time of each pass.
 //!
 //! Velocity fields move reprojected points back as on the CPU (a grid, or
-//! an affine field: a constant or the plume's).
+//! an affine field: a constant or the plume's). Shapes are path vertices
+//! as on the CPU (`wgsl/restir/surface.wgsl`: BSDFs of surfaces.wgsl, the
+//! stored path's surface bits and point on an emitting shape).
 
 //!
 //! Files: [`uniform`] (the passes' uniform, region plan, velocity),

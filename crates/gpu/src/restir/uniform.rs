@@ -7,7 +7,7 @@ use fogbank_render::integrators::restir::{RestirParams, ReuseMis};
 use fogbank_render::world::velocity::Velocity;
 
 /// Bytes of one stored reservoir (`Stored` in `wgsl/restir/reservoir.wgsl`).
-pub const STORED_BYTES: u64 = 336;
+pub const STORED_BYTES: u64 = 352;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]

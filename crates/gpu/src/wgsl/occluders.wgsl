@@ -1,5 +1,6 @@
 // render::integrators::shared::occluders: shapes as opaque black occluders
-// for the integrators without surface rules (point_mis, visopt, ament). A
+// for the integrators without surface rules (point_mis, visopt, ament),
+// and restir's visibility (its surface vertices: restir/surface.wgsl). A
 // pipeline constant: without shapes the driver compiles the BVH walk out.
 override OCCLUDERS: bool = false;
 

@@ -145,27 +145,36 @@ fn sphere_point(l: LightGpu, p: vec3<f32>, u0: f32, u1: f32) -> vec3<f32> {
     return centre + r * n;
 }
 
+// Light::sample_point_li's point of an emitting shape seen from p (w = 0:
+// none, the sphere's dark side faces p).
+fn shape_light_point(l: LightGpu, p: vec3<f32>, u0: f32, u1: f32) -> vec4<f32> {
+    switch l.kind {
+        case LIGHT_SPHERE: {
+            if (!sphere_sees_front(l, p)) {
+                return vec4<f32>(0.0);
+            }
+            return vec4<f32>(sphere_point(l, p, u0, u1), 1.0);
+        }
+        case LIGHT_DISK: {
+            return vec4<f32>(disk_point(l, u0, u1), 1.0);
+        }
+        default: {
+            return vec4<f32>(triangle_point(l, u0, u1), 1.0);
+        }
+    }
+}
+
 // Light::sample_li for an emitting shape: a point on it, its solid-angle
 // pdf and radiance; the shadow ray stops short of the emitter.
 fn shape_light_sample(l: LightGpu, p: vec3<f32>, u0: f32, u1: f32) -> LightSample {
     var ls: LightSample;
     ls.is_delta = false;
     ls.valid = false;
-    var q: vec3<f32>;
-    switch l.kind {
-        case LIGHT_SPHERE: {
-            if (!sphere_sees_front(l, p)) {
-                return ls;
-            }
-            q = sphere_point(l, p, u0, u1);
-        }
-        case LIGHT_DISK: {
-            q = disk_point(l, u0, u1);
-        }
-        default: {
-            q = triangle_point(l, u0, u1);
-        }
+    let qv = shape_light_point(l, p, u0, u1);
+    if (qv.w == 0.0) {
+        return ls;
     }
+    let q = qv.xyz;
     let d = q - p;
     let dist = length(d);
     ls.wi = d / dist;
@@ -173,5 +182,42 @@ fn shape_light_sample(l: LightGpu, p: vec3<f32>, u0: f32, u1: f32) -> LightSampl
     ls.radiance = shape_le(l, q, ls.wi);
     ls.distance = dist * (1.0 - SHADOW_SHORTEN);
     ls.valid = dist > 0.0 && ls.pdf > 0.0 && finite(ls.pdf) && any(ls.radiance != vec3<f32>(0.0));
+    return ls;
+}
+
+// Light::area_factor: |cos θ_q| / |q − p|², the solid angle at p per unit
+// area of the shape at its point q.
+fn shape_area_factor(l: LightGpu, p: vec3<f32>, q: vec3<f32>) -> f32 {
+    var n: vec3<f32>;
+    if (l.kind == LIGHT_SPHERE) {
+        n = (q - l.a.xyz) / l.a.w;
+    } else {
+        n = area_normal(l);
+    }
+    let d = q - p;
+    let dist2 = dot(d, d);
+    if (!(dist2 > 0.0)) {
+        return 0.0;
+    }
+    return abs(dot(n, d)) / (dist2 * sqrt(dist2));
+}
+
+// Light::toward_point: the point q of an emitting shape seen from p in
+// q's area measure — the direction, L_e·|cos θ_q|/|q − p|², the shadow
+// distance (valid: a finite positive factor).
+fn shape_toward_point(l: LightGpu, p: vec3<f32>, q: vec3<f32>) -> LightSample {
+    var ls: LightSample;
+    ls.is_delta = false;
+    ls.pdf = 1.0;
+    let g = shape_area_factor(l, p, q);
+    ls.valid = g > 0.0 && finite(g);
+    if (!ls.valid) {
+        return ls;
+    }
+    let d = q - p;
+    let dist = length(d);
+    ls.wi = d / dist;
+    ls.radiance = shape_le(l, q, ls.wi) * g;
+    ls.distance = dist * (1.0 - SHADOW_SHORTEN);
     return ls;
 }

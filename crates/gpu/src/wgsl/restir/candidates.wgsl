@@ -10,10 +10,13 @@ fn emissive() -> bool {
     return u32(medium_ext(0u).z) != EMISSION_NONE;
 }
 
-// Restir::nee_candidate: next-event estimation toward one light picked by
-// power, T̃ of the NEE mip on the shadow segment (Fig. 11).
-fn nee_candidate(y: ptr<function, Path>, x: vec3<f32>, d: vec3<f32>, beta: vec3<f32>,
-                 p_walk: f32, g: f32, rng: ptr<function, Pcg32>,
+// Restir::nee_candidate: next-event estimation from vertex x (reached along
+// d; on surface h when `surface`) toward one light picked by power, with the
+// vertex's scattering factor and T̃ of the NEE mip on the shadow segment
+// (Fig. 11). An emitting shape's point is kept with the path, in its area
+// measure (p̂ and p both carry |cos θ_q|/|q − x|², so w is unchanged).
+fn nee_candidate(y: ptr<function, Path>, x: vec3<f32>, d: vec3<f32>, surface: bool, h: Hit,
+                 beta: vec3<f32>, p_walk: f32, g: f32, rng: ptr<function, Pcg32>,
                  res: ptr<function, Reservoir>, lookups: ptr<function, u32>) {
     let u_pick = pcg32_next_f32(rng);
     let u0 = pcg32_next_f32(rng);
@@ -22,21 +25,20 @@ fn nee_candidate(y: ptr<function, Path>, x: vec3<f32>, d: vec3<f32>, beta: vec3<
     if (env.pickable == 0u) {
         return;
     }
-    let picked = pick_light(u_pick, false, x);
+    let picked = pick_light(u_pick, surface, x);
     if (picked.index == NO_LIGHT) {
         return;
     }
     let li = picked.index;
     let pmf = picked.pmf;
-    let ls = light_sample_li(lights[li], x, u0, u1);
+    let l = lights[li];
+    let ls = light_sample_li(l, x, u0, u1);
     if (!ls.valid) {
         return;
     }
-    let fp = hg_pdf(g, -d, ls.wi);
-    var sr: Ray;
-    sr.o = x;
-    sr.d = ls.wi;
-    if (fp <= 0.0 || all(ls.radiance == vec3<f32>(0.0)) || !visible(sr, ls.distance)) {
+    let fs = vertex_scatter(surface, h, g, d, ls.wi);
+    let sr = vertex_leave(surface, h, x, ls.wi);
+    if (all(fs == vec3<f32>(0.0)) || all(ls.radiance == vec3<f32>(0.0)) || !visible(sr, ls.distance)) {
         return;
     }
     var t_nee = 1.0;
@@ -47,15 +49,24 @@ fn nee_candidate(y: ptr<function, Path>, x: vec3<f32>, d: vec3<f32>, beta: vec3<
     if (!ls.is_delta) {
         p_light *= ls.pdf;
     }
-    let w = luminance(beta * ls.radiance * (fp * t_nee)) / p_light;
+    let w = luminance(beta * ls.radiance * (fs * t_nee)) / p_light;
     var yl = *y;
     yl.end = END_LIGHT;
     yl.light = li;
     yl.light_dir = ls.wi;
-    res_stream(res, &yl, w, w * (p_walk * p_light), u_keep);
+    var p_y = p_walk * p_light;
+    if (is_shape_light(l)) {
+        // The point light_sample_li drew (the same numbers draw it again).
+        let q = shape_light_point(l, x, u0, u1).xyz;
+        yl.light_point = q;
+        p_y *= shape_area_factor(l, x, q);
+    }
+    res_stream(res, &yl, w, w * p_y, u_keep);
 }
 
-// Restir::walk: one random walk, streaming its candidates into res.
+// Restir::walk: one random walk, streaming its candidates into res. A walk
+// that reaches a surface before its next collision (probability T* up to
+// it) makes it a vertex (Restir::surface_vertex).
 fn walk(ray0: Ray, rng: ptr<function, Pcg32>, res: ptr<function, Reservoir>,
         lookups: ptr<function, u32>) {
     let g = shading[0].w;
@@ -73,17 +84,68 @@ fn walk(ray0: Ray, rng: ptr<function, Pcg32>, res: ptr<function, Reservoir>,
         if (k == 1u) {
             record = rp.primary_record;
         }
-        let flight = restir_track(record, ray, rng, lookups);
-        // A surface ends the walk: F is 0 past it (occluders.wgsl).
-        let t_surface = first_surface(ray);
+        let h = intersect_surfaces(ray.o, ray.d, F32_INF, true);
+        let t_surface = select(F32_INF, h.t, h.valid);
+        let flight = restir_track(record, ray, t_surface, rng, lookups);
         if (flight.t < 0.0 || flight.t >= t_surface) {
-            if (k == 1u && t_surface == F32_INF) {
-                // p = T* of the whole ray, p̂ = T*·lum(L_env): w = lum(L_env).
-                let w = luminance(restir_environment(ray.d));
-                var bg = background_path();
-                res_stream(res, &bg, w, w * exp(-flight.tau), pcg32_next_f32(rng));
+            let p_pass = exp(-flight.tau);
+            if (!h.valid) {
+                if (k == 1u) {
+                    // p = T* of the whole ray, p̂ = T*·lum(L_env): w = lum(L_env).
+                    let w = luminance(restir_environment(ray.d));
+                    var bg = background_path();
+                    res_stream(res, &bg, w, w * p_pass, pcg32_next_f32(rng));
+                }
+                return;
             }
-            return;
+            // Restir::surface_vertex.
+            p_walk *= p_pass;
+            y.k = k;
+            y.surface |= 1u << (k - 1u);
+            y.z[k - 1u] = h.t;
+            y.x[k - 1u] = h.p;
+            if (k == 1u) {
+                // An emitter seen from the camera: w = lum(L_e).
+                let e = surface_emitted(h, ray.d);
+                let we = select(0.0, luminance(e.le), e.valid);
+                if (we > 0.0) {
+                    var ye = y;
+                    ye.end = END_EMISSION;
+                    res_stream(res, &ye, we, we * p_walk, pcg32_next_f32(rng));
+                }
+            }
+            nee_candidate(&y, h.p, ray.d, true, h, beta, p_walk, g, rng, res, lookups);
+            if (k == rp.max_depth) {
+                return;
+            }
+            let s = surface_side(h, ray.d);
+            let uc = pcg32_next_f32(rng);
+            let u0 = pcg32_next_f32(rng);
+            let u1 = pcg32_next_f32(rng);
+            let bs = bsdf_sample(s.bsdf, s.wo, uc, u0, u1);
+            if (!bs.valid || bs.delta) {
+                return;
+            }
+            let weight = bs.f * abs(bs.wi.z) / bs.pdf;
+            let top = max(weight.x, max(weight.y, weight.z));
+            if (!(bs.pdf > 0.0 && finite(weight.x) && finite(weight.y) && finite(weight.z) && top > 0.0)) {
+                return;
+            }
+            let wi = to_world(s.sf, select(bs.wi, flip_z(bs.wi), s.back));
+            p_walk *= bs.pdf;
+            beta *= weight;
+            y.dir[k - 1u] = wi;
+            if (k >= rp.rr_depth) {
+                let q = clamp(top, 0.0, 1.0);
+                if (pcg32_next_f32(rng) >= q) {
+                    return;
+                }
+                p_walk *= q;
+                beta /= q;
+            }
+            ray.o = spawn_origin(h, wi);
+            ray.d = wi;
+            continue;
         }
         let t = flight.t;
         let x = ray_at(ray, t);
@@ -112,8 +174,8 @@ fn walk(ray0: Ray, rng: ptr<function, Pcg32>, res: ptr<function, Reservoir>,
             let w = luminance(beta * emitted(0u, x, albedo) * (sigma * inv_sigma_star));
             res_stream(res, &ye, w, w * p_e, pcg32_next_f32(rng));
         }
-        nee_candidate(&y, x, ray.d, beta * albedo * (sigma * inv_sigma_star), p_walk * g_fixed,
-                      g, rng, res, lookups);
+        nee_candidate(&y, x, ray.d, false, no_hit(), beta * albedo * (sigma * inv_sigma_star),
+                      p_walk * g_fixed, g, rng, res, lookups);
         beta *= albedo * (sigma * inv_sigma_star);
         if (k == rp.max_depth) {
             return;

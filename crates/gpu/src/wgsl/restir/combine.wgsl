@@ -22,7 +22,7 @@ var<private> temporal_p_hat_prev: f32;
 // `cap` (the temporal Q·M; W is unchanged by a cap).
 fn set_input(i: u32, index: u32, pixel: u32, cap: f32) {
     let s = reservoirs[index];
-    let has_y = ((s.head.x >> 24u) & 1u) != 0u;
+    let has_y = ((s.head.x >> 16u) & 1u) != 0u;
     in_index[i] = index;
     in_pixel[i] = pixel;
     in_has_y[i] = has_y;

@@ -1,6 +1,9 @@
 // The restir frame's parameters (RestirParams of restir/params.rs with the
 // frame's regions; the Rust struct is `RestirUniform` in src/restir/uniform.rs).
 
+// surfaces.wgsl's flag word: INTEGRATOR_SURFACES in a scene with shapes.
+override INTEGRATOR_FLAGS: u32 = 0u;
+
 // Combination MIS, in ReuseMis's order.
 const MIS_TALBOT: u32 = 0u;
 const MIS_STOCHASTIC: u32 = 1u;

@@ -21,6 +21,10 @@ struct Path {
     dir: array<vec3<f32>, 8>,
     x: array<vec3<f32>, 8>,
     light_dir: vec3<f32>,
+    // Bit i: x_{i+1} lies on a surface (PathSample::surface).
+    surface: u32,
+    // A light end on an emitting shape: its point on the light.
+    light_point: vec3<f32>,
 }
 
 fn background_path() -> Path {
@@ -29,7 +33,13 @@ fn background_path() -> Path {
     y.k = 0u;
     y.light = 0u;
     y.fixed_from = NONE_FIXED;
+    y.surface = 0u;
     return y;
+}
+
+// PathSample::on_surface: vertex index i (x_{i+1}) lies on a surface.
+fn on_surface(y: ptr<function, Path>, i: u32) -> bool {
+    return ((*y).surface & (1u << i)) != 0u;
 }
 
 // PathSample::is_fixed: vertex index i (x_{i+1}) stays where it was found.
@@ -102,7 +112,8 @@ fn res_retarget(r: ptr<function, Reservoir>, p_hat: f32) {
 // next within a frame (the temporal pass's reprojection and stream, the
 // lookups so far, the shaded radiance).
 struct Stored {
-    // end | k << 8 | fixed_from << 16 | has_y << 24; light; the previous
+    // end | k << 4 | fixed_from << 8 | has_y << 16 | surface bits << 17;
+    // light; the previous
     // frame's pixel picked by reprojection; lookups so far this frame.
     head: vec4<u32>,
     // w_sum, M, p̂(y), and p̂ of the previous pixel's target at y (temporal).
@@ -117,6 +128,8 @@ struct Stored {
     // Final shading: the radiance F(y)·W.
     shaded: vec4<f32>,
     light_dir: vec4<f32>,
+    // The point on an emitting shape.
+    light_point: vec4<f32>,
     z: array<vec4<f32>, 2>,
     // Eight xyz triples packed in 24 floats each.
     dir: array<vec4<f32>, 6>,
@@ -144,15 +157,17 @@ fn set3(a: ptr<function, array<vec4<f32>, 6>>, i: u32, v: vec3<f32>) {
 fn load_reservoir(index: u32) -> Reservoir {
     let s = reservoirs[index];
     var r: Reservoir;
-    r.y.end = s.head.x & 0xffu;
-    r.y.k = (s.head.x >> 8u) & 0xffu;
-    r.y.fixed_from = (s.head.x >> 16u) & 0xffu;
-    r.has_y = ((s.head.x >> 24u) & 1u) != 0u;
+    r.y.end = s.head.x & 0xfu;
+    r.y.k = (s.head.x >> 4u) & 0xfu;
+    r.y.fixed_from = (s.head.x >> 8u) & 0xffu;
+    r.has_y = ((s.head.x >> 16u) & 1u) != 0u;
+    r.y.surface = (s.head.x >> 17u) & 0xffu;
     r.y.light = s.head.y;
     r.w_sum = s.w.x;
     r.m = s.w.y;
     r.p_hat = s.w.z;
     r.y.light_dir = s.light_dir.xyz;
+    r.y.light_point = s.light_point.xyz;
     var dir = s.dir;
     var x = s.x;
     for (var i = 0u; i < MAX_K; i++) {
@@ -166,11 +181,13 @@ fn load_reservoir(index: u32) -> Reservoir {
 // Writes the reservoir part of slot `index` (its other fields are kept).
 fn store_reservoir(index: u32, r: ptr<function, Reservoir>) {
     let y = (*r).y;
-    reservoirs[index].head.x = (y.end & 0xffu) | ((y.k & 0xffu) << 8u)
-        | ((y.fixed_from & 0xffu) << 16u) | (select(0u, 1u, (*r).has_y) << 24u);
+    reservoirs[index].head.x = (y.end & 0xfu) | ((y.k & 0xfu) << 4u)
+        | ((y.fixed_from & 0xffu) << 8u) | (select(0u, 1u, (*r).has_y) << 16u)
+        | ((y.surface & 0xffu) << 17u);
     reservoirs[index].head.y = y.light;
     reservoirs[index].w = vec4<f32>((*r).w_sum, (*r).m, (*r).p_hat, 0.0);
     reservoirs[index].light_dir = vec4<f32>(y.light_dir, 0.0);
+    reservoirs[index].light_point = vec4<f32>(y.light_point, 0.0);
     var z: array<vec4<f32>, 2>;
     var dir: array<vec4<f32>, 6>;
     var x: array<vec4<f32>, 6>;

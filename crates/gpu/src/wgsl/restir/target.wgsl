@@ -31,6 +31,9 @@ fn evaluate(ray0: Ray, y: ptr<function, Path>, mode: u32, rng: ptr<function, Pcg
     var x = ray0.o;
     var d = ray0.d;
     var f = vec3<f32>(1.0);
+    // The current vertex when it lies on a surface (restir/surface.wgsl).
+    var at_surface = false;
+    var hit = no_hit();
     for (var i = 0u; i <= k; i++) {
         // The step's segment, its length, and the factors before and after
         // its transmittance.
@@ -38,6 +41,8 @@ fn evaluate(ray0: Ray, y: ptr<function, Path>, mode: u32, rng: ptr<function, Pcg
         var dist: f32;
         var before: vec3<f32>;
         var after = vec3<f32>(1.0);
+        // A segment ending on the closest surface needs no visibility test.
+        var to_surface = false;
         if (i < k) {
             let last = i + 1u == k;
             // Segment i: from x_i along ω_i to x_{i+1}. On the path's own
@@ -71,23 +76,41 @@ fn evaluate(ray0: Ray, y: ptr<function, Path>, mode: u32, rng: ptr<function, Pcg
                 z = (*y).z[i];
             }
             if (i > 0u) {
-                f *= hg_pdf(g, -d, next_d);
+                f *= vertex_scatter(at_surface, hit, g, d, next_d);
             }
             d = next_d;
-            seg.o = x;
-            seg.d = d;
-            x = ray_at(seg, z);
-            let sigma = restir_sigma_t(x);
-            if (sigma <= 0.0) {
-                return vec3<f32>(0.0);
-            }
-            let albedo = albedo_at(0u, x);
-            dist = z;
-            before = vec3<f32>(geom);
-            if (last && (*y).end == END_EMISSION) {
-                after = emitted(0u, x, albedo) * sigma;
+            seg = vertex_leave(at_surface, hit, x, d);
+            if (on_surface(y, i)) {
+                // The closest surface along the segment (§4.2).
+                let h = intersect_surfaces(seg.o, seg.d, F32_INF, true);
+                if (!h.valid) {
+                    return vec3<f32>(0.0);
+                }
+                to_surface = true;
+                dist = h.t;
+                x = h.p;
+                hit = h;
+                at_surface = true;
+                before = vec3<f32>(1.0);
+                if (last && (*y).end == END_EMISSION) {
+                    let e = surface_emitted(h, d);
+                    after = select(vec3<f32>(0.0), e.le, e.valid);
+                }
             } else {
-                after = albedo * sigma;
+                x = ray_at(seg, z);
+                at_surface = false;
+                let sigma = restir_sigma_t(x);
+                if (sigma <= 0.0) {
+                    return vec3<f32>(0.0);
+                }
+                let albedo = albedo_at(0u, x);
+                dist = z;
+                before = vec3<f32>(geom);
+                if (last && (*y).end == END_EMISSION) {
+                    after = emitted(0u, x, albedo) * sigma;
+                } else {
+                    after = albedo * sigma;
+                }
             }
         } else if (background) {
             let le = restir_environment(ray0.d);
@@ -102,7 +125,8 @@ fn evaluate(ray0: Ray, y: ptr<function, Path>, mode: u32, rng: ptr<function, Pcg
                 return vec3<f32>(0.0);
             }
             // target::light_towards: environments keep the stored direction,
-            // other lights are seen from x (their sampling ignores u).
+            // emitting shapes the stored point (area measure), other lights
+            // are seen from x (their sampling ignores u).
             let l = lights[(*y).light];
             var wi = (*y).light_dir;
             var li: vec3<f32>;
@@ -110,7 +134,12 @@ fn evaluate(ray0: Ray, y: ptr<function, Path>, mode: u32, rng: ptr<function, Pcg
             if (is_environment(l)) {
                 li = light_le(l, wi);
             } else {
-                let ls = light_sample_li(l, x, 0.5, 0.5);
+                var ls: LightSample;
+                if (is_shape_light(l)) {
+                    ls = shape_toward_point(l, x, (*y).light_point);
+                } else {
+                    ls = light_sample_li(l, x, 0.5, 0.5);
+                }
                 if (!ls.valid) {
                     return vec3<f32>(0.0);
                 }
@@ -118,18 +147,17 @@ fn evaluate(ray0: Ray, y: ptr<function, Path>, mode: u32, rng: ptr<function, Pcg
                 li = ls.radiance;
                 dist = ls.distance;
             }
-            let fp = hg_pdf(g, -d, wi);
-            if (fp <= 0.0 || all(li == vec3<f32>(0.0))) {
+            let fs = vertex_scatter(at_surface, hit, g, d, wi);
+            if (all(fs == vec3<f32>(0.0)) || all(li == vec3<f32>(0.0))) {
                 return vec3<f32>(0.0);
             }
-            seg.o = x;
-            seg.d = wi;
-            before = li * fp;
+            seg = vertex_leave(at_surface, hit, x, wi);
+            before = li * fs;
         } else {
             break;
         }
         // Every step a surface cuts is worth nothing, in p̂ and F alike.
-        if (!visible(seg, dist)) {
+        if (!to_surface && !visible(seg, dist)) {
             return vec3<f32>(0.0);
         }
         f *= before * segment_t(mode, seg, dist, rng, lookups);

@@ -62,7 +62,7 @@ fn reproject(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     var lookups = 0u;
     var p_prev = 0.0;
-    if (((s.head.x >> 24u) & 1u) != 0u) {
+    if (((s.head.x >> 16u) & 1u) != 0u) {
         var y = load_reservoir(index).y;
         p_prev = p_hat_of(centre_ray(source.x, source.y), &y, &lookups);
     }

@@ -25,10 +25,11 @@ struct Flight {
 // through the nearest-filtered mip record `mi` — the exact optical depth
 // inverted voxel by voxel — or, for record 0 (the scene's medium, mip
 // level 0), exact free flight through its trilinear field.
-fn restir_track(mi: u32, world: Ray, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> Flight {
+fn restir_track(mi: u32, world: Ray, t_max: f32, rng: ptr<function, Pcg32>,
+                lookups: ptr<function, u32>) -> Flight {
     let m = media[mi];
     var r: Ray;
-    let range = to_index(m, world, F32_INF, &r);
+    let range = to_index(m, world, t_max, &r);
     let u = pcg32_next_f32(rng);
     if (range.z == 0.0) {
         return Flight(NO_HIT, 0.0, 0.0);

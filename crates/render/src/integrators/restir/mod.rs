@@ -13,14 +13,14 @@
 //! needs). Primary rays go through pixel centres (`render.pixel_jitter` is
 //! ignored): reuse compares targets of fixed pixel rays.
 //!
-//! Shapes are path vertices on the CPU ([`surface`], seed 002 §4.2): walks
-//! scatter off them by their BSDFs (which must have no delta lobe), light
-//! sampling leaves from them, a shifted surface vertex is the closest
-//! surface along the shifted ray, emitting shapes are light-sampling
-//! candidates picked by power whose point on the light stays fixed under
-//! reuse (area measure), and Q defaults to 10 (§5.3). Null boundaries and
-//! thin dielectrics are refused (`shared/occluders.rs`). The GPU kernels
-//! still see shapes as black occluders and take only such scenes (issue 24).
+//! Shapes are path vertices ([`surface`], seed 002 §4.2), on the CPU and
+//! the GPU (`restir/surface.wgsl`): walks scatter off them by their BSDFs
+//! (which must have no delta lobe), light sampling leaves from them, a
+//! shifted surface vertex is the closest surface along the shifted ray,
+//! emitting shapes are light-sampling candidates picked by power whose
+//! point on the light stays fixed under reuse (area measure), and Q
+//! defaults to 10 (§5.3). Null boundaries and thin dielectrics are refused
+//! (`shared/occluders.rs`).
 //!
 //! | key | default | meaning |
 //! |---|---|---|
