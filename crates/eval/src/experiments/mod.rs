@@ -26,6 +26,7 @@ pub mod pins_fig3_4;
 pub mod pins_instances;
 pub mod pins_memory;
 pub mod pins_runtime;
+pub mod pins_surfaces;
 pub mod profile;
 pub mod restir_ablation;
 pub mod restir_bias;
@@ -85,6 +86,7 @@ pub fn names() -> &'static [&'static str] {
         "restir-dynamic",
         "restir-bias",
         "restir-gpu-frame-time",
+        "pins-surfaces",
         "pins-fig3-4",
         "pins-instances",
         "pins-memory",
@@ -138,6 +140,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "restir-dynamic" => restir_dynamic::run(&mut w, trials),
         "restir-bias" => restir_bias::run(&mut w, trials),
         "restir-gpu-frame-time" => restir_gpu_frame_time::run(&mut w, trials),
+        "pins-surfaces" => pins_surfaces::run(&mut w, trials),
         "pins-fig3-4" => pins_fig3_4::run(&mut w, trials),
         "pins-instances" => pins_instances::run(&mut w, trials),
         "pins-memory" => pins_memory::run(&mut w, trials),

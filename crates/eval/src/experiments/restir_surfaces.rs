@@ -83,3 +83,28 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
          ReSTIR's error falls more slowly with accumulated time than the baseline's.\n\n{table}"
     ))
 }
+
+#[cfg(test)]
+mod restir_surfaces_test {
+    use super::super::restir_protocol::build;
+    use super::*;
+
+    /// Both stand-ins build for ReSTIR and for the baseline, with shapes
+    /// that emit (the Fig. 18 street: thousands of emitting triangles).
+    #[test]
+    fn the_cases_build_for_restir_and_the_baseline() {
+        for c in cases().unwrap() {
+            for set in [
+                vec!["integrator.type=restir".to_string()],
+                vec![
+                    "integrator.type=volpath".to_string(),
+                    "integrator.preset=restir_baseline".to_string(),
+                ],
+            ] {
+                let s = build(&c.scene, &set).unwrap();
+                let lights = s.world.lights.iter().filter(|l| l.is_shape()).count();
+                assert!(lights >= 3, "{}: {lights} emitting shapes", c.name);
+            }
+        }
+    }
+}
