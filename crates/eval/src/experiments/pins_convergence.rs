@@ -10,7 +10,7 @@
 //! pixel than the thesis's GPU at 512²) with the images.
 
 use super::pins_runtime::{scene, CASES};
-use super::restir_protocol::{build, BudgetRun, Reference};
+use super::restir_protocol::{build, race, Reference};
 use super::writer::Writer;
 use crate::plot::{palette, Corner, Figure, LinePlot, Series};
 use fogbank_image::metrics::flip::flip;
@@ -69,20 +69,9 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             .legend(Corner::UpperRight);
         let mut cells = Vec::new();
         let methods = methods(case.steps[1]);
-        let scenes: Vec<_> = methods
-            .iter()
-            .map(|(_, set)| build(&text, set))
-            .collect::<Result<_, _>>()?;
-        // The three methods take turns frame by frame, so the machine's
-        // drift hits them alike.
-        let mut runs: Vec<BudgetRun> = scenes
-            .iter()
-            .enumerate()
-            .map(|(i, s)| BudgetRun::new(s, &reference, 1, budget, &BUDGETS, 0x0412 + i as u32))
-            .collect();
-        while runs.iter_mut().fold(false, |any, r| r.step() | any) {}
-        for (i, (run, (label, _))) in runs.into_iter().zip(&methods).enumerate() {
-            let (frames, shots) = run.finish();
+        let sets: Vec<Vec<String>> = methods.iter().map(|(_, set)| set.clone()).collect();
+        let runs = race(&text, &sets, &reference, budget, &BUDGETS, 0x0412)?;
+        for (i, ((frames, shots), (label, _))) in runs.into_iter().zip(&methods).enumerate() {
             let spp = frames.curve.len();
             let mse_at = |t: f64| {
                 frames
@@ -116,13 +105,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
                 flips[0],
                 flips[1]
             ));
-            let points: Vec<(f64, f64)> = frames
-                .curve
-                .iter()
-                .copied()
-                .filter(|p| p.0 > 0.0 && p.1 > 0.0)
-                .collect();
-            plot = plot.with(Series::line(*label, points, palette(i)));
+            plot = plot.with(Series::line(*label, frames.log_curve(), palette(i)));
         }
         lines.push(format!(
             "| {} (step {}) | {} |",

@@ -14,7 +14,7 @@
 //! every step and contrast lost at the hard edges.
 
 use super::pins_runtime::CASES;
-use super::restir_protocol::{build, BudgetRun, Reference};
+use super::restir_protocol::{build, race, Reference};
 use super::writer::Writer;
 use crate::plot::{palette, Corner, Figure, LinePlot, Series};
 use fogbank_math::{Ray, Vec3};
@@ -113,16 +113,8 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let step = CASES[0].steps[1];
     let budget = 10.0;
     let methods = methods(step);
-    let scenes: Vec<Scene> = methods
-        .iter()
-        .map(|(_, set)| build(&text, set))
-        .collect::<Result<_, _>>()?;
-    let mut runs: Vec<BudgetRun> = scenes
-        .iter()
-        .enumerate()
-        .map(|(i, s)| BudgetRun::new(s, &reference, 1, budget, &[budget], 0x0412 + i as u32))
-        .collect();
-    while runs.iter_mut().fold(false, |any, r| r.step() | any) {}
+    let sets: Vec<Vec<String>> = methods.iter().map(|(_, set)| set.clone()).collect();
+    let runs = race(&text, &sets, &reference, budget, &[budget], 0x0412)?;
     let mut plot = LinePlot::new(
         "Teapot stand-in, area light from the left",
         "seconds",
@@ -132,8 +124,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     .log_y()
     .legend(Corner::UpperRight);
     let (mut rows, mut lines) = (Vec::new(), Vec::new());
-    for (i, (run, (label, _))) in runs.into_iter().zip(&methods).enumerate() {
-        let (frames, shots) = run.finish();
+    for (i, ((frames, shots), (label, _))) in runs.into_iter().zip(&methods).enumerate() {
         let last = shots.last().cloned().unwrap_or_default();
         let stem = label.replace(' ', "_");
         w.png(&format!("{stem}_{budget}s.png"), WIDTH, HEIGHT, &last, 0.0)?;
@@ -149,13 +140,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             "| {label} | {} | {mse:.2e} | {shadow:.2e} |",
             frames.curve.len()
         ));
-        let points: Vec<(f64, f64)> = frames
-            .curve
-            .iter()
-            .copied()
-            .filter(|p| p.0 > 0.0 && p.1 > 0.0)
-            .collect();
-        plot = plot.with(Series::line(*label, points, palette(i)));
+        plot = plot.with(Series::line(*label, frames.log_curve(), palette(i)));
     }
     w.figure(
         "mse_over_time",
@@ -168,20 +153,9 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let short = 3.0;
     let mut steps = Vec::new();
     for s in CASES[0].steps {
-        let m = methods_at(s);
-        let scenes: Vec<Scene> = m
-            .iter()
-            .map(|set| build(&text, set))
-            .collect::<Result<_, _>>()?;
-        let mut runs: Vec<BudgetRun> = scenes
-            .iter()
-            .enumerate()
-            .map(|(i, sc)| BudgetRun::new(sc, &reference, 1, short, &[short], 0x0512 + i as u32))
-            .collect();
-        while runs.iter_mut().fold(false, |any, r| r.step() | any) {}
+        let runs = race(&text, &methods_at(s), &reference, short, &[short], 0x0512)?;
         let mut cells = Vec::new();
-        for run in runs {
-            let (_, shots) = run.finish();
+        for (_, shots) in runs {
             let last = shots.last().cloned().unwrap_or_default();
             cells.push((reference.mse(&last), region_mse(&last, &reference, &region)));
         }

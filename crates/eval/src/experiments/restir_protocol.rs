@@ -89,6 +89,17 @@ pub struct Frames {
     pub last: Vec<[f32; 3]>,
 }
 
+impl Frames {
+    /// The curve's points a log–log plot can show (both coordinates > 0).
+    pub fn log_curve(&self) -> Vec<(f64, f64)> {
+        self.curve
+            .iter()
+            .copied()
+            .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+            .collect()
+    }
+}
+
 struct Accumulator<'a> {
     reference: &'a Reference,
     acc: Vec<[f64; 3]>,
@@ -282,6 +293,34 @@ pub fn frames_within(
     let mut run = BudgetRun::new(scene, reference, spp, budget, snapshots, seed);
     while run.step() {}
     run.finish()
+}
+
+/// A finished [`BudgetRun`]: its frames and its snapshots.
+pub type Finished = (Frames, Vec<Vec<[f32; 3]>>);
+
+/// [`BudgetRun`]s of `text` under each override set in `sets`, 1 spp per
+/// frame, taking turns frame by frame (so the machine's drift hits them
+/// alike) until each has spent `budget` seconds; run `i` is seeded
+/// `seed + i`.
+pub fn race(
+    text: &str,
+    sets: &[Vec<String>],
+    reference: &Reference,
+    budget: f64,
+    snapshots: &[f64],
+    seed: u32,
+) -> Result<Vec<Finished>, String> {
+    let scenes: Vec<Scene> = sets
+        .iter()
+        .map(|set| build(text, set))
+        .collect::<Result<_, _>>()?;
+    let mut runs: Vec<BudgetRun> = scenes
+        .iter()
+        .enumerate()
+        .map(|(i, s)| BudgetRun::new(s, reference, 1, budget, snapshots, seed + i as u32))
+        .collect();
+    while runs.iter_mut().fold(false, |any, r| r.step() | any) {}
+    Ok(runs.into_iter().map(BudgetRun::finish).collect())
 }
 
 /// Frames `0..n` of the animated scene `text` (with `set` overrides), each
