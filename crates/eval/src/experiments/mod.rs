@@ -26,6 +26,7 @@ pub mod pins_fig3_4;
 pub mod pins_instances;
 pub mod pins_memory;
 pub mod pins_runtime;
+pub mod pins_stream;
 pub mod pins_surfaces;
 pub mod profile;
 pub mod restir_ablation;
@@ -86,6 +87,7 @@ pub fn names() -> &'static [&'static str] {
         "restir-dynamic",
         "restir-bias",
         "restir-gpu-frame-time",
+        "pins-stream",
         "pins-surfaces",
         "pins-fig3-4",
         "pins-instances",
@@ -140,6 +142,7 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
         "restir-dynamic" => restir_dynamic::run(&mut w, trials),
         "restir-bias" => restir_bias::run(&mut w, trials),
         "restir-gpu-frame-time" => restir_gpu_frame_time::run(&mut w, trials),
+        "pins-stream" => pins_stream::run(&mut w, trials),
         "pins-surfaces" => pins_surfaces::run(&mut w, trials),
         "pins-fig3-4" => pins_fig3_4::run(&mut w, trials),
         "pins-instances" => pins_instances::run(&mut w, trials),

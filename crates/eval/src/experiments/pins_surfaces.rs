@@ -20,8 +20,8 @@ use crate::plot::{palette, Corner, Figure, LinePlot, Series};
 use fogbank_math::{Ray, Vec3};
 use fogbank_render::Scene;
 
-const WIDTH: u32 = 96;
-const HEIGHT: u32 = 72;
+pub const WIDTH: u32 = 96;
+pub const HEIGHT: u32 = 72;
 /// The area light's centre (to the left of the teapot stand-in).
 const LIGHT: [f32; 3] = [-1.6, 0.5, 0.2];
 
@@ -46,7 +46,7 @@ pub fn scene() -> String {
 
 /// Pixels whose camera ray first meets the ground (shape 0) at a point
 /// whose segment to the light's centre crosses the medium's box.
-fn shadow_region(s: &Scene) -> Vec<bool> {
+pub fn shadow_region(s: &Scene) -> Vec<bool> {
     let w = &s.world;
     let (Some(surfaces), Some(m)) = (&w.surfaces, w.media.first()) else {
         return Vec::new();
@@ -74,7 +74,7 @@ fn shadow_region(s: &Scene) -> Vec<bool> {
 
 /// MSE over the pixels of `region`, the reference's variance there
 /// subtracted.
-fn region_mse(img: &[[f32; 3]], r: &Reference, region: &[bool]) -> f64 {
+pub fn region_mse(img: &[[f32; 3]], r: &Reference, region: &[bool]) -> f64 {
     let (mut sum, mut floor, mut n) = (0.0f64, 0.0f64, 0usize);
     for (i, _) in region.iter().enumerate().filter(|(_, &inside)| inside) {
         for ((x, y), v) in img[i].iter().zip(&r.rgb[i]).zip(&r.var[i]) {

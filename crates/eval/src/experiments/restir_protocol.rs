@@ -100,7 +100,9 @@ impl Frames {
     }
 }
 
-struct Accumulator<'a> {
+/// Frames accumulated against a reference: their running mean, time and
+/// per-frame and running-mean MSE.
+pub struct Accumulator<'a> {
     reference: &'a Reference,
     acc: Vec<[f64; 3]>,
     n: u32,
@@ -110,7 +112,7 @@ struct Accumulator<'a> {
 }
 
 impl<'a> Accumulator<'a> {
-    fn new(reference: &'a Reference) -> Self {
+    pub fn new(reference: &'a Reference) -> Self {
         Accumulator {
             reference,
             acc: vec![[0.0; 3]; reference.rgb.len()],
@@ -121,7 +123,7 @@ impl<'a> Accumulator<'a> {
         }
     }
 
-    fn add(&mut self, rgb: &[[f32; 3]], seconds: f64) {
+    pub fn add(&mut self, rgb: &[[f32; 3]], seconds: f64) {
         self.n += 1;
         self.seconds += seconds;
         self.mse_sum += self.reference.mse(rgb);
@@ -134,13 +136,18 @@ impl<'a> Accumulator<'a> {
         self.curve.push((self.seconds, self.reference.mse(&mean)));
     }
 
+    /// Seconds of the frames so far.
+    pub fn seconds(&self) -> f64 {
+        self.seconds
+    }
+
     /// The running mean of the frames so far.
-    fn mean(&self) -> Vec<[f32; 3]> {
+    pub fn mean(&self) -> Vec<[f32; 3]> {
         let n = self.n.max(1) as f64;
         self.acc.iter().map(|a| a.map(|x| (x / n) as f32)).collect()
     }
 
-    fn finish(self, passes: PassTimes, last: Vec<[f32; 3]>) -> Frames {
+    pub fn finish(self, passes: PassTimes, last: Vec<[f32; 3]>) -> Frames {
         let n = self.n.max(1) as f64;
         Frames {
             ms: 1e3 * self.seconds / n,

@@ -197,6 +197,12 @@ impl VolPath {
         })
     }
 
+    /// Replaces the pin grids (the pin stream between frames,
+    /// `shared::pin_stream`); `None` turns pins' grids off.
+    pub fn set_pin_set(&mut self, set: Option<Arc<PinSet>>) {
+        self.pin_set = OnceLock::from(set);
+    }
+
     /// The pin grids (gathered on first use; `None` with pins off).
     pub fn pin_set(&self, world: &World) -> Option<&PinSet> {
         self.pin_set

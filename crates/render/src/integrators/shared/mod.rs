@@ -8,6 +8,7 @@ pub mod free_flight;
 pub mod next_event;
 pub mod occluders;
 pub mod pin_params;
+pub mod pin_stream;
 pub mod tracking;
 
 use crate::error::SceneError;
