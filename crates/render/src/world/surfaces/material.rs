@@ -236,18 +236,6 @@ impl Material {
             || self.back.as_ref().is_some_and(|b| b.bsdf.has_delta_lobe())
     }
 
-    /// Whether both sides reflect nothing (untextured black `diffuse`).
-    pub fn is_black(&self) -> bool {
-        let black = |s: &Side| {
-            s.texture.is_none()
-                && s.bsdf
-                    == (Bsdf::Diffuse {
-                        reflectance: Vec3::ZERO,
-                    })
-        };
-        black(&self.front) && self.back.as_ref().is_none_or(black)
-    }
-
     /// Whether some light passes straight through (null, thin dielectric).
     pub fn passes_light(&self) -> bool {
         self.front.bsdf.null_transmission(1.0).is_some()
