@@ -4,6 +4,7 @@
 pub mod access;
 pub mod analytic;
 pub mod bc4;
+pub mod bunny;
 pub mod dda;
 pub mod distance;
 pub mod error;

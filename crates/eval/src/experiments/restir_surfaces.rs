@@ -5,11 +5,11 @@
 //! frame time, an offline `volpath` reference of the same depth).
 //!
 //! Cases (fogbank's stand-ins, no downloads):
-//! - Fig. 1: a procedural cloud among emitting shapes — two spheres and a
+//! - Fig. 1: a bunny-shaped cloud (`procedural = "bunny"`, standing in for
+//!   the paper's bunny cloud VDB) among emitting shapes — two spheres and a
 //!   rectangular panel standing in for the paper's emissive logos — over a
 //!   diffuse ground under a dim sky, at K = 1 and 3 (3 adds interreflection
-//!   between the surfaces and the volume). The paper's medium is the
-//!   bunny-shaped cloud; fogbank has no bunny volume.
+//!   between the surfaces and the volume).
 //! - Fig. 18: `scenes/street/restir_street.toml`, a foggy street lit by
 //!   3200 emitting triangles (the substitute for Bistro / Emerald Square),
 //!   K = 1: volume single scattering plus direct light on the road.
@@ -21,7 +21,7 @@ use super::writer::Writer;
 /// The Fig. 1 stand-in at 128×96.
 pub fn emissive_shapes_scene() -> String {
     "[camera]\nfrom = [0.0, 0.1, 2.0]\nto = [0.0, 0.0, 0.0]\nfov = 40.0\nwidth = 128\nheight = 96\n\
-     [[media]]\ndensity = { procedural = \"cloud\", resolution = 96, seed = 7 }\n\
+     [[media]]\ndensity = { procedural = \"bunny\", resolution = 96, seed = 7 }\n\
      sigma_t_scale = 30.0\nalbedo = [0.95, 0.95, 0.95]\nphase = { type = \"hg\", g = 0.5 }\n\
      [[shapes]]\ntype = \"rectangle\"\n\
      to_world = { translate = [0.0, -0.55, 0.0], rotate = [1.0, 0.0, 0.0, -90.0], scale = 2.0 }\n\

@@ -6,7 +6,7 @@ use crate::error::SceneError;
 use fogbank_math::{DAffine3, Vec3};
 use fogbank_volume::loaders::{self as scalar_files, raw, vdb, vdb_grid, vol};
 use fogbank_volume::{
-    explosion, medium::unit_box_transform, plume, procedural, AnalyticField, AnalyticKind,
+    bunny, explosion, medium::unit_box_transform, plume, procedural, AnalyticField, AnalyticKind,
     BrickGrid, DensityData, Precision,
 };
 use serde::{Deserialize, Serialize};
@@ -214,7 +214,7 @@ fn analytic_kind(name: &str, d: &FieldDesc, key: &str) -> Result<AnalyticKind, S
         },
         other => {
             return Err(SceneError(format!(
-                "{key}.procedural: unknown procedural medium `{other}` (cloud, explosion, plume, constant, ramp, sinusoid, slabs, sphere, empty)"
+                "{key}.procedural: unknown procedural medium `{other}` (cloud, bunny, explosion, plume, constant, ramp, sinusoid, slabs, sphere, empty)"
             )))
         }
     })
@@ -362,6 +362,14 @@ pub fn field_data(
             DensityData::from_f32(grid, precision),
             unit_box_transform([res; 3]),
             format!("procedural cloud {res}³"),
+        ));
+    }
+    if name == "bunny" {
+        let grid: BrickGrid<f32> = bunny::bunny_grid(res, d.seed.unwrap_or(7)).map_err(err)?;
+        return Ok(FieldData::new(
+            DensityData::from_f32(grid, precision),
+            unit_box_transform([res; 3]),
+            format!("procedural bunny {res}³"),
         ));
     }
     if name == "explosion" {
