@@ -11,7 +11,8 @@ use crate::Backend;
 use fogbank_estimators::Estimator;
 use fogbank_math::SampleKey;
 use fogbank_render::integrators::IntegratorKind;
-use fogbank_render::Scene;
+use fogbank_render::world::film::{Accumulated, PixelSums};
+use fogbank_render::{Film, Scene};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -76,63 +77,77 @@ pub fn frame_stats(
 }
 
 /// The CPU's frames of a centred scene: each pixel runs its frames in a row
-/// with Welford's update.
+/// into exact sums (as a film does), so the statistics of frames split into
+/// shards and merged are the same bits.
 fn pixel_frames(scene: &Scene, runs: u32, seed: u32) -> FrameStats {
-    let (w, h) = (scene.camera.width, scene.camera.height);
     let start = Instant::now();
-    // Per pixel: mean, variance, finite samples, lookups, non-finite samples.
-    type PixelTotals = ([f64; 3], [f64; 3], u32, u64, u64);
-    let per_pixel: Vec<PixelTotals> = (0..(w * h) as usize)
+    let film = frame_film(scene, 0..runs, seed);
+    let seconds = start.elapsed().as_secs_f64();
+    from_film(&film, runs, covered_pixels(scene), seconds)
+}
+
+/// Frames `frames` (sample indices) of a centred scene on the CPU,
+/// accumulated per pixel into a film.
+pub fn frame_film(scene: &Scene, frames: std::ops::Range<u32>, seed: u32) -> Film {
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let per_pixel: Vec<(PixelSums, u32, u64, u64, u64)> = (0..(w * h) as usize)
         .into_par_iter()
         .map(|p| {
             let (x, y) = ((p % w as usize) as u32, (p / w as usize) as u32);
-            let (mut mean, mut m2, mut n, mut lookups, mut bad) =
-                ([0.0f64; 3], [0.0f64; 3], 0u32, 0u64, 0u64);
-            for k in 0..runs {
-                let s = scene.sample_pixel(
-                    x,
-                    y,
-                    SampleKey {
-                        seed,
-                        pixel: p as u32,
-                        sample: k,
-                        dimension: 0,
-                    },
-                );
+            let (mut sums, mut n, mut lookups, mut nan, mut inf) =
+                (PixelSums::default(), 0u32, 0u64, 0u64, 0u64);
+            for k in frames.clone() {
+                let key = SampleKey {
+                    seed,
+                    pixel: p as u32,
+                    sample: k,
+                    dimension: 0,
+                };
+                let s = scene.sample_pixel(x, y, key);
                 lookups += s.lookups as u64;
-                let v = s.radiance.to_array();
-                if v.iter().any(|c| !c.is_finite()) {
-                    bad += 1;
-                    continue;
-                }
-                n += 1;
-                for c in 0..3 {
-                    let d = v[c] as f64 - mean[c];
-                    mean[c] += d / n as f64;
-                    m2[c] += d * (v[c] as f64 - mean[c]);
+                match sums.add(&mut n, s.radiance) {
+                    Accumulated::Added => {}
+                    Accumulated::Nan => nan += 1,
+                    Accumulated::Inf => inf += 1,
                 }
             }
-            let var = if n > 1 {
-                m2.map(|v| v / (n - 1) as f64)
-            } else {
-                [0.0; 3]
-            };
-            (mean, var, n, lookups, bad)
+            (sums, n, lookups, nan, inf)
         })
         .collect();
-    let seconds = start.elapsed().as_secs_f64();
-    let covered = covered_pixels(scene);
+    let mut film = Film::new(w, h);
+    for (i, (sums, n, lookups, nan, inf)) in per_pixel.into_iter().enumerate() {
+        film.sums[i] = sums;
+        film.count[i] = n;
+        film.lookups += lookups;
+        film.nan_samples += nan;
+        film.inf_samples += inf;
+    }
+    film
+}
+
+/// The statistics of `runs` frames from their film: mean, single-frame
+/// variance (from the exact sums), counts.
+pub fn from_film(f: &Film, runs: u32, covered: Vec<bool>, seconds: f64) -> FrameStats {
     FrameStats {
-        width: w,
-        height: h,
+        width: f.width,
+        height: f.height,
         runs,
-        mean: per_pixel.iter().map(|v| v.0).collect(),
-        variance: per_pixel.iter().map(|v| v.1).collect(),
-        count: per_pixel.iter().map(|v| v.2).collect(),
+        mean: (0..f.sums.len())
+            .map(|i| {
+                let n = f.count[i];
+                if n == 0 {
+                    [0.0; 3]
+                } else {
+                    f.sum(i).map(|s| s / n as f64)
+                }
+            })
+            .collect(),
+        variance: (0..f.sums.len()).map(|i| f.sample_variance(i)).collect(),
+        count: f.count.clone(),
         reference: None,
         covered,
-        lookups: per_pixel.iter().map(|v| v.3).sum(),
-        nonfinite: per_pixel.iter().map(|v| v.4).sum(),
+        lookups: f.lookups,
+        nonfinite: f.nan_samples + f.inf_samples,
         seconds,
     }
 }
@@ -165,33 +180,7 @@ fn film_frames(
         time_budget: None,
     };
     let r = backend.render(scene, &opts, &fogbank_render::Progress::default())?;
-    let f = &r.film;
-    let variance = (0..f.sum.len())
-        .map(|i| {
-            let n = f.count[i] as f64;
-            if n > 1.0 {
-                [0, 1, 2].map(|c| {
-                    let mean = f.sum[i][c] / n;
-                    ((f.sum_sq[i][c] - n * mean * mean) / (n - 1.0)).max(0.0)
-                })
-            } else {
-                [0.0; 3]
-            }
-        })
-        .collect();
-    Ok(FrameStats {
-        width: f.width,
-        height: f.height,
-        runs,
-        mean: f.mean().iter().map(|p| p.map(f64::from)).collect(),
-        variance,
-        count: f.count.clone(),
-        reference: None,
-        covered: covered_pixels(scene),
-        lookups: f.lookups,
-        nonfinite: f.nan_samples + f.inf_samples,
-        seconds: r.seconds,
-    })
+    Ok(from_film(&r.film, runs, covered_pixels(scene), r.seconds))
 }
 
 /// One frame of the scene with its estimator replaced by `exact` (a

@@ -164,12 +164,15 @@ pub(crate) fn read_film(
         // Σx and Σx², here in f64, where the conversion loses nothing a
         // variance needs.
         let n = both[i][0][3] as f64;
-        film.sum[i] = [0, 1, 2].map(|c| both[i][0][c] as f64 * n);
-        film.sum_sq[i] = [0, 1, 2].map(|c| {
-            let mean = both[i][0][c] as f64;
-            both[i][1][c] as f64 + n * mean * mean
-        });
-        film.count[i] = both[i][0][3] as u32;
+        film.set_moments(
+            i,
+            [0, 1, 2].map(|c| both[i][0][c] as f64 * n),
+            [0, 1, 2].map(|c| {
+                let mean = both[i][0][c] as f64;
+                both[i][1][c] as f64 + n * mean * mean
+            }),
+            both[i][0][3] as u32,
+        );
         film.nan_samples += both[i][1][3] as u64;
         film.lookups += looks[i] as u64;
     }

@@ -290,12 +290,7 @@ fn cpu_last_frames(frames: &[Scene], seed: u32, n: u32) -> Film {
         }
         let out = last.unwrap();
         for (i, l) in out.radiance.iter().enumerate() {
-            for c in 0..3 {
-                let v = l[c] as f64;
-                film.sum[i][c] += v;
-                film.sum_sq[i][c] += v * v;
-            }
-            film.count[i] += 1;
+            film.add_sample(i, *l);
         }
     }
     film

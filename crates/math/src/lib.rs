@@ -5,6 +5,7 @@
 
 pub mod bbox;
 pub mod chi2;
+pub mod exact_sum;
 pub mod piecewise;
 pub mod ray;
 pub mod rng;
@@ -13,6 +14,7 @@ pub mod testdata;
 pub mod warp;
 
 pub use bbox::Aabb;
+pub use exact_sum::ExactSum;
 pub use glam::{DAffine3, DVec3, Vec3};
 pub use piecewise::PiecewiseLinear;
 pub use ray::Ray;

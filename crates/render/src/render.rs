@@ -6,7 +6,7 @@
 
 use crate::integrators::IntegratorKind;
 use crate::scene::Scene;
-use crate::world::film::Film;
+use crate::world::film::{Accumulated, Film};
 use fogbank_math::SampleKey;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -46,6 +46,17 @@ struct RowTotals {
     lookups: u64,
     nan: u64,
     inf: u64,
+}
+
+impl RowTotals {
+    #[inline]
+    fn count(&mut self, a: Accumulated) {
+        match a {
+            Accumulated::Added => {}
+            Accumulated::Nan => self.nan += 1,
+            Accumulated::Inf => self.inf += 1,
+        }
+    }
 }
 
 /// Renders in the current rayon pool (callers size it with `--threads`).
@@ -123,12 +134,11 @@ fn pixel_pass(
     progress: &Progress,
 ) -> RowTotals {
     let w = film.width;
-    film.sum
+    film.sums
         .par_chunks_mut(w as usize)
-        .zip(film.sum_sq.par_chunks_mut(w as usize))
         .zip(film.count.par_chunks_mut(w as usize))
         .enumerate()
-        .map(|(y, ((sum, sum_sq), count))| {
+        .map(|(y, (sums, count))| {
             let mut t = RowTotals::default();
             if progress.cancel.load(Ordering::Relaxed) {
                 return t;
@@ -142,13 +152,7 @@ fn pixel_pass(
                 };
                 let s = scene.sample_pixel(x as u32, y as u32, key);
                 t.lookups += s.lookups as u64;
-                accumulate(
-                    &mut sum[x],
-                    &mut sum_sq[x],
-                    &mut count[x],
-                    s.radiance,
-                    &mut t,
-                );
+                t.count(sums[x].add(&mut count[x], s.radiance));
             }
             progress.samples_done.fetch_add(w as u64, Ordering::Relaxed);
             t
@@ -171,38 +175,7 @@ fn pixel_pass(
 fn add_frame(film: &mut Film, radiance: &[fogbank_math::Vec3]) -> RowTotals {
     let mut t = RowTotals::default();
     for (i, l) in radiance.iter().enumerate() {
-        accumulate(
-            &mut film.sum[i],
-            &mut film.sum_sq[i],
-            &mut film.count[i],
-            *l,
-            &mut t,
-        );
+        t.count(film.sums[i].add(&mut film.count[i], *l));
     }
     t
-}
-
-/// Adds one sample to a pixel's sums; a non-finite one is counted, not added.
-#[inline]
-fn accumulate(
-    sum: &mut [f64; 3],
-    sum_sq: &mut [f64; 3],
-    count: &mut u32,
-    l: fogbank_math::Vec3,
-    t: &mut RowTotals,
-) {
-    let v = l.to_array();
-    if v.iter().any(|c| c.is_nan()) {
-        t.nan += 1;
-        return;
-    }
-    if v.iter().any(|c| c.is_infinite()) {
-        t.inf += 1;
-        return;
-    }
-    for c in 0..3 {
-        sum[c] += v[c] as f64;
-        sum_sq[c] += (v[c] as f64) * (v[c] as f64);
-    }
-    *count += 1;
 }

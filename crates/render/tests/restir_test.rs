@@ -143,7 +143,7 @@ fn restir_is_independent_of_the_thread_count() {
             .film
     };
     let (a, b) = (film(1), film(2));
-    assert_eq!(a.sum, b.sum);
+    assert_eq!(a.sums, b.sums);
     assert_eq!(a.nan_samples + a.inf_samples, 0);
     assert!(a.image_mean()[0] > 0.0);
 }

@@ -28,10 +28,10 @@ fn film(s: &Scene, spp: u32) -> Film {
 /// pooling every sample.
 fn pooled(f: &Film, keep: impl Fn(usize) -> bool) -> (f64, f64) {
     let (mut n, mut sum, mut sum2) = (0.0f64, 0.0f64, 0.0f64);
-    for i in (0..f.sum.len()).filter(|&i| keep(i)) {
+    for i in (0..f.sums.len()).filter(|&i| keep(i)) {
         n += f.count[i] as f64;
-        sum += f.sum[i][0];
-        sum2 += f.sum_sq[i][0];
+        sum += f.sum(i)[0];
+        sum2 += f.sum_sq(i)[0];
     }
     let mean = sum / n;
     (mean, ((sum2 / n - mean * mean) / n).sqrt())
@@ -50,8 +50,8 @@ fn diffuse_plane_under_a_directional_light() {
     );
     let f = film(&s, 4);
     let expected = 0.6 / std::f64::consts::PI * 2.0 * 0.8;
-    for i in 0..f.sum.len() {
-        let v = f.sum[i][0] / f.count[i] as f64;
+    for i in 0..f.sums.len() {
+        let v = f.sum(i)[0] / f.count[i] as f64;
         assert!((v - expected).abs() < 1e-5, "pixel {i}: {v} vs {expected}");
     }
 }
@@ -69,8 +69,8 @@ fn convex_cube_under_a_uniform_sky_reflects_rho() {
     );
     let f = film(&s, 64);
     // Pixels that see the sky read exactly 1; those on the cube average ρ.
-    let on_cube = |i: usize| f.sum[i][0] / (f.count[i] as f64) < 0.999;
-    let cube_pixels = (0..f.sum.len()).filter(|&i| on_cube(i)).count();
+    let on_cube = |i: usize| f.sum(i)[0] / (f.count[i] as f64) < 0.999;
+    let cube_pixels = (0..f.sums.len()).filter(|&i| on_cube(i)).count();
     assert!(cube_pixels > 60, "{cube_pixels} pixels see the cube");
     let (mean, se) = pooled(&f, |i| {
         let x = (i % 16) as i32 - 8;
@@ -289,7 +289,7 @@ fn direct_and_transmittance_see_surfaces() {
     );
     let f = film(&s, 2);
     let expected = 0.6 / std::f64::consts::PI * 2.0 * 0.8;
-    assert!((f.sum[5][0] / f.count[5] as f64 - expected).abs() < 1e-5);
+    assert!((f.sum(5)[0] / f.count[5] as f64 - expected).abs() < 1e-5);
     let sigma = 0.7f64;
     let s = build(&format!(
         "[camera]\nfrom = [0, -5, 0]\nto = [0, 0, 0]\nup = [0, 0, 1]\nwidth = 1\nheight = 1\nfov = 1\n\

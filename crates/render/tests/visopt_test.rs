@@ -83,7 +83,7 @@ fn zero_weights_are_the_unoptimised_renderer() {
     let with = |extra: &[&str]| scene(&[&base[..], extra].concat());
     let zero = film(&with(&["integrator.q=0.0", "integrator.r=0.0"]), 8, 1);
     let plain = film(&with(&["integrator.optimise=false"]), 8, 1);
-    assert_eq!(zero.sum, plain.sum, "q = r = 0 must leave μ untouched");
+    assert_eq!(zero.sums, plain.sums, "q = r = 0 must leave μ untouched");
 
     // Against `direct` (delta tracking, ratio-tracked NEE): same expectation.
     let spp = 256;

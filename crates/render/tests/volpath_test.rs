@@ -45,9 +45,9 @@ fn white_furnace_for_every_unbiased_configuration() {
             let n = f.total_samples() as f64;
             // Pool all samples of the image: mean and its standard error.
             let (mut sum, mut sum2) = (0.0f64, 0.0f64);
-            for i in 0..f.sum.len() {
-                sum += f.sum[i][0];
-                sum2 += f.sum_sq[i][0];
+            for i in 0..f.sums.len() {
+                sum += f.sum(i)[0];
+                sum2 += f.sum_sq(i)[0];
             }
             let mean = sum / n;
             let se = ((sum2 / n - mean * mean) / n).sqrt();
