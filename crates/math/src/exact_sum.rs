@@ -218,7 +218,16 @@ mod exact_sum_test {
 
     #[test]
     fn round_trips_representable_values() {
-        for v in [0.0, 1.0, -1.0, 0.3f32 as f64, -1e-20, 7.5e12, 2.0f64.powi(-128), -3.0e29] {
+        for v in [
+            0.0,
+            1.0,
+            -1.0,
+            0.3f32 as f64,
+            -1e-20,
+            7.5e12,
+            2.0f64.powi(-128),
+            -3.0e29,
+        ] {
             assert_eq!(ExactSum::from_f64(v).to_f64(), v, "{v}");
         }
         // Below the resolution: truncated toward zero.
@@ -226,7 +235,11 @@ mod exact_sum_test {
         assert_eq!(ExactSum::from_f64(-1e-300).to_f64(), 0.0);
         // Truncation is toward zero on both sides, so −v is the negation of v.
         for v in [1.0 + 2f64.powi(-52), 3.3e-38, 1e-39, 6.1e29, 0.1] {
-            assert_eq!(ExactSum::from_f64(-v), ExactSum::from_f64(v).negated(), "{v}");
+            assert_eq!(
+                ExactSum::from_f64(-v),
+                ExactSum::from_f64(v).negated(),
+                "{v}"
+            );
         }
     }
 
@@ -287,7 +300,10 @@ mod exact_sum_test {
         let m = xs.iter().sum::<f64>() / 5.0;
         let two_pass = xs.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / 4.0;
         let v = sample_variance(5, &s, &q);
-        assert!((v - two_pass).abs() <= 1e-14 * two_pass, "{v} vs {two_pass}");
+        assert!(
+            (v - two_pass).abs() <= 1e-14 * two_pass,
+            "{v} vs {two_pass}"
+        );
         assert_eq!(sample_variance(1, &s, &q), 0.0);
     }
 }

@@ -12,16 +12,19 @@ pub mod desc;
 pub mod error;
 pub mod integrators;
 pub mod lights;
+pub mod merge;
 pub mod mitsuba;
 pub mod overrides;
 pub mod params;
+pub mod partial;
 pub mod rebase;
 pub mod render;
 pub mod scene;
+pub mod shard;
 pub mod world;
 
 pub use error::SceneError;
-pub use render::{render, render_observed, Progress, RenderOptions, RenderResult};
+pub use render::{render, render_observed, render_piece, Progress, RenderOptions, RenderResult};
 pub use scene::{
     load_scene, load_scene_or, parse_scene, Scene, SceneDesc, DEFAULT_SCENE, TRANSMITTANCE_SCENE,
 };

@@ -6,6 +6,7 @@
 
 use crate::integrators::IntegratorKind;
 use crate::scene::Scene;
+use crate::shard::Piece;
 use crate::world::film::{Accumulated, Film};
 use fogbank_math::SampleKey;
 use rayon::prelude::*;
@@ -73,12 +74,31 @@ pub fn render_observed(
     progress: &Progress,
     after_pass: &mut dyn FnMut(&Film, f64),
 ) -> RenderResult {
+    render_piece(scene, opts, &Piece::whole(opts.spp), progress, after_pass)
+}
+
+/// [`render_observed`] of one piece of the work (a shard): its sample
+/// indices of its pixels, each exactly as the whole render would compute
+/// them. Frame-based integrators (`restir`) carry state from pass to pass
+/// and pixel to pixel, so they take whole renders only.
+pub fn render_piece(
+    scene: &Scene,
+    opts: &RenderOptions,
+    piece: &Piece,
+    progress: &Progress,
+    after_pass: &mut dyn FnMut(&Film, f64),
+) -> RenderResult {
     let (w, h) = (scene.camera.width, scene.camera.height);
     let mut film = Film::new(w, h);
     scene.integrator.prepare(&scene.world);
     let mut start = Instant::now();
     let mut interrupted = false;
-    for pass in 0..opts.spp {
+    let frame_based = matches!(scene.integrator, IntegratorKind::Restir(_));
+    assert!(
+        !frame_based || *piece == Piece::whole(opts.spp),
+        "restir renders whole images only"
+    );
+    for pass in piece.sample_range() {
         if progress.cancel.load(Ordering::Relaxed) {
             interrupted = true;
             break;
@@ -104,7 +124,7 @@ pub fn render_observed(
                     None => RowTotals::default(),
                 }
             }
-            _ => pixel_pass(scene, opts.seed, pass, &mut film, progress),
+            _ => pixel_pass(scene, opts.seed, pass, piece, &mut film, progress),
         };
         film.lookups += totals.lookups;
         film.nan_samples += totals.nan;
@@ -130,6 +150,7 @@ fn pixel_pass(
     scene: &Scene,
     seed: u32,
     pass: u32,
+    piece: &Piece,
     film: &mut Film,
     progress: &Progress,
 ) -> RowTotals {
@@ -143,7 +164,12 @@ fn pixel_pass(
             if progress.cancel.load(Ordering::Relaxed) {
                 return t;
             }
+            let mut done = 0;
             for x in 0..w as usize {
+                if !piece.has_pixel(x as u32, y as u32, w) {
+                    continue;
+                }
+                done += 1;
                 let key = SampleKey {
                     seed,
                     pixel: (y * w as usize + x) as u32,
@@ -154,7 +180,7 @@ fn pixel_pass(
                 t.lookups += s.lookups as u64;
                 t.count(sums[x].add(&mut count[x], s.radiance));
             }
-            progress.samples_done.fetch_add(w as u64, Ordering::Relaxed);
+            progress.samples_done.fetch_add(done, Ordering::Relaxed);
             t
         })
         .reduce(

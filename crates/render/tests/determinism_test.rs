@@ -51,7 +51,7 @@ fn same_seed_same_image_for_one_and_two_threads() {
             a.sums, b.sums,
             "{estimator}: sums differ between 1 and 2 threads"
         );
-                assert_eq!(a.count, b.count);
+        assert_eq!(a.count, b.count);
         assert_eq!(a.lookups, b.lookups);
         if estimator != "analytic_trilinear" {
             let c = film_with_threads(&scene, 2, 6);

@@ -18,19 +18,46 @@ struct Part {
 
 const PARTS: [Part; 9] = [
     // Haunch and chest make the body's teardrop.
-    Part { centre: [0.36, 0.30, 0.5], radii: [0.22, 0.20, 0.21] },
-    Part { centre: [0.56, 0.30, 0.5], radii: [0.17, 0.16, 0.16] },
+    Part {
+        centre: [0.36, 0.30, 0.5],
+        radii: [0.22, 0.20, 0.21],
+    },
+    Part {
+        centre: [0.56, 0.30, 0.5],
+        radii: [0.17, 0.16, 0.16],
+    },
     // Head, raised and forward.
-    Part { centre: [0.72, 0.47, 0.5], radii: [0.13, 0.11, 0.11] },
+    Part {
+        centre: [0.72, 0.47, 0.5],
+        radii: [0.13, 0.11, 0.11],
+    },
     // Ears: long, thin, splayed.
-    Part { centre: [0.70, 0.70, 0.44], radii: [0.05, 0.16, 0.065] },
-    Part { centre: [0.64, 0.68, 0.57], radii: [0.05, 0.15, 0.065] },
+    Part {
+        centre: [0.70, 0.70, 0.44],
+        radii: [0.05, 0.16, 0.065],
+    },
+    Part {
+        centre: [0.64, 0.68, 0.57],
+        radii: [0.05, 0.15, 0.065],
+    },
     // Tail.
-    Part { centre: [0.13, 0.35, 0.5], radii: [0.06, 0.06, 0.06] },
+    Part {
+        centre: [0.13, 0.35, 0.5],
+        radii: [0.06, 0.06, 0.06],
+    },
     // Front paws and the hind foot.
-    Part { centre: [0.72, 0.14, 0.42], radii: [0.07, 0.05, 0.05] },
-    Part { centre: [0.72, 0.14, 0.58], radii: [0.07, 0.05, 0.05] },
-    Part { centre: [0.38, 0.12, 0.5], radii: [0.2, 0.06, 0.2] },
+    Part {
+        centre: [0.72, 0.14, 0.42],
+        radii: [0.07, 0.05, 0.05],
+    },
+    Part {
+        centre: [0.72, 0.14, 0.58],
+        radii: [0.07, 0.05, 0.05],
+    },
+    Part {
+        centre: [0.38, 0.12, 0.5],
+        radii: [0.2, 0.06, 0.2],
+    },
 ];
 
 /// Approximate signed distance to one part (exact on the axes).

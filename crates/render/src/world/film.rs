@@ -199,9 +199,18 @@ mod film_test {
     #[test]
     fn non_finite_and_huge_samples_are_dropped_and_counted() {
         let mut f = Film::new(1, 1);
-        assert_eq!(f.add_sample(0, Vec3::new(f32::NAN, 0.0, 0.0)), Accumulated::Nan);
-        assert_eq!(f.add_sample(0, Vec3::new(0.0, f32::INFINITY, 0.0)), Accumulated::Inf);
-        assert_eq!(f.add_sample(0, Vec3::new(0.0, 0.0, -2e15)), Accumulated::Inf);
+        assert_eq!(
+            f.add_sample(0, Vec3::new(f32::NAN, 0.0, 0.0)),
+            Accumulated::Nan
+        );
+        assert_eq!(
+            f.add_sample(0, Vec3::new(0.0, f32::INFINITY, 0.0)),
+            Accumulated::Inf
+        );
+        assert_eq!(
+            f.add_sample(0, Vec3::new(0.0, 0.0, -2e15)),
+            Accumulated::Inf
+        );
         assert_eq!(f.add_sample(0, Vec3::splat(1e15)), Accumulated::Added);
         assert_eq!((f.count[0], f.nan_samples, f.inf_samples), (1, 1, 2));
         assert_eq!(f.mean()[0], [1e15; 3]);
