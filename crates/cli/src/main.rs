@@ -7,9 +7,11 @@ mod converge_cmd;
 mod experiment_cmd;
 mod frames_cmd;
 mod info_cmd;
+mod merge_cmd;
 mod render_cmd;
 mod report_cmd;
 mod run_args;
+mod shard_args;
 mod stats_cmd;
 mod view_cmd;
 
@@ -31,6 +33,8 @@ struct Cli {
 enum Command {
     /// Render a scene (the built-in default scene when none is given).
     Render(render_cmd::RenderArgs),
+    /// Add up the partial results (.fbpart) of a sharded render or stats run (`--shard I/N`).
+    Merge(merge_cmd::MergeArgs),
     /// Describe a volume file (.vdb, .vol, .raw).
     Info(info_cmd::InfoArgs),
     /// List the transmittance estimators.
@@ -55,6 +59,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(a) => render_cmd::run(a),
+        Command::Merge(a) => merge_cmd::run(a),
         Command::Info(a) => info_cmd::run(a),
         Command::Estimators => {
             for e in fogbank_estimators::Estimator::all() {

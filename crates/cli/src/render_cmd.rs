@@ -5,7 +5,9 @@ use crate::common::{peak_memory_bytes, thread_pool, CliResult};
 use clap::Args;
 use fogbank_image::image_io::{write_exr, write_png};
 use fogbank_render::integrators::shared::pin_params::GridPlan;
-use fogbank_render::{load_scene, render, Progress, RenderOptions};
+use fogbank_render::partial::Partial;
+use fogbank_render::shard::{Piece, Shard};
+use fogbank_render::{load_scene, render_piece, Progress, RenderOptions};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
@@ -56,6 +58,8 @@ pub struct RenderArgs {
     /// reservoirs from frame to frame.
     #[arg(long, value_name = "A..B")]
     pub frames: Option<String>,
+    #[command(flatten)]
+    pub shard: crate::shard_args::ShardArgs,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -79,17 +83,29 @@ pub fn run(a: RenderArgs) -> CliResult {
         fogbank_image::ToneCurve::parse(t).map_err(|e| format!("--tonemap: {e}"))?;
         overrides.push(format!("render.tonemap={t}"));
     }
+    let shard = a.shard.get()?;
     let outputs: Vec<PathBuf> = match &a.output {
         None if a.frames.is_some() => vec![PathBuf::from("fogbank_{frame:04}.exr")],
+        None if shard.is_some() => {
+            let s = shard.unwrap();
+            vec![PathBuf::from(format!(
+                "fogbank_shard_{}_of_{}.fbpart",
+                s.index, s.count
+            ))]
+        }
         Some(p) => {
-            match p.extension().and_then(|e| e.to_str()) {
-                Some("exr") | Some("png") => {}
-                _ => return Err(format!("{}: output must end in .exr or .png", p.display()).into()),
+            match (p.extension().and_then(|e| e.to_str()), shard.is_some()) {
+                (Some("exr") | Some("png"), false) | (Some("fbpart"), true) => {}
+                (_, false) => return Err(format!("{}: output must end in .exr or .png", p.display()).into()),
+                (_, true) => return Err(format!("{}: a shard's output is a partial result and must end in .fbpart (merge the parts with `fogbank merge`)", p.display()).into()),
             }
             vec![p.clone()]
         }
         None => vec![PathBuf::from("fogbank.exr"), PathBuf::from("fogbank.png")],
     };
+    if let Some(s) = shard {
+        check_shardable(&a, s)?;
+    }
     if let Some(b) = a.time_budget {
         if !(b > 0.0 && b.is_finite()) {
             return Err("--time-budget must be a positive number of seconds".into());
@@ -158,7 +174,21 @@ pub fn run(a: RenderArgs) -> CliResult {
             }
         });
     }
-    let pixels = scene.camera.width as u64 * scene.camera.height as u64;
+    if shard.is_some()
+        && matches!(
+            scene.integrator,
+            fogbank_render::integrators::IntegratorKind::Restir(_)
+        )
+    {
+        return Err("--shard: `restir` carries reservoirs from pass to pass and pixel to pixel, so its parts cannot be rendered apart; render it whole".into());
+    }
+    let piece = shard.map_or(Piece::whole(spp), |s| s.piece(spp));
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let pixels = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| piece.has_pixel(x, y, w))
+        .count() as u64;
+    let work = pixels * (piece.samples[1] - piece.samples[0]) as u64;
     let bar = if a.quiet {
         ProgressBar::hidden()
     } else if spp == u32::MAX {
@@ -168,7 +198,7 @@ pub fn run(a: RenderArgs) -> CliResult {
         );
         b
     } else {
-        let b = ProgressBar::new(pixels * spp as u64);
+        let b = ProgressBar::new(work);
         b.set_style(
             ProgressStyle::with_template(
                 "[{elapsed_precise}] {wide_bar} {percent:>3}% ETA {eta} {msg}",
@@ -197,7 +227,10 @@ pub fn run(a: RenderArgs) -> CliResult {
             }
         });
         let r = match &gpu {
-            None => Ok((pool.install(|| render(&scene, &opts, &progress)), None)),
+            None => Ok((
+                pool.install(|| render_piece(&scene, &opts, &piece, &progress, &mut |_, _| {})),
+                None,
+            )),
             Some(g) => fogbank_gpu::render::render(g, &scene, &opts, &progress).map(|r| {
                 let gpu = (r.gpu_ms, r.submits);
                 (
@@ -217,36 +250,42 @@ pub fn run(a: RenderArgs) -> CliResult {
     bar.finish_and_clear();
 
     let film = &result.film;
-    let mean = film.mean();
-    let variance = film.variance_of_mean();
-    // The film drops non-finite samples; this guards the division results.
-    let bad_pixels = mean
-        .iter()
-        .filter(|p| p.iter().any(|c| !c.is_finite()))
-        .count();
-    let mean: Vec<[f32; 3]> = mean
-        .into_iter()
-        .map(|p| p.map(|c| if c.is_finite() { c } else { 0.0 }))
-        .collect();
-    let min_spp = film.min_spp();
-    for out in &outputs {
-        match out.extension().and_then(|e| e.to_str()) {
-            Some("exr") => write_exr(
-                out,
-                film.width,
-                film.height,
-                &mean,
-                (min_spp > 1).then_some(&variance[..]),
-            )?,
-            _ => write_png(
-                out,
-                film.width,
-                film.height,
-                &mean,
-                &scene.desc.render.tone_mapping(),
-            )?,
+    if let Some(s) = shard {
+        if result.interrupted {
+            return Err(format!(
+                "interrupted: shard {} wrote no partial result (a part must be complete to merge)",
+                s.label()
+            )
+            .into());
         }
+        let header = crate::shard_args::header(
+            "render",
+            &scene,
+            opts.seed,
+            spp,
+            film,
+            crate::shard_args::run(s, spp, result.seconds, threads),
+        );
+        let partial = Partial {
+            header,
+            film: result.film.clone(),
+            covered: None,
+        };
+        partial.write(&outputs[0])?;
+        if !a.quiet {
+            eprintln!(
+                "shard {} ({}): {:.2} s, {} threads; wrote {}",
+                s.label(),
+                piece.describe(),
+                result.seconds,
+                threads,
+                outputs[0].display()
+            );
+        }
+        return Ok(());
     }
+    let bad_pixels = write_images(&outputs, film, &scene.desc.render.tone_mapping())?;
+    let min_spp = film.min_spp();
     let samples = film.total_samples();
     let lookups_per_pixel = if samples > 0 {
         film.lookups as f64 / samples as f64
@@ -334,4 +373,55 @@ fn write_json(path: &Path, v: &serde_json::Value) -> CliResult {
     std::fs::write(path, serde_json::to_string_pretty(v)? + "\n")
         .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(())
+}
+
+/// What a shard cannot be combined with.
+fn check_shardable(a: &RenderArgs, s: Shard) -> CliResult {
+    let why = if a.time_budget.is_some() {
+        "--time-budget: a shard's part of the work is fixed by spp; give --spp"
+    } else if a.frames.is_some() {
+        "--frames: shard a sequence by rendering its frames as separate jobs (`--frames I..I+1`)"
+    } else if a.device == Device::Gpu {
+        "--device gpu: GPU films keep running means in f32, whose parts do not add up bit for bit; shard CPU renders"
+    } else if a.stats.is_some() {
+        "--stats: a shard writes its statistics into the partial; `fogbank merge --stats` writes them for the whole"
+    } else {
+        return Ok(());
+    };
+    Err(format!("--shard {}: not with {why}", s.label()).into())
+}
+
+/// Writes a film's mean to each output: EXR (linear, with a `variance`
+/// layer once every pixel has two samples) or PNG (tone-mapped). Returns the
+/// pixels whose mean was not finite (written as 0).
+pub fn write_images(
+    outputs: &[PathBuf],
+    film: &fogbank_render::Film,
+    tone: &fogbank_image::ToneMapping,
+) -> Result<usize, Box<dyn std::error::Error>> {
+    let mean = film.mean();
+    let variance = film.variance_of_mean();
+    // The film drops non-finite samples; this guards the division results.
+    let bad_pixels = mean
+        .iter()
+        .filter(|p| p.iter().any(|c| !c.is_finite()))
+        .count();
+    let mean: Vec<[f32; 3]> = mean
+        .into_iter()
+        .map(|p| p.map(|c| if c.is_finite() { c } else { 0.0 }))
+        .collect();
+    let min_spp = film.min_spp();
+    for out in outputs {
+        match out.extension().and_then(|e| e.to_str()) {
+            Some("exr") => write_exr(
+                out,
+                film.width,
+                film.height,
+                &mean,
+                (min_spp > 1).then_some(&variance[..]),
+            )?,
+            _ => write_png(out, film.width, film.height, &mean, tone)?,
+        }
+    }
+    Ok(bad_pixels)
 }

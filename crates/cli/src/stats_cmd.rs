@@ -6,8 +6,10 @@ use crate::common::{peak_memory_bytes, CliResult};
 use crate::run_args::RunArgs;
 use clap::Args;
 use fogbank_estimators::Estimator;
-use fogbank_eval::{exact_reference, frame_stats, Backend};
+use fogbank_eval::frame_stats::frame_stats_piece;
+use fogbank_eval::{exact_reference, frame_stats, Backend, FrameStats};
 use fogbank_image::image_io::{read_image, write_exr_channels};
+use fogbank_render::partial::Partial;
 use fogbank_render::{load_scene_or, TRANSMITTANCE_SCENE};
 use std::path::PathBuf;
 
@@ -33,6 +35,8 @@ pub struct StatsArgs {
     pub out: PathBuf,
     #[command(flatten)]
     pub run: RunArgs,
+    #[command(flatten)]
+    pub shard: crate::shard_args::ShardArgs,
 }
 
 pub fn run(a: StatsArgs) -> CliResult {
@@ -58,6 +62,41 @@ pub fn run(a: StatsArgs) -> CliResult {
     };
     let pool = a.run.pool()?;
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
+    if let Some(shard) = a.shard.get()? {
+        if reference.is_some() || a.reference.is_some() {
+            return Err(format!("--shard {}: not with a reference; merge the parts, then compare the merged mean with `fogbank compare`", shard.label()).into());
+        }
+        if a.run.device == crate::render_cmd::Device::Gpu {
+            return Err(format!("--shard {}: not with --device gpu (GPU frames keep running means in f32, whose parts do not add up bit for bit)", shard.label()).into());
+        }
+        let piece = shard.piece(a.runs);
+        let (film, covered, seconds) =
+            pool.install(|| frame_stats_piece(&scene, &piece, a.run.seed));
+        let header = crate::shard_args::header(
+            "stats",
+            &scene,
+            a.run.seed,
+            a.runs,
+            &film,
+            crate::shard_args::run(shard, a.runs, seconds, pool.current_num_threads()),
+        );
+        let path = a
+            .out
+            .join(format!("shard_{}_of_{}.fbpart", shard.index, shard.count));
+        Partial {
+            header,
+            film,
+            covered: Some(covered),
+        }
+        .write(&path)?;
+        eprintln!(
+            "shard {} ({}): {seconds:.2} s; wrote {}",
+            shard.label(),
+            piece.describe(),
+            path.display()
+        );
+        return Ok(());
+    }
     eprintln!(
         "{} frames of {} at {}×{} ...",
         a.runs,
@@ -89,24 +128,6 @@ pub fn run(a: StatsArgs) -> CliResult {
         st.reference = Some(img.rgb.iter().map(|p| p.map(f64::from)).collect());
     }
     let s = st.summary();
-    let to32 = |v: &[[f64; 3]], f: &dyn Fn(f64) -> f64| -> Vec<[f32; 3]> {
-        v.iter().map(|p| p.map(|c| f(c) as f32)).collect()
-    };
-    let mut layers: Vec<(&str, Vec<[f32; 3]>)> = vec![
-        ("mean", to32(&st.mean, &|c| c)),
-        ("std", to32(&st.variance, &|c| c.sqrt())),
-    ];
-    if let Some(b) = st.bias() {
-        layers.push(("bias", to32(&b, &|c| c)));
-    }
-    let counts: Vec<f32> = st.count.iter().map(|&c| c as f32).collect();
-    write_exr_channels(
-        &a.out.join("stats.exr"),
-        st.width,
-        st.height,
-        &layers,
-        Some(("count", &counts)),
-    )?;
     let json = serde_json::json!({
         "integrator": scene.integrator.name(),
         "estimator": scene.integrator.estimator_name(),
@@ -129,11 +150,40 @@ pub fn run(a: StatsArgs) -> CliResult {
         "device": backend.name(),
         "peak_memory_bytes": peak_memory_bytes(),
     });
-    fogbank_eval::maps::write_maps(&st, scene.integrator.estimator_name(), &a.out.join("maps"))?;
-    std::fs::write(
-        a.out.join("summary.json"),
-        serde_json::to_string_pretty(&json)? + "\n",
+    write_outputs(&st, scene.integrator.estimator_name(), &a.out, &json)
+}
+
+/// Writes `stats.exr` (mean, std, bias when known, count), the false-colour
+/// maps and `summary.json` into `out`, and prints the summary.
+pub fn write_outputs(
+    st: &FrameStats,
+    estimator: &str,
+    out: &std::path::Path,
+    json: &serde_json::Value,
+) -> CliResult {
+    let to32 = |v: &[[f64; 3]], f: &dyn Fn(f64) -> f64| -> Vec<[f32; 3]> {
+        v.iter().map(|p| p.map(|c| f(c) as f32)).collect()
+    };
+    let mut layers: Vec<(&str, Vec<[f32; 3]>)> = vec![
+        ("mean", to32(&st.mean, &|c| c)),
+        ("std", to32(&st.variance, &|c| c.sqrt())),
+    ];
+    if let Some(b) = st.bias() {
+        layers.push(("bias", to32(&b, &|c| c)));
+    }
+    let counts: Vec<f32> = st.count.iter().map(|&c| c as f32).collect();
+    write_exr_channels(
+        &out.join("stats.exr"),
+        st.width,
+        st.height,
+        &layers,
+        Some(("count", &counts)),
     )?;
-    println!("{}", serde_json::to_string_pretty(&json)?);
+    fogbank_eval::maps::write_maps(st, estimator, &out.join("maps"))?;
+    std::fs::write(
+        out.join("summary.json"),
+        serde_json::to_string_pretty(json)? + "\n",
+    )?;
+    println!("{}", serde_json::to_string_pretty(json)?);
     Ok(())
 }

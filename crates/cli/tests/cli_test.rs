@@ -1,68 +1,9 @@
 //! End-to-end tests of the `fogbank` binary.
 
-use std::io::Read;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+mod support;
 
 use fogbank_math::testdata::shared_data;
-
-fn fogbank() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_fogbank"))
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join("fogbank_cli_test");
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name)
-}
-
-/// [`tmp`], created as a folder.
-fn tmp_dir(name: &str) -> PathBuf {
-    let dir = tmp(name);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-/// Runs `cmd` and asserts that it succeeded, showing its stderr if not.
-fn run_ok(cmd: &mut Command) -> Output {
-    let out = cmd.output().unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
-}
-
-/// Runs `cmd` and asserts that it failed with a message naming `needle`,
-/// not with a panic.
-fn run_fails_naming(cmd: &mut Command, needle: &str) {
-    let out = cmd.output().unwrap();
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains(needle) && !err.contains("panicked"), "{err}");
-}
-
-fn read_json(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-/// The cumulus's transmittance view, the scene of the estimator tests.
-const TRANSMITTANCE: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../../scenes/transmittance.toml"
-);
-
-const SMALL: [&str; 6] = [
-    "--set",
-    "camera.width=40",
-    "--set",
-    "camera.height=30",
-    "--set",
-    "media.0.density.resolution=32",
-];
-
+use support::*;
 #[test]
 fn default_render_writes_exr_with_variance_png_and_stats() {
     let dir = tmp_dir("default");
@@ -220,69 +161,16 @@ fn renders_a_vdb_scene_file_with_relative_paths() {
     assert!(mean < 1.0, "the dragon must be visible (mean T {mean})");
 }
 
-/// Whether process `pid` has installed its SIGINT handler (bit 2 of
-/// `SigCgt` in `/proc/PID/status`). Without `/proc` (not Linux) there is no
-/// such evidence; then it waits 1.5 s and assumes so.
-fn render_started(pid: u32) -> bool {
-    if !Path::new("/proc/self/status").exists() {
-        std::thread::sleep(Duration::from_millis(1500));
-        return true;
-    }
-    let Ok(status) = std::fs::read_to_string(format!("/proc/{pid}/status")) else {
-        return false;
-    };
-    status
-        .lines()
-        .find_map(|l| l.strip_prefix("SigCgt:"))
-        .and_then(|mask| u64::from_str_radix(mask.trim(), 16).ok())
-        .is_some_and(|mask| mask & (1 << (2 - 1)) != 0)
-}
-
 #[test]
 fn ctrl_c_stops_and_still_writes_the_image() {
     let dir = tmp_dir("interrupt");
     let _ = std::fs::remove_file(dir.join("i.exr"));
     // Not `--quiet`: the summary line on stderr says the render was interrupted.
-    let mut child = fogbank()
-        .current_dir(&dir)
-        .args([
-            "render", "--spp", "1000000", "-o", "i.exr", "--stats", "i.json",
-        ])
-        .args(SMALL)
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    // Read stderr on a thread so that a full pipe can never block the child.
-    let mut pipe = child.stderr.take().unwrap();
-    let stderr = std::thread::spawn(move || {
-        let mut text = String::new();
-        let _ = pipe.read_to_string(&mut text);
-        text
-    });
-    // The progress bar is hidden when stderr is not a terminal, so the first
-    // evidence of rendering is the Ctrl-C handler, installed once the scene
-    // is built, right before the first pass.
-    let deadline = Instant::now() + Duration::from_secs(120);
-    while !render_started(child.id()) {
-        if let Some(status) = child.try_wait().unwrap() {
-            panic!(
-                "render exited before it was interrupted ({status}): {}",
-                stderr.join().unwrap()
-            );
-        }
-        if Instant::now() > deadline {
-            let _ = child.kill();
-            panic!("render showed no sign of starting within 120 s");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let status = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(status.success());
-    let status = child.wait().unwrap();
-    let err = stderr.join().unwrap();
+    let mut args = vec![
+        "render", "--spp", "1000000", "-o", "i.exr", "--stats", "i.json",
+    ];
+    args.extend(SMALL);
+    let (status, err) = render_then_ctrl_c(&dir, &args);
     assert!(
         status.success(),
         "interrupted render must exit cleanly, got {status}: {err}"

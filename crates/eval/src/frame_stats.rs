@@ -11,6 +11,7 @@ use crate::Backend;
 use fogbank_estimators::Estimator;
 use fogbank_math::SampleKey;
 use fogbank_render::integrators::IntegratorKind;
+use fogbank_render::shard::Piece;
 use fogbank_render::world::film::{Accumulated, PixelSums};
 use fogbank_render::{Film, Scene};
 use rayon::prelude::*;
@@ -81,14 +82,26 @@ pub fn frame_stats(
 /// shards and merged are the same bits.
 fn pixel_frames(scene: &Scene, runs: u32, seed: u32) -> FrameStats {
     let start = Instant::now();
-    let film = frame_film(scene, 0..runs, seed);
+    let film = frame_film(scene, &Piece::whole(runs), seed);
     let seconds = start.elapsed().as_secs_f64();
     from_film(&film, runs, covered_pixels(scene), seconds)
 }
 
-/// Frames `frames` (sample indices) of a centred scene on the CPU,
+/// One shard's part of [`frame_stats`] on the CPU: the frames (sample
+/// indices) and pixels of `piece`, through pixel centres, as a film whose
+/// sums merge exactly with the other parts'; with the covered pixels and
+/// the seconds it took.
+pub fn frame_stats_piece(scene: &Scene, piece: &Piece, seed: u32) -> (Film, Vec<bool>, f64) {
+    let scene = centred(scene);
+    let start = Instant::now();
+    let film = frame_film(&scene, piece, seed);
+    let seconds = start.elapsed().as_secs_f64();
+    (film, covered_pixels(&scene), seconds)
+}
+
+/// The frames and pixels of `piece` of a centred scene on the CPU,
 /// accumulated per pixel into a film.
-pub fn frame_film(scene: &Scene, frames: std::ops::Range<u32>, seed: u32) -> Film {
+fn frame_film(scene: &Scene, piece: &Piece, seed: u32) -> Film {
     let (w, h) = (scene.camera.width, scene.camera.height);
     let per_pixel: Vec<(PixelSums, u32, u64, u64, u64)> = (0..(w * h) as usize)
         .into_par_iter()
@@ -96,7 +109,12 @@ pub fn frame_film(scene: &Scene, frames: std::ops::Range<u32>, seed: u32) -> Fil
             let (x, y) = ((p % w as usize) as u32, (p / w as usize) as u32);
             let (mut sums, mut n, mut lookups, mut nan, mut inf) =
                 (PixelSums::default(), 0u32, 0u64, 0u64, 0u64);
-            for k in frames.clone() {
+            let frames = if piece.has_pixel(x, y, w) {
+                piece.sample_range()
+            } else {
+                0..0
+            };
+            for k in frames {
                 let key = SampleKey {
                     seed,
                     pixel: p as u32,

@@ -1,0 +1,149 @@
+//! `fogbank merge`: adds up the partial results of a sharded `render` or
+//! `stats` (`--shard I/N`) into the image (or statistics) of the single run,
+//! bit for bit; refuses parts of different renders and duplicate,
+//! overlapping or missing shards (unless `--allow-partial`).
+
+use crate::common::{peak_memory_bytes, CliResult};
+use clap::Args;
+use fogbank_image::{ToneCurve, ToneMapping};
+use fogbank_render::merge::merge;
+use fogbank_render::partial::Partial;
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct MergeArgs {
+    /// Partial results (`.fbpart`) of one render's shards, in any order;
+    /// merged partials merge again.
+    #[arg(required = true)]
+    pub parts: Vec<PathBuf>,
+    /// Output, repeatable: `.exr` (mean and variance), `.png` (tone-mapped
+    /// as the scene says) or `.fbpart` (a merged partial). For `stats`
+    /// parts: a folder, written as `fogbank stats --out` writes it.
+    #[arg(short, long, required = true)]
+    pub output: Vec<PathBuf>,
+    /// Write the merged render's statistics as JSON (render parts).
+    #[arg(long)]
+    pub stats: Option<PathBuf>,
+    /// Merge even when shards are missing (the image then holds fewer
+    /// samples; the missing work is listed on stderr and in --stats).
+    #[arg(long)]
+    pub allow_partial: bool,
+}
+
+pub fn run(a: MergeArgs) -> CliResult {
+    let parts = a
+        .parts
+        .iter()
+        .map(|p| Partial::read(p).map(|r| (p.display().to_string(), r)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let merged = merge(&parts, a.allow_partial)?;
+    for m in &merged.missing {
+        eprintln!("warning: missing {m}");
+    }
+    let p = &merged.partial;
+    let h = &p.header;
+    if h.identity.kind == "stats" {
+        return write_stats(&a, p, &merged.missing);
+    }
+    let mut images = Vec::new();
+    for out in &a.output {
+        match out.extension().and_then(|e| e.to_str()) {
+            Some("fbpart") => p.write(out)?,
+            Some("exr") | Some("png") => images.push(out.clone()),
+            _ => {
+                return Err(format!(
+                    "{}: output must end in .exr, .png or .fbpart",
+                    out.display()
+                )
+                .into())
+            }
+        }
+    }
+    let tone = ToneMapping {
+        exposure: h.exposure,
+        curve: ToneCurve::parse(&h.tonemap)
+            .map_err(|e| format!("{}: tonemap: {e}", a.parts[0].display()))?,
+    };
+    let bad_pixels = crate::render_cmd::write_images(&images, &p.film, &tone)?;
+    let film = &p.film;
+    eprintln!(
+        "merged {} part(s), {} shard(s): {}×{}, {} spp{}; wrote {}",
+        parts.len(),
+        h.runs.len(),
+        film.width,
+        film.height,
+        film.min_spp(),
+        if merged.missing.is_empty() {
+            ""
+        } else {
+            " (work missing)"
+        },
+        a.output
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    if let Some(path) = &a.stats {
+        let samples = film.total_samples();
+        let json = serde_json::json!({
+            "integrator": h.integrator,
+            "estimator": h.estimator,
+            "width": film.width,
+            "height": film.height,
+            "spp": film.min_spp(),
+            "spp_requested": h.identity.spp,
+            "seed": h.identity.seed,
+            "scene_hash": h.identity.scene_hash,
+            "shards": h.runs,
+            "render_seconds": h.runs.iter().map(|r| r.seconds).sum::<f64>(),
+            "mean": film.image_mean(),
+            "lookups_per_pixel": if samples > 0 { film.lookups as f64 / samples as f64 } else { 0.0 },
+            "nan_samples": film.nan_samples,
+            "inf_samples": film.inf_samples,
+            "nonfinite_output_pixels": bad_pixels,
+            "missing": merged.missing,
+            "peak_memory_bytes": peak_memory_bytes(),
+        });
+        std::fs::write(path, serde_json::to_string_pretty(&json)? + "\n")
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// Merged `stats` parts: the statistics files of `fogbank stats`.
+fn write_stats(a: &MergeArgs, p: &Partial, missing: &[String]) -> CliResult {
+    let h = &p.header;
+    let [out] = &a.output[..] else {
+        return Err("stats parts merge into one output folder (-o DIR)".into());
+    };
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let covered = p.covered.clone().unwrap_or_default();
+    let seconds = h.runs.iter().map(|r| r.seconds).sum::<f64>();
+    let st = fogbank_eval::frame_stats::from_film(&p.film, h.identity.spp, covered, seconds);
+    let s = st.summary();
+    let json = serde_json::json!({
+        "integrator": h.integrator,
+        "estimator": h.estimator,
+        "reference": serde_json::Value::Null,
+        "width": st.width,
+        "height": st.height,
+        "runs": s.runs,
+        "seed": h.identity.seed,
+        "shards": h.runs,
+        "covered_pixels": s.pixels,
+        "mean_abs_bias": serde_json::Value::Null,
+        "mean_bias": serde_json::Value::Null,
+        "mean_bias_se": s.mean_bias_se,
+        "mean_std": s.mean_std,
+        "rmse": serde_json::Value::Null,
+        "ms_per_frame": s.ms_per_frame,
+        "lookups_per_pixel": s.lookups_per_pixel,
+        "nonfinite_samples": st.nonfinite,
+        "stats_seconds": seconds,
+        "missing": missing,
+        "device": "cpu",
+        "peak_memory_bytes": peak_memory_bytes(),
+    });
+    crate::stats_cmd::write_outputs(&st, &h.estimator, out, &json)
+}

@@ -1,0 +1,87 @@
+//! `--shard I/N` for the commands whose work splits exactly (`render`,
+//! `stats`): which part to do, and the partial file's header.
+
+use clap::Args;
+use fogbank_render::partial::{scene_hash, Identity, PartialHeader, ShardRun};
+use fogbank_render::shard::{Shard, ShardMode};
+use fogbank_render::{Film, Scene};
+
+#[derive(Args, Clone)]
+pub struct ShardArgs {
+    /// Do shard I of N (0-based) of the work and write a partial result
+    /// (`.fbpart`) for `fogbank merge`, which adds the N parts up to the
+    /// single run's image bit for bit. For Slurm array jobs and Kubernetes
+    /// Indexed Jobs: see `deploy/`.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<String>,
+    /// How shards split the work: `samples` (each shard renders spp/N sample
+    /// indices of every pixel) or `tiles` (every N-th 32×32 tile, all samples).
+    #[arg(
+        long,
+        value_name = "MODE",
+        default_value = "samples",
+        requires = "shard"
+    )]
+    pub shard_mode: String,
+}
+
+impl ShardArgs {
+    pub fn get(&self) -> Result<Option<Shard>, String> {
+        match &self.shard {
+            None => Ok(None),
+            Some(s) => Ok(Some(Shard::parse(
+                s,
+                ShardMode::parse(&self.shard_mode).map_err(|e| format!("--shard-mode: {e}"))?,
+            )?)),
+        }
+    }
+}
+
+/// This machine's name, for the partial's record of where a shard ran.
+pub fn host() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .map(|s| s.trim().to_string())
+        .or_else(|_| std::env::var("HOSTNAME"))
+        .unwrap_or_else(|_| "unknown".into())
+}
+
+/// The record of one shard's run of `spp` samples per pixel in total.
+pub fn run(shard: Shard, spp: u32, seconds: f64, threads: usize) -> ShardRun {
+    ShardRun {
+        shard,
+        piece: shard.piece(spp),
+        seconds,
+        threads,
+        host: host(),
+    }
+}
+
+/// The header of a shard's partial result (`kind`: render or stats).
+pub fn header(
+    kind: &str,
+    scene: &Scene,
+    seed: u32,
+    spp: u32,
+    film: &Film,
+    run: ShardRun,
+) -> PartialHeader {
+    let render = &scene.desc.render;
+    PartialHeader {
+        identity: Identity {
+            kind: kind.into(),
+            scene_hash: scene_hash(&scene.desc),
+            seed,
+            width: film.width,
+            height: film.height,
+            spp,
+        },
+        runs: vec![run],
+        integrator: scene.integrator.name().into(),
+        estimator: scene.integrator.estimator_name().into(),
+        exposure: render.exposure,
+        tonemap: render.tonemap.name().into(),
+        lookups: film.lookups,
+        nan_samples: film.nan_samples,
+        inf_samples: film.inf_samples,
+    }
+}

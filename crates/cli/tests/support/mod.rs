@@ -1,0 +1,123 @@
+//! Helpers of the `fogbank` binary's end-to-end tests.
+
+#![allow(dead_code)]
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitStatus, Output, Stdio};
+use std::time::{Duration, Instant};
+pub fn fogbank() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_fogbank"))
+}
+
+pub fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join("fogbank_cli_test");
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+/// [`tmp`], created as a folder.
+pub fn tmp_dir(name: &str) -> PathBuf {
+    let dir = tmp(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs `cmd` and asserts that it succeeded, showing its stderr if not.
+pub fn run_ok(cmd: &mut Command) -> Output {
+    let out = cmd.output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+/// Runs `cmd` and asserts that it failed with a message naming `needle`,
+/// not with a panic.
+pub fn run_fails_naming(cmd: &mut Command, needle: &str) {
+    let out = cmd.output().unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(needle) && !err.contains("panicked"), "{err}");
+}
+
+pub fn read_json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// The cumulus's transmittance view, the scene of the estimator tests.
+pub const TRANSMITTANCE: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenes/transmittance.toml"
+);
+
+pub const SMALL: [&str; 6] = [
+    "--set",
+    "camera.width=40",
+    "--set",
+    "camera.height=30",
+    "--set",
+    "media.0.density.resolution=32",
+];
+
+/// Whether process `pid` has installed its SIGINT handler (bit 2 of
+/// `SigCgt` in `/proc/PID/status`). Without `/proc` (not Linux) there is no
+/// such evidence; then it waits 1.5 s and assumes so.
+pub fn render_started(pid: u32) -> bool {
+    if !Path::new("/proc/self/status").exists() {
+        std::thread::sleep(Duration::from_millis(1500));
+        return true;
+    }
+    let Ok(status) = std::fs::read_to_string(format!("/proc/{pid}/status")) else {
+        return false;
+    };
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("SigCgt:"))
+        .and_then(|mask| u64::from_str_radix(mask.trim(), 16).ok())
+        .is_some_and(|mask| mask & (1 << (2 - 1)) != 0)
+}
+
+/// Starts `fogbank ARGS` in `dir`, waits until it renders, sends Ctrl-C
+/// (SIGINT) and returns its exit status and stderr.
+pub fn render_then_ctrl_c(dir: &Path, args: &[&str]) -> (ExitStatus, String) {
+    let mut child = fogbank()
+        .current_dir(dir)
+        .args(args)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Read stderr on a thread so that a full pipe can never block the child.
+    let mut pipe = child.stderr.take().unwrap();
+    let stderr = std::thread::spawn(move || {
+        let mut text = String::new();
+        let _ = pipe.read_to_string(&mut text);
+        text
+    });
+    // The progress bar is hidden when stderr is not a terminal, so the first
+    // evidence of rendering is the Ctrl-C handler, installed once the scene
+    // is built, right before the first pass.
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while !render_started(child.id()) {
+        if let Some(status) = child.try_wait().unwrap() {
+            panic!(
+                "render exited before it was interrupted ({status}): {}",
+                stderr.join().unwrap()
+            );
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("render showed no sign of starting within 120 s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let status = child.wait().unwrap();
+    (status, stderr.join().unwrap())
+}
