@@ -52,3 +52,10 @@ for f in ../scenes/mitsuba/*.xml; do
     [ -f "$f" ] && cp "$f" corpus/xml/
 done
 echo "seeded $(ls corpus/xml | wc -l) xml inputs"
+# Partial results: the committed one without its checksum (the target seals
+# every input with a valid one).
+mkdir -p corpus/fbpart
+for f in ../crates/render/tests/fixtures/*.fbpart; do
+    head -c -8 "$f" > "corpus/fbpart/$(basename "$f")"
+done
+echo "seeded $(ls corpus/fbpart | wc -l) fbpart inputs"

@@ -107,8 +107,16 @@ fn coverage(
         }
     }
     let tiles = tiles_across(width) * height.div_ceil(TILE);
+    // Which pieces hold a tile depends only on the tile's index modulo each
+    // tile shard count n, so tiles congruent modulo the lcm of the n's (or
+    // all tiles, when that is larger) stand for the rest: a sample-range
+    // sharding checks one tile, N tile shards N tiles.
+    let period = runs
+        .iter()
+        .filter_map(|(_, r)| r.piece.tiles.map(|[_, n]| n as u64))
+        .fold(1u64, |l, n| (l / gcd(l, n) * n).min(tiles as u64)) as u32;
     let mut gaps: Vec<(u32, [u32; 2])> = Vec::new();
-    for t in 0..tiles {
+    for t in 0..period.min(tiles) {
         let mut here: Vec<&(&str, &ShardRun)> = runs
             .iter()
             .filter(|(_, r)| r.piece.has_tile(t) && r.piece.samples[0] < r.piece.samples[1])
@@ -139,7 +147,7 @@ fn coverage(
             if a > next {
                 gaps.push((t, [next, a]));
             }
-            next = b;
+            next = next.max(b);
         }
         if next < spp {
             gaps.push((t, [next, spp]));
@@ -168,14 +176,24 @@ fn coverage(
     }
     // Otherwise the gaps, grouped by sample range.
     let mut by_range: Vec<([u32; 2], u32)> = Vec::new();
-    for (_, g) in &gaps {
+    for (t, g) in &gaps {
+        // Tile t stands for every tile congruent to it modulo the period.
+        let k = (tiles - t).div_ceil(period);
         match by_range.iter_mut().find(|(r, _)| r == g) {
-            Some(e) => e.1 += 1,
-            None => by_range.push((*g, 1)),
+            Some(e) => e.1 += k,
+            None => by_range.push((*g, k)),
         }
     }
     Ok(by_range
         .into_iter()
         .map(|([a, b], k)| format!("samples {a}..{b} of {k} of the {tiles} tiles"))
         .collect())
+}
+
+fn gcd(a: u64, b: u64) -> u64 {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
 }

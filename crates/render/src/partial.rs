@@ -29,6 +29,8 @@ const MAX_HEADER: usize = 1 << 20;
 /// Pixels a partial may hold (a 16k × 16k image).
 const MAX_PIXELS: u64 = 1 << 28;
 const SUMS_BYTES: usize = 6 * 32;
+/// Shard records a partial may hold.
+const MAX_RUNS: usize = 1 << 16;
 
 /// What a partial is part of: these must agree between parts that merge.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -178,6 +180,12 @@ impl Partial {
         }
         let header: PartialHeader = serde_json::from_slice(r.take(len, "header")?)
             .map_err(|e| format!("header at byte 16: {e}"))?;
+        if header.runs.is_empty() || header.runs.len() > MAX_RUNS {
+            return Err(format!(
+                "header: {} shard records (1 to {MAX_RUNS})",
+                header.runs.len()
+            ));
+        }
         let id = &header.identity;
         let pixels = id.width as u64 * id.height as u64;
         if id.width == 0 || id.height == 0 || pixels > MAX_PIXELS {

@@ -261,3 +261,29 @@ fn damaged_partials_are_clear_errors() {
     let e = Partial::from_bytes(&p.to_bytes()).err().unwrap();
     assert!(e.contains("over"), "{e}");
 }
+
+/// Version 1 files stay readable: a tile shard written by `fogbank render
+/// --shard 1/2 --shard-mode tiles` (40×36, 4 spp) when the format was made.
+#[test]
+fn the_committed_version_1_partial_still_reads() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/tiles_1_of_2.fbpart");
+    let p = Partial::read(&path).unwrap();
+    let id = &p.header.identity;
+    assert_eq!(
+        (id.kind.as_str(), id.width, id.height, id.spp),
+        ("render", 40, 36, 4)
+    );
+    let run = &p.header.runs[0];
+    assert_eq!(
+        (run.shard.index, run.shard.count, run.shard.mode),
+        (1, 2, ShardMode::Tiles)
+    );
+    for y in 0..36 {
+        for x in 0..40 {
+            // Tiles are 32 px: x ≥ 32 is tile 1 or 3, this shard's.
+            let expect = if x >= 32 { 4 } else { 0 };
+            assert_eq!(p.film.count[(y * 40 + x) as usize], expect, "({x}, {y})");
+        }
+    }
+    assert!(p.film.image_mean()[0] > 0.0);
+}
