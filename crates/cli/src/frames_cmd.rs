@@ -10,7 +10,9 @@ use crate::common::CliResult;
 use fogbank_image::image_io::{write_exr, write_png};
 use fogbank_render::integrators::restir::frame::Sequence;
 use fogbank_render::integrators::IntegratorKind;
-use fogbank_render::{render, Progress, RenderOptions, Scene};
+use fogbank_render::partial::Partial;
+use fogbank_render::shard::Shard;
+use fogbank_render::{render, render_piece, Progress, RenderOptions, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
@@ -76,6 +78,9 @@ pub struct FramesArgs<'a> {
     pub quiet: bool,
     /// `--device gpu`: the device every frame renders on.
     pub gpu: Option<&'a fogbank_gpu::Gpu>,
+    /// `--shard I/N`: each frame's part, written as a partial result per
+    /// frame (`fogbank merge` adds up one frame's parts).
+    pub shard: Option<Shard>,
 }
 
 pub fn run(
@@ -168,6 +173,39 @@ pub fn run(
                     seed: a.seed,
                     time_budget: None,
                 };
+                if let Some(s) = a.shard {
+                    let r = pool.install(|| {
+                        render_piece(&scene, &opts, &s.piece(a.spp), progress, &mut |_, _| {})
+                    });
+                    if r.interrupted {
+                        bar.abandon();
+                        return Err(format!("interrupted in frame {f}: its shard {} wrote no partial result; earlier frames are written", s.label()).into());
+                    }
+                    let run =
+                        crate::shard_args::run(s, a.spp, r.seconds, pool.current_num_threads());
+                    let mut header =
+                        crate::shard_args::header("render", &scene, a.seed, a.spp, &r.film, run);
+                    header.identity.frame = Some(f);
+                    let out = frame_output(&a.outputs[0], f);
+                    Partial {
+                        header,
+                        film: r.film,
+                        covered: None,
+                    }
+                    .write(&out)?;
+                    bar.suspend(|| {
+                        if !a.quiet {
+                            eprintln!(
+                                "frame {f}: shard {} in {:.3} s, wrote {}",
+                                s.label(),
+                                r.seconds,
+                                out.display()
+                            );
+                        }
+                    });
+                    bar.inc(1);
+                    continue;
+                }
                 film_rgb(&pool.install(|| render(&scene, &opts, progress)).film)
             }
         };

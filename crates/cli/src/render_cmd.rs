@@ -85,14 +85,19 @@ pub fn run(a: RenderArgs) -> CliResult {
     }
     let shard = a.shard.get()?;
     let outputs: Vec<PathBuf> = match &a.output {
-        None if a.frames.is_some() => vec![PathBuf::from("fogbank_{frame:04}.exr")],
         None if shard.is_some() => {
             let s = shard.unwrap();
+            let frame = if a.frames.is_some() {
+                "_{frame:04}"
+            } else {
+                ""
+            };
             vec![PathBuf::from(format!(
-                "fogbank_shard_{}_of_{}.fbpart",
+                "fogbank{frame}_shard_{}_of_{}.fbpart",
                 s.index, s.count
             ))]
         }
+        None if a.frames.is_some() => vec![PathBuf::from("fogbank_{frame:04}.exr")],
         Some(p) => {
             match (p.extension().and_then(|e| e.to_str()), shard.is_some()) {
                 (Some("exr") | Some("png"), false) | (Some("fbpart"), true) => {}
@@ -127,6 +132,14 @@ pub fn run(a: RenderArgs) -> CliResult {
         seed: scene.desc.render.seed,
         time_budget: a.time_budget.map(Duration::from_secs_f64),
     };
+    if shard.is_some()
+        && matches!(
+            scene.integrator,
+            fogbank_render::integrators::IntegratorKind::Restir(_)
+        )
+    {
+        return Err("--shard: `restir` carries reservoirs from pass to pass and pixel to pixel, so its parts cannot be rendered apart; render it whole".into());
+    }
     let pool = thread_pool(a.threads)?;
     let threads = pool.current_num_threads();
     if let Some(frames) = &a.frames {
@@ -153,6 +166,7 @@ pub fn run(a: RenderArgs) -> CliResult {
                 tone: scene.desc.render.tone_mapping(),
                 quiet: a.quiet,
                 gpu: gpu.as_ref(),
+                shard,
             },
             scene,
             &pool,
@@ -173,14 +187,6 @@ pub fn run(a: RenderArgs) -> CliResult {
                 std::process::exit(130);
             }
         });
-    }
-    if shard.is_some()
-        && matches!(
-            scene.integrator,
-            fogbank_render::integrators::IntegratorKind::Restir(_)
-        )
-    {
-        return Err("--shard: `restir` carries reservoirs from pass to pass and pixel to pixel, so its parts cannot be rendered apart; render it whole".into());
     }
     let piece = shard.map_or(Piece::whole(spp), |s| s.piece(spp));
     let (w, h) = (scene.camera.width, scene.camera.height);
@@ -379,8 +385,6 @@ fn write_json(path: &Path, v: &serde_json::Value) -> CliResult {
 fn check_shardable(a: &RenderArgs, s: Shard) -> CliResult {
     let why = if a.time_budget.is_some() {
         "--time-budget: a shard's part of the work is fixed by spp; give --spp"
-    } else if a.frames.is_some() {
-        "--frames: shard a sequence by rendering its frames as separate jobs (`--frames I..I+1`)"
     } else if a.device == Device::Gpu {
         "--device gpu: GPU films keep running means in f32, whose parts do not add up bit for bit; shard CPU renders"
     } else if a.stats.is_some() {

@@ -74,6 +74,7 @@ pub fn header(
             width: film.width,
             height: film.height,
             spp,
+            frame: None,
         },
         runs: vec![run],
         integrator: scene.integrator.name().into(),

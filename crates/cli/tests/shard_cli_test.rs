@@ -215,3 +215,68 @@ fn an_interrupted_shard_writes_no_partial() {
     assert!(!dir.join("i.fbpart").exists());
     assert!(!dir.join("i.fbpart.tmp").exists());
 }
+
+/// `--frames` with `--shard`: a partial per frame; each frame's parts merge
+/// to that frame of the unsharded sequence, and parts of different frames
+/// are refused.
+#[test]
+fn sharded_frame_sequences_merge_per_frame() {
+    let dir = tmp_dir("shard_frames");
+    for f in 0..2u32 {
+        let bytes: Vec<u8> = (0..512)
+            .map(|i| ((i * 7 + f as usize * 13) % 200) as u8)
+            .collect();
+        std::fs::write(dir.join(format!("d_{f}.raw")), bytes).unwrap();
+    }
+    let scene = dir.join("anim.toml");
+    std::fs::write(
+        &scene,
+        "[camera]\nwidth = 40\nheight = 36\n[[media]]\ndensity = { raw = \"d_{frame}.raw\", dims = [8, 8, 8], type = \"u8\" }\n\
+         sigma_t_scale = 0.05\n[[lights]]\ntype = \"constant\"\nradiance = [1.0, 1.0, 1.0]\n\
+         [integrator]\ntype = \"volpath\"\nmax_depth = 3\n[animation]\nframes = 2\n",
+    )
+    .unwrap();
+    let s = scene.to_str().unwrap();
+    let single = dir.join("single_{frame}.exr");
+    run_ok(
+        fogbank()
+            .args(["render", s, "--frames", "0..2", "--spp", "5", "-q", "-o"])
+            .arg(&single),
+    );
+    for i in 0..3 {
+        let shard = format!("{i}/3");
+        let out = dir.join(format!("part_{{frame}}_{i}.fbpart"));
+        run_ok(
+            fogbank()
+                .args([
+                    "render", s, "--frames", "0..2", "--spp", "5", "-q", "--shard", &shard, "-o",
+                ])
+                .arg(&out),
+        );
+    }
+    let part = |f: u32, i: u32| {
+        dir.join(format!("part_{f}_{i}.fbpart"))
+            .display()
+            .to_string()
+    };
+    for f in 0..2 {
+        let merged = dir.join(format!("merged_{f}.exr"));
+        run_ok(
+            fogbank()
+                .args(["merge", &part(f, 0), &part(f, 1), &part(f, 2), "-o"])
+                .arg(&merged),
+        );
+        same_bytes(&merged, &dir.join(format!("single_{f}.exr")));
+    }
+    run_fails_naming(
+        fogbank().args([
+            "merge",
+            &part(0, 0),
+            &part(1, 1),
+            &part(0, 2),
+            "-o",
+            "x.exr",
+        ]),
+        "frame 1 differs",
+    );
+}

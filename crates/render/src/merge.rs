@@ -44,6 +44,10 @@ pub fn merge(parts: &[(String, Partial)], allow_partial: bool) -> Result<Merged,
                 format!("{}×{}", o.width, o.height),
             );
         }
+        if o.frame != id.frame {
+            let name = |f: Option<u32>| f.map_or("none".to_string(), |f| f.to_string());
+            return differs("frame", name(id.frame), name(o.frame));
+        }
         if o.spp != id.spp {
             return differs("total spp", id.spp.to_string(), o.spp.to_string());
         }

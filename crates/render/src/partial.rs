@@ -45,6 +45,10 @@ pub struct Identity {
     pub height: u32,
     /// The whole render's samples per pixel (stats: frames).
     pub spp: u32,
+    /// The frame of an animated scene's sequence (`--frames`), whose parts
+    /// share the scene description.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frame: Option<u32>,
 }
 
 /// Where and how long one shard ran.

@@ -67,6 +67,7 @@ fn shard_partial(scene: &Scene, shard: Shard) -> Partial {
                 width: scene.camera.width,
                 height: scene.camera.height,
                 spp: SPP,
+                frame: None,
             },
             runs: vec![ShardRun {
                 shard,
