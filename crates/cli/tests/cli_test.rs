@@ -298,20 +298,13 @@ fn experiment_help_lists_every_experiment() {
 #[test]
 fn frames_render_a_sequence_and_stop_at_a_missing_frame() {
     let dir = tmp_dir("frames");
-    for f in [0u32, 1, 3] {
-        let bytes: Vec<u8> = (0..512)
-            .map(|i| ((i * 7 + f as usize * 13) % 200) as u8)
-            .collect();
-        std::fs::write(dir.join(format!("d_{f}.raw")), bytes).unwrap();
-    }
-    let scene = dir.join("anim.toml");
-    std::fs::write(
-        &scene,
-        "[camera]\nwidth = 12\nheight = 8\n[[media]]\ndensity = { raw = \"d_{frame}.raw\", dims = [8, 8, 8], type = \"u8\" }\n\
-         sigma_t_scale = 0.05\n[[lights]]\ntype = \"constant\"\nradiance = [1.0, 1.0, 1.0]\n\
-         [integrator]\ntype = \"restir\"\nmax_depth = 2\n[animation]\nframes = 4\n",
-    )
-    .unwrap();
+    let scene = animated_raw_scene(
+        &dir,
+        &[0, 1, 3],
+        (12, 8),
+        "type = \"restir\"\nmax_depth = 2",
+        4,
+    );
     let gpu = fogbank_gpu::test_gpu().is_some();
     for device in ["cpu", "gpu"].into_iter().filter(|d| *d == "cpu" || gpu) {
         let out = dir.join(format!("{device}_{{frame:02}}.exr"));

@@ -222,20 +222,13 @@ fn an_interrupted_shard_writes_no_partial() {
 #[test]
 fn sharded_frame_sequences_merge_per_frame() {
     let dir = tmp_dir("shard_frames");
-    for f in 0..2u32 {
-        let bytes: Vec<u8> = (0..512)
-            .map(|i| ((i * 7 + f as usize * 13) % 200) as u8)
-            .collect();
-        std::fs::write(dir.join(format!("d_{f}.raw")), bytes).unwrap();
-    }
-    let scene = dir.join("anim.toml");
-    std::fs::write(
-        &scene,
-        "[camera]\nwidth = 40\nheight = 36\n[[media]]\ndensity = { raw = \"d_{frame}.raw\", dims = [8, 8, 8], type = \"u8\" }\n\
-         sigma_t_scale = 0.05\n[[lights]]\ntype = \"constant\"\nradiance = [1.0, 1.0, 1.0]\n\
-         [integrator]\ntype = \"volpath\"\nmax_depth = 3\n[animation]\nframes = 2\n",
-    )
-    .unwrap();
+    let scene = animated_raw_scene(
+        &dir,
+        &[0, 1],
+        (40, 36),
+        "type = \"volpath\"\nmax_depth = 3",
+        2,
+    );
     let s = scene.to_str().unwrap();
     let single = dir.join("single_{frame}.exr");
     run_ok(

@@ -107,14 +107,10 @@ pub fn bunny_density(noise: &GradientNoise, x: Vec3) -> f32 {
     coverage * (0.3 + 0.7 * detail)
 }
 
-/// Rasterises the bunny into a `res³` grid (voxel centres at `(i + ½)/res`).
+/// Rasterises the bunny into a `res³` grid.
 pub fn bunny_grid<T: Voxel>(res: u32, seed: u64) -> Result<BrickGrid<T>> {
     let noise = GradientNoise::new(seed);
-    let inv = 1.0 / res as f32;
-    BrickGrid::from_fn([res; 3], |i, j, k| {
-        let x = (Vec3::new(i as f32, j as f32, k as f32) + Vec3::splat(0.5)) * inv;
-        bunny_density(&noise, x)
-    })
+    crate::procedural::rasterise(res, |x| bunny_density(&noise, x))
 }
 
 #[cfg(test)]

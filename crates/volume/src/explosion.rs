@@ -69,13 +69,9 @@ pub fn explosion_temperature(noise: &GradientNoise, x: Vec3) -> f32 {
 /// Rasterises `quantity` into a `res³` grid (voxel centres at `(i + ½)/res`).
 pub fn explosion_grid<T: Voxel>(res: u32, seed: u64, quantity: Quantity) -> Result<BrickGrid<T>> {
     let noise = GradientNoise::new(seed);
-    let inv = 1.0 / res as f32;
-    BrickGrid::from_fn([res; 3], |i, j, k| {
-        let x = (Vec3::new(i as f32, j as f32, k as f32) + Vec3::splat(0.5)) * inv;
-        match quantity {
-            Quantity::Density => explosion_density(&noise, x),
-            Quantity::Temperature => explosion_temperature(&noise, x),
-        }
+    crate::procedural::rasterise(res, |x| match quantity {
+        Quantity::Density => explosion_density(&noise, x),
+        Quantity::Temperature => explosion_temperature(&noise, x),
     })
 }
 

@@ -65,11 +65,7 @@ pub fn plume_density(noise: &GradientNoise, x: Vec3, t: f32) -> f32 {
 /// `(i + ½)/res`).
 pub fn plume_grid<T: Voxel>(res: u32, seed: u64, t: f32) -> Result<BrickGrid<T>> {
     let noise = GradientNoise::new(seed);
-    let inv = 1.0 / res as f32;
-    BrickGrid::from_fn([res; 3], |i, j, k| {
-        let x = (Vec3::new(i as f32, j as f32, k as f32) + Vec3::splat(0.5)) * inv;
-        plume_density(&noise, x, t)
-    })
+    crate::procedural::rasterise(res, |x| plume_density(&noise, x, t))
 }
 
 #[cfg(test)]

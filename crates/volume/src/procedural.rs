@@ -126,14 +126,19 @@ pub fn cloud_density(noise: &GradientNoise, x: Vec3) -> f32 {
     coverage * (0.25 + 0.75 * detail)
 }
 
-/// Rasterises the cloud into a `res³` grid (voxel centres at `(i + ½)/res`).
-pub fn cloud_grid<T: Voxel>(res: u32, seed: u64) -> Result<BrickGrid<T>> {
-    let noise = GradientNoise::new(seed);
+/// Samples `f` at the voxel centres `(i + ½)/res` of a `res³` grid: how
+/// every procedural medium is rasterised.
+pub fn rasterise<T: Voxel>(res: u32, f: impl Fn(Vec3) -> f32 + Sync) -> Result<BrickGrid<T>> {
     let inv = 1.0 / res as f32;
     BrickGrid::from_fn([res; 3], |i, j, k| {
-        let x = (Vec3::new(i as f32, j as f32, k as f32) + Vec3::splat(0.5)) * inv;
-        cloud_density(&noise, x)
+        f((Vec3::new(i as f32, j as f32, k as f32) + Vec3::splat(0.5)) * inv)
     })
+}
+
+/// Rasterises the cloud into a `res³` grid.
+pub fn cloud_grid<T: Voxel>(res: u32, seed: u64) -> Result<BrickGrid<T>> {
+    let noise = GradientNoise::new(seed);
+    rasterise(res, |x| cloud_density(&noise, x))
 }
 
 #[cfg(test)]

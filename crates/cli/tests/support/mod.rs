@@ -121,3 +121,34 @@ pub fn render_then_ctrl_c(dir: &Path, args: &[&str]) -> (ExitStatus, String) {
     let status = child.wait().unwrap();
     (status, stderr.join().unwrap())
 }
+
+/// Writes an animated scene into `dir`: an 8³ u8 volume per frame in
+/// `written` (`d_{frame}.raw`, a different pattern each), a `width`×`height`
+/// camera, `integrator` (the body of `[integrator]`) and `frames` frames.
+/// Returns the scene's path.
+pub fn animated_raw_scene(
+    dir: &Path,
+    written: &[u32],
+    (width, height): (u32, u32),
+    integrator: &str,
+    frames: u32,
+) -> PathBuf {
+    for &f in written {
+        let bytes: Vec<u8> = (0..512)
+            .map(|i| ((i * 7 + f as usize * 13) % 200) as u8)
+            .collect();
+        std::fs::write(dir.join(format!("d_{f}.raw")), bytes).unwrap();
+    }
+    let scene = dir.join("anim.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            "[camera]\nwidth = {width}\nheight = {height}\n[[media]]\n\
+             density = {{ raw = \"d_{{frame}}.raw\", dims = [8, 8, 8], type = \"u8\" }}\n\
+             sigma_t_scale = 0.05\n[[lights]]\ntype = \"constant\"\nradiance = [1.0, 1.0, 1.0]\n\
+             [integrator]\n{integrator}\n[animation]\nframes = {frames}\n"
+        ),
+    )
+    .unwrap();
+    scene
+}
