@@ -47,6 +47,12 @@ pub struct BenchArgs {
     /// Also write the table as JSON.
     #[arg(long)]
     pub json: Option<std::path::PathBuf>,
+    /// Also time these integrators (comma separated: transmittance, direct,
+    /// volpath, point_mis, restir, ament, visopt) on the cloud lit by a sky
+    /// and a sun, at each of --threads on the CPU, with each thread count's
+    /// speed-up over the first: the thread-scaling table.
+    #[arg(long, value_delimiter = ',')]
+    pub integrators: Vec<String>,
 }
 
 fn cloud_scene(
@@ -55,7 +61,18 @@ fn cloud_scene(
     scale: f32,
     frames: u32,
 ) -> Result<Scene, Box<dyn std::error::Error>> {
-    let text = format!(
+    Ok(Scene::build(
+        parse_scene(
+            &cloud_text(size, resolution, scale, frames),
+            "bench scene",
+            &[],
+        )?,
+        Path::new("."),
+    )?)
+}
+
+fn cloud_text(size: u32, resolution: u32, scale: f32, frames: u32) -> String {
+    format!(
         r#"
 [camera]
 from = [0.0, 0.05, 2.2]
@@ -70,11 +87,51 @@ filter = "stochastic_trilinear"
 [render]
 spp = {frames}
 "#
+    )
+}
+
+/// The thread-scaling table: each integrator on the lit cloud at each
+/// thread count, ms per frame and the speed-up over the first count.
+fn integrator_scaling(a: &BenchArgs) -> CliResult {
+    let cloud = cloud_text(a.size, a.resolution, a.sigma_t_scale, a.frames);
+    let sky_and_sun = "[[lights]]\ntype = \"constant\"\nradiance = [0.55, 0.7, 1.0]\n\
+                       [[lights]]\ntype = \"directional\"\ndirection = [-0.4, -0.8, -0.3]\nirradiance = [3.0, 2.9, 2.7]\n";
+    // point_mis is the seeds' point-light integrator; ament takes point lights.
+    let points =
+        "[[lights]]\ntype = \"point\"\nposition = [0.3, 0.2, 0.1]\nintensity = [1.0, 0.85, 0.7]\n";
+    println!();
+    println!(
+        "| integrator | threads | ms/frame | speed-up over {} thread(s) |",
+        a.threads[0]
     );
-    Ok(Scene::build(
-        parse_scene(&text, "bench scene", &[])?,
-        Path::new("."),
-    )?)
+    println!("|---|---:|---:|---:|");
+    for name in &a.integrators {
+        let lights = if name == "point_mis" || name == "ament" {
+            points
+        } else {
+            sky_and_sun
+        };
+        let desc = parse_scene(
+            &(cloud.clone() + lights),
+            "bench scene",
+            &[format!("integrator.type={name}")],
+        )?;
+        let scene = Scene::build(desc, Path::new("."))?;
+        let mut first = None;
+        for &threads in &a.threads {
+            let pool = thread_pool(Some(threads))?;
+            let opts = RenderOptions {
+                spp: a.frames,
+                seed: 1,
+                time_budget: None,
+            };
+            let r = pool.install(|| fogbank_render::render(&scene, &opts, &Progress::default()));
+            let ms = r.seconds * 1000.0 / a.frames as f64;
+            let base = *first.get_or_insert(ms);
+            println!("| {name} | {threads} | {ms:.1} | {:.2}× |", base / ms);
+        }
+    }
+    Ok(())
 }
 
 pub fn run(a: BenchArgs) -> CliResult {
@@ -197,6 +254,9 @@ pub fn run(a: BenchArgs) -> CliResult {
     if let Some(p) = &a.json {
         std::fs::write(p, serde_json::to_string_pretty(&rows)?)
             .map_err(|e| format!("{}: {e}", p.display()))?;
+    }
+    if !a.integrators.is_empty() {
+        integrator_scaling(&a)?;
     }
     Ok(())
 }
