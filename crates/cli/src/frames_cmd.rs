@@ -174,9 +174,7 @@ pub fn run(
                     time_budget: None,
                 };
                 if let Some(s) = a.shard {
-                    let r = pool.install(|| {
-                        render_piece(&scene, &opts, &s.piece(a.spp), progress, &mut |_, _| {})
-                    });
+                    let r = pool.install(|| render_piece(&scene, &opts, &s.piece(a.spp), progress));
                     if r.interrupted {
                         bar.abandon();
                         return Err(format!("interrupted in frame {f}: its shard {} wrote no partial result; earlier frames are written", s.label()).into());

@@ -234,7 +234,7 @@ pub fn run(a: RenderArgs) -> CliResult {
         });
         let r = match &gpu {
             None => Ok((
-                pool.install(|| render_piece(&scene, &opts, &piece, &progress, &mut |_, _| {})),
+                pool.install(|| render_piece(&scene, &opts, &piece, &progress)),
                 None,
             )),
             Some(g) => fogbank_gpu::render::render(g, &scene, &opts, &progress).map(|r| {

@@ -62,7 +62,7 @@ impl RowTotals {
 
 /// Renders in the current rayon pool (callers size it with `--threads`).
 pub fn render(scene: &Scene, opts: &RenderOptions, progress: &Progress) -> RenderResult {
-    render_observed(scene, opts, progress, &mut |_, _| {})
+    render_piece(scene, opts, &Piece::whole(opts.spp), progress)
 }
 
 /// [`render`], calling `after_pass(film, seconds)` after every complete pass
@@ -74,19 +74,45 @@ pub fn render_observed(
     progress: &Progress,
     after_pass: &mut dyn FnMut(&Film, f64),
 ) -> RenderResult {
-    render_piece(scene, opts, &Piece::whole(opts.spp), progress, after_pass)
+    render_passes(
+        scene,
+        opts,
+        &Piece::whole(opts.spp),
+        progress,
+        Some(after_pass),
+    )
 }
 
-/// [`render_observed`] of one piece of the work (a shard): its sample
-/// indices of its pixels, each exactly as the whole render would compute
-/// them. Frame-based integrators (`restir`) carry state from pass to pass
-/// and pixel to pixel, so they take whole renders only.
+/// [`render`] of one piece of the work (a shard): its sample indices of
+/// its pixels, each exactly as the whole render would compute them.
+/// Frame-based integrators (`restir`) carry state from pass to pass and
+/// pixel to pixel, so they take whole renders only.
 pub fn render_piece(
     scene: &Scene,
     opts: &RenderOptions,
     piece: &Piece,
     progress: &Progress,
-    after_pass: &mut dyn FnMut(&Film, f64),
+) -> RenderResult {
+    render_passes(scene, opts, piece, progress, None)
+}
+
+/// What `render_observed` calls after each pass: (film, seconds so far).
+type AfterPass<'a> = dyn FnMut(&Film, f64) + 'a;
+
+/// Passes per batch are chosen so that a batch takes about this long.
+const BATCH_SECONDS: f64 = 0.05;
+const MAX_BATCH: u32 = 64;
+
+/// The render loop. Unobserved, without a time budget, per-pixel integrators
+/// render batches of passes (each row takes several sample indices before
+/// the threads join), so short passes do not pay a fork/join each; the
+/// film's exact sums make the image the same for any batching.
+fn render_passes(
+    scene: &Scene,
+    opts: &RenderOptions,
+    piece: &Piece,
+    progress: &Progress,
+    mut after_pass: Option<&mut AfterPass>,
 ) -> RenderResult {
     let (w, h) = (scene.camera.width, scene.camera.height);
     let mut film = Film::new(w, h);
@@ -98,7 +124,10 @@ pub fn render_piece(
         !frame_based || *piece == Piece::whole(opts.spp),
         "restir renders whole images only"
     );
-    for pass in piece.sample_range() {
+    let batching = after_pass.is_none() && opts.time_budget.is_none() && !frame_based;
+    let (mut pass, end) = (piece.samples[0], piece.samples[1]);
+    let mut batch = 1;
+    while pass < end {
         if progress.cancel.load(Ordering::Relaxed) {
             interrupted = true;
             break;
@@ -108,6 +137,8 @@ pub fn render_piece(
                 break;
             }
         }
+        let n = batch.min(end - pass);
+        let clock = Instant::now();
         let totals = match &scene.integrator {
             IntegratorKind::Restir(r) => {
                 match r.last_frame(&scene.world, opts.seed, pass, &progress.cancel) {
@@ -124,7 +155,7 @@ pub fn render_piece(
                     None => RowTotals::default(),
                 }
             }
-            _ => pixel_pass(scene, opts.seed, pass, piece, &mut film, progress),
+            _ => pixel_passes(scene, opts.seed, pass..pass + n, piece, &mut film, progress),
         };
         film.lookups += totals.lookups;
         film.nan_samples += totals.nan;
@@ -133,10 +164,17 @@ pub fn render_piece(
             interrupted = true;
             break;
         }
-        progress.passes_done.fetch_add(1, Ordering::Relaxed);
-        let observing = Instant::now();
-        after_pass(&film, (observing - start).as_secs_f64());
-        start += observing.elapsed();
+        progress.passes_done.fetch_add(n as u64, Ordering::Relaxed);
+        pass += n;
+        if batching {
+            let per_pass = clock.elapsed().as_secs_f64() / n as f64;
+            batch = ((BATCH_SECONDS / per_pass.max(1e-9)) as u32).clamp(1, MAX_BATCH);
+        }
+        if let Some(f) = after_pass.as_mut() {
+            let observing = Instant::now();
+            f(&film, (observing - start).as_secs_f64());
+            start += observing.elapsed();
+        }
     }
     RenderResult {
         film,
@@ -145,11 +183,12 @@ pub fn render_piece(
     }
 }
 
-/// One pass of a per-pixel integrator: sample index `pass` of every pixel.
-fn pixel_pass(
+/// Passes of a per-pixel integrator: sample indices `passes` of every
+/// pixel of the piece, each row taking all of them before the next join.
+fn pixel_passes(
     scene: &Scene,
     seed: u32,
-    pass: u32,
+    passes: std::ops::Range<u32>,
     piece: &Piece,
     film: &mut Film,
     progress: &Progress,
@@ -169,16 +208,18 @@ fn pixel_pass(
                 if !piece.has_pixel(x as u32, y as u32, w) {
                     continue;
                 }
-                done += 1;
-                let key = SampleKey {
-                    seed,
-                    pixel: (y * w as usize + x) as u32,
-                    sample: pass,
-                    dimension: 0,
-                };
-                let s = scene.sample_pixel(x as u32, y as u32, key);
-                t.lookups += s.lookups as u64;
-                t.count(sums[x].add(&mut count[x], s.radiance));
+                for sample in passes.clone() {
+                    let key = SampleKey {
+                        seed,
+                        pixel: (y * w as usize + x) as u32,
+                        sample,
+                        dimension: 0,
+                    };
+                    let s = scene.sample_pixel(x as u32, y as u32, key);
+                    t.lookups += s.lookups as u64;
+                    t.count(sums[x].add(&mut count[x], s.radiance));
+                }
+                done += passes.len() as u64;
             }
             progress.samples_done.fetch_add(done, Ordering::Relaxed);
             t

@@ -62,3 +62,29 @@ fn same_seed_same_image_for_one_and_two_threads() {
         }
     }
 }
+
+/// `render` groups short passes into batches (each row takes several sample
+/// indices before the threads join); `render_observed` renders pass by
+/// pass. The films are the same bit for bit.
+#[test]
+fn batched_passes_equal_pass_by_pass() {
+    let desc = parse_scene(SCENE, "test", &["integrator.type=volpath".to_string()]).unwrap();
+    let scene = Scene::build(desc, Path::new(".")).unwrap();
+    let opts = RenderOptions {
+        spp: 37,
+        seed: 4,
+        time_budget: None,
+    };
+    let batched = render(&scene, &opts, &Progress::default()).film;
+    let mut passes = 0;
+    let single =
+        fogbank_render::render_observed(&scene, &opts, &Progress::default(), &mut |_, _| {
+            passes += 1
+        })
+        .film;
+    assert_eq!(passes, 37);
+    assert!(batched.sums == single.sums);
+    assert_eq!(batched.count, single.count);
+    assert_eq!(batched.lookups, single.lookups);
+    assert!(batched.count.iter().all(|&c| c == 37));
+}

@@ -51,13 +51,7 @@ fn opts(scene: &Scene) -> RenderOptions {
 
 fn shard_partial(scene: &Scene, shard: Shard) -> Partial {
     let piece = shard.piece(SPP);
-    let r = render_piece(
-        scene,
-        &opts(scene),
-        &piece,
-        &Progress::default(),
-        &mut |_, _| {},
-    );
+    let r = render_piece(scene, &opts(scene), &piece, &Progress::default());
     Partial {
         header: PartialHeader {
             identity: Identity {
