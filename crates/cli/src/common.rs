@@ -31,3 +31,10 @@ pub fn thread_pool(
     }
     Ok(rayon::ThreadPoolBuilder::new().num_threads(n).build()?)
 }
+
+/// Writes `v` as pretty JSON with a final newline, naming the file on error.
+pub fn write_json(path: &std::path::Path, v: &serde_json::Value) -> CliResult {
+    std::fs::write(path, serde_json::to_string_pretty(v)? + "\n")
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(())
+}

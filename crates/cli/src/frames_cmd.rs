@@ -7,6 +7,7 @@
 //! sequence; the frames already written stay intact.
 
 use crate::common::CliResult;
+use crate::film_out::film_rgb;
 use fogbank_image::image_io::{write_exr, write_png};
 use fogbank_render::integrators::restir::frame::Sequence;
 use fogbank_render::integrators::IntegratorKind;
@@ -37,18 +38,6 @@ pub fn parse_frames(s: &str, frames: u32) -> Result<std::ops::Range<u32>, String
         ));
     }
     Ok(range)
-}
-
-/// A film's mean (non-finite values as 0) and, with more than one sample
-/// per pixel, the variance of the mean.
-fn film_rgb(film: &fogbank_render::Film) -> (Vec<[f32; 3]>, Option<Vec<[f32; 3]>>) {
-    let rgb = film
-        .mean()
-        .into_iter()
-        .map(|p| p.map(|c| if c.is_finite() { c } else { 0.0 }))
-        .collect();
-    let var = (film.min_spp() > 1).then(|| film.variance_of_mean());
-    (rgb, var)
 }
 
 /// The output file of `frame`: `{frame}` / `{frame:04}` in `pattern`
@@ -150,7 +139,8 @@ pub fn run(
                     }
                 }
                 .map_err(|e| format!("frame {f}: --device gpu: {e}"))?;
-                film_rgb(&film)
+                let img = film_rgb(&film);
+                (img.rgb, img.variance)
             }
             (Some(seq), IntegratorKind::Restir(r)) => {
                 let before = prev.as_ref().unwrap_or(&scene);
@@ -181,8 +171,9 @@ pub fn run(
                     }
                     let run =
                         crate::shard_args::run(s, a.spp, r.seconds, pool.current_num_threads());
-                    let mut header =
-                        crate::shard_args::header("render", &scene, a.seed, a.spp, &r.film, run);
+                    let mut header = fogbank_render::partial::PartialHeader::for_shard(
+                        "render", &scene, a.seed, a.spp, &r.film, run,
+                    );
                     header.identity.frame = Some(f);
                     let out = frame_output(&a.outputs[0], f);
                     Partial {
@@ -204,7 +195,8 @@ pub fn run(
                     bar.inc(1);
                     continue;
                 }
-                film_rgb(&pool.install(|| render(&scene, &opts, progress)).film)
+                let img = film_rgb(&pool.install(|| render(&scene, &opts, progress)).film);
+                (img.rgb, img.variance)
             }
         };
         let seconds = clock.elapsed().as_secs_f64();

@@ -64,7 +64,7 @@ pub fn run(a: MergeArgs) -> CliResult {
         curve: ToneCurve::parse(&h.tonemap)
             .map_err(|e| format!("{}: tonemap: {e}", a.parts[0].display()))?,
     };
-    let bad_pixels = crate::render_cmd::write_images(&images, &p.film, &tone)?;
+    let bad_pixels = crate::film_out::write_images(&images, &p.film, &tone)?;
     let film = &p.film;
     eprintln!(
         "merged {} part(s), {} shard(s): {}×{}, {} spp{}; wrote {}",
@@ -105,8 +105,7 @@ pub fn run(a: MergeArgs) -> CliResult {
             "missing": merged.missing,
             "peak_memory_bytes": peak_memory_bytes(),
         });
-        std::fs::write(path, serde_json::to_string_pretty(&json)? + "\n")
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        crate::common::write_json(path, &json)?;
     }
     Ok(())
 }

@@ -3,13 +3,12 @@
 
 use crate::common::{peak_memory_bytes, thread_pool, CliResult};
 use clap::Args;
-use fogbank_image::image_io::{write_exr, write_png};
 use fogbank_render::integrators::shared::pin_params::GridPlan;
 use fogbank_render::partial::Partial;
 use fogbank_render::shard::{Piece, Shard};
 use fogbank_render::{load_scene, render_piece, Progress, RenderOptions};
 use indicatif::{ProgressBar, ProgressStyle};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::Duration;
@@ -264,7 +263,7 @@ pub fn run(a: RenderArgs) -> CliResult {
             )
             .into());
         }
-        let header = crate::shard_args::header(
+        let header = fogbank_render::partial::PartialHeader::for_shard(
             "render",
             &scene,
             opts.seed,
@@ -290,7 +289,8 @@ pub fn run(a: RenderArgs) -> CliResult {
         }
         return Ok(());
     }
-    let bad_pixels = write_images(&outputs, film, &scene.desc.render.tone_mapping())?;
+    let bad_pixels =
+        crate::film_out::write_images(&outputs, film, &scene.desc.render.tone_mapping())?;
     let min_spp = film.min_spp();
     let samples = film.total_samples();
     let lookups_per_pixel = if samples > 0 {
@@ -370,14 +370,8 @@ pub fn run(a: RenderArgs) -> CliResult {
                 "memory_bytes": m.medium.memory_bytes(),
             })).collect::<Vec<_>>(),
         });
-        write_json(path, &json)?;
+        crate::common::write_json(path, &json)?;
     }
-    Ok(())
-}
-
-fn write_json(path: &Path, v: &serde_json::Value) -> CliResult {
-    std::fs::write(path, serde_json::to_string_pretty(v)? + "\n")
-        .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(())
 }
 
@@ -393,39 +387,4 @@ fn check_shardable(a: &RenderArgs, s: Shard) -> CliResult {
         return Ok(());
     };
     Err(format!("--shard {}: not with {why}", s.label()).into())
-}
-
-/// Writes a film's mean to each output: EXR (linear, with a `variance`
-/// layer once every pixel has two samples) or PNG (tone-mapped). Returns the
-/// pixels whose mean was not finite (written as 0).
-pub fn write_images(
-    outputs: &[PathBuf],
-    film: &fogbank_render::Film,
-    tone: &fogbank_image::ToneMapping,
-) -> Result<usize, Box<dyn std::error::Error>> {
-    let mean = film.mean();
-    let variance = film.variance_of_mean();
-    // The film drops non-finite samples; this guards the division results.
-    let bad_pixels = mean
-        .iter()
-        .filter(|p| p.iter().any(|c| !c.is_finite()))
-        .count();
-    let mean: Vec<[f32; 3]> = mean
-        .into_iter()
-        .map(|p| p.map(|c| if c.is_finite() { c } else { 0.0 }))
-        .collect();
-    let min_spp = film.min_spp();
-    for out in outputs {
-        match out.extension().and_then(|e| e.to_str()) {
-            Some("exr") => write_exr(
-                out,
-                film.width,
-                film.height,
-                &mean,
-                (min_spp > 1).then_some(&variance[..]),
-            )?,
-            _ => write_png(out, film.width, film.height, &mean, tone)?,
-        }
-    }
-    Ok(bad_pixels)
 }

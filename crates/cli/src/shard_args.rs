@@ -2,9 +2,8 @@
 //! `stats`): which part to do, and the partial file's header.
 
 use clap::Args;
-use fogbank_render::partial::{scene_hash, Identity, PartialHeader, ShardRun};
+use fogbank_render::partial::ShardRun;
 use fogbank_render::shard::{Shard, ShardMode};
-use fogbank_render::{Film, Scene};
 
 #[derive(Args, Clone)]
 pub struct ShardArgs {
@@ -53,36 +52,5 @@ pub fn run(shard: Shard, spp: u32, seconds: f64, threads: usize) -> ShardRun {
         seconds,
         threads,
         host: host(),
-    }
-}
-
-/// The header of a shard's partial result (`kind`: render or stats).
-pub fn header(
-    kind: &str,
-    scene: &Scene,
-    seed: u32,
-    spp: u32,
-    film: &Film,
-    run: ShardRun,
-) -> PartialHeader {
-    let render = &scene.desc.render;
-    PartialHeader {
-        identity: Identity {
-            kind: kind.into(),
-            scene_hash: scene_hash(&scene.desc),
-            seed,
-            width: film.width,
-            height: film.height,
-            spp,
-            frame: None,
-        },
-        runs: vec![run],
-        integrator: scene.integrator.name().into(),
-        estimator: scene.integrator.estimator_name().into(),
-        exposure: render.exposure,
-        tonemap: render.tonemap.name().into(),
-        lookups: film.lookups,
-        nan_samples: film.nan_samples,
-        inf_samples: film.inf_samples,
     }
 }

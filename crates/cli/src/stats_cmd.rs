@@ -72,7 +72,7 @@ pub fn run(a: StatsArgs) -> CliResult {
         let piece = shard.piece(a.runs);
         let (film, covered, seconds) =
             pool.install(|| frame_stats_piece(&scene, &piece, a.run.seed));
-        let header = crate::shard_args::header(
+        let header = fogbank_render::partial::PartialHeader::for_shard(
             "stats",
             &scene,
             a.run.seed,

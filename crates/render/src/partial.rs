@@ -76,6 +76,40 @@ pub struct PartialHeader {
     pub inf_samples: u64,
 }
 
+impl PartialHeader {
+    /// The header of one shard's partial result (`kind`: render or stats)
+    /// of `scene` rendered with `seed` and `spp` samples per pixel in all.
+    pub fn for_shard(
+        kind: &str,
+        scene: &crate::scene::Scene,
+        seed: u32,
+        spp: u32,
+        film: &Film,
+        run: ShardRun,
+    ) -> PartialHeader {
+        let render = &scene.desc.render;
+        PartialHeader {
+            identity: Identity {
+                kind: kind.into(),
+                scene_hash: scene_hash(&scene.desc),
+                seed,
+                width: film.width,
+                height: film.height,
+                spp,
+                frame: None,
+            },
+            runs: vec![run],
+            integrator: scene.integrator.name().into(),
+            estimator: scene.integrator.estimator_name().into(),
+            exposure: render.exposure,
+            tonemap: render.tonemap.name().into(),
+            lookups: film.lookups,
+            nan_samples: film.nan_samples,
+            inf_samples: film.inf_samples,
+        }
+    }
+}
+
 /// A partial result: its header, its film and (stats) the covered pixels.
 #[derive(Clone, Debug)]
 pub struct Partial {

@@ -4,7 +4,7 @@
 //! of the partial reader is a clear error.
 
 use fogbank_render::merge::merge;
-use fogbank_render::partial::{scene_hash, Identity, Partial, PartialHeader, ShardRun};
+use fogbank_render::partial::{Partial, PartialHeader, ShardRun};
 use fogbank_render::shard::{Shard, ShardMode};
 use fogbank_render::{parse_scene, render, render_piece, Film, Progress, RenderOptions, Scene};
 use std::path::Path;
@@ -52,32 +52,22 @@ fn opts(scene: &Scene) -> RenderOptions {
 fn shard_partial(scene: &Scene, shard: Shard) -> Partial {
     let piece = shard.piece(SPP);
     let r = render_piece(scene, &opts(scene), &piece, &Progress::default());
+    let run = ShardRun {
+        shard,
+        piece,
+        seconds: r.seconds,
+        threads: 1,
+        host: "test".into(),
+    };
     Partial {
-        header: PartialHeader {
-            identity: Identity {
-                kind: "render".into(),
-                scene_hash: scene_hash(&scene.desc),
-                seed: scene.desc.render.seed,
-                width: scene.camera.width,
-                height: scene.camera.height,
-                spp: SPP,
-                frame: None,
-            },
-            runs: vec![ShardRun {
-                shard,
-                piece,
-                seconds: r.seconds,
-                threads: 1,
-                host: "test".into(),
-            }],
-            integrator: scene.integrator.name().into(),
-            estimator: scene.integrator.estimator_name().into(),
-            exposure: 0.0,
-            tonemap: "linear".into(),
-            lookups: r.film.lookups,
-            nan_samples: r.film.nan_samples,
-            inf_samples: r.film.inf_samples,
-        },
+        header: PartialHeader::for_shard(
+            "render",
+            scene,
+            scene.desc.render.seed,
+            SPP,
+            &r.film,
+            run,
+        ),
         film: r.film,
         covered: None,
     }

@@ -356,20 +356,19 @@ pub fn field_data(
     }
     let name = d.procedural.as_deref().unwrap_or_default();
     let res = d.resolution.unwrap_or(128);
-    if name == "cloud" {
-        let grid: BrickGrid<f32> = procedural::cloud_grid(res, d.seed.unwrap_or(7)).map_err(err)?;
+    // Seeded noise shapes with no options beyond resolution and seed.
+    type Shape = fn(u32, u64) -> fogbank_volume::Result<BrickGrid<f32>>;
+    let shape: Option<Shape> = match name {
+        "cloud" => Some(procedural::cloud_grid),
+        "bunny" => Some(bunny::bunny_grid),
+        _ => None,
+    };
+    if let Some(build) = shape {
+        let grid = build(res, d.seed.unwrap_or(7)).map_err(err)?;
         return Ok(FieldData::new(
             DensityData::from_f32(grid, precision),
             unit_box_transform([res; 3]),
-            format!("procedural cloud {res}³"),
-        ));
-    }
-    if name == "bunny" {
-        let grid: BrickGrid<f32> = bunny::bunny_grid(res, d.seed.unwrap_or(7)).map_err(err)?;
-        return Ok(FieldData::new(
-            DensityData::from_f32(grid, precision),
-            unit_box_transform([res; 3]),
-            format!("procedural bunny {res}³"),
+            format!("procedural {name} {res}³"),
         ));
     }
     if name == "explosion" {
