@@ -67,19 +67,38 @@ FOGBANK_CONFIGS = {
     "fogbank baseline": dict(estimator="ratio_tracking", preset="baseline"),
 }
 
+# --best (issue 15 item 3): fogbank's configuration space searched for its
+# best time to equal RMSE: NEE estimator x distance sampler x super-voxel edge.
+BEST_ESTIMATORS = {"rt": "ratio_tracking", "rrt": "residual_ratio_tracking", "jk": "jackknife"}
+BEST_SAMPLERS = {"delta": "delta_tracking", "decomp": "decomposition_tracking"}
+BEST_SUPERVOXELS = (4, 8, 16)
+
+
+def best_configs():
+    """{name: config} of the --best grid."""
+    out = {}
+    for en, est in BEST_ESTIMATORS.items():
+        for dn, ds in BEST_SAMPLERS.items():
+            for sv in BEST_SUPERVOXELS:
+                out[f"fogbank {en}-{dn}-sv{sv}"] = dict(
+                    estimator=est, extra={"distance_sampler": ds},
+                    medium_extra={"supervoxel": sv})
+    return out
+
 
 def mse(img, ref, ref_var):
     return float(np.mean((img - ref) ** 2) - np.mean(ref_var))
 
 
-def mitsuba_sweep(mi, scene, spps, gpu):
-    """[(spp, wall, cpu, image)] of Mitsuba's render at each spp; on a GPU
-    variant each spp renders once untimed first (kernel compilation)."""
+def mitsuba_sweep(mi, scene, spps, warm):
+    """[(spp, wall, cpu, image)] of Mitsuba's render at each spp; on a JIT
+    variant (`warm`: cuda_*, llvm_*) each spp renders once untimed first,
+    since Dr.Jit compiles a kernel per launch shape."""
     import drjit as dr
 
     out = []
     for spp in spps:
-        if gpu:
+        if warm:
             np.array(mi.render(scene, seed=2, spp=spp))
             dr.sync_thread()
         c0, t0 = time.process_time(), time.perf_counter()
@@ -105,11 +124,59 @@ def time_to(points, target):
     return None
 
 
+def fogbank_curve(args, sc, vol, out, name, cfg, spps, ref, ref_var, mi):
+    """[{spp, wall, cpu, render_seconds, mse}] of one fogbank configuration."""
+    gpu = args.device == "gpu"
+    short = name.split()[1]
+    toml = os.path.join(out, f"{sc}_{short}.toml")
+    with open(toml, "w") as f:
+        f.write(mc.fogbank_toml(sc, vol, args.width, args.height, spps[0], seed=1,
+                                estimator=cfg["estimator"], preset=cfg.get("preset"),
+                                extra=cfg.get("extra"), medium_extra=cfg.get("medium_extra")))
+    pts = []
+    if gpu:  # an idle GPU runs at a fraction of its clock
+        mc.run_fogbank(args.fogbank, toml, os.path.join(out, "warm.exr"), args.threads,
+                       spp=spps[-1], device="gpu")
+    for spp in spps:
+        exr = os.path.join(out, f"{sc}_{short}_{spp}.exr")
+        st_path = exr[:-4] + ".json"
+        wall, cpu, st = mc.run_fogbank(args.fogbank, toml, exr, args.threads,
+                                       spp=spp, stats=st_path, device=args.device)
+        if gpu:  # the render loop, after upload and compilation
+            wall = st["render_seconds"]
+        img, _ = mc.read_exr(mi, exr)
+        e = mse(img, ref, ref_var)
+        pts.append(dict(spp=spp, wall=wall, cpu=cpu, render_seconds=st["render_seconds"], mse=e))
+        print(f"[{sc}] {name:28s} {spp:6d} spp  wall {wall:7.2f} s  cpu {cpu:7.2f} s"
+              f"  rmse {math.sqrt(max(e, 0)):.4e}", flush=True)
+    return pts
+
+
+def mitsuba_curve(args, sc, vol, variant, m_spps, ref, ref_var):
+    """Switches Mitsuba to `variant` and sweeps it; returns its points."""
+    import drjit as dr
+    import mitsuba as mi
+
+    mi.set_variant(variant)
+    dr.set_thread_count(args.threads)
+    scene = mi.load_dict(mc.mitsuba_dict(mi, sc, vol, args.width, args.height, m_spps[0]))
+    pts = []
+    jit = variant.startswith(("cuda", "llvm"))
+    for spp, wall, cpu, img in mitsuba_sweep(mi, scene, m_spps, jit):
+        e = mse(img, ref, ref_var)
+        pts.append(dict(spp=spp, wall=wall, cpu=cpu, mse=e))
+        print(f"[{sc}] {'mitsuba ' + variant:28s} {spp:6d} spp  wall {wall:7.2f} s  cpu "
+              f"{cpu:7.2f} s  rmse {math.sqrt(max(e, 0)):.4e}", flush=True)
+    return pts
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--fogbank", default=default_fogbank())
     ap.add_argument("--out", default="mitsuba_bench_out")
-    ap.add_argument("--variant", default="scalar_rgb")
+    ap.add_argument("--variant", default=None, help="one Mitsuba variant (old spelling)")
+    ap.add_argument("--variants", default="scalar_rgb",
+                    help="Mitsuba variants, comma-separated, all timed in this run")
     ap.add_argument("--scenes", default="point,env")
     ap.add_argument("--width", type=int, default=64)
     ap.add_argument("--height", type=int, default=64)
@@ -123,10 +190,15 @@ def main():
                     help="fogbank's device for the sweep")
     ap.add_argument("--ref-device", default="cpu", choices=["cpu", "gpu"])
     ap.add_argument("--configs", default="jackknife,ratio,baseline",
-                    help="fogbank configurations (short names)")
+                    help="fogbank configurations (short names; empty for none)")
+    ap.add_argument("--best", action="store_true",
+                    help="also sweep fogbank's NEE estimator x distance sampler x super-voxel"
+                         " grid and report its best configuration per scene")
     ap.add_argument("--budgets-ms", default="",
                     help="time budgets (ms) for equal-time MSE ratios")
     args = ap.parse_args()
+    variants = (args.variant or args.variants).split(",")
+    args.variant = variants[0]
 
     mi, out, vol, _grid = mc.setup_mitsuba(args)
     gpu = args.device == "gpu"
@@ -134,15 +206,19 @@ def main():
     budgets = [float(b) / 1000.0 for b in args.budgets_ms.split(",") if b]
     configs = {n: c for n, c in FOGBANK_CONFIGS.items()
                if n.split()[1] in args.configs.split(",")}
+    if args.best:
+        configs.update(best_configs())
     spps = [int(s) for s in args.spp_list.split(",")]
     m_spps = [int(s) for s in (args.mitsuba_spp_list or args.spp_list).split(",")]
+    mnames = [f"mitsuba volpath ({v})" for v in variants]
     report = dict(versions=mc.versions(args.fogbank), threads=args.threads,
-                  variant=args.variant, width=args.width, height=args.height,
+                  variants=variants, width=args.width, height=args.height,
                   device=args.device, ref_device=args.ref_device,
-                  ref_spp=args.ref_spp, spp_list=spps, mitsuba_spp_list=m_spps, scenes={})
-    rows = []
+                  ref_spp=args.ref_spp, spp_list=spps, mitsuba_spp_list=m_spps,
+                  configs={n: c for n, c in configs.items()}, scenes={})
+    rows, best_rows = [], []
     for sc in args.scenes.split(","):
-        # Reference.
+        mi.set_variant(variants[0])
         ref_toml = os.path.join(out, f"{sc}_ref.toml")
         with open(ref_toml, "w") as f:
             f.write(mc.fogbank_toml(sc, vol, args.width, args.height, args.ref_spp, seed=1000))
@@ -155,44 +231,14 @@ def main():
         print(f"[{sc}] reference noise RMSE {math.sqrt(np.mean(ref_var)):.3e}")
         curves = {}
         for name, cfg in configs.items():
-            toml = os.path.join(out, f"{sc}_{name.split()[1]}.toml")
-            with open(toml, "w") as f:
-                f.write(mc.fogbank_toml(sc, vol, args.width, args.height, spps[0], seed=1,
-                                        estimator=cfg["estimator"], preset=cfg.get("preset")))
-            pts = []
-            if gpu:  # an idle GPU runs at a fraction of its clock
-                mc.run_fogbank(args.fogbank, toml, os.path.join(out, "warm.exr"), args.threads,
-                               spp=spps[-1], device="gpu")
-            for spp in spps:
-                exr = os.path.join(out, f"{sc}_{name.split()[1]}_{spp}.exr")
-                st_path = exr[:-4] + ".json"
-                wall, cpu, st = mc.run_fogbank(args.fogbank, toml, exr, args.threads,
-                                               spp=spp, stats=st_path, device=args.device)
-                if gpu:  # the render loop, after upload and compilation
-                    wall = st["render_seconds"]
-                img, _ = mc.read_exr(mi, exr)
-                e = mse(img, ref, ref_var)
-                pts.append(dict(spp=spp, wall=wall, cpu=cpu,
-                                render_seconds=st["render_seconds"], mse=e))
-                print(f"[{sc}] {name:18s} {spp:6d} spp  wall {wall:7.2f} s  cpu {cpu:7.2f} s"
-                      f"  rmse {math.sqrt(max(e, 0)):.4e}")
-            curves[name] = pts
-        scene = mi.load_dict(mc.mitsuba_dict(mi, sc, vol, args.width, args.height, m_spps[0]))
-        pts = []
-        for spp, wall, cpu, img in mitsuba_sweep(mi, scene, m_spps,
-                                                 args.variant.startswith("cuda")):
-            e = mse(img, ref, ref_var)
-            pts.append(dict(spp=spp, wall=wall, cpu=cpu, mse=e))
-            print(f"[{sc}] {'mitsuba volpath':18s} {spp:6d} spp  wall {wall:7.2f} s  cpu "
-                  f"{cpu:7.2f} s  rmse {math.sqrt(max(e, 0)):.4e}")
-        mname = f"mitsuba volpath ({args.variant})"
-        curves[mname] = pts
+            curves[name] = fogbank_curve(args, sc, vol, out, name, cfg, spps, ref, ref_var, mi)
+        for v, mname in zip(variants, mnames):
+            curves[mname] = mitsuba_curve(args, sc, vol, v, m_spps, ref, ref_var)
 
         target = max(math.sqrt(max(p[-1]["mse"], 0)) for p in curves.values())
         res = {}
         for name, pts in curves.items():
-            r = {}
-            r["cpu"] = None
+            r = {"cpu": None}
             for clock in clocks:
                 r[clock] = time_to([(p[clock], math.sqrt(max(p["mse"], 1e-300)))
                                     for p in pts], target)
@@ -202,20 +248,22 @@ def main():
             r["mse_at_budget"] = {f"{b * 1000:g}": mc.mse_at(curve, b) for b in budgets}
             res[name] = r
         for name, r in res.items():
-            ratio_cpu = (res[mname]["cpu"] / r["cpu"]) if r["cpu"] else None
-            ratio_wall = (res[mname]["wall"] / r["wall"]) if r["wall"] else None
-            r["mitsuba_over_this_cpu"] = ratio_cpu
-            r["mitsuba_over_this_wall"] = ratio_wall
-            r["mitsuba_mse_over_this_at_budget"] = {
-                b: res[mname]["mse_at_budget"][b] / e for b, e in r["mse_at_budget"].items()}
-            rows.append(dict(scene=sc, config=name, target_rmse=target,
-                             cpu_s=r["cpu"], wall_s=r["wall"],
-                             mitsuba_over_this_cpu=ratio_cpu,
-                             mitsuba_over_this_wall=ratio_wall,
-                             mse_x_cpu_last=r["mse_x_cpu_last"],
-                             **{f"mitsuba_mse_over_this_at_{b}ms": v for b, v
-                                in r["mitsuba_mse_over_this_at_budget"].items()}))
+            row = dict(scene=sc, config=name, target_rmse=target, cpu_s=r["cpu"],
+                       wall_s=r["wall"], mse_x_cpu_last=r["mse_x_cpu_last"])
+            for v, mname in zip(variants, mnames):
+                for clock in ("cpu", "wall"):
+                    m, t = res[mname][clock], r[clock]
+                    row[f"{v}_over_this_{clock}"] = (m / t) if (m and t) else None
+                for b, e in r["mse_at_budget"].items():
+                    row[f"{v}_mse_over_this_at_{b}ms"] = res[mname]["mse_at_budget"][b] / e
+            r["ratios"] = {k: v for k, v in row.items() if "_over_this_" in k}
+            rows.append(row)
+        fog = [n for n in configs if res[n][clocks[0]] is not None]
+        if fog:
+            best = min(fog, key=lambda n: res[n][clocks[0]])
+            best_rows.append(next(r for r in rows if r["scene"] == sc and r["config"] == best))
         report["scenes"][sc] = dict(target_rmse=target, curves=curves, results=res,
+                                    best=best_rows[-1]["config"] if fog else None,
                                     reference_noise_rmse=math.sqrt(float(np.mean(ref_var))))
         with open(os.path.join(out, "bench.json"), "w") as f:
             json.dump(report, f, indent=2)
@@ -224,22 +272,37 @@ def main():
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
+    print_tables(args, variants, rows, best_rows, budgets)
+
+
+def print_tables(args, variants, rows, best_rows, budgets):
+    fmt = lambda v, f: "–" if v is None else format(v, f)  # noqa: E731
     print()
     print(f"threads = {args.threads} (both renderers), {args.width}x{args.height},"
-          f" fogbank on {args.device}, Mitsuba {args.variant}")
-    print("| scene | configuration | target RMSE | CPU s to target | wall s to target |"
-          " Mitsuba / this (CPU) | Mitsuba / this (wall) | MSE x CPU s at max spp |")
-    print("|---|---|---|---|---|---|---|---|")
-    fmt = lambda v, f: "–" if v is None else format(v, f)  # noqa: E731
+          f" fogbank on {args.device}, Mitsuba {', '.join(variants)}")
+    head = "".join(f" {v} / this (CPU) | {v} / this (wall) |" for v in variants)
+    print("| scene | configuration | target RMSE | CPU s to target | wall s to target |" + head
+          + " MSE x CPU s at max spp |")
+    print("|---|---|---|---|---|" + "---|---|" * len(variants) + "---|")
     for r in rows:
+        cells = "".join(f" {fmt(r[f'{v}_over_this_cpu'], '.2f')} |"
+                        f" {fmt(r[f'{v}_over_this_wall'], '.2f')} |" for v in variants)
         print(f"| {r['scene']} | {r['config']} | {r['target_rmse']:.3e} | {fmt(r['cpu_s'], '.2f')}"
-              f" | {fmt(r['wall_s'], '.2f')} | {fmt(r['mitsuba_over_this_cpu'], '.2f')}"
-              f" | {fmt(r['mitsuba_over_this_wall'], '.2f')} | {r['mse_x_cpu_last']:.3e} |")
+              f" | {fmt(r['wall_s'], '.2f')} |{cells} {r['mse_x_cpu_last']:.3e} |")
+    if best_rows:
+        print()
+        print("fogbank's best configuration per scene (least time to the target RMSE):")
+        print("| scene | configuration | CPU s to target |" + head)
+        print("|---|---|---|" + "---|---|" * len(variants))
+        for r in best_rows:
+            cells = "".join(f" {fmt(r[f'{v}_over_this_cpu'], '.2f')} |"
+                            f" {fmt(r[f'{v}_over_this_wall'], '.2f')} |" for v in variants)
+            print(f"| {r['scene']} | {r['config']} | {fmt(r['cpu_s'], '.2f')} |{cells}")
     if budgets:
-        keys = [k for k in rows[0] if k.startswith("mitsuba_mse_over_this_at_")]
+        keys = [k for k in rows[0] if "_mse_over_this_at_" in k]
         print()
         print("Equal time: Mitsuba's MSE / this configuration's MSE at each budget")
-        print("| scene | configuration | " + " | ".join(k.split("_at_")[1] for k in keys) + " |")
+        print("| scene | configuration | " + " | ".join(keys) + " |")
         print("|---|---|" + "---|" * len(keys))
         for r in rows:
             print(f"| {r['scene']} | {r['config']} | "

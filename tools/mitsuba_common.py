@@ -102,6 +102,11 @@ def setup_mitsuba(args):
     """Imports Mitsuba in `args.variant` on `args.threads` threads and writes
     the test grid to `<args.out>/grid.vol`; returns (mi, out, vol, grid)
     with `out` the absolute output folder."""
+    # Dr.Jit's LLVM backend needs a newer LLVM than Debian 12's default 14
+    # (`Cannot select: fminimum`); Debian's libllvm19 works. Set before import.
+    llvm19 = "/usr/lib/x86_64-linux-gnu/libLLVM-19.so"
+    if "DRJIT_LIBLLVM_PATH" not in os.environ and os.path.exists(llvm19):
+        os.environ["DRJIT_LIBLLVM_PATH"] = llvm19
     import drjit as dr
     import mitsuba as mi
 
@@ -116,7 +121,7 @@ def setup_mitsuba(args):
 
 
 def fogbank_toml(scene, vol_path, width, height, spp, seed, estimator="ratio_tracking",
-                 preset=None, extra=None):
+                 preset=None, extra=None, medium_extra=None):
     s = SCENES[scene]
     cam = CAMERA
     lines = [
@@ -137,8 +142,10 @@ def fogbank_toml(scene, vol_path, width, height, spp, seed, estimator="ratio_tra
          else 'phase = { type = "isotropic" }'),
         'filter = "trilinear"',
         'precision = "f32"',
-        "",
     ]
+    for k, v in (medium_extra or {}).items():
+        lines.append(f"{k} = {json.dumps(v)}")
+    lines.append("")
     for l in s["lights"]:
         lines.append("[[lights]]")
         lines.append(f'type = "{l["type"]}"')

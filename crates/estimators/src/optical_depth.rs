@@ -4,7 +4,7 @@
 //! jitter patterns so that jackknife, its ablations and Kettunen et al.'s
 //! ray marching share one implementation.
 
-use crate::lookup::sigma_t_at;
+use crate::lookup::LookupBatch;
 use fogbank_math::{Pcg32, Ray};
 use fogbank_volume::{Dda, SuperVoxel, VolumeAccess};
 
@@ -80,7 +80,9 @@ pub fn prepare<V: VolumeAccess>(
 /// Seed 000, Alg. 1, for `out.len()` interleaved i.i.d. estimates with CDF
 /// step `f_delta` (importance per stratum). Each estimate advances its own
 /// normalised CDF cursor; every pass of the inner loop takes exactly one
-/// full-resolution sample. Writes X_k = F_Δ Σ (μ − μ_c)/P + τ_c.
+/// full-resolution sample. Writes X_k = F_Δ Σ (μ − μ_c)/P + τ_c. The sample
+/// points are known before any value is read, so they are read in batches
+/// (`LookupBatch`, SIMD lanes), with the sequential result bit for bit.
 #[allow(clippy::too_many_arguments)]
 pub fn estimates<V: VolumeAccess>(
     v: &V,
@@ -106,6 +108,7 @@ pub fn estimates<V: VolumeAccess>(
     let argmin = |c: &[f64; MAX_ESTIMATES]| (0..m).fold(0, |b, k| if c[k] < c[b] { k } else { b });
     let mut j = argmin(&cursor);
     let (mut f, mut tau_c) = (0.0f64, 0.0f64);
+    let mut batch = LookupBatch::<(usize, f64, f64)>::default();
     for s in Dda::new(ray, sv.size as f32, sv.dims, prep.t_min, prep.t_max) {
         let (p, sigma_c) = importance.of(sv.get(s.cell));
         let len = (s.t1 - s.t0) as f64;
@@ -117,8 +120,11 @@ pub fn estimates<V: VolumeAccess>(
         while f_delta * cursor[j] < f {
             // Rewind from the super-voxel's exit to the sample's CDF value.
             let t = (s.t1 as f64 - (f - f_delta * cursor[j]) / p).clamp(s.t0 as f64, s.t1 as f64);
-            let sigma_t = sigma_t_at(v, ray.at(t as f32), rng, lookups) as f64;
-            out[j] += (sigma_t - sigma_c) / p;
+            // The sample's σ_t is read later, with its batch; it adds
+            // (σ_t − μ_c)/P to estimate j.
+            if batch.push(v, ray.at(t as f32), (j, sigma_c, p), rng, lookups) {
+                batch.drain(v, |sigma_t, (j, c, p)| out[j] += (sigma_t as f64 - c) / p);
+            }
             cursor[j] = match jitter {
                 // floor + 1 (not ceil) so a jitter of exactly 0 still moves on.
                 Jitter::Stratified => floor_f64(cursor[j]) + 1.0 + rng.next_f32() as f64,
@@ -127,6 +133,7 @@ pub fn estimates<V: VolumeAccess>(
             j = argmin(&cursor);
         }
     }
+    batch.drain(v, |sigma_t, (j, c, p)| out[j] += (sigma_t as f64 - c) / p);
     for x in out.iter_mut().take(m) {
         *x = f_delta * *x + tau_c;
     }

@@ -2,7 +2,7 @@
 //! segment, T = exp(−X). Biased (Jensen: it overestimates T). With `clip`,
 //! the segment is first shrunk to the non-empty super-voxels.
 
-use crate::lookup::sigma_t_at;
+use crate::lookup::LookupBatch;
 use crate::optical_depth::{prepare, Importance};
 use crate::Estimate;
 use fogbank_math::{Pcg32, Ray};
@@ -49,9 +49,14 @@ pub fn optical_depth<V: VolumeAccess>(
     let u = rng.next_f32() as f64;
     let mut lookups = 0;
     let mut sum = 0.0f64;
+    // Read in batches (SIMD lanes), summed in order: the sequential sum.
+    let mut batch = LookupBatch::<()>::default();
     for i in 0..n {
         let t = a as f64 + (i as f64 + u) * dt;
-        sum += sigma_t_at(v, ray.at(t as f32), rng, &mut lookups) as f64;
+        if batch.push(v, ray.at(t as f32), (), rng, &mut lookups) {
+            batch.drain(v, |sigma_t, ()| sum += sigma_t as f64);
+        }
     }
+    batch.drain(v, |sigma_t, ()| sum += sigma_t as f64);
     (sum * dt, lookups)
 }

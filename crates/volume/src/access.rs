@@ -53,6 +53,16 @@ pub trait VolumeAccess: Sync {
     /// Extinction σ_t at index-space point `p` (inside `[0, dims]`). `u` is a
     /// uniform point in [0, 1)³, used only by stochastic filtering.
     fn sigma_t(&self, p: Vec3, u: Vec3) -> f32;
+    /// `out[l] = self.sigma_t(p[l], u[l])` for every `l < p.len()`, bit for
+    /// bit (`u` may be empty when `needs_jitter` is false). Voxel grids
+    /// evaluate eight points at a time in SIMD lanes (`lanes.rs`); other
+    /// media take this loop.
+    #[inline]
+    fn sigma_t_lanes(&self, p: &[Vec3], u: &[Vec3], out: &mut [f32]) {
+        for (l, o) in out.iter_mut().enumerate().take(p.len()) {
+            *o = self.sigma_t(p[l], u.get(l).copied().unwrap_or(Vec3::ZERO));
+        }
+    }
     /// Whether `sigma_t` reads `u` (callers skip drawing it otherwise).
     fn needs_jitter(&self) -> bool;
     /// Super-voxel statistics in extinction units.
@@ -221,6 +231,13 @@ impl<T: Voxel> VolumeAccess for GridView<'_, T> {
     #[inline(always)]
     fn sigma_t(&self, p: Vec3, u: Vec3) -> f32 {
         self.scale * self.classify(self.grid.filtered(self.filter, p, u))
+    }
+    #[inline]
+    fn sigma_t_lanes(&self, p: &[Vec3], u: &[Vec3], out: &mut [f32]) {
+        self.grid.filtered_lanes(self.filter, p, u, out);
+        for o in out.iter_mut().take(p.len()) {
+            *o = self.scale * self.classify(*o);
+        }
     }
     #[inline(always)]
     fn needs_jitter(&self) -> bool {

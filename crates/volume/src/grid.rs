@@ -32,12 +32,16 @@ pub const MAX_BRICKS: u64 = 1 << 27;
 /// Storage type of a voxel value.
 pub trait Voxel: Copy + Send + Sync + 'static {
     const NAME: &'static str;
+    /// How SIMD lanes read this type (`lanes.rs`): bits per voxel, 32 for
+    /// IEEE single, 16 for IEEE half, 0 for none.
+    const LANE_BITS: u32;
     fn load(self) -> f32;
     fn store(x: f32) -> Self;
 }
 
 impl Voxel for f32 {
     const NAME: &'static str = "f32";
+    const LANE_BITS: u32 = 32;
     #[inline]
     fn load(self) -> f32 {
         self
@@ -50,6 +54,7 @@ impl Voxel for f32 {
 
 impl Voxel for f16 {
     const NAME: &'static str = "f16";
+    const LANE_BITS: u32 = 16;
     #[inline]
     fn load(self) -> f32 {
         self.to_f32()
@@ -187,6 +192,13 @@ impl<T: Voxel> BrickGrid<T> {
 
     pub fn dims(&self) -> [u32; 3] {
         self.dims
+    }
+
+    /// The raw storage for the SIMD lanes of `lanes.rs`: (brick dims, brick
+    /// table, constants, voxel data).
+    #[inline(always)]
+    pub(crate) fn raw(&self) -> ([u32; 3], &[u32], &[f32], &[T]) {
+        (self.bdims, &self.table, &self.constants, &self.data)
     }
 
     /// Value of voxel `(i, j, k)`, with indices clamped to the grid.

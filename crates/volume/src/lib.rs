@@ -10,6 +10,7 @@ pub mod distance;
 pub mod error;
 pub mod explosion;
 pub mod grid;
+pub mod lanes;
 pub mod loaders;
 pub mod medium;
 pub mod mip;
