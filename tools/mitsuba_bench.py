@@ -14,7 +14,15 @@ For each scene:
      fogbank ratio       estimator = "ratio_tracking" (NEE), delta tracking
      fogbank baseline    preset = "baseline" (decomposition tracking +
                          residual ratio tracking)
-     mitsuba volpath     variant --variant (default scalar_rgb)
+     mitsuba volpath     each of --variants (default scalar_rgb; e.g.
+                         scalar_rgb,llvm_ad_rgb: all timed in this run)
+   and, with --best (issue 15 item 3), fogbank's configuration space: NEE
+   estimator (ratio / residual ratio tracking, jackknife) x free-flight
+   sampler (delta / decomposition tracking) x super-voxel edge (4, 8, 16);
+   the best per scene (least time to the target) is reported against every
+   variant. llvm_* variants render each spp once untimed first (Dr.Jit
+   compiles per launch shape) and need DRJIT_LIBLLVM_PATH (set to Debian's
+   libLLVM-19 when it exists).
    recording wall time and CPU time (fogbank: the whole child process,
    including start-up and loading the grid; Mitsuba: `mi.render` only, the
    scene is loaded once beforehand) and the RMSE against the reference.
@@ -40,7 +48,8 @@ Not part of CI (needs `pip install mitsuba`). Usage:
     cargo build --release -p fogbank-cli
     python3 tools/mitsuba_bench.py [--fogbank target/release/fogbank] [--out DIR]
         [--scenes point,env] [--threads 1] [--ref-spp 65536]
-        [--spp-list 16,32,64,128,256,512,1024] [--variant scalar_rgb]
+        [--spp-list 16,32,64,128,256,512,1024] [--variants scalar_rgb,llvm_ad_rgb]
+        [--best]
         [--device cpu|gpu] [--ref-device cpu|gpu] [--configs jackknife,ratio,baseline]
         [--budgets-ms 15,25,60]
 
