@@ -157,6 +157,46 @@ impl<T: Voxel> BrickGrid<T> {
         Ok(Self::assemble(dims, bdims, bricks))
     }
 
+    /// This grid stored as `U`: exactly `BrickGrid::<U>::from_fn(dims, |i,
+    /// j, k| self.fetch(i, j, k))` (same table, constants and data), but a
+    /// constant brick is converted without reading its voxels, so a sparse
+    /// grid converts in time proportional to its data bricks, not its box.
+    pub fn to_voxel<U: Voxel>(&self) -> BrickGrid<U> {
+        let (dims, bdims) = (self.dims, self.bdims);
+        let n = self.table.len();
+        let bricks: Vec<BrickContent<U>> = (0..n)
+            .into_par_iter()
+            .map(|b| {
+                let entry = self.table[b];
+                if entry & CONSTANT != 0 {
+                    // from_fn would read 512 equal values: a constant brick.
+                    let c = self.constants[(entry & !CONSTANT) as usize];
+                    return BrickContent::Constant(U::store(c).load());
+                }
+                let bx = (b % bdims[0] as usize) as u32;
+                let by = ((b / bdims[0] as usize) % bdims[1] as usize) as u32;
+                let bz = (b / (bdims[0] as usize * bdims[1] as usize)) as u32;
+                let mut values = [0.0f32; BRICK_VOXELS];
+                for lk in 0..BRICK {
+                    for lj in 0..BRICK {
+                        for li in 0..BRICK {
+                            let (i, j, k) = (bx * BRICK + li, by * BRICK + lj, bz * BRICK + lk);
+                            // Clamped as from_fn clamps (edge bricks pad
+                            // with the border).
+                            values[local_index(li, lj, lk)] = self.fetch_in_grid(
+                                i.min(dims[0] - 1),
+                                j.min(dims[1] - 1),
+                                k.min(dims[2] - 1),
+                            );
+                        }
+                    }
+                }
+                classify::<U>(&values)
+            })
+            .collect();
+        BrickGrid::assemble(dims, bdims, bricks)
+    }
+
     fn assemble(dims: [u32; 3], bdims: [u32; 3], bricks: Vec<BrickContent<T>>) -> Self {
         let mut table = Vec::with_capacity(bricks.len());
         let mut constants: Vec<f32> = Vec::new();
@@ -192,6 +232,36 @@ impl<T: Voxel> BrickGrid<T> {
 
     pub fn dims(&self) -> [u32; 3] {
         self.dims
+    }
+
+    /// The value of every voxel in the inclusive index box `[lo, hi]`, read
+    /// with clamped indices as `fetch` reads them, when the bricks it
+    /// touches are all constant with one value; `None` otherwise (also when
+    /// they are equal but stored as data). One table lookup per brick: the
+    /// sparse super-voxel build skips empty space with it.
+    pub fn uniform_in(&self, lo: [i32; 3], hi: [i32; 3]) -> Option<f32> {
+        let b: [(u32, u32); 3] = std::array::from_fn(|a| {
+            let last = self.dims[a] as i32 - 1;
+            let (l, h) = (lo[a].clamp(0, last) as u32, hi[a].clamp(0, last) as u32);
+            (l >> BRICK_LOG2, h >> BRICK_LOG2)
+        });
+        let mut value: Option<u32> = None;
+        for bz in b[2].0..=b[2].1 {
+            for by in b[1].0..=b[1].1 {
+                for bx in b[0].0..=b[0].1 {
+                    let entry =
+                        self.table[((bz * self.bdims[1] + by) * self.bdims[0] + bx) as usize];
+                    if entry & CONSTANT == 0 {
+                        return None;
+                    }
+                    let v = self.constants[(entry & !CONSTANT) as usize].to_bits();
+                    if *value.get_or_insert(v) != v {
+                        return None;
+                    }
+                }
+            }
+        }
+        value.map(f32::from_bits)
     }
 
     /// The raw storage for the SIMD lanes of `lanes.rs`: (brick dims, brick
@@ -411,6 +481,36 @@ impl BrickGridBuilder {
 #[cfg(test)]
 mod grid_test {
     use super::*;
+
+    #[test]
+    fn to_voxel_equals_from_fn_of_fetch() {
+        // Partial edge bricks whose padding differs from the border, empty
+        // space, a constant slab and dense data.
+        let mut b = BrickGridBuilder::new([21, 10, 17], 0.0).unwrap();
+        b.fill([0, 0, 9], [20, 9, 16], 0.25);
+        for (i, j, k) in [(3, 4, 5), (20, 9, 16), (17, 0, 2), (8, 8, 8)] {
+            b.set(i, j, k, (i * 3 + j * 5 + k) as f32 * 0.173);
+        }
+        let g: BrickGrid<f32> = b.finish();
+        let bits = |h: &BrickGrid<f16>| {
+            let (_, table, constants, data) = h.raw();
+            (
+                table.to_vec(),
+                constants.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                data.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            )
+        };
+        let want =
+            BrickGrid::<f16>::from_fn(g.dims(), |i, j, k| g.fetch(i as i32, j as i32, k as i32))
+                .unwrap();
+        assert_eq!(bits(&g.to_voxel::<f16>()), bits(&want));
+        let want32 =
+            BrickGrid::<f32>::from_fn(g.dims(), |i, j, k| g.fetch(i as i32, j as i32, k as i32))
+                .unwrap();
+        let got32 = g.to_voxel::<f32>();
+        assert_eq!(got32.raw().1, want32.raw().1);
+        assert_eq!(got32.raw().3.len(), want32.raw().3.len());
+    }
 
     #[test]
     fn from_fn_round_trips_and_elides_constant_bricks() {

@@ -83,9 +83,7 @@ impl DensityData {
 }
 
 fn convert(g: &BrickGrid<f32>) -> BrickGrid<f16> {
-    let d = g.dims();
-    BrickGrid::from_fn(d, |i, j, k| g.fetch(i as i32, j as i32, k as i32))
-        .expect("dims already validated")
+    g.to_voxel()
 }
 
 #[derive(Clone, Debug)]
@@ -140,13 +138,24 @@ impl Medium {
         supervoxel: u32,
     ) -> Self {
         let apron = filter.apron();
-        let build = |dims, fetch: &(dyn Fn(i32, i32, i32) -> f32 + Sync)| match &opacity {
-            Some(tf) => SuperVoxelGrid::build_classified(dims, supervoxel, apron, fetch, tf),
-            None => SuperVoxelGrid::build(dims, supervoxel, apron, fetch),
-        };
+        let tf = opacity.as_ref();
         let supervoxels = match &data {
-            DensityData::F16(g) => build(g.dims(), &|i, j, k| g.fetch(i, j, k)),
-            DensityData::F32(g) => build(g.dims(), &|i, j, k| g.fetch(i, j, k)),
+            DensityData::F16(g) => SuperVoxelGrid::build_sparse(
+                g.dims(),
+                supervoxel,
+                apron,
+                |i, j, k| g.fetch(i, j, k),
+                |lo, hi| g.uniform_in(lo, hi),
+                tf,
+            ),
+            DensityData::F32(g) => SuperVoxelGrid::build_sparse(
+                g.dims(),
+                supervoxel,
+                apron,
+                |i, j, k| g.fetch(i, j, k),
+                |lo, hi| g.uniform_in(lo, hi),
+                tf,
+            ),
             DensityData::Analytic(a) => a.supervoxels(supervoxel),
         }
         .scaled(sigma_t_scale);

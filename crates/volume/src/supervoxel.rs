@@ -12,6 +12,28 @@
 use fogbank_math::PiecewiseLinear;
 use rayon::prelude::*;
 
+/// `uniform` for fields without a cheap uniformity test.
+fn no_uniform(_: [i32; 3], _: [i32; 3]) -> Option<f32> {
+    None
+}
+
+/// Statistics of a classified cell σ_t = α(s) (see `build_classified`).
+fn classified(
+    values: impl Iterator<Item = f32> + Clone,
+    opacity: &PiecewiseLinear<1>,
+) -> SuperVoxel {
+    let (lo, hi) = values
+        .clone()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    let mut sv = SuperVoxel::from_values(values.map(|v| opacity.eval(v)[0]));
+    let (min, max) = opacity.range_over(lo, hi);
+    sv.min = sv.min.min(min);
+    sv.max = sv.max.max(max);
+    sv
+}
+
 /// One super-voxel, laid out as a `vec4<f32>` for the GPU.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -119,7 +141,34 @@ impl SuperVoxelGrid {
         apron: u32,
         fetch: impl Fn(i32, i32, i32) -> f32 + Sync,
     ) -> Self {
-        Self::build_with(dims, size, apron, fetch, |v| SuperVoxel::from_values(v))
+        Self::build_with(dims, size, apron, fetch, no_uniform, |v| {
+            SuperVoxel::from_values(v)
+        })
+    }
+
+    /// [`Self::build`] (`opacity` None) or [`Self::build_classified`] of a
+    /// sparse field: `uniform(lo, hi)` returns the value of every voxel in
+    /// the inclusive index box `[lo, hi]` (clamped reads) when they are all
+    /// equal, and such cells read one voxel instead of all of them. The
+    /// statistics are the same bit for bit: n equal values c have minimum,
+    /// maximum and mean c (their f64 sum n·c is exact while n < 2²⁹) and a
+    /// zero spread, whatever n is. For grids of constant bricks (sparse VDB
+    /// files, whose empty space is one constant) this skips the voxels of
+    /// every empty super-voxel.
+    pub fn build_sparse(
+        dims: [u32; 3],
+        size: u32,
+        apron: u32,
+        fetch: impl Fn(i32, i32, i32) -> f32 + Sync,
+        uniform: impl Fn([i32; 3], [i32; 3]) -> Option<f32> + Sync,
+        opacity: Option<&PiecewiseLinear<1>>,
+    ) -> Self {
+        match opacity {
+            None => Self::build_with(dims, size, apron, fetch, uniform, |v| {
+                SuperVoxel::from_values(v)
+            }),
+            Some(tf) => Self::build_with(dims, size, apron, fetch, uniform, |v| classified(v, tf)),
+        }
     }
 
     /// The statistics of a classified field σ_t = α(s) of the voxel values
@@ -135,25 +184,24 @@ impl SuperVoxelGrid {
         fetch: impl Fn(i32, i32, i32) -> f32 + Sync,
         opacity: &PiecewiseLinear<1>,
     ) -> Self {
-        Self::build_with(dims, size, apron, fetch, |values| {
-            let (lo, hi) = values
-                .clone()
-                .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| {
-                    (lo.min(v), hi.max(v))
-                });
-            let mut sv = SuperVoxel::from_values(values.map(|v| opacity.eval(v)[0]));
-            let (min, max) = opacity.range_over(lo, hi);
-            sv.min = sv.min.min(min);
-            sv.max = sv.max.max(max);
-            sv
+        Self::build_with(dims, size, apron, fetch, no_uniform, |values| {
+            classified(values, opacity)
         })
     }
 
     /// [`Self::build`] with the statistics of each cell's values (its own
     /// voxels and the apron) computed by `stats`.
-    fn build_with<F, S>(dims: [u32; 3], size: u32, apron: u32, fetch: F, stats: S) -> Self
+    fn build_with<F, U, S>(
+        dims: [u32; 3],
+        size: u32,
+        apron: u32,
+        fetch: F,
+        uniform: U,
+        stats: S,
+    ) -> Self
     where
         F: Fn(i32, i32, i32) -> f32 + Sync,
+        U: Fn([i32; 3], [i32; 3]) -> Option<f32> + Sync,
         S: Fn(CellValues<'_, F>) -> SuperVoxel + Sync,
     {
         let size = size.max(1);
@@ -173,6 +221,13 @@ impl SuperVoxelGrid {
                         .min(dims[a] as i32 - 1 + apron as i32)
                 });
                 let lo = lo.map(|v| v.max(-(apron as i32)));
+                let count: i64 = (0..3).map(|a| (hi[a] - lo[a] + 1).max(0) as i64).product();
+                // A uniform cell: its first voxel stands for all (same statistics).
+                let hi = if count > 0 && count < 1 << 29 && uniform(lo, hi).is_some() {
+                    lo
+                } else {
+                    hi
+                };
                 stats(CellValues {
                     fetch: &fetch,
                     lo,
@@ -295,5 +350,55 @@ mod supervoxel_test {
         assert_eq!(no_apron.get([0, 0, 0]).max, 1.0);
         assert_eq!(apron.get([0, 0, 0]).max, 9.0);
         assert_eq!(apron.get([1, 0, 0]).max, 9.0);
+    }
+
+    #[test]
+    fn sparse_build_equals_the_full_build_bit_for_bit() {
+        use crate::grid::BrickGrid;
+        // Empty space (0), a constant slab (0.37) and dense bricks, over
+        // partial bricks at the far faces.
+        let g = BrickGrid::<f32>::from_fn([45, 37, 29], |i, j, k| {
+            if k >= 24 {
+                0.37
+            } else if (8..24).contains(&i) && (8..16).contains(&j) {
+                ((i * 31 + j * 17 + k * 7) % 23) as f32 * 0.061 + 0.013
+            } else {
+                0.0
+            }
+        })
+        .unwrap();
+        assert_eq!(g.uniform_in([0, 0, 0], [7, 7, 7]), Some(0.0));
+        assert_eq!(g.uniform_in([-1, -1, 25], [50, 50, 40]), Some(0.37));
+        assert_eq!(g.uniform_in([0, 0, 0], [7, 7, 24]), None);
+        assert_eq!(g.uniform_in([8, 8, 0], [9, 9, 1]), None);
+        let tf = PiecewiseLinear::new(vec![(0.0, [0.2]), (0.3, [0.9]), (1.0, [0.1])]).unwrap();
+        let fetch = |i, j, k| g.fetch(i, j, k);
+        for size in [1, 4, 8, 16] {
+            for apron in [0, 1] {
+                let full = SuperVoxelGrid::build(g.dims(), size, apron, fetch);
+                let full_tf = SuperVoxelGrid::build_classified(g.dims(), size, apron, fetch, &tf);
+                let uniform = |lo, hi| g.uniform_in(lo, hi);
+                let sparse =
+                    SuperVoxelGrid::build_sparse(g.dims(), size, apron, fetch, uniform, None);
+                let sparse_tf =
+                    SuperVoxelGrid::build_sparse(g.dims(), size, apron, fetch, uniform, Some(&tf));
+                let bits = |c: &[SuperVoxel]| {
+                    c.iter()
+                        .flat_map(|s| [s.min, s.max, s.mean, s.importance].map(f32::to_bits))
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(
+                    bits(&full.cells),
+                    bits(&sparse.cells),
+                    "size {size} apron {apron}"
+                );
+                assert_eq!(
+                    bits(&full_tf.cells),
+                    bits(&sparse_tf.cells),
+                    "size {size} apron {apron}"
+                );
+                assert_eq!(full.zero, sparse.zero);
+            }
+        }
     }
 }

@@ -277,10 +277,15 @@ pub fn field_data(
         let path = base.join(f);
         let g = vdb::read_grid(&path, d.grid.as_deref()).map_err(err)?;
         let (mut grid, xf) = vdb_grid::to_brick_grid(&g).map_err(err)?;
+        let (level_set, background, name) =
+            (vdb_grid::is_level_set(&g), g.background, g.name.clone());
+        // The file's leaves are a second copy of the voxels: free them
+        // before the conversions below make a third.
+        drop(g);
         let mode = d.level_set.as_deref().unwrap_or("fog");
-        if vdb_grid::is_level_set(&g) {
+        if level_set {
             match mode {
-                "fog" => grid = vdb_grid::level_set_to_fog(&grid, g.background),
+                "fog" => grid = vdb_grid::level_set_to_fog(&grid, background),
                 "raw" => grid = grid.map_values(|v| v.max(0.0)),
                 other => {
                     return Err(SceneError(format!(
@@ -294,7 +299,7 @@ pub fn field_data(
         return Ok(FieldData::new(
             DensityData::from_f32(grid, precision),
             xf,
-            format!("{} ({})", path.display(), g.name),
+            format!("{} ({})", path.display(), name),
         ));
     }
     if let Some(f) = &d.vol {
