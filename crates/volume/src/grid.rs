@@ -117,6 +117,31 @@ enum BrickContent<T> {
     Data(Vec<T>),
 }
 
+/// The values of brick `b` (x fastest in brick order), `f` read at voxel
+/// indices inside `dims`: voxels past the grid edge copy the clamped border,
+/// so that constant-brick detection is not fooled by padding.
+fn brick_values(
+    b: usize,
+    dims: [u32; 3],
+    bdims: [u32; 3],
+    f: &impl Fn(u32, u32, u32) -> f32,
+) -> [f32; BRICK_VOXELS] {
+    let bx = (b % bdims[0] as usize) as u32;
+    let by = ((b / bdims[0] as usize) % bdims[1] as usize) as u32;
+    let bz = (b / (bdims[0] as usize * bdims[1] as usize)) as u32;
+    let mut values = [0.0f32; BRICK_VOXELS];
+    for lk in 0..BRICK {
+        for lj in 0..BRICK {
+            for li in 0..BRICK {
+                let (i, j, k) = (bx * BRICK + li, by * BRICK + lj, bz * BRICK + lk);
+                values[local_index(li, lj, lk)] =
+                    f(i.min(dims[0] - 1), j.min(dims[1] - 1), k.min(dims[2] - 1));
+            }
+        }
+    }
+    values
+}
+
 fn classify<T: Voxel>(values: &[f32]) -> BrickContent<T> {
     let first = values[0];
     if values.iter().all(|v| v.to_bits() == first.to_bits()) {
@@ -135,24 +160,7 @@ impl<T: Voxel> BrickGrid<T> {
         let n = bdims.iter().map(|&b| b as usize).product::<usize>();
         let bricks: Vec<BrickContent<T>> = (0..n)
             .into_par_iter()
-            .map(|b| {
-                let bx = (b % bdims[0] as usize) as u32;
-                let by = ((b / bdims[0] as usize) % bdims[1] as usize) as u32;
-                let bz = (b / (bdims[0] as usize * bdims[1] as usize)) as u32;
-                let mut values = [0.0f32; BRICK_VOXELS];
-                for lk in 0..BRICK {
-                    for lj in 0..BRICK {
-                        for li in 0..BRICK {
-                            let (i, j, k) = (bx * BRICK + li, by * BRICK + lj, bz * BRICK + lk);
-                            // Voxels past the grid edge copy the clamped border so
-                            // that constant-brick detection is not fooled by padding.
-                            let v = f(i.min(dims[0] - 1), j.min(dims[1] - 1), k.min(dims[2] - 1));
-                            values[local_index(li, lj, lk)] = v;
-                        }
-                    }
-                }
-                classify::<T>(&values)
-            })
+            .map(|b| classify::<T>(&brick_values(b, dims, bdims, &f)))
             .collect();
         Ok(Self::assemble(dims, bdims, bricks))
     }
@@ -173,25 +181,8 @@ impl<T: Voxel> BrickGrid<T> {
                     let c = self.constants[(entry & !CONSTANT) as usize];
                     return BrickContent::Constant(U::store(c).load());
                 }
-                let bx = (b % bdims[0] as usize) as u32;
-                let by = ((b / bdims[0] as usize) % bdims[1] as usize) as u32;
-                let bz = (b / (bdims[0] as usize * bdims[1] as usize)) as u32;
-                let mut values = [0.0f32; BRICK_VOXELS];
-                for lk in 0..BRICK {
-                    for lj in 0..BRICK {
-                        for li in 0..BRICK {
-                            let (i, j, k) = (bx * BRICK + li, by * BRICK + lj, bz * BRICK + lk);
-                            // Clamped as from_fn clamps (edge bricks pad
-                            // with the border).
-                            values[local_index(li, lj, lk)] = self.fetch_in_grid(
-                                i.min(dims[0] - 1),
-                                j.min(dims[1] - 1),
-                                k.min(dims[2] - 1),
-                            );
-                        }
-                    }
-                }
-                classify::<U>(&values)
+                let fetch = |i, j, k| self.fetch_in_grid(i, j, k);
+                classify::<U>(&brick_values(b, dims, bdims, &fetch))
             })
             .collect();
         BrickGrid::assemble(dims, bdims, bricks)

@@ -4,7 +4,7 @@
 
 use crate::access::{Filter, GridView};
 use crate::analytic::{AnalyticField, AnalyticView};
-use crate::grid::{BrickGrid, Precision};
+use crate::grid::{BrickGrid, Precision, Voxel};
 use crate::supervoxel::SuperVoxelGrid;
 use fogbank_math::{Aabb, DAffine3, DVec3, PiecewiseLinear, Ray, Vec3};
 use half::f16;
@@ -82,6 +82,23 @@ impl DensityData {
     }
 }
 
+/// Super-voxel statistics of a voxel grid (empty space skipped).
+fn grid_supervoxels<T: Voxel>(
+    g: &BrickGrid<T>,
+    supervoxel: u32,
+    apron: u32,
+    tf: Option<&PiecewiseLinear<1>>,
+) -> SuperVoxelGrid {
+    SuperVoxelGrid::build_sparse(
+        g.dims(),
+        supervoxel,
+        apron,
+        |i, j, k| g.fetch(i, j, k),
+        |lo, hi| g.uniform_in(lo, hi),
+        tf,
+    )
+}
+
 fn convert(g: &BrickGrid<f32>) -> BrickGrid<f16> {
     g.to_voxel()
 }
@@ -140,22 +157,8 @@ impl Medium {
         let apron = filter.apron();
         let tf = opacity.as_ref();
         let supervoxels = match &data {
-            DensityData::F16(g) => SuperVoxelGrid::build_sparse(
-                g.dims(),
-                supervoxel,
-                apron,
-                |i, j, k| g.fetch(i, j, k),
-                |lo, hi| g.uniform_in(lo, hi),
-                tf,
-            ),
-            DensityData::F32(g) => SuperVoxelGrid::build_sparse(
-                g.dims(),
-                supervoxel,
-                apron,
-                |i, j, k| g.fetch(i, j, k),
-                |lo, hi| g.uniform_in(lo, hi),
-                tf,
-            ),
+            DensityData::F16(g) => grid_supervoxels(g, supervoxel, apron, tf),
+            DensityData::F32(g) => grid_supervoxels(g, supervoxel, apron, tf),
             DensityData::Analytic(a) => a.supervoxels(supervoxel),
         }
         .scaled(sigma_t_scale);
