@@ -9,6 +9,7 @@
 use crate::common::{thread_pool, CliResult};
 use clap::Args;
 use fogbank_estimators::Estimator;
+use fogbank_eval::experiments::restir_protocol::median;
 use fogbank_eval::{transmittance_stats, Backend};
 use fogbank_render::{parse_scene, Progress, RenderOptions, Scene};
 use std::path::Path;
@@ -53,6 +54,13 @@ pub struct BenchArgs {
     /// speed-up over the first: the thread-scaling table.
     #[arg(long, value_delimiter = ',')]
     pub integrators: Vec<String>,
+    /// Rounds of the thread-scaling table: with N > 1, one untimed warm-up
+    /// render per thread count, then N rounds, each timing every thread
+    /// count in turn; the table gives the median ms per frame, its range,
+    /// and the median of the rounds' speed-ups (pairing each round's
+    /// timings keeps the ratio meaningful on a machine whose speed drifts).
+    #[arg(long, default_value_t = 1)]
+    pub repeat: u32,
 }
 
 fn cloud_scene(
@@ -99,12 +107,13 @@ fn integrator_scaling(a: &BenchArgs) -> CliResult {
     // point_mis is the seeds' point-light integrator; ament takes point lights.
     let points =
         "[[lights]]\ntype = \"point\"\nposition = [0.3, 0.2, 0.1]\nintensity = [1.0, 0.85, 0.7]\n";
+    let rounds = a.repeat.max(1) as usize;
     println!();
     println!(
-        "| integrator | threads | ms/frame | speed-up over {} thread(s) |",
+        "| integrator | threads | ms/frame (median of {rounds}) | range | speed-up over {} thread(s) (median) |",
         a.threads[0]
     );
-    println!("|---|---:|---:|---:|");
+    println!("|---|---:|---:|---:|---:|");
     for name in &a.integrators {
         let lights = if name == "point_mis" || name == "ament" {
             points
@@ -117,18 +126,42 @@ fn integrator_scaling(a: &BenchArgs) -> CliResult {
             &[format!("integrator.type={name}")],
         )?;
         let scene = Scene::build(desc, Path::new("."))?;
-        let mut first = None;
-        for &threads in &a.threads {
-            let pool = thread_pool(Some(threads))?;
-            let opts = RenderOptions {
-                spp: a.frames,
-                seed: 1,
-                time_budget: None,
-            };
+        let pools = a
+            .threads
+            .iter()
+            .map(|&t| thread_pool(Some(t)))
+            .collect::<Result<Vec<_>, _>>()?;
+        let opts = RenderOptions {
+            spp: a.frames,
+            seed: 1,
+            time_budget: None,
+        };
+        let time = |pool: &rayon::ThreadPool| {
             let r = pool.install(|| fogbank_render::render(&scene, &opts, &Progress::default()));
-            let ms = r.seconds * 1000.0 / a.frames as f64;
-            let base = *first.get_or_insert(ms);
-            println!("| {name} | {threads} | {ms:.1} | {:.2}× |", base / ms);
+            r.seconds * 1000.0 / a.frames as f64
+        };
+        if rounds > 1 {
+            pools.iter().for_each(|p| {
+                time(p);
+            });
+        }
+        // ms[round][thread count]
+        let ms: Vec<Vec<f64>> = (0..rounds)
+            .map(|_| pools.iter().map(&time).collect())
+            .collect();
+        for (k, threads) in a.threads.iter().enumerate() {
+            let mine: Vec<f64> = ms.iter().map(|r| r[k]).collect();
+            let speedup: Vec<f64> = ms.iter().map(|r| r[0] / r[k]).collect();
+            let range = format!(
+                "{:.1}–{:.1}",
+                mine.iter().cloned().fold(f64::INFINITY, f64::min),
+                mine.iter().cloned().fold(0.0, f64::max)
+            );
+            println!(
+                "| {name} | {threads} | {:.1} | {range} | {:.2}× |",
+                median(mine),
+                median(speedup)
+            );
         }
     }
     Ok(())

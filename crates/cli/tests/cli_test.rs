@@ -350,3 +350,52 @@ fn frames_render_a_sequence_and_stop_at_a_missing_frame() {
         "frames 0..=3",
     );
 }
+
+#[test]
+fn bench_scaling_table_reports_medians_of_paired_rounds() {
+    let out = fogbank()
+        .args([
+            "bench",
+            "--resolution",
+            "16",
+            "--size",
+            "8",
+            "--frames",
+            "1",
+            "--estimators",
+            "track_length",
+            "--stats-size",
+            "0",
+            "--threads",
+            "1,2",
+            "--integrators",
+            "transmittance,direct",
+            "--repeat",
+            "3",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("ms/frame (median of 3)"), "{text}");
+    for name in ["transmittance", "direct"] {
+        let rows: Vec<Vec<&str>> = text
+            .lines()
+            .filter(|l| l.starts_with(&format!("| {name} |")))
+            .map(|l| l.split('|').map(str::trim).collect())
+            .collect();
+        assert_eq!(rows.len(), 2, "{text}");
+        assert_eq!((rows[0][2], rows[1][2]), ("1", "2"));
+        assert_eq!(rows[0][5], "1.00×", "the first count is the baseline");
+        let (lo, hi) = rows[1][4].split_once('–').expect("a min–max range");
+        let median: f64 = rows[1][3].parse().unwrap();
+        let (lo, hi): (f64, f64) = (lo.parse().unwrap(), hi.parse().unwrap());
+        assert!(lo <= median && median <= hi, "{text}");
+        let speedup: f64 = rows[1][5].trim_end_matches('×').parse().unwrap();
+        assert!(speedup.is_finite() && speedup > 0.0, "{text}");
+    }
+}
