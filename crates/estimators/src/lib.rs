@@ -15,6 +15,7 @@
 //! |---|---|---|---|---|---|
 //! | `sigma_t` | extinction coefficient (per world unit; per index unit inside estimators) | μ(t) | σ_t | σ_t, μ | `sigma_t` |
 //! | `sigma_t_at` | σ_t at a point: one filtered lookup, counted | μ(x) | | | `SampleT_maj` callback |
+//! | `LookupBatch` | lookups of a fixed-count estimator queued and read eight at a time (SIMD lanes), bit for bit `sigma_t_at` in order | | | | |
 //! | `sigma_maj` | majorant, per super-voxel the maximum of σ_t | μ̄ | σ̄ | μ̄ | `sigma_maj` |
 //! | `sigma_min` | minorant, per super-voxel the minimum of σ_t | μ_min | | | |
 //! | `sigma_c` | control extinction (residual ratio tracking, the Eq. 5 control variate) | μ_c | σ_c | | |
