@@ -68,17 +68,23 @@ impl<'r> Sequence<'r> {
     pub fn frame(&mut self, cur: &FrameData, prev: &FrameData) -> FrameOutput {
         let r = self.restir;
         // This frame's primary-ray T̃ tables; the previous frame's came with it.
+        // A frame of a still scene (`prev` is `cur`, as in a static
+        // render) has the previous frame's tables: same camera, same mip.
+        let still = std::ptr::eq(cur.world, prev.world) && std::ptr::eq(cur.mips, prev.mips);
+        let reused = still && self.prev_primary.is_some();
         let full = &cur.world.media[0].medium;
         let reuse = cur.mips.reuse(full, r.params.reuse_mip);
         let clock = Instant::now();
-        let table = r
-            .params
-            .primary_table
+        let built = (r.params.primary_table && !reused)
             .then(|| PrimaryT::build(reuse, r.params.reuse_step, &cur.world.camera))
             .flatten();
         let table_seconds = clock.elapsed().as_secs_f64();
         let cur = &FrameData {
-            primary: table.as_ref(),
+            primary: if reused {
+                self.prev_primary.as_ref()
+            } else {
+                built.as_ref()
+            },
             ..*cur
         };
         let prev = &FrameData {
@@ -141,22 +147,24 @@ impl<'r> Sequence<'r> {
         }
 
         let clock = Instant::now();
-        let shaded: Vec<(Vec3, u32)> = (0..n)
+        let (radiance, lk): (Vec<Vec3>, Vec<u32>) = (0..n)
             .into_par_iter()
             .map(|i| {
                 let mut lk = 0;
                 let l = r.shade(cur, &ray(i), &res[i], &mut rng(i, 3), &mut lk);
                 (l, lk)
             })
-            .collect();
+            .unzip();
         times.shading = clock.elapsed().as_secs_f64();
-        lookups += shaded.iter().map(|s| s.1 as u64).sum::<u64>();
+        lookups += lk.iter().map(|&l| l as u64).sum::<u64>();
 
         self.prev = Some(res);
-        self.prev_primary = table;
+        if !reused {
+            self.prev_primary = built;
+        }
         self.frame += 1;
         FrameOutput {
-            radiance: shaded.into_iter().map(|s| s.0).collect(),
+            radiance,
             lookups,
             times,
         }
@@ -168,15 +176,16 @@ fn collect<F>(n: usize, f: F) -> (Vec<Reservoir<PathSample>>, u64)
 where
     F: Fn(usize, &mut u32) -> Reservoir<PathSample> + Sync,
 {
-    let v: Vec<(Reservoir<PathSample>, u32)> = (0..n)
+    // Unzipped in parallel: a serial copy of the reservoirs would cost
+    // thread scaling.
+    let (v, lk): (Vec<_>, Vec<u32>) = (0..n)
         .into_par_iter()
         .map(|i| {
             let mut lk = 0;
             (f(i, &mut lk), lk)
         })
-        .collect();
-    let lookups = v.iter().map(|x| x.1 as u64).sum();
-    (v.into_iter().map(|x| x.0).collect(), lookups)
+        .unzip();
+    (v, lk.iter().map(|&l| l as u64).sum())
 }
 
 impl Restir {
