@@ -102,17 +102,17 @@ pub fn check_dims(dims: [u64; 3]) -> Result<[u32; 3]> {
     Ok([dims[0] as u32, dims[1] as u32, dims[2] as u32])
 }
 
-fn brick_dims(dims: [u32; 3]) -> [u32; 3] {
+pub(crate) fn brick_dims(dims: [u32; 3]) -> [u32; 3] {
     dims.map(|d| d.div_ceil(BRICK))
 }
 
 #[inline]
-fn local_index(i: u32, j: u32, k: u32) -> usize {
+pub(crate) fn local_index(i: u32, j: u32, k: u32) -> usize {
     let m = BRICK - 1;
     (((k & m) << (2 * BRICK_LOG2)) | ((j & m) << BRICK_LOG2) | (i & m)) as usize
 }
 
-enum BrickContent<T> {
+pub(crate) enum BrickContent<T> {
     Constant(f32),
     Data(Vec<T>),
 }
@@ -142,7 +142,7 @@ fn brick_values(
     values
 }
 
-fn classify<T: Voxel>(values: &[f32]) -> BrickContent<T> {
+pub(crate) fn classify<T: Voxel>(values: &[f32]) -> BrickContent<T> {
     let first = values[0];
     if values.iter().all(|v| v.to_bits() == first.to_bits()) {
         BrickContent::Constant(T::store(first).load())
@@ -188,7 +188,7 @@ impl<T: Voxel> BrickGrid<T> {
         BrickGrid::assemble(dims, bdims, bricks)
     }
 
-    fn assemble(dims: [u32; 3], bdims: [u32; 3], bricks: Vec<BrickContent<T>>) -> Self {
+    pub(crate) fn assemble(dims: [u32; 3], bdims: [u32; 3], bricks: Vec<BrickContent<T>>) -> Self {
         let mut table = Vec::with_capacity(bricks.len());
         let mut constants: Vec<f32> = Vec::new();
         let mut constant_index: HashMap<u32, u32> = HashMap::new();
@@ -369,109 +369,10 @@ impl<T: Voxel> BrickGrid<T> {
     }
 }
 
-/// Incremental construction from sparse input (OpenVDB leaves and tiles):
-/// every brick starts as a constant and is materialised in f32 on first write.
-pub struct BrickGridBuilder {
-    dims: [u32; 3],
-    bdims: [u32; 3],
-    bricks: Vec<Option<Box<[f32; BRICK_VOXELS]>>>,
-    constant: Vec<f32>,
-}
-
-impl BrickGridBuilder {
-    pub fn new(dims: [u64; 3], background: f32) -> Result<Self> {
-        let dims = check_dims(dims)?;
-        let bdims = brick_dims(dims);
-        let n = bdims.iter().map(|&b| b as usize).product::<usize>();
-        Ok(BrickGridBuilder {
-            dims,
-            bdims,
-            bricks: vec![None; n],
-            constant: vec![background; n],
-        })
-    }
-
-    pub fn dims(&self) -> [u32; 3] {
-        self.dims
-    }
-
-    fn brick_index(&self, b: [u32; 3]) -> usize {
-        ((b[2] * self.bdims[1] + b[1]) * self.bdims[0] + b[0]) as usize
-    }
-
-    fn brick_mut(&mut self, b: usize) -> &mut [f32; BRICK_VOXELS] {
-        let c = self.constant[b];
-        self.bricks[b].get_or_insert_with(|| Box::new([c; BRICK_VOXELS]))
-    }
-
-    /// Sets one voxel; indices outside the grid are ignored.
-    pub fn set(&mut self, i: i64, j: i64, k: i64, v: f32) {
-        if i < 0 || j < 0 || k < 0 {
-            return;
-        }
-        let (i, j, k) = (i as u64, j as u64, k as u64);
-        if i >= self.dims[0] as u64 || j >= self.dims[1] as u64 || k >= self.dims[2] as u64 {
-            return;
-        }
-        let (i, j, k) = (i as u32, j as u32, k as u32);
-        let b = self.brick_index([i >> BRICK_LOG2, j >> BRICK_LOG2, k >> BRICK_LOG2]);
-        self.brick_mut(b)[local_index(i, j, k)] = v;
-    }
-
-    /// Fills the inclusive voxel box `lo..=hi` (clipped to the grid) with `v`.
-    /// Whole bricks become constants without allocating.
-    pub fn fill(&mut self, lo: [i64; 3], hi: [i64; 3], v: f32) {
-        let lo: [u32; 3] = std::array::from_fn(|a| lo[a].clamp(0, self.dims[a] as i64) as u32);
-        let hi: [i64; 3] = std::array::from_fn(|a| hi[a].min(self.dims[a] as i64 - 1));
-        if (0..3).any(|a| hi[a] < lo[a] as i64) {
-            return;
-        }
-        let hi = hi.map(|h| h as u32);
-        for bz in lo[2] >> BRICK_LOG2..=hi[2] >> BRICK_LOG2 {
-            for by in lo[1] >> BRICK_LOG2..=hi[1] >> BRICK_LOG2 {
-                for bx in lo[0] >> BRICK_LOG2..=hi[0] >> BRICK_LOG2 {
-                    let b0 = [bx, by, bz].map(|c| c << BRICK_LOG2);
-                    let full = (0..3).all(|a| {
-                        lo[a] <= b0[a] && (hi[a] >= b0[a] + BRICK - 1 || hi[a] == self.dims[a] - 1)
-                    });
-                    let b = self.brick_index([bx, by, bz]);
-                    if full {
-                        self.bricks[b] = None;
-                        self.constant[b] = v;
-                        continue;
-                    }
-                    let brick = self.brick_mut(b);
-                    for k in lo[2].max(b0[2])..=hi[2].min(b0[2] + BRICK - 1) {
-                        for j in lo[1].max(b0[1])..=hi[1].min(b0[1] + BRICK - 1) {
-                            for i in lo[0].max(b0[0])..=hi[0].min(b0[0] + BRICK - 1) {
-                                brick[local_index(i, j, k)] = v;
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
-
-    pub fn finish<T: Voxel>(self) -> BrickGrid<T> {
-        let dims = self.dims;
-        let bdims = self.bdims;
-        let contents: Vec<BrickContent<T>> = self
-            .bricks
-            .into_par_iter()
-            .zip(self.constant.into_par_iter())
-            .map(|(brick, c)| match brick {
-                None => BrickContent::Constant(T::store(c).load()),
-                Some(values) => classify::<T>(&values[..]),
-            })
-            .collect();
-        BrickGrid::assemble(dims, bdims, contents)
-    }
-}
-
 #[cfg(test)]
 mod grid_test {
     use super::*;
+    use crate::grid_builder::BrickGridBuilder;
 
     #[test]
     fn to_voxel_equals_from_fn_of_fetch() {
@@ -529,33 +430,6 @@ mod grid_test {
         assert_eq!(g.dense_bricks(), 2 * 2 * 3);
         assert_eq!(g.fetch(-5, 3, 3), g.fetch(0, 3, 3));
         assert_eq!(g.fetch(25, 3, 3), g.fetch(19, 3, 3));
-    }
-
-    #[test]
-    fn builder_fill_and_set_match_from_fn() {
-        let mut b = BrickGridBuilder::new([30, 30, 30], 0.0).unwrap();
-        b.fill([0, 0, 0], [15, 15, 15], 2.0);
-        b.fill([3, 4, 5], [20, 21, 22], 1.0);
-        b.set(7, 7, 7, 5.0);
-        let g: BrickGrid<f16> = b.finish();
-        let reference = |i: u32, j: u32, k: u32| {
-            if (i, j, k) == (7, 7, 7) {
-                5.0
-            } else if (3..=20).contains(&i) && (4..=21).contains(&j) && (5..=22).contains(&k) {
-                1.0
-            } else if i <= 15 && j <= 15 && k <= 15 {
-                2.0
-            } else {
-                0.0
-            }
-        };
-        for k in 0..30 {
-            for j in 0..30 {
-                for i in 0..30 {
-                    assert_eq!(g.fetch(i, j, k), reference(i as u32, j as u32, k as u32));
-                }
-            }
-        }
     }
 
     #[test]

@@ -8,7 +8,8 @@
 //! translation by `origin − ½`.
 
 use super::vdb::{GridClass, VdbGrid};
-use crate::grid::{BrickGrid, BrickGridBuilder, BRICK};
+use crate::grid::{BrickGrid, BRICK};
+use crate::grid_builder::BrickGridBuilder;
 use crate::{Result, VolumeError};
 use fogbank_math::{DAffine3, DVec3};
 use glam::DMat3;
