@@ -127,7 +127,7 @@ pub fn run(a: InfoArgs) -> CliResult {
                     g.leaves.len(),
                     g.tiles.len()
                 );
-                let (grid, xf) = vdb_grid::to_brick_grid(&g)?;
+                let (grid, xf) = vdb_grid::to_brick_grid(g)?;
                 print_transform(&xf);
                 print_memory(grid);
             }

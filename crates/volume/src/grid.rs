@@ -120,7 +120,7 @@ pub(crate) enum BrickContent<T> {
 /// The values of brick `b` (x fastest in brick order), `f` read at voxel
 /// indices inside `dims`: voxels past the grid edge copy the clamped border,
 /// so that constant-brick detection is not fooled by padding.
-fn brick_values(
+pub(crate) fn brick_values(
     b: usize,
     dims: [u32; 3],
     bdims: [u32; 3],

@@ -276,28 +276,32 @@ pub fn field_data(
     if let Some(f) = &d.vdb {
         let path = base.join(f);
         let g = vdb::read_grid(&path, d.grid.as_deref()).map_err(err)?;
-        let (mut grid, xf) = vdb_grid::to_brick_grid(&g).map_err(err)?;
         let (level_set, background, name) =
             (vdb_grid::is_level_set(&g), g.background, g.name.clone());
-        // The file's leaves are a second copy of the voxels: free them
-        // before the conversions below make a third.
-        drop(g);
         let mode = d.level_set.as_deref().unwrap_or("fog");
-        if level_set {
-            match mode {
-                "fog" => grid = vdb_grid::level_set_to_fog(&grid, background),
-                "raw" => grid = grid.map_values(|v| v.max(0.0)),
-                other => {
-                    return Err(SceneError(format!(
-                        "{key}.level_set: `{other}` is not `fog` or `raw`"
-                    )))
-                }
-            }
-        } else {
-            grid = grid.map_values(|v| v.max(0.0));
+        if level_set && mode != "fog" && mode != "raw" {
+            return Err(SceneError(format!(
+                "{key}.level_set: `{mode}` is not `fog` or `raw`"
+            )));
         }
+        // The file's leaves become the builder's bricks, and each brick is
+        // mapped and stored in the medium's precision as it is finished:
+        // the voxels exist in f32 once.
+        let (builder, xf) = vdb_grid::to_builder(g).map_err(err)?;
+        let fog = vdb_grid::level_set_fog(background);
+        let map = move |v: f32| {
+            if level_set && mode == "fog" {
+                fog(v)
+            } else {
+                v.max(0.0)
+            }
+        };
+        let data = match precision {
+            Precision::F16 => DensityData::F16(builder.finish_converted(map)),
+            Precision::F32 => DensityData::F32(builder.finish_converted(map)),
+        };
         return Ok(FieldData::new(
-            DensityData::from_f32(grid, precision),
+            data,
             xf,
             format!("{} ({})", path.display(), name),
         ));

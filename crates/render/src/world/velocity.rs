@@ -133,20 +133,20 @@ impl Velocity {
         let grids = vdb::read_vec3_grid(&path, v.grid.as_deref()).map_err(err)?;
         let mut channels = Vec::with_capacity(3);
         let mut xf = None;
-        for g in &grids {
+        let source = format!("{} ({})", path.display(), grids[0].name);
+        for g in grids {
+            let name = g.name.clone();
             let (grid, gxf) = vdb_grid::to_brick_grid(g).map_err(err)?;
             if xf.is_some_and(|x| x != gxf) {
                 return Err(SceneError(format!(
-                    "{key}: {}: the components of grid `{}` are laid out differently",
+                    "{key}: {}: the components of grid `{name}` are laid out differently",
                     path.display(),
-                    g.name
                 )));
             }
             xf = Some(gxf);
             channels.push(DensityData::from_f32(grid, Precision::F32));
         }
         let file_xf = xf.unwrap_or(DAffine3::IDENTITY);
-        let source = format!("{} ({})", path.display(), grids[0].name);
         let field = Field::from_channels(channels, placement * file_xf, source)
             .map_err(|SceneError(e)| SceneError(format!("{key}: {e}")))?;
         Ok(Some(Velocity::Grid {

@@ -15,7 +15,16 @@ use fogbank_math::{DAffine3, DVec3};
 use glam::DMat3;
 
 /// Converts `g`; returns the grid and its index→world transform.
-pub fn to_brick_grid(g: &VdbGrid) -> Result<(BrickGrid<f32>, DAffine3)> {
+pub fn to_brick_grid(g: VdbGrid) -> Result<(BrickGrid<f32>, DAffine3)> {
+    let (b, xf) = to_builder(g)?;
+    Ok((b.finish(), xf))
+}
+
+/// The builder of `g`'s brick grid, consuming `g`: each leaf's values
+/// become their brick's in place (reordered, non-finite values zeroed), so
+/// the voxels exist once; finish it with the values' map and precision
+/// ([`BrickGridBuilder::finish_converted`]).
+pub fn to_builder(g: VdbGrid) -> Result<(BrickGridBuilder, DAffine3)> {
     let mut lo = [i64::MAX; 3];
     let mut hi = [i64::MIN; 3];
     let mut grow = |a: [i32; 3], size: i64| {
@@ -51,23 +60,35 @@ pub fn to_brick_grid(g: &VdbGrid) -> Result<(BrickGrid<f32>, DAffine3)> {
             b.fill(a, z, t.value);
         }
     }
-    for leaf in &g.leaves {
+    let xf = index_to_world(&g.index_to_world, origin);
+    for leaf in g.leaves {
         let o: [i64; 3] = std::array::from_fn(|k| leaf.origin[k] as i64 - origin[k]);
-        for x in 0..8i64 {
-            for y in 0..8i64 {
-                for z in 0..8i64 {
-                    let v = leaf.values[(x * 64 + y * 8 + z) as usize];
-                    b.set(
-                        o[0] + x,
-                        o[1] + y,
-                        o[2] + z,
-                        if v.is_finite() { v } else { 0.0 },
-                    );
-                }
+        b.adopt(o, brick_order(leaf.values));
+    }
+    Ok((b, xf))
+}
+
+/// An OpenVDB leaf's values (z fastest, index x·64 + y·8 + z) in brick
+/// order (x fastest), non-finite values zeroed, in the same allocation.
+fn brick_order(mut v: Box<[f32; 512]>) -> Box<[f32; 512]> {
+    for x in 0..8 {
+        for y in 0..8 {
+            for z in x + 1..8 {
+                v.swap(x * 64 + y * 8 + z, z * 64 + y * 8 + x);
             }
         }
     }
-    let m = &g.index_to_world;
+    for x in v.iter_mut() {
+        if !x.is_finite() {
+            *x = 0.0;
+        }
+    }
+    v
+}
+
+/// The OpenVDB index→world map of rows `m`, from fogbank's voxel centres
+/// of a grid starting at OpenVDB index `origin`.
+fn index_to_world(m: &[[f64; 4]; 4], origin: [i64; 3]) -> DAffine3 {
     let linear = DMat3::from_cols(
         DVec3::new(m[0][0], m[1][0], m[2][0]),
         DVec3::new(m[0][1], m[1][1], m[2][1]),
@@ -77,14 +98,15 @@ pub fn to_brick_grid(g: &VdbGrid) -> Result<(BrickGrid<f32>, DAffine3)> {
     let shift = DAffine3::from_translation(
         DVec3::new(origin[0] as f64, origin[1] as f64, origin[2] as f64) - 0.5,
     );
-    Ok((b.finish(), vdb * shift))
+    vdb * shift
 }
 
 /// Level set → fog volume as OpenVDB's `sdfToFogVolume`: 0 outside, rising
-/// linearly through the interior half of the narrow band to 1 inside.
-pub fn level_set_to_fog(grid: &BrickGrid<f32>, background: f32) -> BrickGrid<f32> {
+/// linearly through the interior half of the narrow band to 1 inside; the
+/// map of a grid of narrow-band half width `background`.
+pub fn level_set_fog(background: f32) -> impl Fn(f32) -> f32 + Sync + Copy {
     let w = background.abs().max(f32::MIN_POSITIVE);
-    grid.map_values(|phi| (-phi / w).clamp(0.0, 1.0))
+    move |phi| (-phi / w).clamp(0.0, 1.0)
 }
 
 pub fn is_level_set(g: &VdbGrid) -> bool {
