@@ -172,6 +172,36 @@ mod grid_builder_test {
     use half::f16;
 
     #[test]
+    fn to_voxel_equals_from_fn_of_fetch() {
+        // Partial edge bricks whose padding differs from the border, empty
+        // space, a constant slab and dense data.
+        let mut b = BrickGridBuilder::new([21, 10, 17], 0.0).unwrap();
+        b.fill([0, 0, 9], [20, 9, 16], 0.25);
+        for (i, j, k) in [(3, 4, 5), (20, 9, 16), (17, 0, 2), (8, 8, 8)] {
+            b.set(i, j, k, (i * 3 + j * 5 + k) as f32 * 0.173);
+        }
+        let g: BrickGrid<f32> = b.finish();
+        let bits = |h: &BrickGrid<f16>| {
+            let (_, table, constants, data) = h.raw();
+            (
+                table.to_vec(),
+                constants.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                data.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            )
+        };
+        let want =
+            BrickGrid::<f16>::from_fn(g.dims(), |i, j, k| g.fetch(i as i32, j as i32, k as i32))
+                .unwrap();
+        assert_eq!(bits(&g.to_voxel::<f16>()), bits(&want));
+        let want32 =
+            BrickGrid::<f32>::from_fn(g.dims(), |i, j, k| g.fetch(i as i32, j as i32, k as i32))
+                .unwrap();
+        let got32 = g.to_voxel::<f32>();
+        assert_eq!(got32.raw().1, want32.raw().1);
+        assert_eq!(got32.raw().3.len(), want32.raw().3.len());
+    }
+
+    #[test]
     fn builder_fill_and_set_match_from_fn() {
         let mut b = BrickGridBuilder::new([30, 30, 30], 0.0).unwrap();
         b.fill([0, 0, 0], [15, 15, 15], 2.0);
