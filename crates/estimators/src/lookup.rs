@@ -16,7 +16,7 @@ pub fn sigma_t_at<V: VolumeAccess>(v: &V, p: Vec3, rng: &mut Pcg32, lookups: &mu
 /// Counts one lookup and draws its stochastic-filter jitter (zero for
 /// filters without one, drawing nothing).
 #[inline(always)]
-fn count_and_jitter<V: VolumeAccess>(v: &V, rng: &mut Pcg32, lookups: &mut u32) -> Vec3 {
+pub(crate) fn count_and_jitter<V: VolumeAccess>(v: &V, rng: &mut Pcg32, lookups: &mut u32) -> Vec3 {
     *lookups += 1;
     if v.needs_jitter() {
         let h = pcg3d([rng.next_u32(), *lookups, 0x9e37_79b9]);

@@ -4,7 +4,7 @@
 //! or tile order.
 
 /// PCG32 (O'Neill 2014, XSH-RR output, 64-bit LCG state).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Pcg32 {
     state: u64,
     inc: u64,
