@@ -24,7 +24,10 @@ const MIN_AHEAD: f32 = 4.0;
 /// Walks `[t0, t1]`. `rate(cell, length)` gives a super-voxel's rate and a
 /// value handed to its collisions (e.g. a control extinction); `collide(t, μ,
 /// rate, value, rng)` handles one tentative collision at `t` and returns
-/// `false` to stop the walk. Returns whether the walk reached `t1`.
+/// `false` to stop the walk. `draws`: the random numbers `collide` draws
+/// at a collision where the walk goes on (ratio tracking 0, delta
+/// tracking's real-or-null choice 1); a collision that draws otherwise
+/// ends the round. Returns whether the walk reached `t1`.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn walk<V: VolumeAccess>(
@@ -34,6 +37,7 @@ pub fn walk<V: VolumeAccess>(
     t1: f32,
     rng: &mut Pcg32,
     lookups: &mut u32,
+    draws: u32,
     mut rate: impl FnMut(&SuperVoxel, f32) -> (f32, f32),
     mut collide: impl FnMut(f32, f32, f32, f32, &mut Pcg32) -> bool,
 ) -> bool {
@@ -63,7 +67,8 @@ pub fn walk<V: VolumeAccess>(
                 }
                 continue;
             }
-            match round(v, ray, &mut t, s.t1, sigma_maj, rng, lookups, |t, sigma_t, rng| {
+            let segment = (s.t1, sigma_maj, draws);
+            match round(v, ray, &mut t, segment, rng, lookups, |t, sigma_t, rng| {
                 collide(t, sigma_t, sigma_maj, value, rng)
             }) {
                 Round::Stopped => return false,
@@ -82,25 +87,25 @@ enum Round {
     Read,
     /// All were handled and the next lies past the super-voxel.
     Left,
-    /// `collide` drew random numbers; the walk is just after that collision.
+    /// `collide` drew other than `draws` random numbers; the walk is just
+    /// after that collision.
     Drew,
     /// `collide` stopped the walk.
     Stopped,
 }
 
 /// Draws up to [`AHEAD`] collisions in `(t, t_end)` as the sequential walk
-/// would (keeping the stream and the lookup count after each), reads them
-/// in lanes, and hands them to `collide` in order. Where `collide` draws,
-/// or stops, the stream, the count and `t` are set to what they are after
-/// that collision and the rest of the round is dropped.
-#[allow(clippy::too_many_arguments)]
+/// would (keeping the stream and the lookup count after each, and skipping
+/// the `draws` numbers `collide` will take), reads them in lanes, and hands
+/// them to `collide` in order. Where `collide` draws otherwise, or stops,
+/// the stream, the count and `t` are set to what they are after that
+/// collision and the rest of the round is dropped.
 #[inline(always)]
 fn round<V: VolumeAccess>(
     v: &V,
     ray: &Ray,
     t: &mut f32,
-    t_end: f32,
-    sigma_maj: f32,
+    (t_end, sigma_maj, draws): (f32, f32, u32),
     rng: &mut Pcg32,
     lookups: &mut u32,
     mut collide: impl FnMut(f32, f32, &mut Pcg32) -> bool,
@@ -108,7 +113,9 @@ fn round<V: VolumeAccess>(
     let mut p = [Vec3::ZERO; AHEAD];
     let mut u = [Vec3::ZERO; AHEAD];
     let mut at = [0.0f32; AHEAD];
-    let mut after: [(Pcg32, u32); AHEAD] = std::array::from_fn(|_| (rng.clone(), 0));
+    // (stream `collide` starts from, stream it should leave, lookup count)
+    let mut state: [(Pcg32, Pcg32, u32); AHEAD] =
+        std::array::from_fn(|_| (rng.clone(), rng.clone(), 0));
     let (mut n, mut left) = (0, false);
     while n < AHEAD {
         *t += sample_exponential(rng, sigma_maj);
@@ -118,7 +125,11 @@ fn round<V: VolumeAccess>(
         }
         u[n] = count_and_jitter(v, rng, lookups);
         (p[n], at[n]) = (ray.at(*t), *t);
-        after[n] = (rng.clone(), *lookups);
+        state[n].0 = rng.clone();
+        for _ in 0..draws {
+            rng.next_u32();
+        }
+        (state[n].1, state[n].2) = (rng.clone(), *lookups);
         n += 1;
     }
     let mut sigma = [0.0f32; AHEAD];
@@ -127,11 +138,10 @@ fn round<V: VolumeAccess>(
         v.sigma_t_lanes(&p[..n], u, &mut sigma[..n]);
     }
     for i in 0..n {
-        let mut r = after[i].0.clone();
+        let mut r = state[i].0.clone();
         let go = collide(at[i], sigma[i], &mut r);
-        let drew = r != after[i].0;
-        if !go || drew {
-            (*rng, *lookups, *t) = (r, after[i].1, at[i]);
+        if !go || r != state[i].1 {
+            (*rng, *lookups, *t) = (r, state[i].2, at[i]);
             return if go { Round::Drew } else { Round::Stopped };
         }
     }

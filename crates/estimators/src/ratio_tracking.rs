@@ -43,6 +43,7 @@ pub fn transmittance_scaled<V: VolumeAccess, const N: usize>(
         t1,
         rng,
         &mut lookups,
+        0,
         |s, _| (s.max, 0.0),
         |_, sigma_t, sigma_maj, _, rng| {
             for (t, k) in tr.iter_mut().zip(k) {

@@ -73,6 +73,7 @@ pub fn transmittance_scaled<V: VolumeAccess, const N: usize>(
         t1,
         rng,
         &mut lookups,
+        0,
         rate,
         |_, sigma_t, sigma_r, sigma_c, rng| {
             for (r, k) in ratio.iter_mut().zip(k) {

@@ -23,6 +23,7 @@ fn walk_sequential<V: VolumeAccess>(
     t1: f32,
     rng: &mut Pcg32,
     lookups: &mut u32,
+    _draws: u32,
     mut rate: impl FnMut(&SuperVoxel, f32) -> (f32, f32),
     mut collide: impl FnMut(f32, f32, f32, f32, &mut Pcg32) -> bool,
 ) -> bool {
@@ -56,9 +57,11 @@ struct Trace {
     lookups: u32,
 }
 
-/// A collide that draws at some collisions and stops at others, chosen by
-/// the bits of σ_t (so both walks choose alike), and one ratio-tracking
-/// collide with roulette at `threshold`.
+/// Collides of every kind: 0 draws at some collisions and stops at others
+/// (chosen by the bits of t and σ_t, so both walks choose alike); 1–3 ratio
+/// tracking with roulette at 0, 0.1 and 0.6; 4 delta tracking (one draw
+/// per collision); 5 one draw per collision as a rule, none or two at
+/// some, stopping at others.
 fn trace<V: VolumeAccess>(
     v: &V,
     ray: &Ray,
@@ -74,13 +77,27 @@ fn trace<V: VolumeAccess>(
     let mut weight = [1.0f32];
     let collide = |t: f32, sigma_t: f32, sigma_maj: f32, _: f32, rng: &mut Pcg32| {
         seen.push((t.to_bits(), sigma_t.to_bits()));
+        let bits = sigma_t.to_bits() ^ t.to_bits();
         match kind {
             0 => {
-                let bits = sigma_t.to_bits() ^ t.to_bits();
                 if bits.is_multiple_of(7) {
                     rng.next_u32();
                 }
                 !bits.is_multiple_of(53)
+            }
+            4 => rng.next_f32() * sigma_maj >= sigma_t,
+            5 => {
+                let n = if bits.is_multiple_of(11) {
+                    2
+                } else if bits.is_multiple_of(5) {
+                    0
+                } else {
+                    1
+                };
+                for _ in 0..n {
+                    rng.next_u32();
+                }
+                !bits.is_multiple_of(97)
             }
             k => {
                 weight[0] *= 1.0 - sigma_t / sigma_maj;
@@ -91,10 +108,11 @@ fn trace<V: VolumeAccess>(
         }
     };
     let rate = |s: &SuperVoxel, _: f32| (s.max, 0.0);
+    let draws = if kind >= 4 { 1 } else { 0 };
     let reached = if lanes {
-        walk(v, ray, t0, t1, &mut rng, &mut lookups, rate, collide)
+        walk(v, ray, t0, t1, &mut rng, &mut lookups, draws, rate, collide)
     } else {
-        walk_sequential(v, ray, t0, t1, &mut rng, &mut lookups, rate, collide)
+        walk_sequential(v, ray, t0, t1, &mut rng, &mut lookups, draws, rate, collide)
     };
     Trace {
         reached,
@@ -132,7 +150,7 @@ fn lanes_walk_is_the_sequential_walk_bit_for_bit() {
             let Some((r, t0, t1)) = m.to_index(ray, 0.0, f32::INFINITY) else {
                 continue;
             };
-            for kind in 0..4 {
+            for kind in 0..6 {
                 let (a, b) = match m.view() {
                     MediumView::F32(v) => (
                         trace(&v, &r, t0, t1, i as u64, kind, true),

@@ -28,6 +28,7 @@ pub fn track<V: VolumeAccess>(
         t1,
         rng,
         lookups,
+        1,
         |s, _| (s.max, 0.0),
         |t, sigma_t, sigma_maj, _, rng| {
             if rng.next_f32() * sigma_maj < sigma_t {
