@@ -23,7 +23,6 @@ fn walk_sequential<V: VolumeAccess>(
     t1: f32,
     rng: &mut Pcg32,
     lookups: &mut u32,
-    _draws: u32,
     mut rate: impl FnMut(&SuperVoxel, f32) -> (f32, f32),
     mut collide: impl FnMut(f32, f32, f32, f32, &mut Pcg32) -> bool,
 ) -> bool {
@@ -112,7 +111,7 @@ fn trace<V: VolumeAccess>(
     let reached = if lanes {
         walk(v, ray, t0, t1, &mut rng, &mut lookups, draws, rate, collide)
     } else {
-        walk_sequential(v, ray, t0, t1, &mut rng, &mut lookups, draws, rate, collide)
+        walk_sequential(v, ray, t0, t1, &mut rng, &mut lookups, rate, collide)
     };
     Trace {
         reached,

@@ -288,14 +288,11 @@ pub fn field_data(
         // mapped and stored in the medium's precision as it is finished:
         // the voxels exist in f32 once.
         let (builder, xf) = vdb_grid::to_builder(g).map_err(err)?;
-        let fog = vdb_grid::level_set_fog(background);
-        let map = move |v: f32| {
-            if level_set && mode == "fog" {
-                fog(v)
-            } else {
-                v.max(0.0)
-            }
-        };
+        let (fog, to_fog) = (
+            vdb_grid::level_set_fog(background),
+            level_set && mode == "fog",
+        );
+        let map = move |v: f32| if to_fog { fog(v) } else { v.max(0.0) };
         let data = match precision {
             Precision::F16 => DensityData::F16(builder.finish_converted(map)),
             Precision::F32 => DensityData::F32(builder.finish_converted(map)),
