@@ -14,7 +14,8 @@
 //! - memory per pixel of the frame's reservoirs.
 
 use super::restir_protocol::{
-    build, build_frames, frame_references, independent_frames, lum, restir_sequence, rgb, Reference,
+    build, build_frames, frame_references, independent_frames, lum, mono_mse, restir_sequence, rgb,
+    Reference,
 };
 use super::restir_scenes::{Motion, Shot};
 use super::writer::Writer;
@@ -328,14 +329,17 @@ fn accumulation(w: &mut Writer, reference_spp: u32) -> Result<String, String> {
 /// (colour MSE with the reference floor removed, luminance MSE, chroma MSE).
 fn errors(img: &[[f32; 3]], reference: &Reference) -> (f64, f64, f64) {
     let n = img.len() as f64;
-    let (mut mono, mut chroma) = (0.0, 0.0);
+    let mut chroma = 0.0;
     for (a, r) in img.iter().zip(&reference.rgb) {
         let e: [f64; 3] = std::array::from_fn(|c| a[c] as f64 - r[c] as f64);
         let l = lum(&e.map(|x| x as f32));
-        mono += l * l;
         chroma += e.iter().map(|x| (x - l).powi(2)).sum::<f64>() / 3.0;
     }
-    (reference.mse(img), mono / n, chroma / n)
+    (
+        reference.mse(img),
+        mono_mse(img, &reference.rgb),
+        chroma / n,
+    )
 }
 
 /// Bytes per pixel of what a frame keeps: the previous frame's reservoirs

@@ -13,15 +13,16 @@
 //! (a real smoke simulation, standing in for the plume) at K = 3; the
 //! procedural explosion (emissive) at K = 2, 4.
 //!
-//! Reported per case: frame times, per-frame MSE (the reference's own
-//! variance subtracted), the matched-spp MSE ratio baseline/ReSTIR, and the
-//! ratio with the baseline extrapolated to exactly ReSTIR's frame time
-//! (its MSE falls as 1/spp), which does not depend on rounding the spp. The
-//! MSE-vs-time curves of accumulated frames (Fig. 22) go to a log-log plot.
+//! Reported per case: frame times (ReSTIR's frames timed in turn with the
+//! baseline's 1-spp frames), per-frame MSE (the reference's own variance
+//! subtracted) in colour and in luminance (Fig. 19's monochrome MSE, blind
+//! to the colour noise of a scalar target), the matched-spp MSE ratio
+//! baseline/ReSTIR, and the ratio with the baseline extrapolated to exactly
+//! ReSTIR's frame time (its MSE falls as 1/spp), which does not depend on
+//! rounding the spp. The MSE-vs-time curves of accumulated frames (Fig. 22)
+//! go to a log-log plot.
 
-use super::restir_protocol::{
-    build, independent_frames, restir_frames, scenes_dir, Frames, Reference,
-};
+use super::restir_protocol::{build, scenes_dir, BudgetRun, Frames, Reference, RestirRun};
 use super::writer::Writer;
 use crate::plot::{palette, Corner, Figure, LinePlot, Mark, Series};
 
@@ -115,9 +116,7 @@ fn measure(c: &Case, reference_spp: u32) -> Result<Measured, String> {
     );
     let radius = format!("integrator.radius={RADIUS}");
     let restir_scene = build(&c.scene, &s(&["integrator.type=restir", &depth, &radius]))?;
-    let restir = restir_frames(&restir_scene, &reference, WARM_UP, FRAMES, 0x5EED_0003);
-    // Baseline: 1-spp frames first (time and MSE per spp), then frames at
-    // the spp matching ReSTIR's frame time.
+    // Baseline: `volpath` with the paper's preset.
     let baseline_scene = build(
         &c.scene,
         &s(&[
@@ -127,9 +126,36 @@ fn measure(c: &Case, reference_spp: u32) -> Result<Measured, String> {
             &depth,
         ]),
     )?;
-    let baseline_1spp = independent_frames(&baseline_scene, &reference, 1, FRAMES, 1000);
-    let baseline_spp = ((restir.ms / baseline_1spp.ms).round() as u32).max(1);
-    let baseline = independent_frames(&baseline_scene, &reference, baseline_spp, FRAMES, 2000);
+    // Frames of ReSTIR and of the baseline take turns, so the machine's
+    // drift (this shared machine's speed wanders by tens of percent within
+    // a minute) and each one's cold caches after the other's frame hit both
+    // alike. The warm-up pairs ReSTIR's frames with 1-spp baseline frames,
+    // whose times pick the baseline's spp; the measured frames pair it with
+    // baseline frames at that spp, whose own time and MSE give the ratio
+    // (a 1-spp frame's fixed costs would overstate the baseline's time per
+    // sample).
+    let mut restir = RestirRun::new(&restir_scene, &reference, 0, 0x5EED_0003);
+    let mut one = BudgetRun::new(&baseline_scene, &reference, 1, f64::INFINITY, &[], 1000);
+    for _ in 0..WARM_UP {
+        restir.step();
+        one.step();
+    }
+    let baseline_1spp = one.finish().0;
+    let baseline_spp = ((restir.ms() / baseline_1spp.ms).round() as u32).max(1);
+    restir.restart();
+    let mut matched = BudgetRun::new(
+        &baseline_scene,
+        &reference,
+        baseline_spp,
+        f64::INFINITY,
+        &[],
+        2000,
+    );
+    for _ in 0..FRAMES {
+        restir.step();
+        matched.step();
+    }
+    let (restir, baseline) = (restir.finish(), matched.finish().0);
     Ok(Measured {
         size: (restir_scene.camera.width, restir_scene.camera.height),
         reference: reference.rgb.clone(),
@@ -187,7 +213,9 @@ pub fn compare(
         let m = measure(c, reference_spp).map_err(|e| format!("{} K={}: {e}", c.name, c.k))?;
         let (r, b, b1) = (&m.restir, &m.baseline, &m.baseline_1spp);
         let matched = b.mse / r.mse;
-        let extrapolated = b1.mse * b1.ms / r.ms / r.mse;
+        // MSE ∝ 1/time for the baseline's independent samples.
+        let extrapolated = b.mse * b.ms / r.ms / r.mse;
+        let mono = b.mono_mse * b.ms / r.ms / r.mono_mse;
         rows.push(vec![
             c.name.to_string(),
             c.k.to_string(),
@@ -200,10 +228,13 @@ pub fn compare(
             format!("{:.2}", b1.ms),
             format!("{:.4e}", b1.mse),
             format!("{extrapolated:.2}"),
+            format!("{:.4e}", r.mono_mse),
+            format!("{:.4e}", b.mono_mse),
+            format!("{mono:.2}"),
         ]);
         lines.push(format!(
-            "| {} | {} | {:.1} | {:.3e} | {} ({:.1} ms) | {:.3e} | {matched:.2}× | {extrapolated:.2}× |",
-            c.name, c.k, r.ms, r.mse, m.baseline_spp, b.ms, b.mse
+            "| {} | {} | {:.1} | {:.3e} | {} ({:.1} ms) | {:.3e} | {matched:.2}× | {extrapolated:.2}× | {:.3e} | {mono:.2}× |",
+            c.name, c.k, r.ms, r.mse, m.baseline_spp, b.ms, b.mse, r.mono_mse
         ));
         let label = format!("{} K={}", c.name, c.k);
         // One frame of each at equal time beside the reference.
@@ -240,6 +271,9 @@ pub fn compare(
             "baseline_1spp_ms",
             "baseline_1spp_mse",
             "mse_ratio_equal_time",
+            "restir_mono_mse",
+            "baseline_mono_mse",
+            "mono_mse_ratio_equal_time",
         ],
         &rows,
     )?;
@@ -251,10 +285,13 @@ pub fn compare(
             .with(plot),
     )?;
     Ok(format!(
-        "| case | K | ReSTIR ms/frame | ReSTIR MSE | baseline spp (ms/frame) | baseline MSE | ratio at matched spp | ratio at equal time |\n\
-         |---|---|---|---|---|---|---|---|\n{}\n\n\
-         \"ratio at equal time\" extrapolates the baseline's 1-spp MSE to exactly ReSTIR's frame time (MSE ∝ 1/spp for an \
-         unbiased independent-sample estimator); \"matched\" renders the rounded spp.\n\n\
+        "| case | K | ReSTIR ms/frame | ReSTIR MSE | baseline spp (ms/frame) | baseline MSE | ratio at matched spp | ratio at equal time | ReSTIR mono MSE | mono ratio at equal time |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n{}\n\n\
+         Each ReSTIR frame is timed in turn with a baseline frame. \"matched\": the baseline's MSE at the spp its 1-spp frames \
+         (timed with ReSTIR's warm-up) matched to ReSTIR's frame time; \"at equal time\" scales that MSE by the two measured frame \
+         times (MSE ∝ 1/time for the baseline's independent samples). \"mono\": the MSE of the error's \
+         luminance (seed 002 Fig. 19's monochrome images), blind to the colour noise of ReSTIR's scalar target \
+         (§6.2: every channel follows one luminance-sampled path).\n\n\
          One frame of ReSTIR, one of the baseline at the matched spp, and the reference, left to right: {}.",
         lines.join("\n"),
         images.join("; ")

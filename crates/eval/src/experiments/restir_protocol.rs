@@ -5,6 +5,7 @@
 //! mean, with the reference's own variance subtracted.
 
 use fogbank_render::integrators::restir::frame::{FrameOutput, PassTimes, Sequence};
+use fogbank_render::integrators::restir::FrameData;
 use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::{Path, PathBuf};
@@ -43,12 +44,23 @@ pub fn mse(a: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
         / n
 }
 
+/// Mean squared luminance of the error: the monochrome MSE of seed 002
+/// Fig. 19, blind to the colour noise a scalar (luminance) target leaves.
+pub fn mono_mse(a: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
+    a.iter()
+        .zip(reference)
+        .map(|(p, r)| (lum(p) - lum(r)).powi(2))
+        .sum::<f64>()
+        / a.len() as f64
+}
+
 /// A reference image, the variance of each pixel's mean and the noise
-/// floor (their average).
+/// floors (their averages, in colour and in luminance).
 pub struct Reference {
     pub rgb: Vec<[f32; 3]>,
     pub var: Vec<[f32; 3]>,
     pub floor: f64,
+    pub mono_floor: f64,
 }
 
 impl Reference {
@@ -66,12 +78,31 @@ impl Reference {
             .map(|v| v.iter().map(|&x| x as f64).sum::<f64>())
             .sum::<f64>()
             / (rgb.len() * 3) as f64;
-        Reference { rgb, var, floor }
+        // The film keeps no covariance between channels; one path serves
+        // all three, so take them as fully correlated (the largest luminance
+        // variance their variances allow).
+        let mono_floor = var
+            .iter()
+            .map(|v| lum(&v.map(|x| x.max(0.0).sqrt())).powi(2))
+            .sum::<f64>()
+            / rgb.len() as f64;
+        Reference {
+            rgb,
+            var,
+            floor,
+            mono_floor,
+        }
     }
 
     /// MSE of `img` with the reference's own variance subtracted.
     pub fn mse(&self, img: &[[f32; 3]]) -> f64 {
         (mse(img, &self.rgb) - self.floor).max(0.0)
+    }
+
+    /// [`mono_mse`] of `img` with the reference's own (bounded) variance
+    /// subtracted.
+    pub fn mono_mse(&self, img: &[[f32; 3]]) -> f64 {
+        (mono_mse(img, &self.rgb) - self.mono_floor).max(0.0)
     }
 }
 
@@ -79,8 +110,9 @@ impl Reference {
 pub struct Frames {
     /// Mean wall-clock milliseconds per frame.
     pub ms: f64,
-    /// Mean per-frame MSE.
+    /// Mean per-frame MSE, in colour and in luminance (monochrome).
     pub mse: f64,
+    pub mono_mse: f64,
     /// (seconds so far, MSE of the running mean) after each frame.
     pub curve: Vec<(f64, f64)>,
     /// Mean seconds per pass (ReSTIR only).
@@ -108,6 +140,7 @@ pub struct Accumulator<'a> {
     n: u32,
     seconds: f64,
     mse_sum: f64,
+    mono_mse_sum: f64,
     curve: Vec<(f64, f64)>,
 }
 
@@ -119,6 +152,7 @@ impl<'a> Accumulator<'a> {
             n: 0,
             seconds: 0.0,
             mse_sum: 0.0,
+            mono_mse_sum: 0.0,
             curve: Vec::new(),
         }
     }
@@ -127,6 +161,7 @@ impl<'a> Accumulator<'a> {
         self.n += 1;
         self.seconds += seconds;
         self.mse_sum += self.reference.mse(rgb);
+        self.mono_mse_sum += self.reference.mono_mse(rgb);
         for (a, p) in self.acc.iter_mut().zip(rgb) {
             for c in 0..3 {
                 a[c] += p[c] as f64;
@@ -152,10 +187,82 @@ impl<'a> Accumulator<'a> {
         Frames {
             ms: 1e3 * self.seconds / n,
             mse: self.mse_sum / n,
+            mono_mse: self.mono_mse_sum / n,
             curve: self.curve,
             passes,
             last,
         }
+    }
+}
+
+/// ReSTIR frames of one sequence of the static `scene` (its integrator
+/// must be `restir`), one per [`RestirRun::step`], so that another run can
+/// take turns with it and share the machine's drift.
+pub struct RestirRun<'a> {
+    data: FrameData<'a>,
+    seq: Sequence<'a>,
+    acc: Accumulator<'a>,
+    passes: PassTimes,
+    last: Vec<[f32; 3]>,
+}
+
+impl<'a> RestirRun<'a> {
+    /// The sequence of `seed` after `warm_up` untimed frames.
+    pub fn new(scene: &'a Scene, reference: &'a Reference, warm_up: u32, seed: u32) -> Self {
+        let IntegratorKind::Restir(r) = &scene.integrator else {
+            panic!("RestirRun needs the restir integrator");
+        };
+        let data = r.data(&scene.world);
+        let mut seq = Sequence::new(r, seed, 0);
+        for _ in 0..warm_up {
+            seq.frame(&data, &data);
+        }
+        RestirRun {
+            data,
+            seq,
+            acc: Accumulator::new(reference),
+            passes: PassTimes::default(),
+            last: Vec::new(),
+        }
+    }
+
+    /// Mean milliseconds per frame so far.
+    pub fn ms(&self) -> f64 {
+        1e3 * self.acc.seconds / self.acc.n.max(1) as f64
+    }
+
+    /// Forgets the frames measured so far (the sequence goes on): frames
+    /// timed as a pilot become part of the warm-up.
+    pub fn restart(&mut self) {
+        self.acc = Accumulator::new(self.acc.reference);
+        self.passes = PassTimes::default();
+    }
+
+    /// Renders and times one more frame.
+    pub fn step(&mut self) {
+        let clock = Instant::now();
+        let out = self.seq.frame(&self.data, &self.data);
+        let seconds = clock.elapsed().as_secs_f64();
+        self.last = out.radiance.iter().map(|l| l.to_array()).collect();
+        self.acc.add(&self.last, seconds);
+        let (p, t) = (&mut self.passes, out.times);
+        p.candidates += t.candidates;
+        p.temporal += t.temporal;
+        p.spatial += t.spatial;
+        p.shading += t.shading;
+    }
+
+    /// The frames, with the mean time of each pass.
+    pub fn finish(self) -> Frames {
+        let n = self.acc.n.max(1) as f64;
+        let p = self.passes;
+        let passes = PassTimes {
+            candidates: p.candidates / n,
+            temporal: p.temporal / n,
+            spatial: p.spatial / n,
+            shading: p.shading / n,
+        };
+        self.acc.finish(passes, self.last)
     }
 }
 
@@ -168,30 +275,11 @@ pub fn restir_frames(
     frames: u32,
     seed: u32,
 ) -> Frames {
-    let IntegratorKind::Restir(r) = &scene.integrator else {
-        panic!("restir_frames needs the restir integrator");
-    };
-    let data = r.data(&scene.world);
-    let mut seq = Sequence::new(r, seed, 0);
-    for _ in 0..warm_up {
-        seq.frame(&data, &data);
-    }
-    let mut acc = Accumulator::new(reference);
-    let mut passes = PassTimes::default();
-    let mut last = Vec::new();
+    let mut run = RestirRun::new(scene, reference, warm_up, seed);
     for _ in 0..frames {
-        let clock = Instant::now();
-        let out = seq.frame(&data, &data);
-        let seconds = clock.elapsed().as_secs_f64();
-        last = out.radiance.iter().map(|l| l.to_array()).collect();
-        acc.add(&last, seconds);
-        let t = out.times;
-        passes.candidates += t.candidates / frames as f64;
-        passes.temporal += t.temporal / frames as f64;
-        passes.spatial += t.spatial / frames as f64;
-        passes.shading += t.shading / frames as f64;
+        run.step();
     }
-    acc.finish(passes, last)
+    run.finish()
 }
 
 /// `frames` independent frames of `spp` samples of a per-pixel integrator.
@@ -450,5 +538,24 @@ pub fn median(mut values: Vec<f64>) -> f64 {
         0 => f64::NAN,
         _ if n % 2 == 1 => values[n / 2],
         _ => 0.5 * (values[n / 2 - 1] + values[n / 2]),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{mono_mse, mse};
+
+    /// A pure chroma error (zero luminance) is invisible to the monochrome
+    /// MSE and not to the colour MSE; a grey error is the same in both.
+    #[test]
+    fn mono_mse_sees_luminance_only() {
+        let reference = [[0.5f32, 0.5, 0.5]; 4];
+        // Rec. 709 weights: +0.0722 on R and −0.2126 on B change nothing.
+        let chroma = [[0.5f32 + 0.0722, 0.5, 0.5 - 0.2126]; 4];
+        assert!(mono_mse(&chroma, &reference) < 1e-14);
+        assert!(mse(&chroma, &reference) > 1e-2);
+        let grey = [[0.75f32; 3]; 4];
+        assert!((mono_mse(&grey, &reference) - 0.0625).abs() < 1e-9);
+        assert!((mse(&grey, &reference) - 0.0625).abs() < 1e-9);
     }
 }
