@@ -22,7 +22,7 @@
 //! rounding the spp. The MSE-vs-time curves of accumulated frames (Fig. 22)
 //! go to a log-log plot.
 
-use super::restir_protocol::{build, scenes_dir, BudgetRun, Frames, Reference, RestirRun};
+use super::restir_protocol::{build, equal_time_race, scenes_dir, Frames, Reference, Rival};
 use super::writer::Writer;
 use crate::plot::{palette, Corner, Figure, LinePlot, Mark, Series};
 
@@ -101,9 +101,7 @@ struct Measured {
     reference: Vec<[f32; 3]>,
     size: (u32, u32),
     restir: Frames,
-    baseline_1spp: Frames,
-    baseline_spp: u32,
-    baseline: Frames,
+    baseline: Rival,
 }
 
 fn measure(c: &Case, reference_spp: u32) -> Result<Measured, String> {
@@ -126,42 +124,20 @@ fn measure(c: &Case, reference_spp: u32) -> Result<Measured, String> {
             &depth,
         ]),
     )?;
-    // Frames of ReSTIR and of the baseline take turns, so the machine's
-    // drift (this shared machine's speed wanders by tens of percent within
-    // a minute) and each one's cold caches after the other's frame hit both
-    // alike. The warm-up pairs ReSTIR's frames with 1-spp baseline frames,
-    // whose times pick the baseline's spp; the measured frames pair it with
-    // baseline frames at that spp, whose own time and MSE give the ratio
-    // (a 1-spp frame's fixed costs would overstate the baseline's time per
-    // sample).
-    let mut restir = RestirRun::new(&restir_scene, &reference, 0, 0x5EED_0003);
-    let mut one = BudgetRun::new(&baseline_scene, &reference, 1, f64::INFINITY, &[], 1000);
-    for _ in 0..WARM_UP {
-        restir.step();
-        one.step();
-    }
-    let baseline_1spp = one.finish().0;
-    let baseline_spp = ((restir.ms() / baseline_1spp.ms).round() as u32).max(1);
-    restir.restart();
-    let mut matched = BudgetRun::new(
-        &baseline_scene,
+    let (restir, rivals) = equal_time_race(
+        &restir_scene,
+        &[&baseline_scene],
         &reference,
-        baseline_spp,
-        f64::INFINITY,
-        &[],
-        2000,
+        WARM_UP,
+        FRAMES,
+        0x5EED_0003,
+        1000,
     );
-    for _ in 0..FRAMES {
-        restir.step();
-        matched.step();
-    }
-    let (restir, baseline) = (restir.finish(), matched.finish().0);
+    let baseline = rivals.into_iter().next().expect("one rival");
     Ok(Measured {
         size: (restir_scene.camera.width, restir_scene.camera.height),
         reference: reference.rgb.clone(),
         restir,
-        baseline_1spp,
-        baseline_spp,
         baseline,
     })
 }
@@ -211,17 +187,15 @@ pub fn compare(
     .legend(Corner::LowerLeft);
     for (i, c) in cases.iter().enumerate() {
         let m = measure(c, reference_spp).map_err(|e| format!("{} K={}: {e}", c.name, c.k))?;
-        let (r, b, b1) = (&m.restir, &m.baseline, &m.baseline_1spp);
+        let (r, b, b1) = (&m.restir, &m.baseline.frames, &m.baseline.one_spp);
         let matched = b.mse / r.mse;
-        // MSE ∝ 1/time for the baseline's independent samples.
-        let extrapolated = b.mse * b.ms / r.ms / r.mse;
-        let mono = b.mono_mse * b.ms / r.ms / r.mono_mse;
+        let (extrapolated, mono) = m.baseline.ratios(r);
         rows.push(vec![
             c.name.to_string(),
             c.k.to_string(),
             format!("{:.2}", r.ms),
             format!("{:.4e}", r.mse),
-            m.baseline_spp.to_string(),
+            m.baseline.spp.to_string(),
             format!("{:.2}", b.ms),
             format!("{:.4e}", b.mse),
             format!("{matched:.2}"),
@@ -234,7 +208,7 @@ pub fn compare(
         ]);
         lines.push(format!(
             "| {} | {} | {:.1} | {:.3e} | {} ({:.1} ms) | {:.3e} | {matched:.2}× | {extrapolated:.2}× | {:.3e} | {mono:.2}× |",
-            c.name, c.k, r.ms, r.mse, m.baseline_spp, b.ms, b.mse, r.mono_mse
+            c.name, c.k, r.ms, r.mse, m.baseline.spp, b.ms, b.mse, r.mono_mse
         ));
         let label = format!("{} K={}", c.name, c.k);
         // One frame of each at equal time beside the reference.

@@ -266,6 +266,85 @@ impl<'a> RestirRun<'a> {
     }
 }
 
+/// A per-pixel integrator's frames raced against ReSTIR's: its spp (picked
+/// from 1-spp frames timed during ReSTIR's warm-up) and its frames at that
+/// spp.
+pub struct Rival {
+    pub one_spp: Frames,
+    pub spp: u32,
+    pub frames: Frames,
+}
+
+impl Rival {
+    /// (colour, monochrome) MSE ratio rival/ReSTIR at ReSTIR's frame time:
+    /// the rival's MSE scaled by the two measured frame times (MSE ∝ 1/time
+    /// for its independent samples). > 1: ReSTIR has the lower MSE.
+    pub fn ratios(&self, restir: &Frames) -> (f64, f64) {
+        let scale = self.frames.ms / restir.ms;
+        (
+            self.frames.mse * scale / restir.mse,
+            self.frames.mono_mse * scale / restir.mono_mse,
+        )
+    }
+}
+
+/// ReSTIR's frames on the static `restir` scene and `frames` frames of each
+/// rival at the spp matching ReSTIR's frame time, every ReSTIR frame timed
+/// in turn with one frame of each rival, so that the machine's drift (this
+/// shared machine's speed wanders by tens of percent within a minute) and
+/// each one's cold caches after the others' frames hit all alike. The
+/// `warm_up` frames pair ReSTIR with 1-spp rival frames, whose times pick
+/// the spp; the ratio then comes from the matched frames' own times, since
+/// a 1-spp frame's fixed costs overstate a rival's time per sample. Rival
+/// `i` is seeded `seed + 2000 i` (1 spp) and `seed + 1000 + 2000 i`.
+pub fn equal_time_race(
+    restir: &Scene,
+    rivals: &[&Scene],
+    reference: &Reference,
+    warm_up: u32,
+    frames: u32,
+    restir_seed: u32,
+    seed: u32,
+) -> (Frames, Vec<Rival>) {
+    let seed_of = |i: usize, k: u32| seed.wrapping_add(2000 * i as u32 + k);
+    let mut run = RestirRun::new(restir, reference, 0, restir_seed);
+    let mut ones: Vec<BudgetRun> = rivals
+        .iter()
+        .enumerate()
+        .map(|(i, s)| BudgetRun::new(s, reference, 1, f64::INFINITY, &[], seed_of(i, 0)))
+        .collect();
+    for _ in 0..warm_up {
+        run.step();
+        ones.iter_mut().for_each(|o| _ = o.step());
+    }
+    let ones: Vec<Frames> = ones.into_iter().map(|o| o.finish().0).collect();
+    let spps: Vec<u32> = ones
+        .iter()
+        .map(|o| ((run.ms() / o.ms).round() as u32).max(1))
+        .collect();
+    run.restart();
+    let mut matched: Vec<BudgetRun> = rivals
+        .iter()
+        .enumerate()
+        .map(|(i, s)| BudgetRun::new(s, reference, spps[i], f64::INFINITY, &[], seed_of(i, 1000)))
+        .collect();
+    for _ in 0..frames {
+        run.step();
+        matched.iter_mut().for_each(|m| _ = m.step());
+    }
+    let rivals = ones
+        .into_iter()
+        .zip(spps)
+        .zip(matched)
+        .map(|((one_spp, spp), m)| Rival {
+            one_spp,
+            spp,
+            frames: m.finish().0,
+        })
+        .collect();
+    (run.finish(), rivals)
+}
+
 /// `frames` ReSTIR frames of one sequence of the static `scene` (its
 /// integrator must be `restir`) after `warm_up` frames.
 pub fn restir_frames(
