@@ -35,6 +35,7 @@ pub mod restir_dynamic;
 pub mod restir_equal_time;
 pub mod restir_gpu_frame_time;
 pub mod restir_protocol;
+pub mod restir_race;
 pub mod restir_scenes;
 pub mod restir_surfaces;
 pub mod table1;

@@ -12,7 +12,8 @@
 //! The supplementary study compares direction and vertex reuse. The
 //! dynamic-scene figures (8, 9, 13) are not here yet.
 
-use super::restir_protocol::{build, equal_time_race, restir_frames, Frames, Reference, Rival};
+use super::restir_protocol::{build, Frames, Reference};
+use super::restir_race::{equal_time_race, restir_frames, Rival};
 use super::writer::Writer;
 
 const WARM_UP: u32 = 8;

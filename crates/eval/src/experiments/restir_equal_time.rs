@@ -23,9 +23,9 @@
 //! go to a log-log plot.
 
 use super::restir_protocol::{
-    build, build_frames, equal_time_race, frame_references, rgb, scenes_dir, Frames, Reference,
-    Rival,
+    build, build_frames, frame_references, rgb, scenes_dir, Frames, Reference,
 };
+use super::restir_race::{equal_time_race, Rival};
 use super::restir_scenes::{Motion, Shot};
 use super::writer::Writer;
 use crate::plot::{palette, Corner, Figure, LinePlot, Mark, Series};
