@@ -180,3 +180,43 @@ pub fn restir_frames(
     }
     run.finish()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{equal_time_race, restir_frames};
+    use crate::experiments::restir_protocol::{build, Reference};
+
+    const SCENE: &str = "[camera]\nfrom = [0.0, 0.1, 2.0]\nto = [0.0, 0.0, 0.0]\nfov = 40.0\n\
+        width = 12\nheight = 8\n\
+        [[media]]\ndensity = { procedural = \"cloud\", resolution = 16, seed = 7 }\n\
+        sigma_t_scale = 20.0\nalbedo = [0.9, 0.9, 0.9]\n\
+        [[lights]]\ntype = \"constant\"\nradiance = [0.8, 0.9, 1.0]\n\
+        [render]\npixel_jitter = false\n";
+
+    /// Racing changes nothing ReSTIR renders: its pilot frames are the
+    /// warm-up, so the measured frames are `restir_frames`' bit for bit.
+    /// (The rivals' spp comes from timings, so only their sanity is
+    /// checked.)
+    #[test]
+    fn race_renders_what_restir_frames_renders() {
+        let set = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+        let reference = Reference::render(
+            &build(SCENE, &set(&["integrator.type=volpath"])).unwrap(),
+            16,
+            1,
+        );
+        let restir = build(SCENE, &set(&["integrator.type=restir"])).unwrap();
+        let rival = build(SCENE, &set(&["integrator.type=volpath"])).unwrap();
+        let (raced, rivals) = equal_time_race(&restir, &[&rival, &rival], &reference, 2, 3, 9, 100);
+        let alone = restir_frames(&restir, &reference, 2, 3, 9);
+        assert_eq!(raced.last, alone.last);
+        assert_eq!(raced.mse.to_bits(), alone.mse.to_bits());
+        assert_eq!(raced.mono_mse.to_bits(), alone.mono_mse.to_bits());
+        assert_eq!(rivals.len(), 2);
+        for r in &rivals {
+            assert!(r.spp >= 1 && r.frames.mse > 0.0 && r.frames.ms > 0.0);
+            let (colour, mono) = r.ratios(&raced);
+            assert!(colour.is_finite() && colour > 0.0 && mono.is_finite() && mono > 0.0);
+        }
+    }
+}
