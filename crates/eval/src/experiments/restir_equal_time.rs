@@ -31,7 +31,7 @@ use super::writer::Writer;
 use crate::plot::{palette, Corner, Figure, LinePlot, Mark, Series};
 use fogbank_render::integrators::restir::frame::{PassTimes, Sequence};
 use fogbank_render::integrators::IntegratorKind;
-use fogbank_render::{render, Progress, RenderOptions};
+use fogbank_render::{render, Progress, RenderOptions, Scene};
 use std::time::Instant;
 
 /// Reference pixel samples (`--trials` overrides).
@@ -136,29 +136,37 @@ struct Measured {
     baseline: Rival,
 }
 
-fn measure(c: &Case, reference_spp: u32) -> Result<Measured, String> {
-    if c.animated() {
-        return measure_animated(c, reference_spp);
-    }
+/// The `--set` overrides of case `c`'s renders: the reference (`volpath`
+/// at depth K), ReSTIR, and the baseline (`volpath` with the paper's
+/// preset and 8³ super-voxels).
+fn overrides(c: &Case) -> [Vec<String>; 3] {
     let depth = format!("integrator.max_depth={}", c.k);
-    let s = |v: &[&str]| -> Vec<String> { v.iter().map(|x| x.to_string()).collect() };
-    let reference = Reference::render(
-        &build(&c.scene, &s(&["integrator.type=volpath", &depth]))?,
-        reference_spp,
-        0x5EED_0002,
-    );
     let radius = format!("integrator.radius={RADIUS}");
-    let restir_scene = build(&c.scene, &s(&["integrator.type=restir", &depth, &radius]))?;
-    // Baseline: `volpath` with the paper's preset.
-    let baseline_scene = build(
-        &c.scene,
-        &s(&[
+    let s = |v: &[&str]| -> Vec<String> { v.iter().map(|x| x.to_string()).collect() };
+    [
+        s(&["integrator.type=volpath", &depth]),
+        s(&["integrator.type=restir", &depth, &radius]),
+        s(&[
             "integrator.type=volpath",
             "integrator.preset=restir_baseline",
             "media.0.supervoxel=8",
             &depth,
         ]),
-    )?;
+    ]
+}
+
+fn measure(c: &Case, reference_spp: u32) -> Result<Measured, String> {
+    if c.animated() {
+        return measure_animated(c, reference_spp);
+    }
+    let [reference_set, restir_set, baseline_set] = overrides(c);
+    let reference = Reference::render(
+        &build(&c.scene, &reference_set)?,
+        reference_spp,
+        0x5EED_0002,
+    );
+    let restir_scene = build(&c.scene, &restir_set)?;
+    let baseline_scene = build(&c.scene, &baseline_set)?;
     let (restir, rivals) = equal_time_race(
         &restir_scene,
         &[&baseline_scene],
@@ -186,25 +194,28 @@ fn measure(c: &Case, reference_spp: u32) -> Result<Measured, String> {
 /// convergence.
 fn measure_animated(c: &Case, reference_spp: u32) -> Result<Measured, String> {
     let n = WARM_UP + FRAMES;
-    let depth = format!("integrator.max_depth={}", c.k);
-    let radius = format!("integrator.radius={RADIUS}");
-    let s = |v: &[&str]| -> Vec<String> { v.iter().map(|x| x.to_string()).collect() };
-    let refs = frame_references(&c.scene, &s(&[&depth]), 0..n, reference_spp, 0x5EED_0002)?;
-    let restir = build_frames(
-        &c.scene,
-        &s(&["integrator.type=restir", &depth, &radius]),
-        n,
-    )?;
-    let baseline = build_frames(
-        &c.scene,
-        &s(&[
-            "integrator.type=volpath",
-            "integrator.preset=restir_baseline",
-            "media.0.supervoxel=8",
-            &depth,
-        ]),
-        n,
-    )?;
+    let [reference_set, restir_set, baseline_set] = overrides(c);
+    let refs = frame_references(&c.scene, &reference_set, 0..n, reference_spp, 0x5EED_0002)?;
+    let restir = build_frames(&c.scene, &restir_set, n)?;
+    let baseline = build_frames(&c.scene, &baseline_set, n)?;
+    let (frames, rival) = race_frames(&restir, &baseline, &refs)?;
+    Ok(Measured {
+        size: (restir[0].camera.width, restir[0].camera.height),
+        reference: refs.last().expect("frames").rgb.clone(),
+        restir: frames,
+        baseline: rival,
+    })
+}
+
+/// ReSTIR's sequence over the built `restir` frames and the baseline's
+/// frames, taking turns, each frame against its reference in `refs`:
+/// [`WARM_UP`] pilot frames (the baseline at 1 spp), then [`FRAMES`]
+/// measured ones (the baseline at the spp the pilot matched).
+fn race_frames(
+    restir: &[Scene],
+    baseline: &[Scene],
+    refs: &[Reference],
+) -> Result<(Frames, Rival), String> {
     let integrators = restir
         .iter()
         .map(|scene| match &scene.integrator {
@@ -257,17 +268,14 @@ fn measure_animated(c: &Case, reference_spp: u32) -> Result<Measured, String> {
         let (t, img) = baseline_frame(f, spp, 2000 + f as u32);
         b.add(t, &img, reference);
     }
-    let last = refs.last().expect("frames");
-    Ok(Measured {
-        size: (restir[0].camera.width, restir[0].camera.height),
-        reference: last.rgb.clone(),
-        restir: r.finish(passes),
-        baseline: Rival {
+    Ok((
+        r.finish(passes),
+        Rival {
             one_spp: one.finish(PassTimes::default()),
             spp,
             frames: b.finish(PassTimes::default()),
         },
-    })
+    ))
 }
 
 /// Per-frame MSEs and times of frames each compared with its own reference.
