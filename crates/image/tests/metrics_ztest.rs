@@ -191,8 +191,11 @@ fn one_ulp_differences_of_converged_pixels_pass() {
     let z = ztest(&r, &t).unwrap();
     assert!(z.pass, "max |z| {}", z.max_abs_z);
     assert_eq!(z.zero_variance_mismatches, 0);
-    // Four ULPs are allowed (renderers accumulating in f32); seventeen
-    // below 1 in an exact pixel are a mismatch.
+    // Eight ε are allowed (renderers accumulating in f32; restir's sky
+    // pixels come within 5.3 ε); 1e-6 below 1 in an exact pixel is a
+    // mismatch.
+    t.rgb[1] = [1.0 - 5.3 * f32::EPSILON; 3];
+    assert_eq!(ztest(&r, &t).unwrap().zero_variance_mismatches, 0);
     t.rgb[1] = [0.999999; 3];
     assert_eq!(ztest(&r, &t).unwrap().zero_variance_mismatches, 1);
 }

@@ -8,8 +8,10 @@ use serde::Serialize;
 
 /// Relative f32 rounding (in units of f32's ε) the test allows for: two
 /// equal exact values stored by renderers that accumulate in f32 differ by
-/// a few ULPs (4·ε ≈ 5·10⁻⁷ relative).
-pub const ROUNDING_ULPS: f64 = 4.0;
+/// a few ULPs, and `restir`'s sky pixels (F·W of a background sample whose
+/// W is a ratio of f32 sums) by up to 5.3·ε from the environment's exact
+/// radiance (measured over 1024 sequences); 8·ε ≈ 10⁻⁶ relative.
+pub const ROUNDING_ULPS: f64 = 8.0;
 
 /// Default family-wise significance level of [`ztest`].
 pub const ZTEST_ALPHA: f64 = 0.01;
