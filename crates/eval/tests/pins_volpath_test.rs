@@ -1,7 +1,8 @@
 //! Seed 004 inside `volpath`: the ray-marching baseline is exact where the
 //! medium is homogeneous (z-test against the unbiased default), PinMS stays
 //! close to the unbiased image on an albedo-1 cloud while pins on every
-//! ray do not (the thesis's Fig. 4.3 ordering), and the keys are checked.
+//! ray do not (the thesis's Fig. 4.3 ordering), so does PinMS with the
+//! render-time pin stream, and the keys are checked.
 
 use fogbank_eval::image_io::Image;
 use fogbank_eval::metrics::ztest::ztest;
@@ -98,10 +99,21 @@ fn pin_ms_is_close_and_pins_everywhere_are_not() {
         256,
         5,
     );
+    // The render-time stream (200 pins a pass into the 8³ grid) keeps
+    // PinMS as close: it re-draws the same kind of pins.
+    let streamed = image(
+        CLOUD,
+        &[&fine[..], &["integrator.pin_grid.stream=200"]].concat(),
+        256,
+        4,
+    );
     let r = mean(&reference);
     let bias = |i: &Image| mean(i) / r - 1.0;
     let (b_ms, b_coarse, b_all) = (bias(&ms), bias(&coarse), bias(&all));
     assert!(b_ms.abs() < 0.02, "PinMS: {b_ms:+.4}");
+    let b_streamed = bias(&streamed);
+    assert!(b_streamed.abs() < 0.02, "PinMS streamed: {b_streamed:+.4}");
+    assert_ne!(streamed.rgb, ms.rgb, "the stream changes the image");
     assert!(
         b_coarse.abs() > b_ms.abs(),
         "2³ grid {b_coarse:+.4} vs 8³ {b_ms:+.4}"
@@ -121,6 +133,9 @@ fn pin_keys_are_checked_and_round_trip() {
     assert!(err(&["integrator.pin_grid.theta=0"]).contains("integrator.pin_grid.theta"));
     assert!(err(&["integrator.pin_grid.colour=1"]).contains("pin_grid.colour"));
     assert!(err(&["integrator.pin_grid.positions=5000"]).contains("limit"));
+    assert!(err(&["integrator.pin_grid.stream=100000000"]).contains("integrator.pin_grid.stream"));
+    assert!(err(&["integrator.pin_grid.stream_spacing=0"])
+        .contains("integrator.pin_grid.stream_spacing"));
     assert!(
         err(&["integrator.pins=ms", "integrator.pin_grid.memory_ratio=-1"])
             .contains("memory_ratio")
@@ -131,6 +146,8 @@ fn pin_keys_are_checked_and_round_trip() {
             "integrator.pins=secondary",
             "integrator.pin_grid.phi=8",
             "integrator.march_step=0.05",
+            "integrator.pin_grid.stream=300",
+            "integrator.pin_grid.stream_spacing=0.25",
         ],
     )
     .unwrap();

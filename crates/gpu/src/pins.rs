@@ -7,6 +7,7 @@
 //! same for every `volpath`.
 
 use crate::context::buffer_entry;
+use crate::pin_stream::PinStreamPass;
 use crate::pipelines::PipelineSpec;
 use crate::scene_buffers::SceneBuffers;
 use crate::{Gpu, GpuError};
@@ -50,6 +51,8 @@ pub(crate) struct PinBuffers {
     pins: wgpu::Buffer,
     /// Bytes of the pins (instances share theirs).
     pub(crate) bytes: u64,
+    /// The stream before every pass (`pin_grid.stream`), when on.
+    pub(crate) stream: Option<PinStreamPass>,
 }
 
 fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
@@ -116,6 +119,16 @@ impl PinBuffers {
         if !gathered.is_empty() {
             gather(gpu, media, &grids, &pins, &gathered, &seeds)?;
         }
+        // As the CPU's `PinParams::stream`: unquantised pins read no grid.
+        let stream = match params {
+            Some(p) if p.grid.stream > 0 && !p.grid.unquantised && !gathered.is_empty() => {
+                let owners: Vec<usize> = gathered.iter().map(|g| g.0).collect();
+                Some(PinStreamPass::new(
+                    gpu, media, &grids, &pins, &owners, &p.grid,
+                )?)
+            }
+            _ => None,
+        };
         let layout =
             gpu.bind_group_layout("pins", &[storage_entry(0, true), storage_entry(1, true)]);
         let bind_group = gpu.bind_group_of("pins", &layout, &[&grids, &pins]);
@@ -125,6 +138,7 @@ impl PinBuffers {
             gathered,
             pins,
             bytes,
+            stream,
         })
     }
 
@@ -205,6 +219,25 @@ pub fn gathered_pins(gpu: &Gpu, scene: &Scene) -> Result<Vec<GatheredGrid>, GpuE
     PinBuffers::build(gpu, scene, &media, Some(&v.pins))?.read_back(gpu)
 }
 
+/// For tests and tools: the grids of `scene`'s `volpath` after the device's
+/// gather and the streams of passes 0..`passes` (`pin_grid.stream`), read
+/// back as [`gathered_pins`] reads them.
+pub fn streamed_pins(gpu: &Gpu, scene: &Scene, passes: u32) -> Result<Vec<GatheredGrid>, GpuError> {
+    let fogbank_render::integrators::IntegratorKind::VolPath(v) = &scene.integrator else {
+        return Err(GpuError("pins belong to integrator `volpath`".into()));
+    };
+    let media = SceneBuffers::upload(gpu, scene)?;
+    let buffers = PinBuffers::build(gpu, scene, &media, Some(&v.pins))?;
+    let stream = buffers
+        .stream
+        .as_ref()
+        .ok_or_else(|| GpuError("integrator.pin_grid.stream is off".into()))?;
+    for pass in 0..passes {
+        stream.submit(gpu, &media, pass);
+    }
+    buffers.read_back(gpu)
+}
+
 #[cfg(test)]
 mod pins_kernel_test {
     use super::*;
@@ -243,8 +276,9 @@ mod pins_kernel_test {
     }
 
     #[test]
-    fn gather_and_scatter_kernels_compile_to_spirv() {
+    fn gather_stream_and_scatter_kernels_compile_to_spirv() {
         compiles_to_spirv(&shaders::pin_gather_kernel(), &[]);
+        compiles_to_spirv(&shaders::pin_stream_kernel(), &[]);
         compiles_to_spirv(&shaders::scatter_kernel(), &[("ESTIMATOR", 2.0)]);
     }
 

@@ -121,11 +121,20 @@ pub(crate) fn render_scheduled(
     let pixels = (w as u64) * (h as u64);
     let band = groups.band_rows(h);
     let band_pixels = w as u64 * band.min(h) as u64;
-    let chunks = chunks_per_dispatch(schedule, kernel, band_pixels, opts.spp);
+    // The pin stream changes the grids before every pass: one sample
+    // index a dispatch.
+    let stream = groups.pins.as_ref().and_then(|p| p.stream.as_ref());
+    let chunks = match stream {
+        Some(_) => 1,
+        None => chunks_per_dispatch(schedule, kernel, band_pixels, opts.spp),
+    };
     let acc = Accumulators::new(gpu, pixels, chunks as u64 * band_pixels);
     let (main, merge) = kernel_setup::pipeline(gpu, scene, kernel, &groups, &acc.layout)?;
     let mut frame = kernel_setup::initial_frame(scene, kernel, opts);
-    let per_dispatch = chunks * SAMPLES_PER_CHUNK;
+    let per_dispatch = match stream {
+        Some(_) => 1,
+        None => chunks * SAMPLES_PER_CHUNK,
+    };
     let timer = KernelTimer::new(gpu, opts.spp.div_ceil(per_dispatch), MAX_TIMED_DISPATCHES);
     let mut start = Instant::now();
     let mut interrupted = false;
@@ -145,6 +154,9 @@ pub(crate) fn render_scheduled(
             frame.first_sample = submitted;
             frame.sample_count = n;
             frame.chunks = n.div_ceil(SAMPLES_PER_CHUNK);
+            if let Some(st) = stream {
+                st.submit(gpu, &groups.media, submitted);
+            }
             let index = submit_dispatch(
                 gpu,
                 &acc,

@@ -33,6 +33,7 @@ pub const PINS: &str = include_str!("wgsl/pins.wgsl");
 pub const PIN_GRID: &str = include_str!("wgsl/pin_grid.wgsl");
 pub const TRACKING: &str = include_str!("wgsl/tracking.wgsl");
 pub const PIN_GATHER_KERNEL: &str = include_str!("wgsl/pin_gather_kernel.wgsl");
+pub const PIN_STREAM_KERNEL: &str = include_str!("wgsl/pin_stream_kernel.wgsl");
 pub const CHORD_QUERIES_KERNEL: &str = include_str!("wgsl/chord_queries_kernel.wgsl");
 /// Surfaces: watertight triangles and BVH traversal.
 pub const BVH: &str = include_str!("wgsl/bvh.wgsl");
@@ -139,6 +140,11 @@ pub fn scatter_kernel() -> String {
 /// Gather population of a pin grid (seed 004 §3.7).
 pub fn pin_gather_kernel() -> String {
     [&estimators(), PINS, PIN_GRID, PIN_GATHER_KERNEL].join("\n")
+}
+
+/// The pin stream of a pin grid before a pass (seed 004 §3.7).
+pub fn pin_stream_kernel() -> String {
+    [&estimators(), PINS, PIN_GRID, PIN_STREAM_KERNEL].join("\n")
 }
 
 /// A kernel of an integrator that sees shapes as opaque occluders only

@@ -3,9 +3,11 @@
 //! streams; only rounding of the marched transmittances may flip a bit),
 //! and `volpath` with ray marching and pins agrees with the CPU per pixel
 //! (z-test) at equal spp with matching lookup counts, for every pin mode,
-//! unquantised pins and instances sharing one grid.
+//! unquantised pins, the render-time pin stream and instances sharing one
+//! grid.
 
-use fogbank_gpu::{pins::gathered_pins, test_gpu};
+use fogbank_gpu::pins::{gathered_pins, streamed_pins};
+use fogbank_gpu::test_gpu;
 use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{parse_scene, Scene};
 use std::path::Path;
@@ -83,6 +85,76 @@ fn the_gathered_grid_is_the_cpus() {
     }
 }
 
+/// The stream kernel writes the CPU's stream pins (`pin_grid.stream`):
+/// after two passes the grids match the CPU's streamed grids cell for cell
+/// as the gathered ones do — a cell two pins of one pass cross may keep
+/// the other pin (the tolerated write race) — and the stream did rewrite
+/// cells.
+#[test]
+fn the_streamed_grid_is_the_cpus() {
+    let Some(gpu) = test_gpu() else { return };
+    let s = scene(&[
+        "integrator.pins=ms",
+        "integrator.pin_grid.positions=5",
+        "integrator.pin_grid.phi=8",
+        "integrator.pin_grid.theta=3",
+        "integrator.pin_grid.stream=60",
+        "integrator.pin_grid.stream_spacing=0.2",
+    ]);
+    let IntegratorKind::VolPath(v) = &s.integrator else {
+        panic!()
+    };
+    let gathered = v.pin_set(&s.world).unwrap().clone();
+    let mut stream = v.pin_stream(&s.world).unwrap();
+    let cpu = stream.at(&s.world, 1).clone();
+    let gpu_grids = streamed_pins(&gpu, &s, 2).unwrap();
+    assert_eq!(gpu_grids.len(), 2);
+    for (mi, pins) in gpu_grids {
+        let (before, after) = (
+            &gathered.media[mi].as_ref().unwrap().pins,
+            &cpu.media[mi].as_ref().unwrap().pins,
+        );
+        let rewritten: Vec<usize> = (0..after.len())
+            .filter(|&i| after[i] != before[i])
+            .collect();
+        let same = pins
+            .iter()
+            .zip(after)
+            .filter(|(g, c)| g[0] == c.mask && (f32::from_bits(g[1]) - c.t_min).abs() < 1e-3)
+            .count();
+        let same_rewritten = rewritten
+            .iter()
+            .filter(|&&i| pins[i][0] == after[i].mask)
+            .count();
+        let n = pins.len();
+        eprintln!(
+            "medium {mi}: {same}/{n} pins identical; {same_rewritten}/{} streamed cells",
+            rewritten.len()
+        );
+        assert!(rewritten.len() > 50, "medium {mi}: the stream must write");
+        assert!(same as f64 >= 0.99 * n as f64, "medium {mi}: {same} of {n}");
+        assert!(
+            same_rewritten as f64 >= 0.95 * rewritten.len() as f64,
+            "medium {mi}: {same_rewritten} of {} streamed cells",
+            rewritten.len()
+        );
+    }
+}
+
+/// PinMS with the render-time stream (the grids change before every pass,
+/// one sample index a dispatch on the GPU) agrees with the CPU.
+#[test]
+fn streamed_pins_match_the_cpu() {
+    compare(
+        &[
+            "integrator.pins=ms",
+            "integrator.pin_grid.positions=6",
+            "integrator.pin_grid.stream=100",
+        ],
+        256,
+    );
+}
+
 /// Seed 004's baseline: fixed-step ray marching for every ray.
 #[test]
 fn ray_marching_matches_the_cpu() {
@@ -103,6 +175,7 @@ fn pins_match_the_cpu_in_every_mode() {
         &["integrator.pins=ms", "integrator.pin_grid.positions=6"],
         256,
     );
+
     compare(
         &[
             "integrator.pins=all",

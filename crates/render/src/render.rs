@@ -4,6 +4,7 @@
 //! index order, so the image is bit-identical for any thread count or
 //! scheduling.
 
+use crate::integrators::shared::PixelSample;
 use crate::integrators::IntegratorKind;
 use crate::scene::Scene;
 use crate::shard::Piece;
@@ -124,7 +125,13 @@ fn render_passes(
         !frame_based || *piece == Piece::whole(opts.spp),
         "restir renders whole images only"
     );
-    let batching = after_pass.is_none() && opts.time_budget.is_none() && !frame_based;
+    // The pin stream changes the grids from pass to pass: one pass a batch.
+    let mut pin_stream = match &scene.integrator {
+        IntegratorKind::VolPath(v) => v.pin_stream(&scene.world),
+        _ => None,
+    };
+    let batching =
+        after_pass.is_none() && opts.time_budget.is_none() && !frame_based && pin_stream.is_none();
     let (mut pass, end) = (piece.samples[0], piece.samples[1]);
     let mut batch = 1;
     while pass < end {
@@ -155,7 +162,30 @@ fn render_passes(
                     None => RowTotals::default(),
                 }
             }
-            _ => pixel_passes(scene, opts.seed, pass..pass + n, piece, &mut film, progress),
+            IntegratorKind::VolPath(v) if pin_stream.is_some() => {
+                let world = &scene.world;
+                let set = pin_stream.as_mut().map(|p| p.at(world, pass).clone());
+                let sample = |x, y, key| v.sample_with(world, x, y, key, set.as_deref());
+                pixel_passes(
+                    &sample,
+                    opts.seed,
+                    pass..pass + n,
+                    piece,
+                    &mut film,
+                    progress,
+                )
+            }
+            i => {
+                let sample = |x, y, key| i.sample_pixel(&scene.world, x, y, key);
+                pixel_passes(
+                    &sample,
+                    opts.seed,
+                    pass..pass + n,
+                    piece,
+                    &mut film,
+                    progress,
+                )
+            }
         };
         film.lookups += totals.lookups;
         film.nan_samples += totals.nan;
@@ -184,15 +214,19 @@ fn render_passes(
 }
 
 /// Passes of a per-pixel integrator: sample indices `passes` of every
-/// pixel of the piece, each row taking all of them before the next join.
-fn pixel_passes(
-    scene: &Scene,
+/// pixel of the piece (`sample(x, y, key)`), each row taking all of them
+/// before the next join.
+fn pixel_passes<S>(
+    sample_at: &S,
     seed: u32,
     passes: std::ops::Range<u32>,
     piece: &Piece,
     film: &mut Film,
     progress: &Progress,
-) -> RowTotals {
+) -> RowTotals
+where
+    S: Fn(u32, u32, SampleKey) -> PixelSample + Sync,
+{
     let w = film.width;
     film.sums
         .par_chunks_mut(w as usize)
@@ -215,7 +249,7 @@ fn pixel_passes(
                         sample,
                         dimension: 0,
                     };
-                    let s = scene.sample_pixel(x as u32, y as u32, key);
+                    let s = sample_at(x as u32, y as u32, key);
                     t.lookups += s.lookups as u64;
                     t.count(sums[x].add(&mut count[x], s.radiance));
                 }

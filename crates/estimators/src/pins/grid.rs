@@ -147,6 +147,35 @@ impl PinGridSpec {
     }
 }
 
+/// Pins a stream traces at a time (memory of the traced pins).
+const STREAM_CHUNK: u32 = 1 << 16;
+
+/// Smallest spacing of a stream pin's writes (unit-cube edges); scenes are
+/// refused below it, so a pin writes at most √3/10⁻⁴ cells.
+pub const MIN_STREAM_SPACING: f32 = 1e-4;
+
+/// A stream pin's line and the offset of its first write, in the order
+/// the random numbers are drawn (`pin_stream_kernel.wgsl` draws the same).
+struct StreamLine {
+    point: Vec3,
+    direction: Vec3,
+    offset: f32,
+}
+
+impl StreamLine {
+    fn draw(spacing: f32, rng: &mut Pcg32) -> StreamLine {
+        let point = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+        let direction =
+            Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - Vec3::splat(0.5);
+        let offset = rng.next_f32() * spacing;
+        StreamLine {
+            point,
+            direction,
+            offset,
+        }
+    }
+}
+
 /// The pins of one medium.
 #[derive(Clone, Debug)]
 pub struct PinGrid {
@@ -176,32 +205,43 @@ impl PinGrid {
         Ok(PinGrid { spec, pins })
     }
 
-    /// The stream (§3.4.4, §3.7): `count` new pins through uniform points
-    /// with directions normalise(U³ − ½) (the author's), each written into
-    /// the cells of points `spacing` apart along its chord from a random
-    /// start. Sequential here, so the thesis's write races do not occur.
+    /// The stream (§3.4.4, §3.7): `count` new pins, pin i from its own
+    /// random stream Pcg32(`seed`, i) — a uniform point, a direction
+    /// normalise(U³ − ½) (the author's), an offset U·`spacing`, then its
+    /// trace — each written into the cells of points `spacing` apart along
+    /// its chord from that offset. Pins are traced in parallel and written
+    /// in index order (a later pin wins a cell), so the grid depends only
+    /// on `seed`; the GPU writes them in any order, the write races the
+    /// thesis tolerates.
     pub fn stream<V: VolumeAccess>(
         &mut self,
         v: &V,
         cube: &UnitCube,
         count: u32,
         spacing: f32,
-        rng: &mut Pcg32,
+        seed: u64,
     ) {
-        for _ in 0..count {
-            let p = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
-            let d = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - Vec3::splat(0.5);
-            let Some((start, end)) = cube.chord(p, d) else {
-                continue;
-            };
-            let pin = Pin::trace(v, cube, p, d, self.spec.step, rng);
-            let len = (end - start).length();
-            let mut s = rng.next_f32() * spacing;
-            while s <= len {
-                let q = start + (end - start) * (s / len);
-                let c = self.spec.cell(q, d);
-                self.pins[c] = pin;
-                s += spacing.max(1e-4);
+        let spec = self.spec;
+        // Bounded memory for any count: traced a chunk at a time.
+        for chunk in (0..count).step_by(STREAM_CHUNK as usize) {
+            let traced: Vec<_> = (chunk..count.min(chunk + STREAM_CHUNK))
+                .into_par_iter()
+                .map(|i| {
+                    let mut rng = Pcg32::new(seed, i as u64);
+                    let line = StreamLine::draw(spacing, &mut rng);
+                    let chord = cube.chord(line.point, line.direction)?;
+                    let pin = Pin::trace(v, cube, line.point, line.direction, spec.step, &mut rng);
+                    Some((pin, chord, line))
+                })
+                .collect();
+            for (pin, (start, end), line) in traced.into_iter().flatten() {
+                let len = (end - start).length();
+                let mut s = line.offset;
+                while s <= len {
+                    let q = start + (end - start) * (s / len);
+                    self.pins[spec.cell(q, line.direction)] = pin;
+                    s += spacing.max(MIN_STREAM_SPACING);
+                }
             }
         }
     }

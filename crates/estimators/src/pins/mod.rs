@@ -19,6 +19,6 @@ pub mod pin;
 pub mod reference;
 
 pub use chord::Chord;
-pub use grid::{PinGrid, PinGridSpec};
+pub use grid::{PinGrid, PinGridSpec, MIN_STREAM_SPACING};
 pub use mask::sample_mask;
 pub use pin::{Pin, UnitCube, INTERVALS};

@@ -15,7 +15,6 @@
 use super::pins_surfaces::{region_mse, scene, shadow_region, HEIGHT, WIDTH};
 use super::restir_protocol::{build, Accumulator, Reference};
 use super::writer::Writer;
-use fogbank_math::Pcg32;
 use fogbank_render::integrators::restir::frame::PassTimes;
 use fogbank_render::integrators::shared::pin_stream::{stream, STREAM_SPACING};
 use fogbank_render::integrators::shared::tracking::PinSet;
@@ -43,7 +42,8 @@ struct Run<'a> {
     set: Option<Arc<PinSet>>,
     rate: u32,
     acc: Accumulator<'a>,
-    rng: Pcg32,
+    /// Keys the method's stream (`pin_stream::stream_seed`).
+    stream_key: u64,
     last: Vec<[f32; 3]>,
     /// Frames so far, and the first frame's seed (independent per method).
     frame: u32,
@@ -64,7 +64,8 @@ impl Run<'_> {
                     &self.scene.world,
                     self.rate,
                     STREAM_SPACING,
-                    &mut self.rng,
+                    self.stream_key,
+                    self.frame,
                 ));
                 if let IntegratorKind::VolPath(v) = &mut self.scene.integrator {
                     v.set_pin_set(Some(next.clone()));
@@ -106,7 +107,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             set: grid,
             rate: *rate,
             acc: Accumulator::new(&reference),
-            rng: Pcg32::new(0x0401, i as u64),
+            stream_key: 0x0401 + i as u64,
             last: Vec::new(),
             frame: 0,
             seed: 0x0401_0000 + 0x0010_0000 * i as u32,

@@ -29,6 +29,7 @@ use super::shared::next_event::{
     phase_sample_to_environment, sampled_direction_to_lights, SampledFrom,
 };
 use super::shared::pin_params::{PinMode, PinParams, PIN_KEYS};
+use super::shared::pin_stream::PinStream;
 use super::shared::tracking::PinSet;
 use super::shared::{
     estimator_rng, primary_ray, PixelSample, Preset, ScatterParams, SCATTER_PARAMS,
@@ -205,15 +206,38 @@ impl VolPath {
 
     /// The pin grids (gathered on first use; `None` with pins off).
     pub fn pin_set(&self, world: &World) -> Option<&PinSet> {
+        self.gathered(world).map(|s| &**s)
+    }
+
+    fn gathered(&self, world: &World) -> Option<&Arc<PinSet>> {
         self.pin_set
             .get_or_init(|| {
                 // The plan was checked in `new`, so the gather cannot fail.
                 self.pins.build(world).unwrap_or_default()
             })
-            .as_deref()
+            .as_ref()
+    }
+
+    /// The render-time pin stream (`pin_grid.stream`), when on: the
+    /// render loop asks it for each pass's grids and renders the pass with
+    /// [`VolPath::sample_with`].
+    pub fn pin_stream(&self, world: &World) -> Option<PinStream> {
+        self.pins.stream(self.gathered(world))
     }
 
     pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+        self.sample_with(world, x, y, key, self.pin_set(world))
+    }
+
+    /// [`VolPath::sample`] with the pin grids `set` (a pass of the stream).
+    pub fn sample_with(
+        &self,
+        world: &World,
+        x: u32,
+        y: u32,
+        key: SampleKey,
+        set: Option<&PinSet>,
+    ) -> PixelSample {
         let mut rng = estimator_rng(key);
         let mut path = Path {
             ray: primary_ray(world, x, y, key),
@@ -223,7 +247,6 @@ impl VolPath {
             prev: None,
             medium: world.surfaces.as_ref().and_then(|s| s.camera_medium),
         };
-        let set = self.pin_set(world);
         let (mut depth, mut crossings, mut nulls) = (0, 0u32, 0u32);
         while depth < self.max_depth {
             let hit = world

@@ -13,14 +13,17 @@
 //! the thesis's evaluation), `phi` (16), `theta` (4), `step` (pin tracing,
 //! 0.01 box edges), `jitter` (position and direction, in cells, default 1:
 //! the thesis's strongest setting), `mask_iterations` (5), `unquantised`
-//! (false: Fig. 4.5's pins traced along each query ray), `seed` (0).
+//! (false: Fig. 4.5's pins traced along each query ray), `seed` (0),
+//! `stream` (pins streamed into each grid before every pass, default 0:
+//! static pins, as the thesis's evaluation; its code streams 1000 a frame),
+//! `stream_spacing` (0.1 box edges between a streamed pin's writes).
 
 use super::tracking::{unit_cube, Flight, PinSet, Shadow};
 use super::DistanceSampler;
 use crate::error::SceneError;
 use crate::params::ParamReader;
 use crate::world::World;
-use fogbank_estimators::pins::{PinGrid, PinGridSpec};
+use fogbank_estimators::pins::{PinGrid, PinGridSpec, MIN_STREAM_SPACING};
 use fogbank_estimators::Estimator;
 use fogbank_volume::MediumView;
 use std::sync::Arc;
@@ -69,6 +72,9 @@ pub struct PinGridParams {
     pub mask_iterations: u32,
     pub unquantised: bool,
     pub seed: u64,
+    /// Pins streamed into each grid before every pass (0: static).
+    pub stream: u32,
+    pub stream_spacing: f32,
 }
 
 impl Default for PinGridParams {
@@ -84,11 +90,16 @@ impl Default for PinGridParams {
             mask_iterations: s.mask_iterations,
             unquantised: false,
             seed: 0,
+            stream: 0,
+            stream_spacing: super::pin_stream::STREAM_SPACING,
         }
     }
 }
 
-const GRID_KEYS: [&str; 9] = [
+/// Most pins `pin_grid.stream` may trace a pass.
+pub const MAX_STREAM_PINS: u32 = 1 << 24;
+
+const GRID_KEYS: [&str; 11] = [
     "positions",
     "memory_ratio",
     "phi",
@@ -98,6 +109,8 @@ const GRID_KEYS: [&str; 9] = [
     "mask_iterations",
     "unquantised",
     "seed",
+    "stream",
+    "stream_spacing",
 ];
 
 impl PinGridParams {
@@ -114,6 +127,8 @@ impl PinGridParams {
             mask_iterations: r.take("mask_iterations")?.unwrap_or(d.mask_iterations),
             unquantised: r.take("unquantised")?.unwrap_or(d.unquantised),
             seed: r.take("seed")?.unwrap_or(d.seed),
+            stream: r.take("stream")?.unwrap_or(d.stream),
+            stream_spacing: r.take("stream_spacing")?.unwrap_or(d.stream_spacing),
         };
         r.finish(&GRID_KEYS)?;
         let bad = |k: &str, why: &str| Err(SceneError(format!("{path}.{k}: {why}")));
@@ -134,6 +149,18 @@ impl PinGridParams {
         }
         if !(0.0..=1.0).contains(&p.jitter) {
             return bad("jitter", "must be in [0, 1] (cells)");
+        }
+        if p.stream > MAX_STREAM_PINS {
+            return bad(
+                "stream",
+                &format!("must be at most {MAX_STREAM_PINS} pins a pass"),
+            );
+        }
+        if !(p.stream_spacing >= MIN_STREAM_SPACING && p.stream_spacing <= 1.0) {
+            return bad(
+                "stream_spacing",
+                &format!("must be in [{MIN_STREAM_SPACING}, 1] (box edges)"),
+            );
         }
         if p.mask_iterations > 24 {
             return bad("mask_iterations", "must be at most 24");
@@ -162,6 +189,13 @@ impl PinGridParams {
         );
         t.insert("unquantised".into(), self.unquantised.into());
         t.insert("seed".into(), (self.seed as i64).into());
+        if self.stream > 0 {
+            t.insert("stream".into(), i64::from(self.stream).into());
+            t.insert(
+                "stream_spacing".into(),
+                f64::from(self.stream_spacing).into(),
+            );
+        }
         t
     }
 
@@ -278,6 +312,19 @@ impl PinParams {
             t.insert("march_step".into(), f64::from(self.march_step).into());
             t.insert("pin_grid".into(), self.grid.write().into());
         }
+    }
+
+    /// The render-time stream of the grids `set` (gathered), when pins are
+    /// on and `pin_grid.stream` asks for one (unquantised pins read no grid).
+    pub fn stream(&self, set: Option<&Arc<PinSet>>) -> Option<super::pin_stream::PinStream> {
+        let g = &self.grid;
+        let set = set.filter(|_| g.stream > 0 && !g.unquantised && self.mode != PinMode::Off)?;
+        Some(super::pin_stream::PinStream::new(
+            set.clone(),
+            g.stream,
+            g.stream_spacing,
+            g.seed,
+        ))
     }
 
     /// The tracking of rays without pins: as given, else ray marching when

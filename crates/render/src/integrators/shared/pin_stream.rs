@@ -1,17 +1,18 @@
-//! The pin stream (seed 004 §3.4.4, §3.7): between frames, R new pins are
-//! traced through uniform points of each medium's box with directions
-//! normalise(U³ − ½) and written into the cells of points `spacing` apart
-//! along their chords ([`PinGrid::stream`]), so that a grid follows a
-//! changing density and its quantisation artefacts move from frame to
-//! frame. The thesis's evaluation uses static pins; its code streams 1000
-//! pins a frame, written 0.1 apart. Here a frame's grid is a function of the
-//! previous grid and the random stream given, so a caller that keys that
-//! stream by frame stays reproducible.
+//! The pin stream (seed 004 §3.4.4, §3.7): before a pass (a frame of the
+//! thesis), R new pins are traced through uniform points of each medium's
+//! box with directions normalise(U³ − ½) and written into the cells of
+//! points `spacing` apart along their chords ([`PinGrid::stream`]), so that
+//! a grid follows a changing density and its quantisation artefacts move
+//! from pass to pass. The thesis's evaluation uses static pins; its code
+//! streams 1000 pins a frame, written 0.1 apart. `pin_grid.stream` turns it
+//! on in renders ([`PinStream`]): pass s renders with the gathered grids
+//! after the streams of passes 0..=s, each keyed by ([`stream_seed`]), so a
+//! render stays a function of scene, seed and sample index — a shard
+//! starting at pass s₀ replays the streams before it.
 
 use super::tracking::{unit_cube, PinSet};
 use crate::world::World;
 use fogbank_estimators::pins::PinGrid;
-use fogbank_math::Pcg32;
 use fogbank_volume::MediumView;
 use std::sync::Arc;
 
@@ -20,13 +21,37 @@ use std::sync::Arc;
 pub const STREAM_PINS: u32 = 1000;
 pub const STREAM_SPACING: f32 = 0.1;
 
-/// `set` after `count` streamed pins into each distinct grid of `world`'s
-/// media (instances keep sharing theirs; the grids of `set` are not
-/// changed, the result holds new ones).
-pub fn stream(set: &PinSet, world: &World, count: u32, spacing: f32, rng: &mut Pcg32) -> PinSet {
+/// The random-stream seed of pass `pass`'s stream into the grid owned by
+/// medium `owner`, from `pin_grid.seed`: pin i of it draws from
+/// Pcg32(seed, i) on the CPU and the GPU alike.
+pub fn stream_seed(grid_seed: u64, owner: usize, pass: u32) -> u64 {
+    // SplitMix64's finaliser over the three keys, so neighbouring passes
+    // and media get unrelated seeds.
+    let mut z = grid_seed
+        ^ (owner as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        ^ u64::from(pass)
+            .wrapping_add(1)
+            .wrapping_mul(0xD1B5_4A32_D192_ED03);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// `set` after pass `pass`'s stream of `count` pins into each distinct
+/// grid of `world`'s media (instances keep sharing theirs, the grid's
+/// owner — the first medium holding it — keys its seed; the grids of `set`
+/// are not changed, the result holds new ones).
+pub fn stream(
+    set: &PinSet,
+    world: &World,
+    count: u32,
+    spacing: f32,
+    grid_seed: u64,
+    pass: u32,
+) -> PinSet {
     let mut out = set.clone();
     let mut streamed: Vec<(*const PinGrid, Arc<PinGrid>)> = Vec::new();
-    for (sm, slot) in world.media.iter().zip(out.media.iter_mut()) {
+    for (owner, (sm, slot)) in world.media.iter().zip(out.media.iter_mut()).enumerate() {
         let Some(g) = slot.as_ref() else {
             continue;
         };
@@ -38,16 +63,63 @@ pub fn stream(set: &PinSet, world: &World, count: u32, spacing: f32, rng: &mut P
         let mut grid = (**g).clone();
         let m = &sm.medium;
         let cube = unit_cube(m);
+        let seed = stream_seed(grid_seed, owner, pass);
         match m.view() {
-            MediumView::F16(v) => grid.stream(&v, &cube, count, spacing, rng),
-            MediumView::F32(v) => grid.stream(&v, &cube, count, spacing, rng),
-            MediumView::Analytic(v) => grid.stream(&v, &cube, count, spacing, rng),
+            MediumView::F16(v) => grid.stream(&v, &cube, count, spacing, seed),
+            MediumView::F32(v) => grid.stream(&v, &cube, count, spacing, seed),
+            MediumView::Analytic(v) => grid.stream(&v, &cube, count, spacing, seed),
         }
         let new = Arc::new(grid);
         streamed.push((old, new.clone()));
         *slot = Some(new);
     }
     out
+}
+
+/// A render's streamed grids: the gathered set and the set after the
+/// streams of passes 0..=`pass` for the pass being rendered.
+pub struct PinStream {
+    gathered: Arc<PinSet>,
+    current: Arc<PinSet>,
+    /// Passes whose streams `current` holds (0..next).
+    next: u32,
+    count: u32,
+    spacing: f32,
+    grid_seed: u64,
+}
+
+impl PinStream {
+    pub fn new(gathered: Arc<PinSet>, count: u32, spacing: f32, grid_seed: u64) -> PinStream {
+        PinStream {
+            current: gathered.clone(),
+            gathered,
+            next: 0,
+            count,
+            spacing,
+            grid_seed,
+        }
+    }
+
+    /// The grids pass `pass` renders with: the gathered ones after the
+    /// streams of passes 0..=pass (replayed from the gathered grids when
+    /// `pass` is earlier than the last one asked for).
+    pub fn at(&mut self, world: &World, pass: u32) -> &Arc<PinSet> {
+        if pass < self.next.saturating_sub(1) {
+            (self.current, self.next) = (self.gathered.clone(), 0);
+        }
+        while self.next <= pass {
+            let s = stream(
+                &self.current,
+                world,
+                self.count,
+                self.spacing,
+                self.grid_seed,
+                self.next,
+            );
+            (self.current, self.next) = (Arc::new(s), self.next + 1);
+        }
+        &self.current
+    }
 }
 
 #[cfg(test)]
@@ -73,8 +145,8 @@ mod pin_stream_test {
         };
         let set = v.pin_set(&s.world).unwrap().clone();
         let before = set.media[0].as_ref().unwrap().pins.clone();
-        let a = stream(&set, &s.world, 50, STREAM_SPACING, &mut Pcg32::new(3, 1));
-        let b = stream(&set, &s.world, 50, STREAM_SPACING, &mut Pcg32::new(3, 1));
+        let a = stream(&set, &s.world, 50, STREAM_SPACING, 3, 1);
+        let b = stream(&set, &s.world, 50, STREAM_SPACING, 3, 1);
         let (pa, pb) = (
             &a.media[0].as_ref().unwrap().pins,
             &b.media[0].as_ref().unwrap().pins,
@@ -87,5 +159,58 @@ mod pin_stream_test {
             "{changed} of {} cells",
             before.len()
         );
+        let other = stream(&set, &s.world, 50, STREAM_SPACING, 3, 2);
+        assert_ne!(&other.media[0].as_ref().unwrap().pins, pa, "another pass");
+    }
+
+    /// A render's stream gives pass s the gathered grids after the streams
+    /// of passes 0..=s, however the passes are asked for (in order, again,
+    /// or from an earlier pass: a replay).
+    #[test]
+    fn each_pass_sees_the_streams_up_to_it() {
+        let text = "[camera]\nwidth = 4\nheight = 4\n\
+            [[media]]\ndensity = { procedural = \"cloud\", resolution = 16 }\nsigma_t_scale = 10.0\n\
+            [integrator]\ntype = \"volpath\"\npins = \"ms\"\n\
+            pin_grid = { positions = 4, stream = 30, seed = 9 }\n";
+        let s = Scene::build(
+            parse_scene(text, "t", &[]).unwrap(),
+            std::path::Path::new("."),
+        )
+        .unwrap();
+        let IntegratorKind::VolPath(v) = &s.integrator else {
+            panic!("volpath");
+        };
+        let pins = |set: &PinSet| set.media[0].as_ref().unwrap().pins.clone();
+        let mut by_hand = vec![v.pin_set(&s.world).unwrap().clone()];
+        for pass in 0..4 {
+            let next = stream(
+                by_hand.last().unwrap(),
+                &s.world,
+                30,
+                STREAM_SPACING,
+                9,
+                pass,
+            );
+            by_hand.push(next);
+        }
+        let mut st = v.pin_stream(&s.world).expect("stream on");
+        for pass in [0, 1, 1, 3, 2, 0, 3] {
+            let got = pins(st.at(&s.world, pass));
+            assert_eq!(got, pins(&by_hand[pass as usize + 1]), "pass {pass}");
+        }
+        let off = |k: &str| {
+            let t = text.replace("stream = 30", k);
+            let s = Scene::build(
+                parse_scene(&t, "t", &[]).unwrap(),
+                std::path::Path::new("."),
+            )
+            .unwrap();
+            let IntegratorKind::VolPath(v) = &s.integrator else {
+                panic!("volpath");
+            };
+            v.pin_stream(&s.world).is_none()
+        };
+        assert!(!off("stream = 30"));
+        assert!(off("stream = 0") && off("stream = 30, unquantised = true"));
     }
 }
