@@ -9,6 +9,7 @@ use fogbank_estimators::jackknife::StepMode;
 use fogbank_estimators::optical_depth::Jitter;
 use fogbank_estimators::Estimator;
 use fogbank_render::integrators::point_mis::Strategy;
+use fogbank_render::integrators::restir::params::ReuseMis;
 use fogbank_render::integrators::shared::pin_params::PinMode;
 use fogbank_render::integrators::shared::{dim, DistanceSampler};
 use fogbank_render::integrators::visopt::params::Scattering;
@@ -317,6 +318,7 @@ pub fn wgsl_prelude() -> String {
     enumeration(&mut s, "EMISSION", &EMISSION_KINDS);
     enumeration(&mut s, "VELOCITY", &VELOCITY_KINDS);
     enumeration(&mut s, "PIN_MODE", &PinMode::NAMES.map(|(n, _)| n));
+    enumeration(&mut s, "MIS", &ReuseMis::ALL.map(ReuseMis::name));
     for (name, bit) in FLAGS {
         s.push_str(&format!("const FLAG_{name}: u32 = {bit}u;\n"));
     }

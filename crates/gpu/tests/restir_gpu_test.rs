@@ -177,7 +177,8 @@ fn restir_gpu_options_match_the_cpu() {
     let Some(gpu) = test_gpu() else { return };
     let text = slab(ENV, "");
     // Each option once, several per image: the reservoir regions of every
-    // reuse mode, both shifts, both unbiased MIS rules, exact trilinear free
+    // reuse mode, both shifts, the three unbiased MIS rules (pairwise beyond
+    // the paper), exact trilinear free
     // flight for candidates (mip 0), the BC4 mip, and an estimator other
     // than the exact one in final shading.
     for set in [
@@ -194,6 +195,7 @@ fn restir_gpu_options_match_the_cpu() {
             "integrator.reuse_bc4=true",
             "integrator.estimator=ratio_tracking",
         ],
+        &["integrator.mis=pairwise"],
     ] {
         assert!(compare(&gpu, &text, 3, set).pass, "{set:?}");
     }

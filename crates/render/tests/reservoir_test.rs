@@ -5,7 +5,9 @@
 //! failure the Talbot weights exist to prevent.
 
 use fogbank_math::Pcg32;
-use fogbank_render::integrators::restir::reservoir::{stream_input, talbot, Reservoir};
+use fogbank_render::integrators::restir::reservoir::{
+    pairwise_canonical, pairwise_neighbour, stream_input, talbot, Reservoir,
+};
 
 const EXACT: f64 = 0.5 + 0.2;
 
@@ -122,6 +124,77 @@ fn talbot_combination_is_unbiased_and_plain_weights_are_not() {
     assert!(
         (m - EXACT).abs() > 8.0 * se,
         "plain 1/M weights should be biased here: {m} ± {se} vs {EXACT}"
+    );
+}
+
+/// Pairwise MIS's weights of one path x, as every input would give them,
+/// sum to 1 wherever the receiving pixel's target p̂_0(x) > 0, for any
+/// confidences M and targets (zeros included).
+#[test]
+fn pairwise_weights_sum_to_one() {
+    let mut rng = Pcg32::new(3, 9);
+    for case in 0..10_000 {
+        let n = 2 + case % 5;
+        let m: Vec<f32> = (0..n).map(|_| 0.5 + 20.0 * rng.next_f32()).collect();
+        let p: Vec<f32> = (0..n)
+            .map(|j| {
+                let zero = j > 0 && rng.next_f32() < 0.3;
+                if zero {
+                    0.0
+                } else {
+                    1e-3 + 5.0 * rng.next_f32()
+                }
+            })
+            .collect();
+        let sum = pairwise_canonical(&m, &p)
+            + (1..n)
+                .map(|i| pairwise_neighbour(i, &m, p[i], p[0]))
+                .sum::<f32>();
+        assert!((sum - 1.0).abs() < 1e-5, "{m:?} {p:?}: {sum}");
+    }
+    assert_eq!(pairwise_canonical(&[4.0], &[0.3]), 1.0, "no neighbours");
+}
+
+/// Pixel q (target F on [0, 1)) combines with two neighbours that cover
+/// only part of it — one proposes [0, ½) only, the other [¼, 1) with
+/// another target — by pairwise MIS: the estimate is unbiased.
+#[test]
+fn pairwise_combination_is_unbiased() {
+    let mut rng = Pcg32::new(17, 2);
+    let p_hat_q = |x: f32| f(x);
+    let p_hat_a = |x: f32| if x < 0.5 { f(x) } else { 0.0 };
+    let p_hat_b = |x: f32| if x >= 0.25 { 0.3 + x } else { 0.0 };
+    let targets = [&p_hat_q as &dyn Fn(f32) -> f32, &p_hat_a, &p_hat_b];
+    let est: Vec<f64> = (0..200_000)
+        .map(|_| {
+            let inputs = [
+                ris(&mut rng, 4, 0.0, 1.0, p_hat_q),
+                ris(&mut rng, 2, 0.0, 0.5, p_hat_a),
+                ris(&mut rng, 8, 0.25, 1.0, p_hat_b),
+            ];
+            let m: Vec<f32> = inputs.iter().map(|r| r.m).collect();
+            let m_total: f32 = m.iter().sum();
+            let mut out = Reservoir::default();
+            for (i, r) in inputs.iter().enumerate() {
+                let Some(x) = r.y else { continue };
+                let mis = if i == 0 {
+                    let at: Vec<f32> = targets.iter().map(|t| t(x)).collect();
+                    pairwise_canonical(&m, &at)
+                } else {
+                    pairwise_neighbour(i, &m, targets[i](x), p_hat_q(x))
+                };
+                let w_i = r.contribution_weight();
+                stream_input(&mut out, x, w_i, mis, m_total, p_hat_q(x), rng.next_f32());
+            }
+            out.count(m_total);
+            out.y
+                .map_or(0.0, |y| (f(y) * out.contribution_weight()) as f64)
+        })
+        .collect();
+    let (m, se) = mean_se(&est);
+    assert!(
+        (m - EXACT).abs() < 4.0 * se,
+        "pairwise: {m} ± {se} vs {EXACT}"
     );
 }
 

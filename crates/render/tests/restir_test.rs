@@ -69,7 +69,7 @@ fn restir_parameters_read_back_and_refuse_bad_values() {
         ),
         (
             "integrator.mis=balance",
-            "is not talbot, stochastic or uniform",
+            "is not talbot, stochastic, uniform or pairwise",
         ),
         (
             "integrator.reuse_mip=4",

@@ -93,6 +93,11 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             &["integrator.mis=stochastic"],
         ),
         ("suppl.", "vertex reuse", &["integrator.shift=vertex"]),
+        (
+            "beyond",
+            "pairwise MIS (2N target evaluations)",
+            &["integrator.mis=pairwise"],
+        ),
         ("10", "reuse T̃ full resolution", &["integrator.reuse_mip=0"]),
         ("10", "reuse T̃ mip 3", &["integrator.reuse_mip=3"]),
         ("10", "reuse T̃ mip 1, BC4", &["integrator.reuse_bc4=true"]),

@@ -51,6 +51,8 @@ pub struct Case {
     pub name: &'static str,
     pub scene: String,
     pub k: u32,
+    /// ReSTIR's overrides beyond the defaults (none: the paper's method).
+    pub restir: &'static [&'static str],
 }
 
 impl Case {
@@ -89,20 +91,46 @@ fn cases() -> Vec<Case> {
             name: "probe cloud",
             scene: cloud(probe, 7, 40.0),
             k,
+            restir: &[],
         });
     }
     v.push(Case {
         name: "sunlit cloud",
         scene: cloud(sun, 3, 20.0),
         k: 3,
+        restir: &[],
     });
     v.push(Case {
         name: "dragon smoke",
         scene: dragon,
         k: 3,
+        restir: &[],
     });
-    // The paper's Plume is animated: fogbank's procedural plume, 24 fps,
-    // as `restir-dynamic` renders it.
+    // The paper's equal-time Plume (Fig. 17, K up to 7) under its protocol
+    // ("scenes are static unless noted"): frame 0 of fogbank's procedural
+    // plume, held still.
+    let still = Shot {
+        motion: Motion::Plume { fps: 24.0 },
+        frames: 1,
+        k: 3,
+        width: 128,
+        height: 96,
+    }
+    .text();
+    let still = still[..still.find("[animation]").unwrap_or(still.len())].replace(
+        "[integrator]\ntype = \"restir\"\nmax_depth = 3\nradius = 2.0\n",
+        "",
+    );
+    for k in [3, 7] {
+        v.push(Case {
+            name: "plume, still",
+            scene: still.clone(),
+            k,
+            restir: &[],
+        });
+    }
+    // The plume animated too (Fig. 4's Plume is dynamic): 24 fps, as
+    // `restir-dynamic` renders it.
     let plume = Shot {
         motion: Motion::Plume { fps: 24.0 },
         frames: WARM_UP + FRAMES,
@@ -117,14 +145,39 @@ fn cases() -> Vec<Case> {
             "",
         ),
         k: 3,
+        restir: &[],
     });
     for k in [2, 4] {
         v.push(Case {
             name: "explosion",
             scene: explosion.clone(),
             k,
+            restir: &[],
         });
     }
+    // Beyond the paper: pairwise MIS in the reuse passes (2N instead of
+    // N(N + 1) target evaluations), on the cases above where ReSTIR is
+    // closest to or behind the baseline.
+    const PAIRWISE: &[&str] = &["integrator.mis=pairwise"];
+    let pairwise: Vec<Case> = v
+        .iter()
+        .filter(|c| {
+            (c.name == "probe cloud" && c.k < 7)
+                || c.name == "dragon smoke"
+                || c.name == "plume, still" && c.k == 3
+        })
+        .map(|c| Case {
+            name: match c.name {
+                "probe cloud" => "probe cloud, pairwise MIS",
+                "dragon smoke" => "dragon smoke, pairwise MIS",
+                _ => "plume, still, pairwise MIS",
+            },
+            scene: c.scene.clone(),
+            k: c.k,
+            restir: PAIRWISE,
+        })
+        .collect();
+    v.extend(pairwise);
     v
 }
 
@@ -145,7 +198,7 @@ fn overrides(c: &Case) -> [Vec<String>; 3] {
     let s = |v: &[&str]| -> Vec<String> { v.iter().map(|x| x.to_string()).collect() };
     [
         s(&["integrator.type=volpath", &depth]),
-        s(&["integrator.type=restir", &depth, &radius]),
+        [s(&["integrator.type=restir", &depth, &radius]), s(c.restir)].concat(),
         s(&[
             "integrator.type=volpath",
             "integrator.preset=restir_baseline",

@@ -55,12 +55,14 @@ fn cases() -> Result<Vec<Case>, String> {
             name: "Fig. 1 emissive shapes",
             scene: emissive_shapes_scene(),
             k,
+            restir: &[],
         });
     }
     v.push(Case {
         name: "Fig. 18 street",
         scene: street_scene()?,
         k: 1,
+        restir: &[],
     });
     Ok(v)
 }

@@ -123,13 +123,12 @@ impl VelocityGpu {
     }
 }
 
-/// `MIS_*` of `params.wgsl`, in [`ReuseMis`]'s order.
+/// WGSL `MIS_*`: the index in [`ReuseMis::ALL`] (`contract::wgsl_prelude`).
 pub(crate) fn mis_id(m: ReuseMis) -> u32 {
-    match m {
-        ReuseMis::Talbot => 0,
-        ReuseMis::Stochastic => 1,
-        ReuseMis::Uniform => 2,
-    }
+    ReuseMis::ALL
+        .iter()
+        .position(|&x| x == m)
+        .expect("every variant") as u32
 }
 
 /// Media records of the mips: record of level l ≥ 1 is `first_mip + l − 1`

@@ -51,6 +51,15 @@ fn p_hat_at(i: u32, j: u32, y: ptr<function, Path>, lookups: ptr<function, u32>)
     return p_hat_of(centre_ray(p % frame.width, p / frame.width), y, lookups);
 }
 
+// reservoir.rs pair_share: a/(a + b), 0 when both vanish or not finite.
+fn pair_share(a: f32, b: f32) -> f32 {
+    let d = a + b;
+    if (d > 0.0 && is_finite1(d)) {
+        return a / d;
+    }
+    return 0.0;
+}
+
 // Restir::combine: the combined reservoir of input 0's pixel. Pass i < n
 // streams input i; with stochastic MIS, pass n evaluates the chosen
 // sample's denominator. Every p̂ is evaluated at the one call of p_hat_at
@@ -79,11 +88,18 @@ fn combine(n: u32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> Re
         }
         var y = load_reservoir(in_index[i]).y;
         // Σ_j M_j p̂_j(x_i) over every input for Talbot's weight and the
-        // stochastic denominator; p̂_0(x_i) alone for 1/M weights.
+        // stochastic denominator, and p̂_j(x_0) for pairwise MIS's canonical
+        // weight; p̂_0(x_i) alone for 1/M weights and a pairwise neighbour.
         var inputs = n;
-        if (!finishing && rp.mis != MIS_TALBOT) {
+        let pairwise_canonical = rp.mis == MIS_PAIRWISE && i == 0u;
+        if (!finishing && rp.mis != MIS_TALBOT && !pairwise_canonical) {
             inputs = 1u;
         }
+        // Pairwise MIS (reservoir.rs pairwise_canonical/_neighbour): N
+        // neighbours, the canonical share b = (M_0/N)·p̂_0(x_0).
+        let pairs = f32(max(n, 2u) - 1u);
+        let b = in_m[0] / pairs * in_p_hat[0];
+        var pair_sum = 0.0;
         var den = 0.0;
         var own = 0.0;
         var p_hat_q = 0.0;
@@ -95,6 +111,8 @@ fn combine(n: u32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> Re
             }
             if (j == 0u) {
                 p_hat_q = p;
+            } else {
+                pair_sum += pair_share(b, in_m[j] * p);
             }
         }
         if (finishing) {
@@ -113,6 +131,10 @@ fn combine(n: u32, rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> Re
             if (den > 0.0 && is_finite1(den)) {
                 weight = in_m[i] * own / den;
             }
+        } else if (pairwise_canonical) {
+            weight = select(pair_sum / pairs, 1.0, n < 2u);
+        } else if (rp.mis == MIS_PAIRWISE) {
+            weight = pair_share(in_m[i] * in_p_hat[i], in_m[0] / pairs * p_hat_q) / pairs;
         } else {
             weight = in_m[i] / m_total;
         }

@@ -4,10 +4,8 @@
 // surfaces.wgsl's flag word: INTEGRATOR_SURFACES in a scene with shapes.
 override INTEGRATOR_FLAGS: u32 = 0u;
 
-// Combination MIS, in ReuseMis's order.
-const MIS_TALBOT: u32 = 0u;
-const MIS_STOCHASTIC: u32 = 1u;
-const MIS_UNIFORM: u32 = 2u;
+// Combination MIS: MIS_TALBOT, MIS_STOCHASTIC, MIS_UNIFORM, MIS_PAIRWISE
+// come from ReuseMis::ALL (contract.rs).
 // What a path evaluation attenuates segments with.
 const MODE_TARGET: u32 = 0u;   // T̃ marched on the reuse mip: p̂ (§4.3)
 const MODE_F: u32 = 1u;        // the shading estimator ESTIMATOR: F (§5.1)

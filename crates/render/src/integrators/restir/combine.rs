@@ -10,12 +10,16 @@
 //! - stochastic (Eq. 10): M_i/ΣM while streaming, then the selected y from
 //!   input r is re-weighted by M_r p̂_r(y) / Σ_j M_j p̂_j(y) · ΣM/M_r;
 //! - uniform: M_i/ΣM (Eq. 9), biased where some p̂_j(y) = 0 (kept for the
-//!   power check of the unbiasedness test).
+//!   power check of the unbiasedness test);
+//! - pairwise (beyond the paper): each neighbour shares a 1/N slice with
+//!   the pixel only ([`pairwise_canonical`], [`pairwise_neighbour`]): 2N
+//!   target evaluations for N neighbours instead of Talbot's N(N + 1); with
+//!   one other input (temporal reuse) it is Talbot.
 
 use super::integrator::{FrameData, Restir};
 use super::params::ReuseMis;
 use super::path::PathSample;
-use super::reservoir::{stream_input, talbot, Reservoir};
+use super::reservoir::{pairwise_canonical, pairwise_neighbour, stream_input, talbot, Reservoir};
 use fogbank_math::{Pcg32, Ray};
 
 /// Most inputs of one combination: the pixel and up to 32 neighbours.
@@ -74,6 +78,17 @@ impl Restir {
                         *r = p_hat_at(i, j, lookups);
                     }
                     (row[0], talbot(i, m, row))
+                }
+                ReuseMis::Pairwise if i == 0 => {
+                    for (j, r) in row.iter_mut().enumerate() {
+                        *r = p_hat_at(0, j, lookups);
+                    }
+                    (row[0], pairwise_canonical(m, row))
+                }
+                ReuseMis::Pairwise => {
+                    let p_hat_0 = p_hat_at(i, 0, lookups);
+                    let own = inputs[i].res.p_hat;
+                    (p_hat_0, pairwise_neighbour(i, m, own, p_hat_0))
                 }
                 ReuseMis::Stochastic | ReuseMis::Uniform => {
                     (p_hat_at(i, 0, lookups), m[i] / m_total)

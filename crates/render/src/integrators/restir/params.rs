@@ -26,7 +26,7 @@ pub const PARAMS: [Param; 21] = [
     Param {
         key: "mis",
         default: "talbot",
-        meaning: "combination MIS: talbot, stochastic, uniform (biased)",
+        meaning: "combination MIS: talbot, stochastic, uniform (biased), pairwise (beyond the paper: 2N target evaluations for N neighbours instead of N(N+1))",
     },
     Param {
         key: "temporal_cap",
@@ -362,29 +362,36 @@ impl RestirParams {
     }
 }
 
-/// MIS of a combination (`mis = "talbot" | "stochastic" | "uniform"`).
+/// MIS of a combination (`mis = "talbot" | "stochastic" | "uniform" |
+/// "pairwise"`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ReuseMis {
     Talbot,
     Stochastic,
     Uniform,
+    /// Beyond seed 002: pairwise MIS against the receiving pixel
+    /// ([`super::reservoir::pairwise_canonical`]).
+    Pairwise,
 }
 
 impl ReuseMis {
-    pub const NAMES: &'static str = "talbot, stochastic or uniform";
+    /// Every variant, in the order of the GPU's `MIS_*` ids.
+    pub const ALL: [ReuseMis; 4] = [
+        ReuseMis::Talbot,
+        ReuseMis::Stochastic,
+        ReuseMis::Uniform,
+        ReuseMis::Pairwise,
+    ];
+    pub const NAMES: &'static str = "talbot, stochastic, uniform or pairwise";
     pub fn parse(s: &str) -> Option<ReuseMis> {
-        match s {
-            "talbot" => Some(ReuseMis::Talbot),
-            "stochastic" => Some(ReuseMis::Stochastic),
-            "uniform" => Some(ReuseMis::Uniform),
-            _ => None,
-        }
+        ReuseMis::ALL.into_iter().find(|m| m.name() == s)
     }
     pub fn name(self) -> &'static str {
         match self {
             ReuseMis::Talbot => "talbot",
             ReuseMis::Stochastic => "stochastic",
             ReuseMis::Uniform => "uniform",
+            ReuseMis::Pairwise => "pairwise",
         }
     }
 }

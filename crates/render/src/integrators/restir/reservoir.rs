@@ -114,6 +114,47 @@ pub fn talbot(i: usize, m: &[f32], p_hat_at_xi: &[f32]) -> f32 {
     }
 }
 
+/// Pairwise MIS (beyond seed 002; Bitterli's 2022 dissertation, with the
+/// confidence weights M of Lin et al. 2022): input 0 is the canonical
+/// (receiving) pixel and each of the N = `m.len()` − 1 neighbours shares a
+/// 1/N slice of the weight with it only, so a combination evaluates 2N
+/// targets instead of Talbot's N(N + 1). For a neighbour i at its sample
+/// x_i, with `own` = p̂_i(x_i) and `p_hat_0` = p̂_0(x_i):
+/// m_i = (1/N)·M_i p̂_i / (M_i p̂_i + (M_0/N) p̂_0).
+/// The weights sum to 1 wherever p̂_0 > 0 — the only paths the receiving
+/// pixel's integral sees — so reuse stays unbiased.
+pub fn pairwise_neighbour(i: usize, m: &[f32], own: f32, p_hat_0: f32) -> f32 {
+    let n = (m.len() - 1) as f32;
+    pair_share(m[i] * own, m[0] / n * p_hat_0) / n
+}
+
+/// [`pairwise_neighbour`]'s partner: the canonical input's weight at its
+/// sample x_0, from `p_hat_at_x0[j]` = p̂_j(x_0):
+/// m_0 = (1/N) Σ_{j≥1} (M_0/N) p̂_0 / (M_j p̂_j + (M_0/N) p̂_0); 1 without
+/// neighbours.
+pub fn pairwise_canonical(m: &[f32], p_hat_at_x0: &[f32]) -> f32 {
+    if m.len() < 2 {
+        return 1.0;
+    }
+    let n = (m.len() - 1) as f32;
+    let own = m[0] / n * p_hat_at_x0[0];
+    let sum: f32 = (1..m.len())
+        .map(|j| pair_share(own, m[j] * p_hat_at_x0[j]))
+        .sum();
+    sum / n
+}
+
+/// a/(a + b), 0 when both vanish or the sum is not finite.
+#[inline]
+fn pair_share(a: f32, b: f32) -> f32 {
+    let d = a + b;
+    if d > 0.0 && d.is_finite() {
+        a / d
+    } else {
+        0.0
+    }
+}
+
 /// Streams input `i` of a combination into `into`: its sample `x` with
 /// contribution weight `w_i` (W_i of its reservoir), MIS weight `mis`
 /// ([`talbot`] or another that sums to 1 over the inputs), the total count
