@@ -4,8 +4,7 @@
 //! CPU's `shared::pin_stream` draws it. The render loop then runs one
 //! sample index per dispatch, so each pass reads the grids its stream left.
 
-use crate::context::buffer_entry;
-use crate::pipelines::PipelineSpec;
+use crate::pins::grid_kernel;
 use crate::scene_buffers::SceneBuffers;
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
@@ -53,23 +52,12 @@ impl PinStreamPass {
         owners: &[usize],
         params: &PinGridParams,
     ) -> Result<PinStreamPass, GpuError> {
-        let storage =
-            |b, read_only| buffer_entry(b, wgpu::BufferBindingType::Storage { read_only });
-        let layout = gpu.bind_group_layout(
+        let (layout, pipeline) = grid_kernel(
+            gpu,
+            media,
             "pin stream",
-            &[
-                buffer_entry(0, wgpu::BufferBindingType::Uniform),
-                storage(1, true),
-                storage(2, false),
-            ],
-        );
-        let pipeline = gpu.compute_pipeline(&PipelineSpec {
-            label: "pin stream",
-            source: &crate::shaders::pin_stream_kernel(),
-            entry: "main",
-            constants: &[],
-            layouts: Some(&[Some(&media.bind_group_layout), Some(&layout)]),
-        })?;
+            &crate::shaders::pin_stream_kernel(),
+        )?;
         let grids = owners
             .iter()
             .map(|&owner| {

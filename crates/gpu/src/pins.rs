@@ -154,6 +154,32 @@ impl PinBuffers {
     }
 }
 
+/// A kernel that writes pin grids (gather, stream): group 0 the media,
+/// group 1 its parameters, the grids' records and the pins (writable).
+pub(crate) fn grid_kernel(
+    gpu: &Gpu,
+    media: &SceneBuffers,
+    label: &str,
+    source: &str,
+) -> Result<(wgpu::BindGroupLayout, wgpu::ComputePipeline), GpuError> {
+    let layout = gpu.bind_group_layout(
+        label,
+        &[
+            buffer_entry(0, wgpu::BufferBindingType::Uniform),
+            storage_entry(1, true),
+            storage_entry(2, false),
+        ],
+    );
+    let pipeline = gpu.compute_pipeline(&PipelineSpec {
+        label,
+        source,
+        entry: "main",
+        constants: &[],
+        layouts: Some(&[Some(&media.bind_group_layout), Some(&layout)]),
+    })?;
+    Ok((layout, pipeline))
+}
+
 /// Runs the gather kernel once per grid (in 2D dispatches past 65535
 /// workgroups) and waits for it.
 fn gather(
@@ -165,21 +191,12 @@ fn gather(
     seeds: &[u64],
 ) -> Result<(), GpuError> {
     let device = &gpu.device;
-    let layout = gpu.bind_group_layout(
+    let (layout, pipeline) = grid_kernel(
+        gpu,
+        media,
         "pin gather",
-        &[
-            buffer_entry(0, wgpu::BufferBindingType::Uniform),
-            storage_entry(1, true),
-            storage_entry(2, false),
-        ],
-    );
-    let pipeline = gpu.compute_pipeline(&PipelineSpec {
-        label: "pin gather",
-        source: &crate::shaders::pin_gather_kernel(),
-        entry: "main",
-        constants: &[],
-        layouts: Some(&[Some(&media.bind_group_layout), Some(&layout)]),
-    })?;
+        &crate::shaders::pin_gather_kernel(),
+    )?;
     let mut enc = device.create_command_encoder(&Default::default());
     for (&(medium, _, count), &seed) in gathered.iter().zip(seeds) {
         let params = GatherParams {

@@ -162,21 +162,15 @@ fn render_passes(
                     None => RowTotals::default(),
                 }
             }
-            IntegratorKind::VolPath(v) if pin_stream.is_some() => {
+            integrator => {
                 let world = &scene.world;
-                let set = pin_stream.as_mut().map(|p| p.at(world, pass).clone());
-                let sample = |x, y, key| v.sample_with(world, x, y, key, set.as_deref());
-                pixel_passes(
-                    &sample,
-                    opts.seed,
-                    pass..pass + n,
-                    piece,
-                    &mut film,
-                    progress,
-                )
-            }
-            i => {
-                let sample = |x, y, key| i.sample_pixel(&scene.world, x, y, key);
+                let streamed = pin_stream.as_mut().map(|p| p.at(world, pass).clone());
+                let sample = |x, y, key| match (integrator, &streamed) {
+                    (IntegratorKind::VolPath(v), Some(set)) => {
+                        v.sample_with(world, x, y, key, Some(set))
+                    }
+                    _ => integrator.sample_pixel(world, x, y, key),
+                };
                 pixel_passes(
                     &sample,
                     opts.seed,

@@ -125,8 +125,24 @@ impl PinStream {
 #[cfg(test)]
 mod pin_stream_test {
     use super::*;
+    use crate::integrators::volpath::VolPath;
     use crate::integrators::IntegratorKind;
     use crate::{parse_scene, Scene};
+
+    fn scene(text: &str) -> Scene {
+        Scene::build(
+            parse_scene(text, "t", &[]).unwrap(),
+            std::path::Path::new("."),
+        )
+        .unwrap()
+    }
+
+    fn volpath(s: &Scene) -> &VolPath {
+        let IntegratorKind::VolPath(v) = &s.integrator else {
+            panic!("volpath");
+        };
+        v
+    }
 
     /// Streaming rewrites some cells and keeps the rest, deterministically
     /// for a given random stream, and leaves the input set as it was.
@@ -135,14 +151,8 @@ mod pin_stream_test {
         let text = "[camera]\nwidth = 4\nheight = 4\n\
             [[media]]\ndensity = { procedural = \"cloud\", resolution = 16 }\nsigma_t_scale = 10.0\n\
             [integrator]\ntype = \"volpath\"\npins = \"all\"\npin_grid = { positions = 4 }\n";
-        let s = Scene::build(
-            parse_scene(text, "t", &[]).unwrap(),
-            std::path::Path::new("."),
-        )
-        .unwrap();
-        let IntegratorKind::VolPath(v) = &s.integrator else {
-            panic!("volpath");
-        };
+        let s = scene(text);
+        let v = volpath(&s);
         let set = v.pin_set(&s.world).unwrap().clone();
         let before = set.media[0].as_ref().unwrap().pins.clone();
         let a = stream(&set, &s.world, 50, STREAM_SPACING, 3, 1);
@@ -172,14 +182,8 @@ mod pin_stream_test {
             [[media]]\ndensity = { procedural = \"cloud\", resolution = 16 }\nsigma_t_scale = 10.0\n\
             [integrator]\ntype = \"volpath\"\npins = \"ms\"\n\
             pin_grid = { positions = 4, stream = 30, seed = 9 }\n";
-        let s = Scene::build(
-            parse_scene(text, "t", &[]).unwrap(),
-            std::path::Path::new("."),
-        )
-        .unwrap();
-        let IntegratorKind::VolPath(v) = &s.integrator else {
-            panic!("volpath");
-        };
+        let s = scene(text);
+        let v = volpath(&s);
         let pins = |set: &PinSet| set.media[0].as_ref().unwrap().pins.clone();
         let mut by_hand = vec![v.pin_set(&s.world).unwrap().clone()];
         for pass in 0..4 {
@@ -200,15 +204,8 @@ mod pin_stream_test {
         }
         let off = |k: &str| {
             let t = text.replace("stream = 30", k);
-            let s = Scene::build(
-                parse_scene(&t, "t", &[]).unwrap(),
-                std::path::Path::new("."),
-            )
-            .unwrap();
-            let IntegratorKind::VolPath(v) = &s.integrator else {
-                panic!("volpath");
-            };
-            v.pin_stream(&s.world).is_none()
+            let s = scene(&t);
+            volpath(&s).pin_stream(&s.world).is_none()
         };
         assert!(!off("stream = 30"));
         assert!(off("stream = 0") && off("stream = 30, unquantised = true"));
