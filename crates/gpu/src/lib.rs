@@ -17,6 +17,7 @@ pub mod diagnostics;
 mod kernel;
 mod kernel_setup;
 pub mod lights;
+mod pin_kernel;
 pub mod pin_stream;
 pub mod pins;
 pub mod pipelines;

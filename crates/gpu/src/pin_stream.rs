@@ -4,7 +4,7 @@
 //! CPU's `shared::pin_stream` draws it. The render loop then runs one
 //! sample index per dispatch, so each pass reads the grids its stream left.
 
-use crate::pins::grid_kernel;
+use crate::pin_kernel::grid_kernel;
 use crate::scene_buffers::SceneBuffers;
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};

@@ -7,8 +7,8 @@
 //! same for every `volpath`.
 
 use crate::context::buffer_entry;
+use crate::pin_kernel::grid_kernel;
 use crate::pin_stream::PinStreamPass;
-use crate::pipelines::PipelineSpec;
 use crate::scene_buffers::SceneBuffers;
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
@@ -152,32 +152,6 @@ impl PinBuffers {
             .map(|&(m, first, n)| (m, all[first as usize..(first + n) as usize].to_vec()))
             .collect())
     }
-}
-
-/// A kernel that writes pin grids (gather, stream): group 0 the media,
-/// group 1 its parameters, the grids' records and the pins (writable).
-pub(crate) fn grid_kernel(
-    gpu: &Gpu,
-    media: &SceneBuffers,
-    label: &str,
-    source: &str,
-) -> Result<(wgpu::BindGroupLayout, wgpu::ComputePipeline), GpuError> {
-    let layout = gpu.bind_group_layout(
-        label,
-        &[
-            buffer_entry(0, wgpu::BufferBindingType::Uniform),
-            storage_entry(1, true),
-            storage_entry(2, false),
-        ],
-    );
-    let pipeline = gpu.compute_pipeline(&PipelineSpec {
-        label,
-        source,
-        entry: "main",
-        constants: &[],
-        layouts: Some(&[Some(&media.bind_group_layout), Some(&layout)]),
-    })?;
-    Ok((layout, pipeline))
 }
 
 /// Runs the gather kernel once per grid (in 2D dispatches past 65535
