@@ -8,6 +8,7 @@
 
 use fogbank_gpu::pins::{gathered_pins, streamed_pins};
 use fogbank_gpu::test_gpu;
+use fogbank_render::integrators::volpath::VolPath;
 use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{parse_scene, Scene};
 use std::path::Path;
@@ -36,6 +37,26 @@ fn scene(extra: &[&str]) -> Scene {
     Scene::build(parse_scene(&text, "test", &extra).unwrap(), &base).unwrap()
 }
 
+/// [`scene`] with PinMS on a small 5³ × 8 × 3 grid (and `extra`), whose
+/// grids the gather and stream tests read back.
+fn grid_scene(extra: &[&str]) -> Scene {
+    let mut set = vec![
+        "integrator.pins=ms",
+        "integrator.pin_grid.positions=5",
+        "integrator.pin_grid.phi=8",
+        "integrator.pin_grid.theta=3",
+    ];
+    set.extend_from_slice(extra);
+    scene(&set)
+}
+
+fn volpath(s: &Scene) -> &VolPath {
+    let IntegratorKind::VolPath(v) = &s.integrator else {
+        panic!("volpath")
+    };
+    v
+}
+
 fn compare(extra: &[&str], spp: u32) {
     let Some(gpu) = test_gpu() else { return };
     assert_gpu_matches_cpu(&gpu, &scene(extra), spp, 0.01, &format!("{extra:?}"));
@@ -47,15 +68,8 @@ fn compare(extra: &[&str], spp: u32) {
 #[test]
 fn the_gathered_grid_is_the_cpus() {
     let Some(gpu) = test_gpu() else { return };
-    let s = scene(&[
-        "integrator.pins=ms",
-        "integrator.pin_grid.positions=5",
-        "integrator.pin_grid.phi=8",
-        "integrator.pin_grid.theta=3",
-    ]);
-    let IntegratorKind::VolPath(v) = &s.integrator else {
-        panic!()
-    };
+    let s = grid_scene(&[]);
+    let v = volpath(&s);
     let cpu = v.pin_set(&s.world).unwrap();
     let gpu_grids = gathered_pins(&gpu, &s).unwrap();
     assert_eq!(gpu_grids.len(), 2, "one grid per (non-instanced) medium");
@@ -93,17 +107,11 @@ fn the_gathered_grid_is_the_cpus() {
 #[test]
 fn the_streamed_grid_is_the_cpus() {
     let Some(gpu) = test_gpu() else { return };
-    let s = scene(&[
-        "integrator.pins=ms",
-        "integrator.pin_grid.positions=5",
-        "integrator.pin_grid.phi=8",
-        "integrator.pin_grid.theta=3",
+    let s = grid_scene(&[
         "integrator.pin_grid.stream=60",
         "integrator.pin_grid.stream_spacing=0.2",
     ]);
-    let IntegratorKind::VolPath(v) = &s.integrator else {
-        panic!()
-    };
+    let v = volpath(&s);
     let gathered = v.pin_set(&s.world).unwrap().clone();
     let mut stream = v.pin_stream(&s.world).unwrap();
     let cpu = stream.at(&s.world, 1).clone();
