@@ -1,15 +1,16 @@
 #!/bin/sh
-# Seeds the (git-ignored) fuzz corpora with the committed OpenVDB fixtures
-# and, when present, the shared real-world files.
+# Seeds the (git-ignored) fuzz corpora with the committed OpenVDB fixtures,
+# the committed sample data and, when present, the external real-world files
+# (tools/fetch_data.sh or ../shared/data).
 set -e
 cd "$(dirname "$0")"
 mkdir -p corpus/vdb corpus/blosc
-for f in ../crates/volume/tests/fixtures/vdb/*.vdb ../../shared/data/dragon.vdb; do
+for f in ../crates/volume/tests/fixtures/vdb/*.vdb ../data/dragon.vdb; do
     [ -f "$f" ] && [ "$(wc -c < "$f")" -le 131072 ] && cp "$f" corpus/vdb/
 done
 echo "seeded $(ls corpus/vdb | wc -l) vdb inputs"
 mkdir -p corpus/vol
-for f in ../../shared/data/*.vol; do
+for f in ../data/fetched/*.vol ../../shared/data/*.vol; do
     [ -f "$f" ] && cp "$f" corpus/vol/
 done
 echo "seeded $(ls corpus/vol | wc -l) vol inputs"

@@ -15,7 +15,7 @@
 #
 #   tools/gpu_bench.sh [path/to/fogbank] [sections, comma separated] > gpu_bench.md
 #
-# Environment: DRAGON (default ../shared/data/dragon.vdb), SCALES_DRAGON,
+# Environment: DRAGON (default data/dragon.vdb), SCALES_DRAGON,
 # SCALES_CLOUD (space separated), MITSUBA_OUT (the benchmark's folder),
 # FIG1_SIZE ("1920 1080"; smaller only to try the script on lavapipe).
 # Each timing follows a discarded warm-up render: an idle GPU runs at a
@@ -25,7 +25,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 FB=${1:-target/release/fogbank}
 SECTIONS=${2:-peer,fig1,density,mitsuba}
-DRAGON=${DRAGON:-../shared/data/dragon.vdb}
+DRAGON=${DRAGON:-data/dragon.vdb}
 SCALES_DRAGON=${SCALES_DRAGON:-2 8 16 32 64}
 SCALES_CLOUD=${SCALES_CLOUD:-15 60 120 240 480}
 THREADS=$(nproc)

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Issue 15 item 2's ratio on a real smoke plume: primary-ray transmittance
-# of ../shared/data/dragon.vdb (scenes/smoke.toml's view, 480×300, f16
+# of data/dragon.vdb (scenes/smoke.toml's view, 480×300, f16
 # voxels, trilinear) per estimator and σ_t scale, render seconds and lookups
 # per pixel sample, all in one run on this machine.
 #   tools/jackknife_dragon.sh [FOGBANK] [SPP] > docs/results/jackknife_dragon.md

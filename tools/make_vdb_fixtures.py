@@ -15,7 +15,9 @@ Reference values come from OpenVDB itself: each written file is read back with
 pyopenvdb (so half-float rounding is included) and its active voxel count and
 bounding box are cross-checked against `vdb_print -l`. They go to
 `crates/volume/tests/fixtures/vdb/manifest.json`, together with the same
-numbers for the real files in `../shared/data/` when those exist.
+numbers for the real files: the committed ones of `data/` and the external
+ones (`data/fetched/` or `../shared/data/`) when those exist. `--only real`
+refreshes just those entries.
 
 Vector fixtures (`vec3_*`, `density_vel.vdb`, `vec3_instance.vdb`,
 `vec3_stream.vdb`) hold `vec3s` grids; their manifest entries list, under
@@ -46,6 +48,7 @@ import pyopenvdb as vdb
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.path.join(ROOT, "crates", "volume", "tests", "fixtures", "vdb")
+DATA = os.path.join(ROOT, "data")
 SHARED = os.path.join(os.path.dirname(ROOT), "shared", "data")
 
 CLASS_NAMES = {
@@ -611,31 +614,47 @@ def write_manifest(fixtures):
     print("wrote %d fixtures, %d bytes in %s" % (len(fixtures), total, OUT))
 
 
+def real_fixtures():
+    """Entries for the real files: the committed ones of data/ ("data:NAME")
+    and, when present, the external ones ("shared:NAME", from data/fetched/
+    or ../shared/data, see tools/fetch_data.sh)."""
+    fixtures = []
+    for name, grid, cname in (("dragon.vdb", "density", "blosc + active-mask"),
+                              ("sphere.vdb", "ls_sphere", "blosc + active-mask")):
+        fixtures.append(describe_file(os.path.join(DATA, name), "data:" + name, [(None, grid)], cname))
+    for name, grid, cname in (("sphere.vdb", "ls_sphere", "active-mask"),
+                              ("cube.vdb", "ls_cube", "active-mask")):
+        found = [p for p in (os.path.join(DATA, "fetched", name), os.path.join(SHARED, name)) if os.path.exists(p)]
+        if found:
+            fixtures.append(describe_file(found[0], "shared:" + name, [(None, grid)], cname))
+        else:
+            print("skipping missing external", name, file=sys.stderr)
+    return fixtures
+
+
+def is_real(entry):
+    return entry["file"].startswith(("data:", "shared:"))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--only", choices=["vec3"], help="rewrite only the vec3 fixtures, keeping the other entries")
+    ap.add_argument("--only", choices=["vec3", "real"],
+                    help="rewrite only the vec3 fixtures or only the real files' entries, keeping the others")
     args = ap.parse_args()
     os.makedirs(OUT, exist_ok=True)
     tmp = tempfile.mkdtemp()
     if args.only:
         with open(os.path.join(OUT, "manifest.json")) as f:
-            keep = [e for e in json.load(f)["fixtures"] if "vec3_reads" not in e]
-        shared = [e for e in keep if e["file"].startswith("shared:")]
-        write_manifest([e for e in keep if e not in shared] + vec3_fixtures(tmp) + shared)
-        return
-    fixtures = float_fixtures(tmp) + vec3_fixtures(tmp)
-
-    # Real-world files, when present.
-    for name, grid, cname in (("dragon.vdb", "density", "blosc + active-mask"),
-                              ("sphere.vdb", "ls_sphere", "active-mask"),
-                              ("cube.vdb", "ls_cube", "active-mask")):
-        p = os.path.join(SHARED, name)
-        if os.path.exists(p):
-            fixtures.append(describe_file(p, "shared:" + name, [(None, grid)], cname))
+            entries = json.load(f)["fixtures"]
+        plain = [e for e in entries if "vec3_reads" not in e and not is_real(e)]
+        vec3 = [e for e in entries if "vec3_reads" in e]
+        real = [e for e in entries if is_real(e)]
+        if args.only == "vec3":
+            write_manifest(plain + vec3_fixtures(tmp) + real)
         else:
-            print("skipping missing", p, file=sys.stderr)
-
-    write_manifest(fixtures)
+            write_manifest(plain + vec3 + real_fixtures())
+        return
+    write_manifest(float_fixtures(tmp) + vec3_fixtures(tmp) + real_fixtures())
     try:
         frames = blosc_frames()
         with open(os.path.join(OUT, "blosc_frames.json"), "w") as f:

@@ -2,7 +2,8 @@
 
 mod support;
 
-use fogbank_math::testdata::shared_data;
+use fogbank_math::sample_data;
+use fogbank_math::testdata::external_data;
 use support::*;
 #[test]
 fn default_render_writes_exr_with_variance_png_and_stats() {
@@ -110,9 +111,7 @@ fn occluding_integrators_say_what_they_do_with_shapes() {
 
 #[test]
 fn info_reports_the_dragon() {
-    let Some(p) = shared_data("dragon.vdb") else {
-        return;
-    };
+    let p = sample_data::committed("dragon.vdb");
     let out = run_ok(fogbank().args(["info", p.to_str().unwrap()]));
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("active voxels 19660"), "{text}");
@@ -121,7 +120,7 @@ fn info_reports_the_dragon() {
 
 #[test]
 fn info_reports_vol_and_rejects_garbage() {
-    if let Some(p) = shared_data("sigmat.vol") {
+    if let Some(p) = external_data("sigmat.vol") {
         let out = run_ok(fogbank().args(["info", p.to_str().unwrap()]));
         assert!(String::from_utf8_lossy(&out.stdout).contains("16×16×16"));
     }
@@ -135,9 +134,7 @@ fn info_reports_vol_and_rejects_garbage() {
 
 #[test]
 fn renders_a_vdb_scene_file_with_relative_paths() {
-    let Some(p) = shared_data("dragon.vdb") else {
-        return;
-    };
+    let p = sample_data::committed("dragon.vdb");
     let dir = tmp_dir("vdbscene");
     std::fs::copy(&p, dir.join("dragon.vdb")).unwrap();
     std::fs::write(

@@ -39,14 +39,14 @@ fn cloud(res: u32, seed: u64) -> Scene {
     normalise(scene(&text), 5.0)
 }
 
-fn dragon() -> Option<Scene> {
-    let p = fogbank_math::testdata::shared_data("dragon.vdb")?;
+fn dragon() -> Scene {
+    let p = fogbank_math::sample_data::committed("dragon.vdb");
     let text = format!(
         "[camera]\nfrom = [5.0, 3.0, 14.0]\nto = [5.0, 2.5, 5.0]\nfov = 40.0\nwidth = 28\nheight = 20\n\
          [[media]]\ndensity = {{ vdb = \"{}\" }}\nsigma_t_scale = 1.0\n",
         p.display()
     );
-    Some(normalise(scene(&text), 5.0))
+    normalise(scene(&text), 5.0)
 }
 
 fn est(name: &str) -> Estimator {
@@ -122,7 +122,6 @@ fn seed000_ordering_on_two_clouds_and_the_dragon() {
     check(&measure(&a, "cloud A"), "cloud A");
     let b = cloud(96, 21);
     check(&measure(&b, "cloud B"), "cloud B");
-    if let Some(d) = dragon() {
-        check(&measure(&d, "dragon"), "dragon");
-    }
+    let d = dragon();
+    check(&measure(&d, "dragon"), "dragon");
 }

@@ -207,9 +207,7 @@ fn unsupported_work_is_a_clear_error() {
 #[test]
 fn unbiased_ray_marching_matches_the_cpu_sample_for_sample() {
     let Some(gpu) = test_gpu() else { return };
-    let Some(vdb) = fogbank_math::testdata::shared_data("dragon.vdb") else {
-        return;
-    };
+    let vdb = fogbank_math::sample_data::committed("dragon.vdb");
     // The dragon seen as in scenes/dragon.toml: its sparse smoke against
     // mean-importance super-voxels gives the estimator a heavy tail.
     let text = format!(

@@ -9,6 +9,7 @@ pub mod exact_sum;
 pub mod piecewise;
 pub mod ray;
 pub mod rng;
+pub mod sample_data;
 pub mod special;
 pub mod testdata;
 pub mod warp;

@@ -1,46 +1,47 @@
-//! For tests: the optional real-world data in `../shared/data`, beside the
-//! repository root. Tests that need it skip with a visible message when it
-//! is missing, unless `FOGBANK_REQUIRE_DATA=1` (set by `.ci/run`) makes a
-//! missing folder or file a failure, so that CI cannot pass by skipping.
+//! For tests: the policy for data outside the repository. A test that needs
+//! an external file ([`crate::sample_data::external`]: cube.vdb, Mitsuba's
+//! grids, openvdb.org's original sphere, the MNI templates) asks for it here;
+//! without it the test prints what it skipped and passes, unless
+//! `FOGBANK_REQUIRE_DATA=1` (set by `.ci/run`) makes a missing file a
+//! failure, so that CI cannot pass by skipping. Committed files
+//! ([`crate::sample_data::committed`]) need no such care. No test reads a
+//! file outside the repository by any other way: `.ci/run` runs the suite
+//! again from a clone with nothing beside it to keep it so.
 
-use std::path::{Path, PathBuf};
+use crate::sample_data;
+use std::path::PathBuf;
 
-/// The variable that turns missing shared data into a test failure.
+/// The variable that turns missing external data into a test failure.
 pub const REQUIRE_DATA_VAR: &str = "FOGBANK_REQUIRE_DATA";
 
-/// `../shared/data` seen from the repository root, whether or not it exists.
-fn shared_data_path() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data")
+/// The external file `name` (`data/fetched/` or `../shared/data`), or `None`
+/// after printing `SKIPPED (no NAME …)`. Panics instead when
+/// `FOGBANK_REQUIRE_DATA=1`.
+pub fn external_data(name: &str) -> Option<PathBuf> {
+    sample_data::external(name)
+        .map_err(|e| skip_unless_required::<()>(&e))
+        .ok()
 }
 
-/// The shared data folder, or `None` after printing
-/// `SKIPPED (no ../shared/data)`. Panics instead when `FOGBANK_REQUIRE_DATA=1`.
-pub fn shared_data_dir() -> Option<PathBuf> {
-    let dir = shared_data_path();
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        missing("no ../shared/data", &dir)
-    }
-}
-
-/// The file `name` of the shared data folder, with the same rules as
-/// [`shared_data_dir`] for a missing folder or file.
-pub fn shared_data(name: &str) -> Option<PathBuf> {
-    let path = shared_data_dir()?.join(name);
-    if path.exists() {
+/// The MNI152 template `name` in `data/mni/` (tools/fetch_data.sh mni), with
+/// the same rules as [`external_data`].
+pub fn mni_data(name: &str) -> Option<PathBuf> {
+    let path = sample_data::mni_dir().join(name);
+    if path.is_file() {
         Some(path)
     } else {
-        missing(&format!("no ../shared/data/{name}"), &path)
+        skip_unless_required(&format!(
+            "no {}; run tools/fetch_data.sh mni",
+            path.display()
+        ))
     }
 }
 
-fn missing<T>(what: &str, path: &Path) -> Option<T> {
+/// `None` after printing `SKIPPED (what)`, for a test whose external input
+/// is missing; panics instead when `FOGBANK_REQUIRE_DATA=1`.
+pub fn skip_unless_required<T>(what: &str) -> Option<T> {
     if std::env::var(REQUIRE_DATA_VAR).as_deref() == Ok("1") {
-        panic!(
-            "{REQUIRE_DATA_VAR}=1 but {what}: {} not found",
-            path.display()
-        );
+        panic!("{REQUIRE_DATA_VAR}=1 but {what}");
     }
     eprintln!("SKIPPED ({what})");
     None

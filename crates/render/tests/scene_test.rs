@@ -280,7 +280,7 @@ fn the_explosion_scene_glows_and_quantity_is_checked() {
     );
 }
 
-/// The README's MRI scene parses (its data is fetched by tools/fetch_mni.sh,
+/// The README's MRI scene parses (its data is fetched by tools/fetch_data.sh mni,
 /// so CI only checks the keys, and that a missing file is named).
 #[test]
 fn mri_brain_scene_parses_and_names_missing_data() {

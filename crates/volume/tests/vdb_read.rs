@@ -1,10 +1,12 @@
 //! OpenVDB reader against reference values written by OpenVDB itself
 //! (`tools/make_vdb_fixtures.py` → `fixtures/vdb/manifest.json`) and against
-//! the real-world files in `shared/data`.
+//! real-world files: the committed ones of `data/` and the external ones
+//! (`tools/fetch_data.sh` or `../shared/data`), which skip when missing.
 
 use std::path::{Path, PathBuf};
 
-use fogbank_math::testdata::shared_data;
+use fogbank_math::sample_data;
+use fogbank_math::testdata::external_data;
 use fogbank_volume::loaders::vdb::{self, GridClass, VdbGrid};
 use fogbank_volume::VolumeError;
 use serde_json::Value;
@@ -237,7 +239,8 @@ fn fixtures_match_openvdb_reference() {
     let mut checked = 0;
     for e in m["fixtures"].as_array().unwrap() {
         let file = e["file"].as_str().unwrap();
-        if file.starts_with("shared:") {
+        // The real files have tests of their own.
+        if file.starts_with("shared:") || file.starts_with("data:") {
             continue;
         }
         check_entry(e, &fixture_path(file));
@@ -410,10 +413,8 @@ fn vec3_wrong_type_errors_name_grid_and_type() {
 
 #[test]
 fn dragon_matches_vdb_print() {
-    let Some(path) = shared_data("dragon.vdb") else {
-        return;
-    };
-    check_entry(&entry("shared:dragon.vdb"), &path);
+    let path = sample_data::committed("dragon.vdb");
+    check_entry(&entry("data:dragon.vdb"), &path);
     let g = vdb::read_grid(&path, Some("density")).unwrap();
     assert_eq!(g.file_version, 224);
     assert_eq!(g.grid_class, GridClass::FogVolume);
@@ -428,7 +429,7 @@ fn dragon_matches_vdb_print() {
 
 #[test]
 fn sphere_half_level_set_version_222() {
-    let Some(path) = shared_data("sphere.vdb") else {
+    let Some(path) = external_data("sphere.vdb") else {
         return;
     };
     check_entry(&entry("shared:sphere.vdb"), &path);
@@ -445,9 +446,25 @@ fn sphere_half_level_set_version_222() {
     assert_eq!(g.value_at([200, 0, 0]), g.background);
 }
 
+/// The committed sphere (`tools/make_sphere_vdb.py`: OpenVDB 10 wrote it,
+/// format 224, Blosc, half floats) holds the same voxels as openvdb.org's.
+#[test]
+fn committed_sphere_matches_openvdb() {
+    let path = sample_data::committed("sphere.vdb");
+    check_entry(&entry("data:sphere.vdb"), &path);
+    let g = vdb::read_grid(&path, None).unwrap();
+    assert_eq!(
+        (g.file_version, g.stored_as_half, g.grid_class),
+        (224, true, GridClass::LevelSet)
+    );
+    assert_eq!(g.active_voxel_count(), 270_638);
+    assert_eq!(g.active_bbox(), Some(([-62; 3], [62; 3])));
+    assert_eq!(g.value_at([0, 0, 0]), -g.background);
+}
+
 #[test]
 fn cube_half_level_set_version_222() {
-    let Some(path) = shared_data("cube.vdb") else {
+    let Some(path) = external_data("cube.vdb") else {
         return;
     };
     check_entry(&entry("shared:cube.vdb"), &path);

@@ -21,11 +21,11 @@ const HEIGHT: u32 = 48;
 const AMBIENT: f32 = 0.02;
 
 /// (name, `[[media]]` text, ray-marching step) of the two volumes.
-fn volumes() -> [(&'static str, String, f32); 2] {
-    [
+fn volumes() -> Result<[(&'static str, String, f32); 2], String> {
+    Ok([
         (
             "hard-edged (Teapot stand-in: sphere.vdb fog, σ_t 40)",
-            CASES[0].media(),
+            CASES[0].media()?,
             0.03,
         ),
         (
@@ -35,7 +35,7 @@ fn volumes() -> [(&'static str, String, f32); 2] {
                 .into(),
             0.08,
         ),
-    ]
+    ])
 }
 
 /// (file key, label, scene text) of the two key lights, both at the left:
@@ -166,7 +166,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let spp = trials.unwrap_or(DEFAULT_SPP).clamp(1, 1 << 16) as u32;
     let (mut rows, mut lines) = (Vec::new(), Vec::new());
     for (key, light_label, light) in LIGHTS {
-        for (vi, (volume, media, step)) in volumes().into_iter().enumerate() {
+        for (vi, (volume, media, step)) in volumes()?.into_iter().enumerate() {
             let text = scene(&media, light);
             let reference = Reference::render(&build(&text, &[])?, 4 * spp, 0x0B0D);
             let regions = Regions::of(&reference.rgb);

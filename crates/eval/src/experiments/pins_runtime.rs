@@ -6,8 +6,9 @@
 //! the thesis's 512², also for Fig. 4.10's instance counts).
 //!
 //! The thesis's volumes are not freely available in its form, so each has
-//! a named, freely available stand-in from `../shared/data` or fogbank's
-//! procedural media: the CT teapot → OpenVDB's `sphere.vdb` as a fog volume
+//! a named, freely available stand-in from the repository's `data/`
+//! (`sphere.vdb`, `dragon.vdb`), `tools/fetch_data.sh` (`cube.vdb`) or
+//! fogbank's procedural media: the CT teapot → OpenVDB's `sphere.vdb` as a fog volume
 //! (dense, hard-edged), the tooth-like volume with subtractive noise →
 //! Houdini's `dragon.vdb` smoke (holes and thin features), the 512³ Perlin
 //! cube with HG → OpenVDB's `cube.vdb` as fog (225³, hard-edged, HG 0.6),
@@ -18,6 +19,7 @@
 use super::pins_instances;
 use super::restir_protocol::{build, gpu_ms_per_spp, independent_frames, Reference};
 use super::writer::Writer;
+use fogbank_math::sample_data;
 use std::time::Instant;
 
 /// One of Fig. 4.11's scenes.
@@ -30,8 +32,11 @@ pub struct Case {
     pub steps: [f32; 3],
     /// The thesis's RM/PinMS frame-time ratios at those steps.
     pub thesis: [f64; 3],
-    /// `[[media]]` entries (several for the "many" scenes).
-    media: fn() -> String,
+    /// The real volume file the stand-in reads, if any ([`sample_data::find`]).
+    volume: Option<&'static str>,
+    /// `[[media]]` entries (several for the "many" scenes), given the path
+    /// of `volume` ("" without one).
+    media: fn(&str) -> String,
 }
 
 const SMALL: [f32; 3] = [0.015, 0.03, 0.06];
@@ -43,21 +48,24 @@ pub const CASES: [Case; 6] = [
         stand_in: "sphere.vdb as fog, σ_t 40",
         steps: SMALL,
         thesis: [3.23, 1.85, 1.09],
-        media: || vdb("sphere.vdb", 1.0 / 6.2, [0.0; 3], 40.0, 0.0, ""),
+        volume: Some("sphere.vdb"),
+        media: |path| vdb(path, 1.0 / 6.2, [0.0; 3], 40.0, 0.0, ""),
     },
     Case {
         name: "Snow",
         stand_in: "dragon.vdb smoke, σ_t 30",
         steps: SMALL,
         thesis: [1.09, 0.97, 0.80],
-        media: || vdb("dragon.vdb", 1.0 / 6.9, [5.05, 2.5, 5.0], 30.0, 0.0, ""),
+        volume: Some("dragon.vdb"),
+        media: |path| vdb(path, 1.0 / 6.9, [5.05, 2.5, 5.0], 30.0, 0.0, ""),
     },
     Case {
         name: "Cloud",
         stand_in: "procedural cloud 128³, σ_t 8",
         steps: CLOUDY,
         thesis: [1.33, 1.10, 0.92],
-        media: || {
+        volume: None,
+        media: |_| {
             "[[media]]\ndensity = { procedural = \"cloud\", resolution = 128, seed = 7 }\n\
              sigma_t_scale = 8.0\nalbedo = [1.0, 1.0, 1.0]\n\
              to_world = { translate = [-0.5, -0.5, -0.5] }\n"
@@ -69,39 +77,33 @@ pub const CASES: [Case; 6] = [
         stand_in: "50 instances of a 64³ procedural cloud (Fig. 4.10's scene)",
         steps: CLOUDY,
         thesis: [2.67, 1.55, 0.95],
-        media: String::new,
+        volume: None,
+        media: |_| String::new(),
     },
     Case {
         name: "Cube",
         stand_in: "cube.vdb as fog (225³), σ_t 20, HG 0.6",
         steps: SMALL,
         thesis: [4.65, 1.44, 1.53],
-        media: || vdb("cube.vdb", 1.0 / 11.2, [0.0; 3], 20.0, 0.6, ""),
+        volume: Some("cube.vdb"),
+        media: |path| vdb(path, 1.0 / 11.2, [0.0; 3], 20.0, 0.6, ""),
     },
     Case {
         name: "Many Cubes",
         stand_in: "10 instances of cube.vdb as fog, σ_t 20, HG 0.6",
         steps: SMALL,
         thesis: [3.84, 2.12, 1.29],
-        media: || {
-            vdb(
-                "cube.vdb",
-                0.4 / 11.2,
-                [0.0; 3],
-                20.0,
-                0.6,
-                &cube_instances(10),
-            )
-        },
+        volume: Some("cube.vdb"),
+        media: |path| vdb(path, 0.4 / 11.2, [0.0; 3], 20.0, 0.6, &cube_instances(10)),
     },
 ];
 
-/// A `[[media]]` entry for `../shared/data/FILE`, scaled by `scale` about
+/// A `[[media]]` entry for the VDB file at `path`, scaled by `scale` about
 /// `centre` (world units of the file) to about a unit box at the origin.
-fn vdb(file: &str, scale: f32, centre: [f32; 3], sigma: f32, g: f32, instances: &str) -> String {
+fn vdb(path: &str, scale: f32, centre: [f32; 3], sigma: f32, g: f32, instances: &str) -> String {
     let t = centre.map(|c| -c * scale);
     format!(
-        "[[media]]\ndensity = {{ vdb = \"../../shared/data/{file}\" }}\nsigma_t_scale = {sigma}\n\
+        "[[media]]\ndensity = {{ vdb = {path:?} }}\nsigma_t_scale = {sigma}\n\
          albedo = [0.95, 0.95, 0.95]\nphase = {{ type = \"hg\", g = {g} }}\n\
          to_world = {{ translate = [{:.4}, {:.4}, {:.4}], scale = {scale:.5} }}\n{instances}",
         t[0], t[1], t[2]
@@ -109,9 +111,17 @@ fn vdb(file: &str, scale: f32, centre: [f32; 3], sigma: f32, g: f32, instances: 
 }
 
 impl Case {
-    /// The `[[media]]` entries of this case's stand-in.
-    pub fn media(&self) -> String {
-        (self.media)()
+    /// The `[[media]]` entries of this case's stand-in; an error when its
+    /// volume file is missing (only the external `cube.vdb` can be).
+    pub fn media(&self) -> Result<String, String> {
+        let path = match self.volume {
+            Some(file) => sample_data::find(file)
+                .map_err(|e| format!("{}: {e}", self.name))?
+                .display()
+                .to_string(),
+            None => String::new(),
+        };
+        Ok((self.media)(&path))
     }
 }
 
@@ -123,16 +133,16 @@ fn cube_instances(n: u32) -> String {
 
 /// The scene text of `case` at `width`×`height`: 8 bounces under the sky
 /// probe, as Fig. 4.10's.
-pub fn scene(case: &Case, width: u32, height: u32) -> String {
+pub fn scene(case: &Case, width: u32, height: u32) -> Result<String, String> {
     if case.name == "Many Clouds" {
-        return pins_instances::scene(50, width, height);
+        return Ok(pins_instances::scene(50, width, height));
     }
-    format!(
+    Ok(format!(
         "[camera]\nfrom = [0.0, 0.3, 2.4]\nto = [0.0, 0.0, 0.0]\nfov = 40.0\nwidth = {width}\nheight = {height}\n\
          {}[[lights]]\ntype = \"envmap\"\nfile = \"probes/sky.hdr\"\n\
          [integrator]\ntype = \"volpath\"\nmax_depth = 8\n[render]\npixel_jitter = false\n",
-        (case.media)()
-    )
+        case.media()?
+    ))
 }
 
 fn overrides(step: f32, pins: bool) -> Vec<String> {
@@ -178,7 +188,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let threads = rayon::current_num_threads();
     let (mut rows, mut lines) = (Vec::new(), Vec::new());
     for case in &CASES {
-        let text = scene(case, width, height);
+        let text = scene(case, width, height)?;
         let reference = Reference::render(&build(&text, &[])?, reference_spp, 0x0411);
         let mut cells = Vec::new();
         for (i, &step) in case.steps.iter().enumerate() {
@@ -268,7 +278,7 @@ pub fn run_gpu_on(
         ))
     };
     for case in cases {
-        let text = scene(case, size, size);
+        let text = scene(case, size, size)?;
         let cells: Result<Vec<String>, String> = (0..3)
             .map(|i| row(case.name, case.steps[i], case.thesis[i], &text))
             .collect();
@@ -319,6 +329,7 @@ pub fn run_gpu_on(
 mod smoke_test {
     use super::super::writer::Writer;
     use super::*;
+    use fogbank_math::testdata::skip_unless_required;
 
     /// Every case builds with both methods, and the GPU table is written on
     /// whatever device there is (lavapipe in CI) at 8², one case and one
@@ -326,7 +337,10 @@ mod smoke_test {
     #[test]
     fn every_case_builds_and_the_gpu_table_is_written() {
         for case in &CASES {
-            let text = scene(case, 8, 6);
+            // Only the external cube.vdb can be missing: skip its cases then.
+            let Ok(text) = scene(case, 8, 6).map_err(|e| skip_unless_required::<()>(&e)) else {
+                continue;
+            };
             for pins in [false, true] {
                 // A tiny grid: this checks the scenes, not the gather.
                 let mut set = overrides(case.steps[2], pins);

@@ -87,7 +87,7 @@ impl Run<'_> {
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let reference_spp = trials.unwrap_or(1024).min(1 << 16) as u32;
-    let text = scene();
+    let text = scene()?;
     let base = build(&text, &[])?;
     let region = shadow_region(&base);
     let reference = Reference::render(&base, reference_spp, 0x0413);

@@ -26,8 +26,8 @@ pub const HEIGHT: u32 = 72;
 const LIGHT: [f32; 3] = [-1.6, 0.5, 0.2];
 
 /// The scene: the Teapot stand-in, a ground, the area light, a dim sky.
-pub fn scene() -> String {
-    format!(
+pub fn scene() -> Result<String, String> {
+    Ok(format!(
         "[camera]\nfrom = [0.0, 0.5, 2.4]\nto = [0.0, -0.1, 0.0]\nfov = 40.0\nwidth = {WIDTH}\nheight = {HEIGHT}\n\
          {}[[shapes]]\ntype = \"rectangle\"\n\
          to_world = {{ translate = [0.0, -0.45, 0.0], rotate = [1.0, 0.0, 0.0, -90.0], scale = 2.0 }}\n\
@@ -37,11 +37,11 @@ pub fn scene() -> String {
          emitter = {{ radiance = [12.0, 11.0, 10.0] }}\n\
          [[lights]]\ntype = \"constant\"\nradiance = [0.03, 0.035, 0.045]\n\
          [integrator]\ntype = \"volpath\"\nmax_depth = 8\n[render]\npixel_jitter = false\n",
-        CASES[0].media(),
+        CASES[0].media()?,
         LIGHT[0],
         LIGHT[1],
         LIGHT[2]
-    )
+    ))
 }
 
 /// Pixels whose camera ray first meets the ground (shape 0) at a point
@@ -96,7 +96,7 @@ fn methods(step: f32) -> [(&'static str, Vec<String>); 3] {
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let reference_spp = trials.unwrap_or(1024).min(1 << 16) as u32;
-    let text = scene();
+    let text = scene()?;
     let base = build(&text, &[])?;
     let region = shadow_region(&base);
     let shadow_pixels = region.iter().filter(|&&b| b).count();
@@ -210,7 +210,7 @@ mod pins_surfaces_test {
     /// that the medium's box hides from the light: some pixels, not all.
     #[test]
     fn the_scene_builds_and_its_shadow_region_is_ground_behind_the_medium() {
-        let text = scene();
+        let text = scene().unwrap();
         for step in CASES[0].steps {
             for set in methods_at(step) {
                 build(&text, &set).unwrap();

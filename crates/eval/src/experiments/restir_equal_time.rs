@@ -9,7 +9,7 @@
 //!
 //! Cases (fogbank's stand-ins, no downloads): the procedural cloud under
 //! the sky probe at K = 1, 3, 7 (the paper's light-probe cloud); a second
-//! cloud lit by a sun and a dim sky; the Houdini dragon of `../shared/data`
+//! cloud lit by a sun and a dim sky; the Houdini dragon of `data/`
 //! (a real smoke simulation, standing in for the plume) at K = 3; the
 //! procedural explosion (emissive) at K = 2, 4.
 //!
@@ -75,7 +75,7 @@ fn cases() -> Vec<Case> {
     let sun = "[[lights]]\ntype = \"directional\"\ndirection = [-0.4, -0.8, -0.3]\nirradiance = [3.0, 2.9, 2.7]\n\
                [[lights]]\ntype = \"constant\"\nradiance = [0.2, 0.25, 0.35]\n";
     let dragon = "[camera]\nfrom = [3.0, 4.5, 13.0]\nto = [5.0, 2.5, 5.0]\nfov = 40.0\nwidth = 128\nheight = 96\n\
-        [[media]]\ndensity = { vdb = \"../../shared/data/dragon.vdb\", grid = \"density\" }\n\
+        [[media]]\ndensity = { vdb = \"../data/dragon.vdb\", grid = \"density\" }\n\
         sigma_t_scale = 8.0\nalbedo = [0.9, 0.9, 0.9]\n\
         [[lights]]\ntype = \"envmap\"\nfile = \"probes/sky.hdr\"\n[render]\npixel_jitter = false\n"
         .to_string();

@@ -1,5 +1,5 @@
 //! Seed 003's head studies on the MNI152 T1 template (the paper's VISIBLE
-//! HUMAN head replaced by a freely available brain; `tools/fetch_mni.sh`):
+//! HUMAN head replaced by a freely available brain; `tools/fetch_data.sh mni`):
 //!
 //! - Fig. 9: the three multiple-scattering settings of §5.4 (single
 //!   scattering; optimised first NEE + plain multiple scattering; every NEE
@@ -16,18 +16,19 @@
 use super::writer::Writer;
 use fogbank_image::metrics::{self, Image};
 use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 pub const DEFAULT_SPP: u64 = 16;
 pub(super) const WIDTH: u32 = 96;
 
+/// `data/mni/`, or an error saying how to fetch the templates.
 pub(super) fn data() -> Result<PathBuf, String> {
-    let d = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/mni");
+    let d = fogbank_math::sample_data::mni_dir();
     if d.join("mni_t1.nii.gz").exists() {
         Ok(d)
     } else {
         Err(format!(
-            "{}: the MNI152 templates are missing; run tools/fetch_mni.sh",
+            "{}: the MNI152 templates are missing; run tools/fetch_data.sh mni",
             d.display()
         ))
     }

@@ -8,7 +8,7 @@
 //!
 //! - thin band (Fig. 11 stand-in): a 64³ procedural cloud whose values in
 //!   [0.30, 0.32] are important — thin shells that few voxels hold;
-//! - head (Fig. 3 stand-in, when `tools/fetch_mni.sh` has run): the MNI152
+//! - head (Fig. 3 stand-in, when `tools/fetch_data.sh mni` has run): the MNI152
 //!   T1 brain with extinction ≥ 0.4 per mm important.
 //!
 //! Each study also renders the four classifications side by side, lit by a
@@ -20,7 +20,7 @@ use super::writer::Writer;
 use fogbank_render::integrators::visopt::optimised::importance_at;
 use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{parse_scene, Scene};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 const WIDTH: u32 = 48;
 /// Width of the side-by-side renders.
@@ -232,8 +232,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &mut rows,
     )?;
     side_by_side(w, "fig11_band.png", &band, Path::new("."), spp)?;
-    let mni: PathBuf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/mni");
-    if mni.join("mni_t1.nii.gz").exists() {
+    if let Ok(mni) = super::visopt_head::data() {
         out += "\n";
         out += &study(
             w,
@@ -247,7 +246,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         )?;
         side_by_side(w, "fig3_head.png", &head, &mni, spp)?;
     } else {
-        out += "\n(The head study needs the MNI152 templates: run tools/fetch_mni.sh.)\n";
+        out += "\n(The head study needs the MNI152 templates: run tools/fetch_data.sh mni.)\n";
     }
     w.csv(
         "pre_vs_post.csv",

@@ -162,11 +162,11 @@ pub fn write_vol(
 #[cfg(test)]
 mod vol_test {
     use super::*;
-    use fogbank_math::testdata::shared_data;
+    use fogbank_math::testdata::external_data;
 
     #[test]
     fn reads_mitsuba_test_grids() {
-        let Some(p) = shared_data("sigmat.vol") else {
+        let Some(p) = external_data("sigmat.vol") else {
             return;
         };
         let v = read_vol(&p).unwrap();
@@ -174,7 +174,7 @@ mod vol_test {
         assert_eq!((v.bbox_min, v.bbox_max), ([0.0; 3], [1.0; 3]));
         let max = v.data.iter().cloned().fold(f32::MIN, f32::max);
         assert!(max <= 5.0 && max > 1.0);
-        let Some(p) = shared_data("albedo.vol") else {
+        let Some(p) = external_data("albedo.vol") else {
             return;
         };
         let a = read_vol(&p).unwrap();

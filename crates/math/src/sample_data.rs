@@ -1,0 +1,61 @@
+//! Where the real volume files that scenes, experiments and tests read are
+//! (`data/README.md` lists them with origin and licence). Small ones are
+//! committed in the repository's `data/`, so the scenes of `scenes/` (all
+//! but the MRI one) and the quick tests work on a plain clone; larger ones live outside the
+//! repository: in the git-ignored `data/fetched/` and `data/mni/`, which
+//! `tools/fetch_data.sh` fills, or in `../shared/data` beside the repository.
+//! Scene files name committed data by relative paths (`../data/dragon.vdb`
+//! from `scenes/`); code that needs an external file asks [`external`] and
+//! says [`FETCH_HINT`] when it is missing.
+
+use std::path::{Path, PathBuf};
+
+/// What to tell a user about a missing external file.
+pub const FETCH_HINT: &str =
+    "run tools/fetch_data.sh (or put ../shared/data beside the repository)";
+
+/// The repository root.
+pub fn repo_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The committed sample file `name` of `data/` (always there in a checkout).
+pub fn committed(name: &str) -> PathBuf {
+    repo_root().join("data").join(name)
+}
+
+/// The external file `name`, looked for in `data/fetched/`
+/// (tools/fetch_data.sh), then in `../shared/data`; the error names both
+/// places and how to fetch it.
+pub fn external(name: &str) -> Result<PathBuf, String> {
+    let root = repo_root();
+    let places = [
+        root.join("data/fetched").join(name),
+        root.join("../shared/data").join(name),
+    ];
+    if let Some(p) = places.iter().find(|p| p.is_file()) {
+        return Ok(p.clone());
+    }
+    Err(format!(
+        "{name} is not in {} or {}: {FETCH_HINT}",
+        places[0].display(),
+        places[1].display()
+    ))
+}
+
+/// The sample file `name`: committed in `data/`, else [`external`].
+pub fn find(name: &str) -> Result<PathBuf, String> {
+    let committed = committed(name);
+    if committed.is_file() {
+        Ok(committed)
+    } else {
+        external(name)
+    }
+}
+
+/// `data/mni/`, where `tools/fetch_data.sh mni` puts the MNI152 templates
+/// (`mni_t1.nii.gz`, `mni_gm.nii.gz`, `mni_wm.nii.gz`), whether or not they
+/// have been fetched.
+pub fn mni_dir() -> PathBuf {
+    repo_root().join("data/mni")
+}
