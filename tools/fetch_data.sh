@@ -14,18 +14,19 @@
 #   vol  Mitsuba 3's test grids sigmat.vol and albedo.vol (the .vol reader's
 #        tests), into data/fetched/.
 #
-# A file already in ../shared/data (beside the repository) is copied from
-# there instead of downloaded. Needs python3 with pip; nothing else.
+# A file already in $FOGBANK_DATA_DIR or ../shared/data (beside the
+# repository) is copied from there instead of downloaded. Needs python3 with
+# pip; nothing else.
 set -eu
 cd "$(dirname "$0")/.."
 what=${*:-mni vdb vol}
-shared=../shared/data
-mkdir -p data/fetched
+shared=${FOGBANK_DATA_DIR:-../shared/data}
 
-# fetch URL FILE_IN_ZIP DEST: DEST from ../shared/data, else from URL (a zip
+# fetch URL FILE_IN_ZIP DEST: DEST from $shared, else from URL (a zip
 # holding FILE_IN_ZIP, or the file itself when FILE_IN_ZIP is empty).
 fetch() {
     name=$(basename "$3")
+    mkdir -p data/fetched
     if [ -f "$shared/$name" ]; then
         cp -f "$shared/$name" "$3"
         chmod 644 "$3"
@@ -73,4 +74,4 @@ EOF
         ;;
     esac
 done
-ls -l data/fetched
+if [ -d data/fetched ]; then ls -l data/fetched; fi

@@ -3,7 +3,8 @@
 //! committed in the repository's `data/`, so the scenes of `scenes/` (all
 //! but the MRI one) and the quick tests work on a plain clone; larger ones live outside the
 //! repository: in the git-ignored `data/fetched/` and `data/mni/`, which
-//! `tools/fetch_data.sh` fills, or in `../shared/data` beside the repository.
+//! `tools/fetch_data.sh` fills, in `../shared/data` beside the repository,
+//! or in a folder named by `FOGBANK_DATA_DIR`.
 //! Scene files name committed data by relative paths (`../data/dragon.vdb`
 //! from `scenes/`); code that needs an external file asks [`external`] and
 //! says [`FETCH_HINT`] when it is missing.
@@ -11,8 +12,8 @@
 use std::path::{Path, PathBuf};
 
 /// What to tell a user about a missing external file.
-pub const FETCH_HINT: &str =
-    "run tools/fetch_data.sh (or put ../shared/data beside the repository)";
+pub const FETCH_HINT: &str = "run tools/fetch_data.sh, put ../shared/data beside the \
+     repository or name a folder holding it in FOGBANK_DATA_DIR";
 
 /// The repository root.
 pub fn repo_root() -> PathBuf {
@@ -24,22 +25,27 @@ pub fn committed(name: &str) -> PathBuf {
     repo_root().join("data").join(name)
 }
 
-/// The external file `name`, looked for in `data/fetched/`
-/// (tools/fetch_data.sh), then in `../shared/data`; the error names both
-/// places and how to fetch it.
+/// The variable naming a folder of external files, looked in first.
+pub const DATA_DIR_VAR: &str = "FOGBANK_DATA_DIR";
+
+/// The external file `name`, looked for in `$FOGBANK_DATA_DIR` (when set),
+/// `data/fetched/` (tools/fetch_data.sh), then `../shared/data`; the error
+/// names every place and how to fetch it.
 pub fn external(name: &str) -> Result<PathBuf, String> {
     let root = repo_root();
-    let places = [
-        root.join("data/fetched").join(name),
-        root.join("../shared/data").join(name),
-    ];
+    let dirs = std::env::var_os(DATA_DIR_VAR).map(PathBuf::from);
+    let places: Vec<PathBuf> = dirs
+        .into_iter()
+        .chain([root.join("data/fetched"), root.join("../shared/data")])
+        .map(|d| d.join(name))
+        .collect();
     if let Some(p) = places.iter().find(|p| p.is_file()) {
         return Ok(p.clone());
     }
+    let looked: Vec<String> = places.iter().map(|p| p.display().to_string()).collect();
     Err(format!(
-        "{name} is not in {} or {}: {FETCH_HINT}",
-        places[0].display(),
-        places[1].display()
+        "{name} is not in {}: {FETCH_HINT}",
+        looked.join(", ")
     ))
 }
 

@@ -37,6 +37,11 @@ pub fn mni_data(name: &str) -> Option<PathBuf> {
     }
 }
 
+/// A file to which every skip is also appended as `TEST: what` (captured
+/// output of passing tests is not shown; `tools/test_plain_clone.sh` lists
+/// the skips from it).
+pub const SKIP_LOG_VAR: &str = "FOGBANK_SKIP_LOG";
+
 /// `None` after printing `SKIPPED (what)`, for a test whose external input
 /// is missing; panics instead when `FOGBANK_REQUIRE_DATA=1`.
 pub fn skip_unless_required<T>(what: &str) -> Option<T> {
@@ -44,6 +49,15 @@ pub fn skip_unless_required<T>(what: &str) -> Option<T> {
         panic!("{REQUIRE_DATA_VAR}=1 but {what}");
     }
     eprintln!("SKIPPED ({what})");
+    if let Some(log) = std::env::var_os(SKIP_LOG_VAR) {
+        // The test harness names each test's thread after the test.
+        let test = std::thread::current().name().unwrap_or("?").to_string();
+        let line = format!("{test}: {what}\n");
+        let file = std::fs::OpenOptions::new().create(true).append(true).open(log);
+        if let Err(e) = file.and_then(|mut f| std::io::Write::write_all(&mut f, line.as_bytes())) {
+            eprintln!("{SKIP_LOG_VAR}: {e}");
+        }
+    }
     None
 }
 
