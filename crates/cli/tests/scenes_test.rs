@@ -26,11 +26,18 @@ fn scene_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// The MNI templates `text` names (`…data/mni/NAME"`).
+/// The MNI templates `text` names as files (`…data/mni/NAME"`; a mention
+/// of the folder in a comment names none).
 fn mni_files(text: &str) -> Vec<&str> {
+    let file_name = |n: &&str| {
+        !n.is_empty()
+            && n.chars()
+                .all(|c| c.is_ascii_alphanumeric() || "._-".contains(c))
+    };
     text.split("data/mni/")
         .skip(1)
         .filter_map(|rest| rest.split('"').next())
+        .filter(file_name)
         .collect()
 }
 

@@ -15,9 +15,14 @@ use std::path::{Path, PathBuf};
 pub const FETCH_HINT: &str = "run tools/fetch_data.sh, put ../shared/data beside the \
      repository or name a folder holding it in FOGBANK_DATA_DIR";
 
-/// The repository root.
+/// The repository root (two folders above this crate's manifest).
 pub fn repo_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
+    manifest
+        .ancestors()
+        .nth(2)
+        .unwrap_or(manifest)
+        .to_path_buf()
 }
 
 /// The committed sample file `name` of `data/` (always there in a checkout).
@@ -36,7 +41,10 @@ pub fn external(name: &str) -> Result<PathBuf, String> {
     let dirs = std::env::var_os(DATA_DIR_VAR).map(PathBuf::from);
     let places: Vec<PathBuf> = dirs
         .into_iter()
-        .chain([root.join("data/fetched"), root.join("../shared/data")])
+        .chain([
+            root.join("data/fetched"),
+            root.with_file_name("shared/data"),
+        ])
         .map(|d| d.join(name))
         .collect();
     if let Some(p) = places.iter().find(|p| p.is_file()) {

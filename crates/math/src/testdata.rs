@@ -53,7 +53,10 @@ pub fn skip_unless_required<T>(what: &str) -> Option<T> {
         // The test harness names each test's thread after the test.
         let test = std::thread::current().name().unwrap_or("?").to_string();
         let line = format!("{test}: {what}\n");
-        let file = std::fs::OpenOptions::new().create(true).append(true).open(log);
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(log);
         if let Err(e) = file.and_then(|mut f| std::io::Write::write_all(&mut f, line.as_bytes())) {
             eprintln!("{SKIP_LOG_VAR}: {e}");
         }
