@@ -58,9 +58,11 @@ impl Frame {
     ) -> Frame {
         let (origin, forward, right, up, tan_half) = scene.camera.basis();
         let v4 = |v: glam::Vec3| [v.x, v.y, v.z, 0.0];
+        let (near, far) = scene.camera.clip();
         Frame {
-            cam_origin: v4(origin),
-            cam_forward: v4(forward),
+            // The clip planes ride in the w components (frame.wgsl).
+            cam_origin: [origin.x, origin.y, origin.z, near],
+            cam_forward: [forward.x, forward.y, forward.z, far],
             cam_right: v4(right),
             cam_up: v4(up),
             background: [0.0; 4],

@@ -17,7 +17,7 @@
 use crate::contract::{bsdf_id, texture_id, PRIMITIVE_ANALYTIC, SHAPE_STRIDE};
 use crate::{Gpu, GpuError};
 use fogbank_geometry::BvhNode;
-use fogbank_render::world::bsdf::Bsdf;
+use fogbank_render::world::bsdf::{Bsdf, Distribution, Microfacet};
 use fogbank_render::world::surfaces::material::Side;
 use fogbank_render::world::texture::Texture;
 use fogbank_render::Scene;
@@ -187,24 +187,27 @@ impl Tables {
 }
 
 /// One side's record: (kind, α, η, flags), parameters a, b, c, texture.
+/// Flags: bit 0 nonlinear, bit 1 Beckmann, bit 2 normals not sampled
+/// visible, bits 8.. the texture's id.
 fn pack_side(side: &Side, data: &mut Vec<[f32; 4]>, tables: &mut Tables) {
     let z = glam::Vec3::ZERO;
-    let (alpha, eta, nonlinear, a, b, c) = match side.bsdf {
-        Bsdf::Diffuse { reflectance } => (0.0, 1.0, false, reflectance, z, [0.0; 4]),
+    let smooth = Microfacet::ggx(0.0);
+    let (mf, eta, nonlinear, a, b, c) = match side.bsdf {
+        Bsdf::Diffuse { reflectance } => (smooth, 1.0, false, reflectance, z, [0.0; 4]),
         Bsdf::Conductor {
             eta,
             k,
-            alpha,
+            mf,
             specular,
-        } => (alpha, 1.0, false, eta, k, v4(specular, 0.0)),
-        Bsdf::Dielectric { eta, alpha } => (alpha, eta, false, z, z, [0.0; 4]),
-        Bsdf::ThinDielectric { eta } => (0.0, eta, false, z, z, [0.0; 4]),
-        Bsdf::Plastic(p) => (0.0, p.eta, p.nonlinear, p.diffuse, p.specular, [0.0; 4]),
+        } => (mf, 1.0, false, eta, k, v4(specular, 0.0)),
+        Bsdf::Dielectric { eta, mf } => (mf, eta, false, z, z, [0.0; 4]),
+        Bsdf::ThinDielectric { eta } => (smooth, eta, false, z, z, [0.0; 4]),
+        Bsdf::Plastic(p) => (smooth, p.eta, p.nonlinear, p.diffuse, p.specular, [0.0; 4]),
         Bsdf::RoughPlastic(p) => {
             let (table, internal) = p.coating();
             let offset = tables.push(table);
             (
-                p.alpha,
+                p.mf,
                 p.eta,
                 p.nonlinear,
                 p.diffuse,
@@ -212,14 +215,16 @@ fn pack_side(side: &Side, data: &mut Vec<[f32; 4]>, tables: &mut Tables) {
                 [internal, u(offset), 0.0, 0.0],
             )
         }
-        Bsdf::Null => (0.0, 1.0, false, z, z, [0.0; 4]),
+        Bsdf::Null => (smooth, 1.0, false, z, z, [0.0; 4]),
     };
     let texture = side.texture.clone().unwrap_or(Texture::Constant(z));
+    let beckmann = mf.distribution == Distribution::Beckmann;
+    let flags = nonlinear as u32 | (beckmann as u32) << 1 | (!mf.sample_visible as u32) << 2;
     data.push([
         u(bsdf_id(&side.bsdf)),
-        alpha,
+        mf.alpha,
         eta,
-        u(nonlinear as u32 | texture_id(&texture) << 8),
+        u(flags | texture_id(&texture) << 8),
     ]);
     data.push(v4(a, 0.0));
     data.push(v4(b, 0.0));

@@ -5,6 +5,7 @@
 
 pub mod image_io;
 pub mod metrics;
+pub mod spectrum;
 pub mod tonemap;
 
 pub use image_io::Image;

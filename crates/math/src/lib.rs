@@ -5,6 +5,7 @@
 
 pub mod bbox;
 pub mod chi2;
+pub mod erf;
 pub mod exact_sum;
 pub mod piecewise;
 pub mod ray;

@@ -6,11 +6,11 @@
 
 use fogbank_math::chi2::{sidak, SphereTest, SIGNIFICANCE};
 use fogbank_math::Pcg32;
-use fogbank_render::world::bsdf::{diffuse_fresnel, Bsdf, Plastic, RoughPlastic};
+use fogbank_render::world::bsdf::{diffuse_fresnel, Bsdf, Microfacet, Plastic, RoughPlastic};
 use glam::Vec3;
 
 /// The chi-square tests below share one 1 % false-alarm budget.
-const CHI2_TESTS: u32 = 16;
+const CHI2_TESTS: u32 = 41;
 
 fn dir(theta_deg: f32, phi_deg: f32, below: bool) -> Vec3 {
     let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
@@ -74,16 +74,65 @@ fn chi2_plastic() {
     }
 }
 
+/// Beckmann with visible normals, or either distribution with normals
+/// drawn from D cos θm.
+fn beckmann(alpha: f32) -> Microfacet {
+    Microfacet::beckmann(alpha)
+}
+fn all_normals(m: Microfacet) -> Microfacet {
+    Microfacet {
+        sample_visible: false,
+        ..m
+    }
+}
+
+/// The microfacet normal samplers against their densities: GGX and
+/// Beckmann, visible from wo and from D cos θm, at three incidences.
+#[test]
+fn chi2_microfacet_normals() {
+    for m in [
+        Microfacet::ggx(0.3),
+        beckmann(0.3),
+        all_normals(Microfacet::ggx(0.3)),
+        all_normals(beckmann(0.3)),
+    ] {
+        for theta in [10.0, 55.0, 85.0] {
+            let wo = dir(theta, 40.0, false);
+            let sampler =
+                |rng: &mut Pcg32| Some(m.sample(wo, [rng.next_f32(), rng.next_f32()]).as_dvec3());
+            let pdf = |d: glam::DVec3| m.pdf(wo, d.as_vec3()) as f64;
+            let r = fogbank_math::chi2::SphereTest {
+                cos_theta_bins: 24,
+                phi_bins: 48,
+                samples: 500_000,
+                seed: 31,
+            }
+            .run(sampler, pdf, 0.0);
+            println!("{m:?} θo {theta}: {r}");
+            assert!(
+                r.passes(sidak(SIGNIFICANCE, CHI2_TESTS)),
+                "{m:?} θo {theta}: {r}"
+            );
+        }
+    }
+}
+
 #[test]
 fn chi2_rough_plastic() {
-    for (alpha, theta, nonlinear) in [(0.1, 20.0, false), (0.4, 50.0, true), (0.25, 80.0, false)] {
+    for (mf, theta, nonlinear) in [
+        (Microfacet::ggx(0.1), 20.0, false),
+        (Microfacet::ggx(0.4), 50.0, true),
+        (Microfacet::ggx(0.25), 80.0, false),
+        (beckmann(0.3), 40.0, false),
+        (all_normals(beckmann(0.2)), 70.0, true),
+    ] {
         chi2(
-            &format!("roughplastic α {alpha} θo {theta}"),
+            &format!("roughplastic {mf:?} θo {theta}"),
             Bsdf::RoughPlastic(RoughPlastic::new(
                 Vec3::new(0.2, 0.5, 0.8),
                 Vec3::ONE,
                 1.5,
-                alpha,
+                mf,
                 nonlinear,
             )),
             dir(theta, 30.0, false),
@@ -91,11 +140,11 @@ fn chi2_rough_plastic() {
     }
 }
 
-fn rough_conductor(alpha: f32) -> Bsdf {
+fn rough_conductor(mf: Microfacet) -> Bsdf {
     Bsdf::Conductor {
         eta: Vec3::new(0.2, 0.9, 1.1),
         k: Vec3::new(3.9, 2.4, 2.2),
-        alpha,
+        mf,
         specular: Vec3::ONE,
     }
 }
@@ -103,10 +152,22 @@ fn rough_conductor(alpha: f32) -> Bsdf {
 #[test]
 fn chi2_rough_conductor() {
     for (alpha, theta) in [(0.1, 15.0), (0.1, 70.0), (0.5, 15.0), (0.5, 70.0)] {
+        for mf in [Microfacet::ggx(alpha), beckmann(alpha)] {
+            chi2(
+                &format!("roughconductor {mf:?} θo {theta}"),
+                rough_conductor(mf),
+                dir(theta, 60.0, false),
+            );
+        }
+    }
+    for mf in [
+        all_normals(Microfacet::ggx(0.3)),
+        all_normals(beckmann(0.3)),
+    ] {
         chi2(
-            &format!("roughconductor α {alpha} θo {theta}"),
-            rough_conductor(alpha),
-            dir(theta, 60.0, false),
+            &format!("roughconductor {mf:?} θo 40"),
+            rough_conductor(mf),
+            dir(40.0, 60.0, false),
         );
     }
 }
@@ -123,7 +184,22 @@ fn chi2_rough_dielectric() {
     ] {
         chi2(
             &format!("roughdielectric α {alpha} θo {theta} below {below}"),
-            Bsdf::Dielectric { eta: 1.5, alpha },
+            Bsdf::Dielectric {
+                eta: 1.5,
+                mf: Microfacet::ggx(alpha),
+            },
+            dir(theta, 200.0, below),
+        );
+    }
+    for (mf, theta, below) in [
+        (beckmann(0.2), 30.0, false),
+        (beckmann(0.6), 20.0, true),
+        (beckmann(0.3), 80.0, false),
+        (all_normals(beckmann(0.3)), 45.0, true),
+    ] {
+        chi2(
+            &format!("roughdielectric {mf:?} θo {theta} below {below}"),
+            Bsdf::Dielectric { eta: 1.5, mf },
             dir(theta, 200.0, below),
         );
     }
@@ -139,13 +215,21 @@ fn reciprocity() {
         Bsdf::Diffuse {
             reflectance: Vec3::splat(0.7),
         },
-        rough_conductor(0.3),
-        Bsdf::Dielectric { eta, alpha: 0.3 },
+        rough_conductor(Microfacet::ggx(0.3)),
+        rough_conductor(beckmann(0.3)),
+        Bsdf::Dielectric {
+            eta,
+            mf: Microfacet::ggx(0.3),
+        },
+        Bsdf::Dielectric {
+            eta,
+            mf: beckmann(0.3),
+        },
         Bsdf::RoughPlastic(RoughPlastic::new(
             Vec3::splat(0.5),
             Vec3::ONE,
             1.5,
-            0.3,
+            Microfacet::ggx(0.3),
             false,
         )),
     ];
@@ -224,16 +308,20 @@ fn albedo(b: Bsdf, wo: Vec3, scale: impl Fn(Vec3) -> f32) -> f64 {
 #[test]
 fn sample_weights_agree_with_eval_and_energy_is_bounded() {
     // A white conductor (F ≈ 1): albedo ≤ 1, near 1 when smooth-ish.
-    let white = |alpha| Bsdf::Conductor {
+    let white = |mf| Bsdf::Conductor {
         eta: Vec3::ONE,
         k: Vec3::splat(1e4),
-        alpha,
+        mf,
         specular: Vec3::ONE,
     };
-    let a = albedo(white(0.05), dir(30.0, 0.0, false), |_| 1.0);
-    assert!(a > 0.97 && a < 1.0 + 1e-3, "{a}");
-    let a = albedo(white(0.8), dir(60.0, 0.0, false), |_| 1.0);
-    assert!(a < 1.0, "{a}");
+    for mf in [Microfacet::ggx as fn(f32) -> Microfacet, beckmann] {
+        let a = albedo(white(mf(0.05)), dir(30.0, 0.0, false), |_| 1.0);
+        assert!(a > 0.97 && a < 1.0 + 1e-3, "{a}");
+        let a = albedo(white(mf(0.8)), dir(60.0, 0.0, false), |_| 1.0);
+        assert!(a < 1.0, "{a}");
+        let a = albedo(white(all_normals(mf(0.5))), dir(70.0, 0.0, false), |_| 1.0);
+        assert!(a < 1.0, "{a}");
+    }
     // Diffuse: exactly the reflectance.
     let a = albedo(
         Bsdf::Diffuse {
@@ -279,8 +367,14 @@ fn sample_weights_agree_with_eval_and_energy_is_bounded() {
                 1.0 / (eta * eta)
             }
         };
-        let a = albedo(Bsdf::Dielectric { eta, alpha: 0.1 }, wo, energy);
-        assert!(a > 0.95 && a < 1.0 + 2e-3, "θ {theta}, below {below}: {a}");
+        for mf in [
+            Microfacet::ggx(0.1),
+            beckmann(0.1),
+            all_normals(beckmann(0.1)),
+        ] {
+            let a = albedo(Bsdf::Dielectric { eta, mf }, wo, energy);
+            assert!(a > 0.95 && a < 1.0 + 2e-3, "θ {theta}, below {below}: {a}");
+        }
     }
 }
 
@@ -288,7 +382,10 @@ fn sample_weights_agree_with_eval_and_energy_is_bounded() {
 #[test]
 fn smooth_dielectric_and_conductor_and_thin_and_null() {
     let eta = 1.5f32;
-    let b = Bsdf::Dielectric { eta, alpha: 0.0 };
+    let b = Bsdf::Dielectric {
+        eta,
+        mf: Microfacet::ggx(0.0),
+    };
     let wo = dir(45.0, 0.0, false);
     let r = fogbank_render::world::bsdf::fresnel::dielectric(wo.z, eta);
     let mut rng = Pcg32::new(1, 1);
@@ -314,7 +411,9 @@ fn smooth_dielectric_and_conductor_and_thin_and_null() {
     let inside = dir(60.0, 0.0, true);
     assert!(b.sample(inside, 0.999, [0.5, 0.5]).unwrap().wi.z < 0.0);
     // Conductor mirror: weight = Fresnel.
-    let c = rough_conductor(0.0).sample(wo, 0.5, [0.5, 0.5]).unwrap();
+    let c = rough_conductor(Microfacet::ggx(0.0))
+        .sample(wo, 0.5, [0.5, 0.5])
+        .unwrap();
     assert!(c.delta && (c.wi.z - wo.z).abs() < 1e-6);
     // Thin dielectric: straight through or mirrored, weight 1.
     let t = Bsdf::ThinDielectric { eta };

@@ -113,9 +113,12 @@ fn refusal(xml: &str) -> String {
 fn unsupported_plugins_and_parameters_are_refused_by_name_and_line() {
     let head = "<scene version=\"3.0.0\">\n";
     let e = refusal(&format!(
-        "{head}<shape type=\"cube\">\n<bsdf type=\"roughplastic\"/>\n</shape>\n</scene>"
+        "{head}<shape type=\"cube\">\n<bsdf type=\"roughplastic\"><float name=\"alpha_u\" value=\"0.1\"/><float name=\"alpha_v\" value=\"0.2\"/></bsdf>\n</shape>\n</scene>"
     ));
-    assert!(e.contains(":3:") && e.contains("roughplastic"), "{e}");
+    assert!(
+        e.contains(":3:") && e.contains("roughplastic") && e.contains("anisotropic"),
+        "{e}"
+    );
     let e = refusal(&format!(
         "{head}<shape type=\"cube\">\n<bsdf type=\"diffuse\">\n<float name=\"roughness\" value=\"1\"/>\n</bsdf>\n</shape>\n</scene>"
     ));

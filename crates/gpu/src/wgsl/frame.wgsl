@@ -6,7 +6,9 @@
 override ESTIMATOR: u32 = 2u;
 
 struct Frame {
+    // w: the near clip plane's distance along the view axis.
     cam_origin: vec4<f32>,
+    // w: the far clip plane's (infinity without one).
     cam_forward: vec4<f32>,
     cam_right: vec4<f32>,
     cam_up: vec4<f32>,
@@ -117,6 +119,10 @@ fn is_finite3(v: vec3<f32>) -> bool {
     return all(e != vec3<u32>(0x7f800000u));
 }
 
+fn is_finite1(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
 // integrators::primary_ray + Camera::ray
 fn primary_ray(x: u32, y: u32, pixel: u32, sample: u32) -> Ray {
     var j = vec2<f32>(0.5, 0.5);
@@ -130,10 +136,28 @@ fn primary_ray(x: u32, y: u32, pixel: u32, sample: u32) -> Ray {
     let fy = f32(y) + j.y;
     let sx = (2.0 * fx / f32(frame.width) - 1.0) * frame.tan_half.x;
     let sy = (1.0 - 2.0 * fy / f32(frame.height)) * frame.tan_half.y;
+    return camera_ray(sx, sy);
+}
+
+// Camera::ray at tangent-plane position (sx, sy): starts on the near plane.
+fn camera_ray(sx: f32, sy: f32) -> Ray {
     var r: Ray;
-    r.o = frame.cam_origin.xyz;
     r.d = normalize(frame.cam_forward.xyz + sx * frame.cam_right.xyz + sy * frame.cam_up.xyz);
+    r.o = frame.cam_origin.xyz;
+    let near = frame.cam_origin.w;
+    if (near > 0.0) {
+        r.o += r.d * (near / dot(r.d, frame.cam_forward.xyz));
+    }
     return r;
+}
+
+// Camera::ray_end: where a camera ray's first segment meets the far plane.
+fn camera_ray_end(r: Ray) -> f32 {
+    let far = frame.cam_forward.w;
+    if (far >= F32_INF) {
+        return F32_INF;
+    }
+    return (far - frame.cam_origin.w) / dot(r.d, frame.cam_forward.xyz);
 }
 
 // The scene's transmittance estimator on [t0, t1]. Each call counts its

@@ -222,8 +222,9 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
     let world = primary_ray(x, y, pixel, sample);
     let m = media[0];
     var index: Ray;
-    // The camera segment ends at the first surface (occluders.wgsl).
-    let range = to_index_from_camera(m, world, first_surface(world), &index);
+    // The camera segment ends at the first surface (occluders.wgsl) or the
+    // far clip plane.
+    let range = to_index_from_camera(m, world, min(first_surface(world), camera_ray_end(world)), &index);
     if (range.z == 0.0) {
         return vec3<f32>(0.0);
     }

@@ -486,15 +486,18 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
     if ((INTEGRATOR_FLAGS & INTEGRATOR_TRANSMITTANCE) != 0u) {
         // transmittance.rs `sample` with surfaces or chromatic media: the
         // background seen through them along the camera ray.
-        return frame.background.xyz * shadow(path.ray, F32_INF, 0u, path.medium, &rng, lookups);
+        return frame.background.xyz * shadow(path.ray, camera_ray_end(path.ray), 0u, path.medium, &rng, lookups);
     }
     var depth = 0u;
     var crossings = 0u;
     var nulls = 0u;
+    // The camera ray's first segment ends on the far clip plane.
+    let camera_end = camera_ray_end(path.ray);
     while (depth < frame.max_depth) {
-        let hit = intersect_surfaces(path.ray.o, path.ray.d, F32_INF, false);
-        let t_end = select(F32_INF, hit.t, hit.valid);
         let from_camera = depth == 0u && crossings == 0u && nulls == 0u;
+        let t_limit = select(F32_INF, camera_end, from_camera);
+        let hit = intersect_surfaces(path.ray.o, path.ray.d, t_limit, false);
+        let t_end = select(t_limit, hit.t, hit.valid);
         let c = next_collision(path.ray, depth, from_camera, t_end, path.medium, &rng, lookups);
         var step = STEP_CROSS;
         if (c.x >= 0.0) {

@@ -8,7 +8,7 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
     for (var i = 0u; i < frame.media_count; i++) {
         let m = media[i];
         var r: Ray;
-        let range = to_index_from_camera(m, world, F32_INF, &r);
+        let range = to_index_from_camera(m, world, camera_ray_end(world), &r);
         if (range.z != 0.0) {
             tr *= estimate(m, r, range.x, range.y, &rng, lookups);
         }

@@ -72,7 +72,7 @@ impl Direct {
             self.distance.into(),
             world,
             &ray,
-            f32::INFINITY,
+            world.camera.ray_end(&ray),
             None,
             &mut rng,
             &mut lookups,

@@ -192,6 +192,20 @@ impl IntegratorDesc {
                 self.name()
             )));
         }
+        let clips = matches!(
+            self,
+            IntegratorDesc::VolPath(_)
+                | IntegratorDesc::Direct(_)
+                | IntegratorDesc::Transmittance(_)
+                | IntegratorDesc::PointMis(_)
+        );
+        if !clips && world.far_clip_cuts() {
+            return Err(SceneError(format!(
+                "camera.far_clip: the far plane cuts the scene, and `{}` does not end camera rays \
+                 on it (volpath, direct, transmittance and point_mis do); move it beyond the scene",
+                self.name()
+            )));
+        }
         // restir, visopt, ament and point_mis see shapes as opaque black
         // occluders (shared/occluders.rs) and refuse the rest themselves.
         Ok(match self {

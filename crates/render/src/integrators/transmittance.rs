@@ -62,10 +62,16 @@ impl TransmittanceParams {
 }
 
 /// Transmittance of all media along `ray` (to infinity).
-pub fn along_ray(world: &World, estimator: Estimator, ray: &Ray, rng: &mut Pcg32) -> Estimate {
+pub fn along_ray(
+    world: &World,
+    estimator: Estimator,
+    ray: &Ray,
+    t_max: f32,
+    rng: &mut Pcg32,
+) -> Estimate {
     let mut total = Estimate::ONE;
     for m in &world.media {
-        let e = transmittance(estimator, &m.medium, ray, f32::INFINITY, rng);
+        let e = transmittance(estimator, &m.medium, ray, t_max, rng);
         total.transmittance *= e.transmittance;
         total.lookups += e.lookups;
     }
@@ -81,6 +87,7 @@ pub fn sample(
     key: SampleKey,
 ) -> PixelSample {
     let ray = primary_ray(world, x, y, key);
+    let t_max = world.camera.ray_end(&ray);
     let mut rng = estimator_rng(key);
     let chromatic = world.media.iter().any(|m| m.chroma.is_some());
     if world.surfaces.is_some() || chromatic {
@@ -94,7 +101,7 @@ pub fn sample(
             nee,
             world,
             &ray,
-            f32::INFINITY,
+            t_max,
             camera_medium,
             &mut rng,
             &mut lookups,
@@ -104,7 +111,7 @@ pub fn sample(
             lookups,
         };
     }
-    let e = along_ray(world, estimator, &ray, &mut rng);
+    let e = along_ray(world, estimator, &ray, t_max, &mut rng);
     PixelSample {
         radiance: background * e.transmittance,
         lookups: e.lookups,

@@ -248,12 +248,20 @@ impl VolPath {
             medium: world.surfaces.as_ref().and_then(|s| s.camera_medium),
         };
         let (mut depth, mut crossings, mut nulls) = (0, 0u32, 0u32);
+        // The camera ray's first segment ends on the far clip plane.
+        let camera_end = world.camera.ray_end(&path.ray);
         while depth < self.max_depth {
+            let from_camera = depth == 0 && crossings == 0 && nulls == 0;
+            let t_limit = if from_camera {
+                camera_end
+            } else {
+                f32::INFINITY
+            };
             let hit = world
                 .surfaces
                 .as_ref()
-                .and_then(|s| s.intersect(&path.ray, f32::INFINITY));
-            let t_end = hit.map_or(f32::INFINITY, |h| h.t);
+                .and_then(|s| s.intersect(&path.ray, t_limit));
+            let t_end = hit.map_or(t_limit, |h| h.t);
             let flight = self.pins.flight(depth, self.distance, set);
             let (ray, medium) = (path.ray, path.medium);
             let collision = next_collision(

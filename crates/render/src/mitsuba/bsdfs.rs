@@ -4,6 +4,7 @@
 use super::plugin::{Ids, Plugin};
 use super::xml::{Document, Element};
 use crate::error::SceneError;
+use fogbank_image::spectrum::SpectrumUse;
 use toml::{Table, Value};
 
 pub fn rgb_value(c: [f32; 3]) -> Value {
@@ -18,7 +19,7 @@ fn reflectance(
     ids: &Ids,
     doc: &Document,
 ) -> Result<(), SceneError> {
-    if let Some(c) = p.rgb(name)? {
+    if let Some(c) = p.rgb(name, SpectrumUse::Bounded)? {
         out.insert(name.into(), rgb_value(c));
     } else if let Some(t) = p.object("texture", name)? {
         out.insert(name.into(), Value::Table(texture(t, ids, doc)?));
@@ -55,7 +56,7 @@ fn texture(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError> 
     match p.ty {
         "checkerboard" => {
             for k in ["color0", "color1"] {
-                if let Some(c) = p.rgb(k)? {
+                if let Some(c) = p.rgb(k, SpectrumUse::Bounded)? {
                     t.insert(k.into(), rgb_value(c));
                 }
             }
@@ -101,19 +102,17 @@ fn ior(p: &Plugin, name: &str, out: &mut Table) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// GGX only: Mitsuba's default distribution (Beckmann) is refused.
+/// The microfacet parameters, with Mitsuba's defaults: Beckmann, α 0.1,
+/// visible-normal sampling.
 fn rough(p: &Plugin, out: &mut Table) -> Result<(), SceneError> {
-    match p.string("distribution")? {
-        Some("ggx") => {}
-        other => {
-            return Err(p.error(format!(
-                "distribution `{}`: fogbank's rough BSDFs are GGX; add <string name=\"distribution\" value=\"ggx\"/>",
-                other.unwrap_or("beckmann (the default)")
-            )))
-        }
+    let distribution = p.string("distribution")?.unwrap_or("beckmann");
+    let distribution = distribution.to_ascii_lowercase();
+    if distribution != "beckmann" && distribution != "ggx" {
+        return Err(p.error(format!("distribution `{distribution}` (beckmann or ggx)")));
     }
-    if p.boolean("sample_visible")? == Some(false) {
-        return Err(p.error("sample_visible = false: fogbank samples visible normals only"));
+    out.insert("distribution".into(), distribution.into());
+    if let Some(v) = p.boolean("sample_visible")? {
+        out.insert("sample_visible".into(), v.into());
     }
     if let Some(a) = p.float("alpha")? {
         out.insert("alpha".into(), a.into());
@@ -126,7 +125,7 @@ fn rough(p: &Plugin, out: &mut Table) -> Result<(), SceneError> {
 
 /// Refuses a parameter whose only supported value is its default 1.
 fn unit_only(p: &Plugin, name: &str) -> Result<(), SceneError> {
-    match p.rgb(name)? {
+    match p.rgb(name, SpectrumUse::Bounded)? {
         None | Some([1.0, 1.0, 1.0]) => Ok(()),
         Some(c) => Err(p.error(format!("{name} = {c:?}: only 1 is supported"))),
     }
@@ -147,7 +146,7 @@ pub fn bsdf(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError>
                 }
             }
             for k in ["eta", "k"] {
-                if let Some(c) = p.rgb(k)? {
+                if let Some(c) = p.rgb(k, SpectrumUse::Unbounded)? {
                     t.insert(k.into(), rgb_value(c));
                 }
             }

@@ -203,15 +203,15 @@ fn sensor<'a>(
     if p.ty != "perspective" {
         return Err(p.error(format!("sensor `{}` is not supported (perspective)", p.ty)));
     }
-    let fov = p
-        .float("fov")?
-        .ok_or_else(|| p.error("needs `fov` (focal_length is not supported)"))?;
-    let axis = p.string("fov_axis")?.unwrap_or("x");
+    let fov = p.float("fov")?;
+    let focal_length = p.string("focal_length")?;
+    let axis = p.string("fov_axis")?;
+    // Mitsuba's defaults: rays start 0.01 along the view axis and end at 10⁴.
     let near = p.float("near_clip")?.unwrap_or(0.01);
     let far = p.float("far_clip")?.unwrap_or(1e4);
-    if near > 0.01 + 1e-9 || far < 100.0 {
+    if !(near > 0.0 && far > near) {
         return Err(p.error(format!(
-            "near_clip {near} / far_clip {far}: fogbank does not clip (near ≤ 0.01 and far ≥ 100 are accepted)"
+            "near_clip {near} / far_clip {far}: need 0 < near < far"
         )));
     }
     let m = p.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
@@ -239,26 +239,8 @@ fn sensor<'a>(
         None => p.object("medium", "")?,
     };
     p.finish()?;
-    let fov_x = match axis {
-        "x" => Some(true),
-        "y" => Some(false),
-        "smaller" => Some(w <= h),
-        "larger" => Some(w >= h),
-        "diagonal" => None,
-        other => {
-            return Err(e.error(format!(
-                "fov_axis `{other}` (x, y, diagonal, smaller, larger)"
-            )))
-        }
-    };
-    let (fov, along_x) = match fov_x {
-        Some(x) => (fov, x),
-        None => {
-            let diag = ((w * w + h * h) as f64).sqrt();
-            let t = (0.5 * fov.to_radians()).tan() * w as f64 / diag;
-            (2.0 * t.atan().to_degrees(), true)
-        }
-    };
+    let fov =
+        horizontal_fov(fov, focal_length, axis, w as f64 / h as f64).map_err(|m| e.error(m))?;
     let origin = m.transform_point3(DVec3::ZERO);
     let forward = m.transform_vector3(DVec3::Z).normalize_or_zero();
     let up = m.transform_vector3(DVec3::Y).normalize_or_zero();
@@ -276,10 +258,79 @@ fn sensor<'a>(
     camera.insert("to".into(), v(origin + forward));
     camera.insert("up".into(), v(up));
     camera.insert("fov".into(), fov.into());
-    camera.insert("fov_axis".into(), if along_x { "x" } else { "y" }.into());
+    camera.insert("fov_axis".into(), "x".into());
     camera.insert("width".into(), w.into());
     camera.insert("height".into(), h.into());
+    camera.insert("near_clip".into(), near.into());
+    camera.insert("far_clip".into(), far.into());
     Ok((camera, render, medium))
+}
+
+/// The horizontal field of view in degrees, as Mitsuba's `parse_fov`
+/// (sensor.cpp) computes it for an image of `aspect` = width / height:
+/// `fov` along `fov_axis` (x, y, diagonal, smaller, larger; default x), or
+/// without `fov` the 35 mm equivalent `focal_length` (default "50mm"),
+/// whose field of view is along the diagonal of a 36 × 24 mm frame:
+/// 2 atan(√(36² + 24²) / 2f).
+pub fn horizontal_fov(
+    fov: Option<f64>,
+    focal_length: Option<&str>,
+    axis: Option<&str>,
+    aspect: f64,
+) -> Result<f64, String> {
+    let (fov, axis) = match (fov, focal_length) {
+        (Some(_), Some(_)) => {
+            return Err("give either `fov` or `focal_length`, not both (as Mitsuba)".into())
+        }
+        (Some(fov), None) => {
+            let axis = axis.unwrap_or("x").to_ascii_lowercase();
+            let axis = match axis.as_str() {
+                "smaller" if aspect > 1.0 => "y".to_string(),
+                "smaller" => "x".to_string(),
+                "larger" if aspect > 1.0 => "x".to_string(),
+                "larger" => "y".to_string(),
+                _ => axis,
+            };
+            (fov, axis)
+        }
+        // Mitsuba ignores `fov_axis` here: a focal length is diagonal.
+        (None, f) => {
+            let f = f.unwrap_or("50mm");
+            let mm = f
+                .trim()
+                .strip_suffix("mm")
+                .unwrap_or(f.trim())
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite() && *x > 0.0)
+                .ok_or_else(|| format!("focal_length `{f}` is not a length like \"35mm\""))?;
+            let diagonal = (36.0f64 * 36.0 + 24.0 * 24.0).sqrt();
+            (
+                2.0 * (diagonal / (2.0 * mm)).atan().to_degrees(),
+                "diagonal".to_string(),
+            )
+        }
+    };
+    let half = (0.5 * fov.to_radians()).tan();
+    let x = match axis.as_str() {
+        "x" => fov,
+        "y" => 2.0 * (half * aspect).atan().to_degrees(),
+        "diagonal" => {
+            let width = 2.0 * half / (1.0 + 1.0 / (aspect * aspect)).sqrt();
+            2.0 * (0.5 * width).atan().to_degrees()
+        }
+        other => {
+            return Err(format!(
+                "fov_axis `{other}` (x, y, diagonal, smaller, larger)"
+            ))
+        }
+    };
+    if !(x > 0.0 && x < 180.0) {
+        return Err(format!(
+            "the horizontal field of view {x}° is outside (0, 180)"
+        ));
+    }
+    Ok(x)
 }
 
 fn p_error(e: &Element, what: &str) -> SceneError {

@@ -5,6 +5,7 @@ use super::bsdfs::rgb_value;
 use super::plugin::{Ids, Plugin};
 use super::xml::{Document, Element};
 use crate::error::SceneError;
+use fogbank_image::spectrum::SpectrumUse;
 use glam::{DMat3, DQuat, DVec3};
 use toml::{Table, Value};
 
@@ -16,7 +17,7 @@ pub fn light(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError
     let p = Plugin::new(e, ids)?;
     let mut t = Table::new();
     let rgb = |name: &str| -> Result<[f32; 3], SceneError> {
-        p.rgb(name)?
+        p.rgb(name, SpectrumUse::Emitter)?
             .ok_or_else(|| p.error(format!("needs `{name}`")))
     };
     let to_world = p.transform("to_world")?;
@@ -87,7 +88,9 @@ pub fn light(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError
             t.insert("type".into(), "spot".into());
             t.insert("position".into(), vec3(m.transform_point3(DVec3::ZERO)));
             t.insert("direction".into(), vec3(m.transform_vector3(DVec3::Z)));
-            let intensity = p.rgb("intensity")?.unwrap_or([1.0; 3]);
+            let intensity = p
+                .rgb("intensity", SpectrumUse::Emitter)?
+                .unwrap_or([1.0; 3]);
             t.insert("intensity".into(), rgb_value(intensity));
             t.insert("cone_angle".into(), cutoff.into());
             t.insert("falloff_start".into(), beam.into());
@@ -112,7 +115,7 @@ pub fn area(e: &Element, ids: &Ids) -> Result<Table, SceneError> {
         return Err(p.error("a shape's emitter must be `area`"));
     }
     let r = p
-        .rgb("radiance")?
+        .rgb("radiance", SpectrumUse::Emitter)?
         .ok_or_else(|| p.error("needs `radiance`"))?;
     p.finish()?;
     let mut t = Table::new();

@@ -8,6 +8,7 @@ use super::plugin::{Ids, Plugin};
 use super::shapes::matrix_table;
 use super::xml::{Document, Element};
 use crate::error::SceneError;
+use fogbank_image::spectrum::SpectrumUse;
 use fogbank_math::Aabb;
 use glam::{DMat4, DVec3};
 use toml::{Table, Value};
@@ -69,7 +70,9 @@ fn constant(e: &Element, ids: &Ids) -> Result<Option<[f32; 3]>, SceneError> {
     if p.ty != "constvolume" {
         return Ok(None);
     }
-    let v = p.rgb("value")?.unwrap_or([1.0; 3]);
+    let v = p.rgb("value", SpectrumUse::Unbounded)?.unwrap_or([1.0; 3]);
+    // A constant is the same through any transform (Mitsuba accepts one).
+    p.transform("to_world")?;
     p.finish()?;
     Ok(Some(v))
 }
@@ -122,7 +125,9 @@ pub fn medium(e: &Element, ids: &Ids, doc: &Document, bounds: Aabb) -> Result<Ta
     };
     match p.ty {
         "homogeneous" => {
-            let s = p.rgb("sigma_t")?.unwrap_or([1.0; 3]);
+            // Mitsuba 3.9's RGB variants read a spectrum here as a bounded
+            // texture, clamped to [0, 1]; fogbank does the same.
+            let s = p.rgb("sigma_t", SpectrumUse::Bounded)?.unwrap_or([1.0; 3]);
             constant_density(&mut t, s);
         }
         "heterogeneous" => {
@@ -167,7 +172,7 @@ pub fn medium(e: &Element, ids: &Ids, doc: &Document, bounds: Aabb) -> Result<Ta
 }
 
 fn albedo(p: &Plugin, ids: &Ids, doc: &Document, t: &mut Table) -> Result<(), SceneError> {
-    if let Some(c) = p.rgb("albedo")? {
+    if let Some(c) = p.rgb("albedo", SpectrumUse::Bounded)? {
         t.insert("albedo".into(), rgb_value(c));
     } else if let Some(v) = p.object("volume", "albedo")? {
         if let Some(c) = constant(v, ids)? {

@@ -1,25 +1,34 @@
-//! Mitsuba 3 XML scenes (issue 23): `fogbank render scene.xml` reads a
-//! scene written for Mitsuba and renders it as Mitsuba's `volpath` would.
+//! Mitsuba 3 XML scenes: `fogbank render scene.xml` reads a scene written
+//! for Mitsuba as Mitsuba reads it and renders it as Mitsuba's `volpath`
+//! would.
 //!
 //! The subset: `include`, `path`, `default` and `$name` substitution,
-//! `ref`/`id`; `transform` (`lookat`, `translate`, `rotate`, `scale`,
-//! `matrix`); `sensor` perspective (`fov`, `fov_axis`; clip planes only
-//! at their defaults, fogbank does not clip), `film` hdrfilm with a box
-//! `rfilter`, `sampler` independent; `integrator` volpath, volpathmis and a
-//! `moment` around one (fogbank always writes the variance); `medium`
-//! homogeneous and heterogeneous with `gridvolume` (`.vol`,
-//! `use_grid_bbox`) or `constvolume`, `phase` isotropic and hg; `rgb` and
-//! constant `spectrum` values; shapes obj, ply, rectangle, cube, sphere,
-//! disk (the last two analytic); the BSDFs of
-//! `world::surfaces::material`; `checkerboard` and `bitmap` textures; emitters area,
-//! constant, envmap, point, directional, spot.
+//! `ref`/`id`, with file names resolved as Mitsuba's `FileResolver` does
+//! (the top-level scene's folder and its `<path>`s; an include also beside
+//! the file that includes it, see [`xml`]); `transform` (`lookat`,
+//! `translate`, `rotate`, `scale`, `matrix`); `sensor` perspective (`fov`
+//! and `fov_axis`, or `focal_length`, default 50 mm, as Mitsuba's
+//! `parse_fov`; `near_clip` and `far_clip`, default 0.01 and 10⁴: rays
+//! start on the near plane and the first segment ends on the far one),
+//! `film` hdrfilm with a box `rfilter`, `sampler` independent; `integrator`
+//! volpath, volpathmis and a `moment` around one (fogbank always writes the
+//! variance); `medium` homogeneous and heterogeneous with `gridvolume`
+//! (`.vol`, `use_grid_bbox`) or `constvolume`, `phase` isotropic and hg;
+//! `rgb`, `float` and `spectrum` values (constants and wavelength:value
+//! pairs, converted to RGB as Mitsuba's RGB variants convert them,
+//! [`fogbank_image::spectrum`]); shapes obj, ply, rectangle, cube, sphere,
+//! disk (the last two analytic); the BSDFs of `world::surfaces::material`
+//! with Mitsuba's default Beckmann or GGX microfacets and either sampling of
+//! normals; `checkerboard` and `bitmap` textures; emitters area, constant,
+//! envmap, point, directional, spot.
 //!
 //! Anything else is refused with its file, line, tag and plugin name, and
-//! so is any parameter fogbank would otherwise ignore. Conventions that
-//! differ: Mitsuba's `max_depth` counts path segments (fogbank's = it − 1;
-//! −1 is unlimited); chromatic σ_t (RGB constants, 3-channel grids) is
-//! fogbank's `sigma_t_scale = [r, g, b]` / `density_rgb`; Beckmann
-//! roughness and spectral data are refused until fogbank has them.
+//! so is any parameter fogbank would otherwise ignore, unless it changes
+//! nothing in Mitsuba either (a `constvolume`'s `to_world`). Conventions
+//! that differ: Mitsuba's `max_depth` counts path segments (fogbank's = it
+//! − 1; −1 is unlimited); chromatic σ_t (RGB constants, 3-channel grids) is
+//! fogbank's `sigma_t_scale = [r, g, b]` / `density_rgb`. `<blackbody>` is
+//! refused, as Mitsuba's RGB variants refuse it.
 
 mod bsdfs;
 mod convert;

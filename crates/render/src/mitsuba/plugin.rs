@@ -4,9 +4,10 @@
 //! error naming it and its line, never silently dropped.
 
 use super::transform::read_transform;
-use super::values::{numbers, xyz};
+use super::values::{numbers, spectrum, xyz};
 use super::xml::{find_file, Document, Element};
 use crate::error::SceneError;
+use fogbank_image::spectrum::SpectrumUse;
 use glam::DMat4;
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -105,32 +106,47 @@ impl<'a> Plugin<'a> {
         }
     }
 
-    /// The required `filename`, found beside the element's file or in the
-    /// document's `<path>` folders.
+    /// The required `filename`, through the document's resolver (the
+    /// top-level scene's folder and its `<path>`s, as Mitsuba resolves it).
     pub fn filename(&self, doc: &Document) -> Result<std::path::PathBuf, SceneError> {
         let f = self
             .string("filename")?
             .ok_or_else(|| self.error("needs `filename`"))?;
-        find_file(&self.e.file, &doc.paths, f).map_err(|m| self.error(m))
+        find_file(&doc.paths, f).map_err(|m| self.error(m))
     }
 
     pub fn string(&self, name: &str) -> Result<Option<&'a str>, SceneError> {
         self.take(&["string"], name).map(Self::value).transpose()
     }
 
-    /// `<rgb>`, or a constant `<spectrum>`/`<float>`: three channels.
-    pub fn rgb(&self, name: &str) -> Result<Option<[f32; 3]>, SceneError> {
+    /// `<rgb>`, `<float>` or `<spectrum>` (a constant or wavelength:value
+    /// pairs, converted as Mitsuba's RGB variants convert them for `usage`,
+    /// see [`fogbank_image::spectrum`]): three channels.
+    pub fn rgb(&self, name: &str, usage: SpectrumUse) -> Result<Option<[f32; 3]>, SceneError> {
         let Some(c) = self.take(&["rgb", "spectrum", "float"], name) else {
             return Ok(None);
         };
+        if c.tag == "spectrum" && c.attr("type") == Some("blackbody") {
+            return Err(c.error(
+                "blackbody spectra exist in Mitsuba's spectral variants only; fogbank renders in RGB \
+                 as Mitsuba's RGB variants do, which refuse them too",
+            ));
+        }
+        if c.tag == "spectrum" && c.attr("filename").is_some() {
+            return Err(c.error(
+                "spectra from files are not read: give the wavelength:value pairs in `value`",
+            ));
+        }
         let v = Self::value(c)?;
+        if c.tag == "spectrum" {
+            return spectrum(v, usage)
+                .map(|rgb| Some(rgb.map(|x| x as f32)))
+                .map_err(|e| c.error(e));
+        }
         let xs = numbers(v).map_err(|e| c.error(e))?;
         match (c.tag.as_str(), xs.as_slice()) {
             (_, [x]) => Ok(Some([*x as f32; 3])),
             ("rgb", [r, g, b]) => Ok(Some([*r as f32, *g as f32, *b as f32])),
-            ("spectrum", _) => Err(
-                c.error("only constant spectra (one value) are supported: fogbank renders in RGB")
-            ),
             _ => Err(c.error(format!("`{v}` is not one value or three"))),
         }
     }

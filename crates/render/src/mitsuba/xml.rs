@@ -1,7 +1,17 @@
 //! Reading a Mitsuba 3 XML file into an owned element tree: `include`d
 //! files spliced in, `default` values and `$name` substitution applied,
-//! `path` folders collected for file lookup. Every element keeps its file
-//! and line for messages.
+//! relative file names resolved as Mitsuba's `FileResolver` does. Every
+//! element keeps its file and line for messages.
+//!
+//! Mitsuba's resolver is a list of folders searched in order: loading a
+//! scene file puts the file's folder before the working directory; a
+//! `<path>` puts its folder first; an `<include>` is looked for with the
+//! including file's folder put first, in a copy of the list that the
+//! included file's own `<path>`s change and that is dropped after it. The
+//! file names of plugins (meshes, textures, volumes) are resolved when the
+//! scene is built, with the top-level list: relative to the top-level
+//! scene's folder and its `<path>`s, never to the included file that names
+//! them.
 
 use crate::error::SceneError;
 use std::collections::HashMap;
@@ -47,26 +57,32 @@ impl Element {
     }
 }
 
-/// The scene root with its `path` folders.
+/// The scene root with the folders its plugins' file names resolve in.
 #[derive(Clone, Debug)]
 pub struct Document {
     pub root: Element,
-    /// Folders searched for relative file names after the file's own.
+    /// Mitsuba's resolver after the top-level file: its `<path>` folders,
+    /// the latest first, then the file's folder, then the working directory.
     pub paths: Vec<PathBuf>,
 }
 
 /// Reads `path` with `defines` (name, value) overriding its `default`s.
 pub fn read(path: &Path, defines: &[(String, String)]) -> Result<Document, SceneError> {
-    document(defines, |vars, paths| read_file(path, vars, paths, 0))
+    document(path, defines, |vars, paths| read_file(path, vars, paths, 0))
 }
 
-/// A document read by `read` with `defines` as its starting variables.
+/// A document read by `read` from the top-level file `path`, with `defines`
+/// as its starting variables.
 fn document(
+    path: &Path,
     defines: &[(String, String)],
     read: impl FnOnce(&mut HashMap<String, String>, &mut Vec<PathBuf>) -> Result<Element, SceneError>,
 ) -> Result<Document, SceneError> {
     let mut vars: HashMap<String, String> = defines.iter().cloned().collect();
-    let mut paths = Vec::new();
+    let mut paths = vec![folder_of(path)];
+    if let Ok(cwd) = std::env::current_dir() {
+        paths.push(cwd);
+    }
     let root = read(&mut vars, &mut paths)?;
     Ok(Document { root, paths })
 }
@@ -98,7 +114,9 @@ pub fn read_str(
     path: &Path,
     defines: &[(String, String)],
 ) -> Result<Document, SceneError> {
-    document(defines, |vars, paths| read_text(text, path, vars, paths, 0))
+    document(path, defines, |vars, paths| {
+        read_text(text, path, vars, paths, 0)
+    })
 }
 
 fn read_text(
@@ -141,7 +159,16 @@ fn read_text(
                 let v = c
                     .attr("value")
                     .ok_or_else(|| c.error("<path> needs `value`"))?;
-                paths.push(relative_to(&c.file, v));
+                // Beside the file first, then through the resolver.
+                let beside = folder_of(&c.file).join(v);
+                let folder = if beside.is_dir() {
+                    beside
+                } else {
+                    resolve(paths, v)
+                        .filter(|p| p.is_dir())
+                        .ok_or_else(|| c.error(format!("<path>: folder `{v}` not found")))?
+                };
+                paths.insert(0, folder);
             }
             "include" => {
                 if depth >= MAX_INCLUDE_DEPTH {
@@ -152,8 +179,10 @@ fn read_text(
                 let f = c
                     .attr("filename")
                     .ok_or_else(|| c.error("<include> needs `filename`"))?;
-                let inc = find_file(&c.file, paths, f).map_err(|e| c.error(e))?;
-                let sub = read_file(&inc, vars, paths, depth + 1)?;
+                let mut local = paths.clone();
+                local.insert(0, folder_of(&c.file));
+                let inc = find_file(&local, f).map_err(|e| c.error(e))?;
+                let sub = read_file(&inc, vars, &mut local, depth + 1)?;
                 scene.children.extend(sub.children);
             }
             _ => scene.children.push(c),
@@ -210,21 +239,33 @@ fn substitute(e: &mut Element, vars: &HashMap<String, String>) -> Result<(), Sce
     Ok(())
 }
 
-fn relative_to(file: &Path, name: &str) -> PathBuf {
-    file.parent().unwrap_or(Path::new(".")).join(name)
+/// The folder holding `file` (`.` for a bare file name).
+fn folder_of(file: &Path) -> PathBuf {
+    match file.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
 }
 
-/// A file named in `file`: relative to `file`'s folder, else to a `path`.
-pub fn find_file(file: &Path, paths: &[PathBuf], name: &str) -> Result<PathBuf, String> {
-    let own = relative_to(file, name);
-    if own.exists() || Path::new(name).is_absolute() {
-        return Ok(own);
+/// `name` in the first folder of `paths` that has it (Mitsuba's
+/// `FileResolver::resolve`); an absolute `name` as it is, if it exists.
+fn resolve(paths: &[PathBuf], name: &str) -> Option<PathBuf> {
+    if Path::new(name).is_absolute() {
+        return Some(PathBuf::from(name)).filter(|p| p.exists());
     }
-    paths
-        .iter()
-        .map(|p| p.join(name))
-        .find(|p| p.exists())
-        .ok_or_else(|| {
-            format!("file `{name}` not found (looked beside the file and in the <path> folders)")
-        })
+    paths.iter().map(|p| p.join(name)).find(|p| p.exists())
+}
+
+/// The file `name` through the resolver `paths`, or an error listing the
+/// folders looked in.
+pub fn find_file(paths: &[PathBuf], name: &str) -> Result<PathBuf, String> {
+    resolve(paths, name).ok_or_else(|| {
+        let looked: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+        format!(
+            "file `{name}` not found (looked in {}: the top-level scene's folder, its <path> \
+             folders and the working directory, as Mitsuba does; an included file's own folder \
+             counts only for further <include>s)",
+            looked.join(", ")
+        )
+    })
 }

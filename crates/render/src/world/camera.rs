@@ -1,5 +1,8 @@
 //! Pinhole camera. Pixel (0, 0) is the top-left corner; a sample at
-//! continuous film position (x, y) maps through the tangent plane.
+//! continuous film position (x, y) maps through the tangent plane. Clip
+//! planes as Mitsuba's perspective sensor has them: a ray starts on the near
+//! plane (at distance `near / cos θ` along its direction, θ from the view
+//! axis) and its first segment ends on the far plane.
 
 use crate::error::SceneError;
 use fogbank_math::{Ray, Vec3};
@@ -15,6 +18,9 @@ pub struct Camera {
     up: Vec3,
     /// Half-extent of the image plane at distance 1, per axis.
     tan_half: [f32; 2],
+    /// Clip planes along the view axis: near ≥ 0, far > near (∞: none).
+    near: f32,
+    far: f32,
 }
 
 impl Camera {
@@ -45,7 +51,19 @@ impl Camera {
             right,
             up,
             tan_half,
+            near: 0.0,
+            far: f32::INFINITY,
         })
+    }
+
+    /// This camera with clip planes at view-axis distances `near` and `far`.
+    pub fn with_clip(self, near: f32, far: f32) -> Camera {
+        Camera { near, far, ..self }
+    }
+
+    /// The clip planes' distances along the view axis (near, far).
+    pub fn clip(&self) -> (f32, f32) {
+        (self.near, self.far)
     }
 
     /// (origin, forward, right, up, tan_half): what a GPU kernel needs to
@@ -61,15 +79,28 @@ impl Camera {
     }
 
     /// Primary ray through film position `(x, y)` in pixels; unit direction,
-    /// so ray parameters are world distances.
+    /// so ray parameters are world distances. It starts on the near plane.
     #[inline]
     pub fn ray(&self, x: f32, y: f32) -> Ray {
         let sx = (2.0 * x / self.width as f32 - 1.0) * self.tan_half[0];
         let sy = (1.0 - 2.0 * y / self.height as f32) * self.tan_half[1];
-        Ray::new(
-            self.origin,
-            (self.forward + sx * self.right + sy * self.up).normalize(),
-        )
+        let d = (self.forward + sx * self.right + sy * self.up).normalize();
+        if self.near > 0.0 {
+            Ray::new(self.origin + d * (self.near / d.dot(self.forward)), d)
+        } else {
+            Ray::new(self.origin, d)
+        }
+    }
+
+    /// Where the first segment of a ray from [`Camera::ray`] ends: on the
+    /// far plane, (far − near) / cos θ along it (∞ without a far plane).
+    #[inline]
+    pub fn ray_end(&self, ray: &Ray) -> f32 {
+        if self.far.is_finite() {
+            (self.far - self.near) / ray.d.dot(self.forward)
+        } else {
+            f32::INFINITY
+        }
     }
 
     /// Film position (in pixels) where world point `p` appears: the inverse
@@ -102,6 +133,8 @@ impl Camera {
 /// | `fov` | 40 | field of view in degrees along `fov_axis` |
 /// | `fov_axis` | `"x"` | `"x"` or `"y"` |
 /// | `width`, `height` | 512, 512 | image size in pixels |
+/// | `near_clip` | 0 | distance of the near clip plane along the view axis: rays start on it |
+/// | `far_clip` | none | distance of the far clip plane: a camera ray's first segment ends on it (what lies beyond is not seen; the environment is) |
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
 pub struct CameraDesc {
@@ -112,6 +145,14 @@ pub struct CameraDesc {
     pub fov_axis: String,
     pub width: u32,
     pub height: u32,
+    #[serde(skip_serializing_if = "is_zero")]
+    pub near_clip: f32,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub far_clip: Option<f32>,
+}
+
+fn is_zero(x: &f32) -> bool {
+    *x == 0.0
 }
 
 impl Default for CameraDesc {
@@ -124,6 +165,8 @@ impl Default for CameraDesc {
             fov_axis: "x".into(),
             width: 512,
             height: 512,
+            near_clip: 0.0,
+            far_clip: None,
         }
     }
 }
@@ -153,6 +196,13 @@ impl CameraDesc {
                 )))
             }
         };
+        let far = c.far_clip.unwrap_or(f32::INFINITY);
+        if !(c.near_clip >= 0.0 && c.near_clip.is_finite() && far > c.near_clip) {
+            return Err(SceneError(format!(
+                "camera.near_clip {} / far_clip {far}: need 0 ≤ near < far",
+                c.near_clip
+            )));
+        }
         Camera::new(
             Vec3::from(c.from),
             Vec3::from(c.to),
@@ -162,6 +212,7 @@ impl CameraDesc {
             c.width,
             c.height,
         )
+        .map(|cam| cam.with_clip(c.near_clip, far))
         .ok_or_else(|| {
             SceneError(
                 "camera: `from`, `to` and `up` must span a frame (from ≠ to, up not parallel)"

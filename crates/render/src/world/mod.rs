@@ -158,4 +158,26 @@ impl World {
             1.0
         }
     }
+    /// Whether the camera's far clip plane cuts the scene: a medium's box
+    /// or the shapes' bounds reach it along the view axis. Only then does
+    /// ending camera rays on it change the image.
+    pub fn far_clip_cuts(&self) -> bool {
+        let (_, far) = self.camera.clip();
+        if !far.is_finite() {
+            return false;
+        }
+        let (origin, forward, ..) = self.camera.basis();
+        let boxes = self.media.iter().map(|m| m.medium.world_bounds());
+        let mut boxes = boxes.chain(self.surfaces.as_ref().map(|s| s.bounds()));
+        boxes.any(|b| {
+            (0..8).any(|c| {
+                let corner = Vec3::new(
+                    if c & 1 != 0 { b.max.x } else { b.min.x },
+                    if c & 2 != 0 { b.max.y } else { b.min.y },
+                    if c & 4 != 0 { b.max.z } else { b.min.z },
+                );
+                (corner - origin).dot(forward) >= far
+            })
+        })
+    }
 }

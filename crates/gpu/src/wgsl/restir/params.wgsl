@@ -71,10 +71,7 @@ fn pass_rng(pixel: u32, sequence: u32, pass_id: u32) -> Pcg32 {
 fn centre_ray(x: u32, y: u32) -> Ray {
     let sx = (2.0 * (f32(x) + 0.5) / f32(frame.width) - 1.0) * frame.tan_half.x;
     let sy = (1.0 - 2.0 * (f32(y) + 0.5) / f32(frame.height)) * frame.tan_half.y;
-    var r: Ray;
-    r.o = frame.cam_origin.xyz;
-    r.d = normalize(frame.cam_forward.xyz + sx * frame.cam_right.xyz + sy * frame.cam_up.xyz);
-    return r;
+    return camera_ray(sx, sy);
 }
 
 // Slot of `pixel` of sequence `s` (within the batch) in `region`.

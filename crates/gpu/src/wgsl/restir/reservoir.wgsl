@@ -65,10 +65,6 @@ fn empty_reservoir() -> Reservoir {
     return r;
 }
 
-fn is_finite1(x: f32) -> bool {
-    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
-}
-
 // Reservoir::stream (Eq. 7): keeps y with probability w / w_sum; a weight
 // that is not finite and positive is never kept.
 fn res_stream(r: ptr<function, Reservoir>, y: ptr<function, Path>, w: f32, p_hat: f32, u: f32) -> bool {

@@ -6,8 +6,8 @@
 
 struct Bsdf {
     kind: u32,
-    // GGX roughness (conductor, dielectric, rough plastic).
-    alpha: f32,
+    // Microfacet normals (conductor, dielectric, rough plastic).
+    mf: Microfacet,
     // Interior over exterior IOR (dielectrics, plastics).
     eta: f32,
     nonlinear: bool,
@@ -46,7 +46,7 @@ fn mean3(v: vec3<f32>) -> f32 {
 fn bsdf_is_delta(b: Bsdf) -> bool {
     switch b.kind {
         case BSDF_CONDUCTOR, BSDF_DIELECTRIC: {
-            return b.alpha < GGX_SMOOTH;
+            return b.mf.alpha < MF_SMOOTH;
         }
         case BSDF_THIN_DIELECTRIC, BSDF_NULL: {
             return true;
@@ -82,32 +82,32 @@ fn bsdf_null_transmission(b: Bsdf, c: f32) -> f32 {
 // conductor::eval / pdf
 fn conductor_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     let wm = wo + wi;
-    if (b.alpha < GGX_SMOOTH || wo.z <= 0.0 || wi.z <= 0.0 || dot(wm, wm) == 0.0) {
+    if (b.mf.alpha < MF_SMOOTH || wo.z <= 0.0 || wi.z <= 0.0 || dot(wm, wm) == 0.0) {
         return vec3<f32>(0.0);
     }
     let h = normalize(wm);
     let f = fresnel_conductor(abs(dot(wo, h)), b.a, b.b);
-    return ggx_d(b.alpha, h) * ggx_g(b.alpha, wo, wi) * f / (4.0 * wo.z * wi.z) * b.c;
+    return mf_d(b.mf, h) * mf_g(b.mf, wo, wi) * f / (4.0 * wo.z * wi.z) * b.c;
 }
 
 fn conductor_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     let wm = wo + wi;
-    if (b.alpha < GGX_SMOOTH || wo.z <= 0.0 || wi.z <= 0.0 || dot(wm, wm) == 0.0) {
+    if (b.mf.alpha < MF_SMOOTH || wo.z <= 0.0 || wi.z <= 0.0 || dot(wm, wm) == 0.0) {
         return 0.0;
     }
     let h = normalize(wm);
-    return ggx_d_visible(b.alpha, wo, h) / (4.0 * abs(dot(wo, h)));
+    return mf_pdf(b.mf, wo, h) / (4.0 * abs(dot(wo, h)));
 }
 
 fn conductor_sample(b: Bsdf, wo: vec3<f32>, u0: f32, u1: f32) -> BsdfSample {
     if (wo.z <= 0.0) {
         return no_bsdf_sample();
     }
-    if (b.alpha < GGX_SMOOTH) {
+    if (b.mf.alpha < MF_SMOOTH) {
         let wi = mirror_z(wo);
         return BsdfSample(wi, fresnel_conductor(wi.z, b.a, b.b) / wi.z * b.c, 1.0, true, true);
     }
-    let wm = ggx_sample_visible(b.alpha, wo, u0, u1);
+    let wm = mf_sample(b.mf, wo, u0, u1);
     let wi = reflect_dir(wo, wm);
     if (wo.z * wi.z <= 0.0) {
         return no_bsdf_sample();
@@ -150,7 +150,7 @@ fn half_vector(wo: vec3<f32>, wi: vec3<f32>, eta: f32) -> HalfVector {
 }
 
 fn dielectric_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
-    if (b.alpha < GGX_SMOOTH || b.eta == 1.0) {
+    if (b.mf.alpha < MF_SMOOTH || b.eta == 1.0) {
         return 0.0;
     }
     let h = half_vector(wo, wi, b.eta);
@@ -158,7 +158,7 @@ fn dielectric_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
         return 0.0;
     }
     let f = fresnel_dielectric(dot(wo, h.wm), b.eta);
-    let dg = ggx_d(b.alpha, h.wm) * ggx_g(b.alpha, wo, wi);
+    let dg = mf_d(b.mf, h.wm) * mf_g(b.mf, wo, wi);
     if (h.etap == 1.0) {
         return dg * f / abs(4.0 * wi.z * wo.z);
     }
@@ -168,7 +168,7 @@ fn dielectric_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
 }
 
 fn dielectric_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
-    if (b.alpha < GGX_SMOOTH || b.eta == 1.0) {
+    if (b.mf.alpha < MF_SMOOTH || b.eta == 1.0) {
         return 0.0;
     }
     let h = half_vector(wo, wi, b.eta);
@@ -177,17 +177,17 @@ fn dielectric_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     }
     let r = fresnel_dielectric(dot(wo, h.wm), b.eta);
     if (h.etap == 1.0) {
-        return ggx_d_visible(b.alpha, wo, h.wm) / (4.0 * abs(dot(wo, h.wm))) * r;
+        return mf_pdf(b.mf, wo, h.wm) / (4.0 * abs(dot(wo, h.wm))) * r;
     }
     let s = dot(wi, h.wm) + dot(wo, h.wm) / h.etap;
-    return ggx_d_visible(b.alpha, wo, h.wm) * abs(dot(wi, h.wm)) / (s * s) * (1.0 - r);
+    return mf_pdf(b.mf, wo, h.wm) * abs(dot(wi, h.wm)) / (s * s) * (1.0 - r);
 }
 
 fn dielectric_sample(b: Bsdf, wo: vec3<f32>, uc: f32, u0: f32, u1: f32) -> BsdfSample {
     if (wo.z == 0.0) {
         return no_bsdf_sample();
     }
-    if (b.alpha < GGX_SMOOTH || b.eta == 1.0) {
+    if (b.mf.alpha < MF_SMOOTH || b.eta == 1.0) {
         let r = fresnel_dielectric(wo.z, b.eta);
         if (uc < r) {
             let wi = mirror_z(wo);
@@ -200,7 +200,7 @@ fn dielectric_sample(b: Bsdf, wo: vec3<f32>, uc: f32, u0: f32, u1: f32) -> BsdfS
         let tr = 1.0 - r;
         return BsdfSample(t.wt, vec3<f32>(tr / abs(t.wt.z) / (t.etap * t.etap)), tr, true, true);
     }
-    let wm = ggx_sample_visible(b.alpha, wo, u0, u1);
+    let wm = mf_sample(b.mf, wo, u0, u1);
     let r = fresnel_dielectric(dot(wo, wm), b.eta);
     var wi: vec3<f32>;
     if (uc < r) {
@@ -295,11 +295,11 @@ fn coating_t(b: Bsdf, mu: f32) -> f32 {
 }
 
 // rough_plastic's masking of one direction about microfacet m.
-fn masked_g1(alpha: f32, v: vec3<f32>, m: vec3<f32>) -> f32 {
+fn masked_g1(mf: Microfacet, v: vec3<f32>, m: vec3<f32>) -> f32 {
     if (dot(v, m) * v.z <= 0.0) {
         return 0.0;
     }
-    return ggx_g1(alpha, v);
+    return mf_g1(mf, v);
 }
 
 fn rough_plastic_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
@@ -307,8 +307,8 @@ fn rough_plastic_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
         return vec3<f32>(0.0);
     }
     let h = normalize(wo + wi);
-    let g = masked_g1(b.alpha, wo, h) * masked_g1(b.alpha, wi, h);
-    let spec = fresnel_dielectric(dot(wo, h), b.eta) * ggx_d(b.alpha, h) * g / (4.0 * wo.z * wi.z);
+    let g = masked_g1(b.mf, wo, h) * masked_g1(b.mf, wi, h);
+    let spec = fresnel_dielectric(dot(wo, h), b.eta) * mf_d(b.mf, h) * g / (4.0 * wo.z * wi.z);
     var denom = vec3<f32>(1.0 - b.internal);
     if (b.nonlinear) {
         denom = vec3<f32>(1.0) - b.a * b.internal;
@@ -323,7 +323,7 @@ fn rough_plastic_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     }
     let h = normalize(wo + wi);
     let ps = plastic_specular_probability(b, 1.0 - coating_t(b, wo.z));
-    let spec = ggx_d_visible(b.alpha, wo, h) / (4.0 * dot(wo, h));
+    let spec = mf_pdf(b.mf, wo, h) / (4.0 * dot(wo, h));
     return ps * spec + (1.0 - ps) * wi.z / PI;
 }
 
@@ -334,7 +334,7 @@ fn rough_plastic_sample(b: Bsdf, wo: vec3<f32>, uc: f32, u0: f32, u1: f32) -> Bs
     let ps = plastic_specular_probability(b, 1.0 - coating_t(b, wo.z));
     var wi: vec3<f32>;
     if (uc < ps) {
-        let m = ggx_sample_visible(b.alpha, wo, u0, u1);
+        let m = mf_sample(b.mf, wo, u0, u1);
         wi = 2.0 * dot(wo, m) * m - wo;
     } else {
         wi = sample_cosine(u0, u1);

@@ -175,9 +175,10 @@ fn side_bsdf(base: u32, uv: vec2<f32>) -> Bsdf {
     let h = surface_data[base];
     var b: Bsdf;
     b.kind = bitcast<u32>(h.x);
-    b.alpha = h.y;
+    let flags = bitcast<u32>(h.w);
+    b.mf = Microfacet(h.y, (flags & 2u) != 0u, (flags & 4u) == 0u);
     b.eta = h.z;
-    b.nonlinear = (bitcast<u32>(h.w) & 1u) != 0u;
+    b.nonlinear = (flags & 1u) != 0u;
     b.a = surface_data[base + 1u].xyz;
     b.b = surface_data[base + 2u].xyz;
     let c = surface_data[base + 3u];

@@ -116,8 +116,9 @@ impl PointMis {
     ) -> Option<(Segment<'a>, f32)> {
         let medium = world.media.first()?;
         let ray = primary_ray(world, x, y, key);
-        // The camera ray's medium segment ends at the first surface.
-        let t_end = occluders::first_surface(world, &ray);
+        // The camera ray's medium segment ends at the first surface (or the
+        // far clip plane).
+        let t_end = occluders::first_surface(world, &ray).min(world.camera.ray_end(&ray));
         let (index, a, b) = medium.medium.to_index(&ray, 0.0, t_end)?;
         let (li, pmf) = self.lights.pick(rng.next_f32(), Vertex::Medium, ray.o)?;
         let Light::Point {

@@ -1,14 +1,14 @@
-//! Conductors: a mirror with the complex-IOR Fresnel term, or GGX
-//! microfacets (Torrance–Sparrow with visible-normal sampling, pbrt-v4
-//! §9.6.5). One-sided: below the surface they reflect nothing.
+//! Conductors: a mirror with the complex-IOR Fresnel term, or microfacets
+//! (Torrance–Sparrow, pbrt-v4 §9.6.5, with GGX or Beckmann normals). One-
+//! sided: below the surface they reflect nothing.
 
 use super::fresnel::{conductor, reflect};
-use super::microfacet::Ggx;
+use super::microfacet::Microfacet;
 use super::sample::{same_hemisphere, BsdfSample};
 use glam::Vec3;
 
-pub(super) fn eval(wo: Vec3, wi: Vec3, eta: Vec3, k: Vec3, alpha: f32) -> Vec3 {
-    if alpha < Ggx::SMOOTH || wo.z <= 0.0 || wi.z <= 0.0 {
+pub(super) fn eval(wo: Vec3, wi: Vec3, eta: Vec3, k: Vec3, mf: Microfacet) -> Vec3 {
+    if mf.is_smooth() || wo.z <= 0.0 || wi.z <= 0.0 {
         return Vec3::ZERO;
     }
     let wm = wo + wi;
@@ -16,13 +16,12 @@ pub(super) fn eval(wo: Vec3, wi: Vec3, eta: Vec3, k: Vec3, alpha: f32) -> Vec3 {
         return Vec3::ZERO;
     }
     let wm = wm.normalize();
-    let ggx = Ggx { alpha };
     let f = conductor(wo.dot(wm).abs(), eta, k);
-    ggx.d(wm) * ggx.g(wo, wi) * f / (4.0 * wo.z * wi.z)
+    mf.d(wm) * mf.g(wo, wi) * f / (4.0 * wo.z * wi.z)
 }
 
-pub(super) fn pdf(wo: Vec3, wi: Vec3, alpha: f32) -> f32 {
-    if alpha < Ggx::SMOOTH || wo.z <= 0.0 || wi.z <= 0.0 {
+pub(super) fn pdf(wo: Vec3, wi: Vec3, mf: Microfacet) -> f32 {
+    if mf.is_smooth() || wo.z <= 0.0 || wi.z <= 0.0 {
         return 0.0;
     }
     let wm = wo + wi;
@@ -30,14 +29,20 @@ pub(super) fn pdf(wo: Vec3, wi: Vec3, alpha: f32) -> f32 {
         return 0.0;
     }
     let wm = wm.normalize();
-    Ggx { alpha }.d_visible(wo, wm) / (4.0 * wo.dot(wm).abs())
+    mf.pdf(wo, wm) / (4.0 * wo.dot(wm).abs())
 }
 
-pub(super) fn sample(wo: Vec3, u: [f32; 2], eta: Vec3, k: Vec3, alpha: f32) -> Option<BsdfSample> {
+pub(super) fn sample(
+    wo: Vec3,
+    u: [f32; 2],
+    eta: Vec3,
+    k: Vec3,
+    mf: Microfacet,
+) -> Option<BsdfSample> {
     if wo.z <= 0.0 {
         return None;
     }
-    if alpha < Ggx::SMOOTH {
+    if mf.is_smooth() {
         let wi = Vec3::new(-wo.x, -wo.y, wo.z);
         return Some(BsdfSample {
             wi,
@@ -46,15 +51,15 @@ pub(super) fn sample(wo: Vec3, u: [f32; 2], eta: Vec3, k: Vec3, alpha: f32) -> O
             delta: true,
         });
     }
-    let wm = Ggx { alpha }.sample_visible(wo, u);
+    let wm = mf.sample(wo, u);
     let wi = reflect(wo, wm);
     if !same_hemisphere(wo, wi) {
         return None;
     }
-    let pdf = pdf(wo, wi, alpha);
+    let pdf = pdf(wo, wi, mf);
     (pdf > 0.0).then(|| BsdfSample {
         wi,
-        f: eval(wo, wi, eta, k, alpha),
+        f: eval(wo, wi, eta, k, mf),
         pdf,
         delta: false,
     })

@@ -1,13 +1,13 @@
 //! Dielectrics (pbrt-v4 §9.5 and §9.7): a smooth interface reflects or
-//! refracts with the Fresnel probabilities; a rough one does so about GGX
-//! microfacet normals, with the generalised half vector of refraction and
+//! refracts with the Fresnel probabilities; a rough one does so about
+//! microfacet normals (GGX or Beckmann), with the generalised half vector of refraction and
 //! its Jacobian (Walter et al. 2007). Both sides scatter; `eta` is the
 //! interior over the exterior IOR and the side is read from `wo.z`.
 //! Refraction carries 1/η′² (radiance transport), η′ the IOR ratio crossed.
 //! The thin dielectric sums the slab's inter-reflections (pbrt-v4 §9.5.3).
 
 use super::fresnel::{dielectric as fresnel, reflect, refract};
-use super::microfacet::Ggx;
+use super::microfacet::Microfacet;
 use super::sample::{same_hemisphere, BsdfSample};
 use glam::Vec3;
 
@@ -42,51 +42,54 @@ fn half_vector(wo: Vec3, wi: Vec3, eta: f32) -> Option<(Vec3, f32)> {
     Some((wm, etap))
 }
 
-pub(super) fn eval(wo: Vec3, wi: Vec3, eta: f32, alpha: f32) -> f32 {
-    if alpha < Ggx::SMOOTH || eta == 1.0 {
+pub(super) fn eval(wo: Vec3, wi: Vec3, eta: f32, mf: Microfacet) -> f32 {
+    if mf.is_smooth() || eta == 1.0 {
         return 0.0;
     }
     let Some((wm, etap)) = half_vector(wo, wi, eta) else {
         return 0.0;
     };
-    let ggx = Ggx { alpha };
     let f = fresnel(wo.dot(wm), eta);
     if etap == 1.0 {
-        return ggx.d(wm) * ggx.g(wo, wi) * f / (4.0 * wi.z * wo.z).abs();
+        return mf.d(wm) * mf.g(wo, wi) * f / (4.0 * wi.z * wo.z).abs();
     }
     let denom = wi.dot(wm) + wo.dot(wm) / etap;
     let denom = denom * denom * wi.z * wo.z;
-    let ft = ggx.d(wm) * (1.0 - f) * ggx.g(wo, wi) * (wi.dot(wm) * wo.dot(wm) / denom).abs();
+    let ft = mf.d(wm) * (1.0 - f) * mf.g(wo, wi) * (wi.dot(wm) * wo.dot(wm) / denom).abs();
     ft / (etap * etap)
 }
 
-pub(super) fn pdf(wo: Vec3, wi: Vec3, eta: f32, alpha: f32) -> f32 {
-    if alpha < Ggx::SMOOTH || eta == 1.0 {
+pub(super) fn pdf(wo: Vec3, wi: Vec3, eta: f32, mf: Microfacet) -> f32 {
+    if mf.is_smooth() || eta == 1.0 {
         return 0.0;
     }
     let Some((wm, etap)) = half_vector(wo, wi, eta) else {
         return 0.0;
     };
-    let ggx = Ggx { alpha };
     let r = fresnel(wo.dot(wm), eta);
     if etap == 1.0 {
-        ggx.d_visible(wo, wm) / (4.0 * wo.dot(wm).abs()) * r
+        mf.pdf(wo, wm) / (4.0 * wo.dot(wm).abs()) * r
     } else {
         let denom = wi.dot(wm) + wo.dot(wm) / etap;
         let dwm_dwi = wi.dot(wm).abs() / (denom * denom);
-        ggx.d_visible(wo, wm) * dwm_dwi * (1.0 - r)
+        mf.pdf(wo, wm) * dwm_dwi * (1.0 - r)
     }
 }
 
-pub(super) fn sample(wo: Vec3, uc: f32, u: [f32; 2], eta: f32, alpha: f32) -> Option<BsdfSample> {
+pub(super) fn sample(
+    wo: Vec3,
+    uc: f32,
+    u: [f32; 2],
+    eta: f32,
+    mf: Microfacet,
+) -> Option<BsdfSample> {
     if wo.z == 0.0 {
         return None;
     }
-    if alpha < Ggx::SMOOTH || eta == 1.0 {
+    if mf.is_smooth() || eta == 1.0 {
         return sample_smooth(wo, uc, eta);
     }
-    let ggx = Ggx { alpha };
-    let wm = ggx.sample_visible(wo, u);
+    let wm = mf.sample(wo, u);
     let r = fresnel(wo.dot(wm), eta);
     let wi = if uc < r {
         let wi = reflect(wo, wm);
@@ -102,10 +105,10 @@ pub(super) fn sample(wo: Vec3, uc: f32, u: [f32; 2], eta: f32, alpha: f32) -> Op
         }
         wi
     };
-    let pdf = pdf(wo, wi, eta, alpha);
+    let pdf = pdf(wo, wi, eta, mf);
     (pdf > 0.0).then(|| BsdfSample {
         wi,
-        f: Vec3::splat(eval(wo, wi, eta, alpha)),
+        f: Vec3::splat(eval(wo, wi, eta, mf)),
         pdf,
         delta: false,
     })

@@ -10,11 +10,11 @@
 //! | variant | Mitsuba plugin | lobes |
 //! |---|---|---|
 //! | `Diffuse` | `diffuse` | Lambertian reflection, one-sided |
-//! | `Conductor` | `conductor`, `roughconductor` | Fresnel of complex IOR, smooth (α < [`Ggx::SMOOTH`]) or GGX, one-sided |
-//! | `Dielectric` | `dielectric`, `roughdielectric` | reflection + refraction, smooth or GGX, both sides |
+//! | `Conductor` | `conductor`, `roughconductor` | Fresnel of complex IOR, smooth (α < [`microfacet::Microfacet::SMOOTH`]) or rough (GGX or Beckmann, [`microfacet`]), one-sided |
+//! | `Dielectric` | `dielectric`, `roughdielectric` | reflection + refraction, smooth or rough, both sides |
 //! | `ThinDielectric` | `thindielectric` | mirror reflection + straight transmission through a thin slab |
 //! | `Plastic` | `plastic` | smooth coating (delta) over a Lambertian base with internal scattering, one-sided |
-//! | `RoughPlastic` | `roughplastic` | GGX coating over a Lambertian base, the coating's transmittance tabulated, one-sided |
+//! | `RoughPlastic` | `roughplastic` | rough coating over a Lambertian base, the coating's transmittance tabulated, one-sided |
 //! | `Null` | `null` | straight through (index-matched medium boundaries) |
 //!
 //! [`TwoSided`] wraps one-sided models as Mitsuba's `twosided` does.
@@ -30,6 +30,7 @@ mod rough_plastic;
 mod sample;
 mod two_sided;
 
+pub use microfacet::{Distribution, Microfacet};
 pub use model::Bsdf;
 pub use plastic::{diffuse_fresnel, Plastic};
 pub use rough_plastic::RoughPlastic;

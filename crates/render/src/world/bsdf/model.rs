@@ -1,7 +1,7 @@
 //! The BSDF value type: one enum over the models, dispatched without
 //! dynamic calls (see the module docs of `bsdf` for the table).
 
-use super::microfacet::Ggx;
+use super::microfacet::Microfacet;
 use super::plastic::Plastic;
 use super::rough_plastic::RoughPlastic;
 use super::sample::{sample_cosine, BsdfSample};
@@ -17,15 +17,16 @@ pub enum Bsdf {
     Conductor {
         eta: Vec3,
         k: Vec3,
-        /// GGX roughness α; below [`Ggx::SMOOTH`] a mirror.
-        alpha: f32,
+        /// The rough surface's normals; a mirror when smooth
+        /// ([`Microfacet::is_smooth`]).
+        mf: Microfacet,
         /// Mitsuba's `specular_reflectance`, a tint on the Fresnel term.
         specular: Vec3,
     },
     Dielectric {
         /// Interior IOR over exterior IOR.
         eta: f32,
-        alpha: f32,
+        mf: Microfacet,
     },
     ThinDielectric {
         eta: f32,
@@ -64,7 +65,7 @@ impl Bsdf {
     pub fn is_delta(&self) -> bool {
         match *self {
             Bsdf::Diffuse { .. } | Bsdf::Plastic(_) | Bsdf::RoughPlastic(_) => false,
-            Bsdf::Conductor { alpha, .. } | Bsdf::Dielectric { alpha, .. } => alpha < Ggx::SMOOTH,
+            Bsdf::Conductor { mf, .. } | Bsdf::Dielectric { mf, .. } => mf.is_smooth(),
             Bsdf::ThinDielectric { .. } | Bsdf::Null => true,
         }
     }
@@ -75,7 +76,7 @@ impl Bsdf {
         match *self {
             Bsdf::Diffuse { .. } | Bsdf::RoughPlastic(_) => false,
             Bsdf::Plastic(_) | Bsdf::ThinDielectric { .. } | Bsdf::Null => true,
-            Bsdf::Conductor { alpha, .. } | Bsdf::Dielectric { alpha, .. } => alpha < Ggx::SMOOTH,
+            Bsdf::Conductor { mf, .. } | Bsdf::Dielectric { mf, .. } => mf.is_smooth(),
         }
     }
 
@@ -104,10 +105,10 @@ impl Bsdf {
             Bsdf::Conductor {
                 eta,
                 k,
-                alpha,
+                mf,
                 specular,
-            } => conductor::eval(wo, wi, eta, k, alpha) * specular,
-            Bsdf::Dielectric { eta, alpha } => Vec3::splat(dielectric::eval(wo, wi, eta, alpha)),
+            } => conductor::eval(wo, wi, eta, k, mf) * specular,
+            Bsdf::Dielectric { eta, mf } => Vec3::splat(dielectric::eval(wo, wi, eta, mf)),
             Bsdf::Plastic(p) => p.eval(wo, wi),
             Bsdf::RoughPlastic(p) => p.eval(wo, wi),
             Bsdf::ThinDielectric { .. } | Bsdf::Null => Vec3::ZERO,
@@ -124,8 +125,8 @@ impl Bsdf {
                     0.0
                 }
             }
-            Bsdf::Conductor { alpha, .. } => conductor::pdf(wo, wi, alpha),
-            Bsdf::Dielectric { eta, alpha } => dielectric::pdf(wo, wi, eta, alpha),
+            Bsdf::Conductor { mf, .. } => conductor::pdf(wo, wi, mf),
+            Bsdf::Dielectric { eta, mf } => dielectric::pdf(wo, wi, eta, mf),
             Bsdf::Plastic(p) => p.pdf(wo, wi),
             Bsdf::RoughPlastic(p) => p.pdf(wo, wi),
             Bsdf::ThinDielectric { .. } | Bsdf::Null => 0.0,
@@ -150,13 +151,13 @@ impl Bsdf {
             Bsdf::Conductor {
                 eta,
                 k,
-                alpha,
+                mf,
                 specular,
-            } => conductor::sample(wo, u, eta, k, alpha).map(|mut s| {
+            } => conductor::sample(wo, u, eta, k, mf).map(|mut s| {
                 s.f *= specular;
                 s
             }),
-            Bsdf::Dielectric { eta, alpha } => dielectric::sample(wo, uc, u, eta, alpha),
+            Bsdf::Dielectric { eta, mf } => dielectric::sample(wo, uc, u, eta, mf),
             Bsdf::ThinDielectric { eta } => dielectric::sample_thin(wo, uc, eta),
             Bsdf::Plastic(p) => p.sample(wo, uc, u),
             Bsdf::RoughPlastic(p) => p.sample(wo, uc, u),

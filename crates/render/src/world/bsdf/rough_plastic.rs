@@ -1,4 +1,5 @@
-//! Rough plastic, as Mitsuba 3's `roughplastic`: a GGX dielectric coating
+//! Rough plastic, as Mitsuba 3's `roughplastic`: a rough (GGX or Beckmann)
+//! dielectric coating
 //! over a Lambertian base. The coating reflects with the microfacet BRDF
 //! F D G / (4 cos θi cos θo) tinted by `specular`; the base's light enters
 //! and leaves through it, weighted by the rough coating's transmittance
@@ -11,7 +12,7 @@
 //! 1 − T_{1/η}. Lobes are chosen with Mitsuba's probabilities. One-sided.
 
 use super::fresnel::{dielectric as fresnel, reflect, refract};
-use super::microfacet::Ggx;
+use super::microfacet::Microfacet;
 use super::sample::{sample_cosine, BsdfSample};
 use fogbank_math::special::gauss_legendre;
 use glam::Vec3;
@@ -29,12 +30,13 @@ pub struct RoughPlastic {
     pub specular: Vec3,
     /// Interior over exterior IOR.
     pub eta: f32,
-    pub alpha: f32,
+    pub mf: Microfacet,
     pub nonlinear: bool,
     coating: &'static Coating,
 }
 
-/// The coating's tables for one (α, η): computed once per process and
+/// The coating's tables for one (distribution, α, η): computed once per
+/// process (with visible-normal sampling, as Mitsuba's are) and
 /// shared (leaked: a few hundred bytes per distinct coating), so that the
 /// BSDF stays a small `Copy` value.
 #[derive(Debug, PartialEq)]
@@ -44,15 +46,19 @@ struct Coating {
     internal_reflectance: f32,
 }
 
-fn coating(alpha: f32, eta: f32) -> &'static Coating {
-    type Cache = Mutex<HashMap<(u32, u32), &'static Coating>>;
+fn coating(mf: Microfacet, eta: f32) -> &'static Coating {
+    type Cache = Mutex<HashMap<(bool, u32, u32), &'static Coating>>;
     static CACHE: OnceLock<Cache> = OnceLock::new();
     let cache = CACHE.get_or_init(Default::default);
-    let key = (alpha.to_bits(), eta.to_bits());
+    let beckmann = mf.distribution == super::microfacet::Distribution::Beckmann;
+    let key = (beckmann, mf.alpha.to_bits(), eta.to_bits());
     if let Some(c) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
         return c;
     }
-    let ggx = Ggx { alpha };
+    let ggx = Microfacet {
+        sample_visible: true,
+        ..mf
+    };
     let mu = |i: usize| (i as f32 / (RES - 1) as f32).max(1e-6);
     let external = std::array::from_fn(|i| transmittance(ggx, mu(i), eta));
     // 2 · mean of μ R(μ) over the table's cosines: Mitsuba's rule (a
@@ -80,13 +86,13 @@ fn mean(v: Vec3) -> f32 {
 
 /// Σ over Gauss–Legendre points (`n` per axis) of the visible-normal
 /// sampler's square of `f(m)` for the direction with cosine `mu`.
-fn over_visible_normals(ggx: Ggx, mu: f32, n: usize, f: impl Fn(Vec3, Vec3) -> f32) -> f32 {
+fn over_visible_normals(ggx: Microfacet, mu: f32, n: usize, f: impl Fn(Vec3, Vec3) -> f32) -> f32 {
     let w = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
     let q = gauss_legendre(n);
     let mut sum = 0.0f64;
     for &(x, wx) in &q {
         for &(y, wy) in &q {
-            let m = ggx.sample_visible(w, [x as f32, y as f32]);
+            let m = ggx.sample(w, [x as f32, y as f32]);
             sum += wx * wy * f(w, m) as f64;
         }
     }
@@ -94,7 +100,7 @@ fn over_visible_normals(ggx: Ggx, mu: f32, n: usize, f: impl Fn(Vec3, Vec3) -> f
 }
 
 /// G1 of `v` for microfacet `m` (0 when `m` faces away from `v`).
-fn g1(ggx: Ggx, v: Vec3, m: Vec3) -> f32 {
+fn g1(ggx: Microfacet, v: Vec3, m: Vec3) -> f32 {
     if v.dot(m) * v.z <= 0.0 {
         0.0
     } else {
@@ -105,7 +111,7 @@ fn g1(ggx: Ggx, v: Vec3, m: Vec3) -> f32 {
 /// Light entering the coating at cosine `mu` (Mitsuba's
 /// `eval_transmittance`): (1 − F) G1 of the refracted direction, over the
 /// visible normals; 32 points per axis.
-fn transmittance(ggx: Ggx, mu: f32, eta: f32) -> f32 {
+fn transmittance(ggx: Microfacet, mu: f32, eta: f32) -> f32 {
     over_visible_normals(ggx, mu, 32, |wi, m| match refract(wi, m, eta) {
         Some((wt, _)) if wt.z * wi.z < 0.0 => (1.0 - fresnel(wi.dot(m), eta)) * g1(ggx, wt, m),
         _ => 0.0,
@@ -114,7 +120,7 @@ fn transmittance(ggx: Ggx, mu: f32, eta: f32) -> f32 {
 
 /// Light reflected back inside the coating at cosine `mu`: F(1/η) G1 of the
 /// reflected direction; 128 points per axis.
-fn internal_reflectance(ggx: Ggx, mu: f32, eta: f32) -> f32 {
+fn internal_reflectance(ggx: Microfacet, mu: f32, eta: f32) -> f32 {
     over_visible_normals(ggx, mu, 128, |wi, m| {
         let wr = reflect(wi, m);
         if wr.z > 0.0 && wi.z > 0.0 {
@@ -126,14 +132,14 @@ fn internal_reflectance(ggx: Ggx, mu: f32, eta: f32) -> f32 {
 }
 
 impl RoughPlastic {
-    pub fn new(diffuse: Vec3, specular: Vec3, eta: f32, alpha: f32, nonlinear: bool) -> Self {
+    pub fn new(diffuse: Vec3, specular: Vec3, eta: f32, mf: Microfacet, nonlinear: bool) -> Self {
         RoughPlastic {
             diffuse,
             specular,
             eta,
-            alpha,
+            mf,
             nonlinear,
-            coating: coating(alpha, eta),
+            coating: coating(mf, eta),
         }
     }
 
@@ -170,10 +176,10 @@ impl RoughPlastic {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return Vec3::ZERO;
         }
-        let ggx = Ggx { alpha: self.alpha };
+        let mf = self.mf;
         let h = (wo + wi).normalize();
-        let g = g1(ggx, wo, h) * g1(ggx, wi, h);
-        let spec = fresnel(wo.dot(h), self.eta) * ggx.d(h) * g / (4.0 * wo.z * wi.z);
+        let g = g1(mf, wo, h) * g1(mf, wi, h);
+        let spec = fresnel(wo.dot(h), self.eta) * mf.d(h) * g / (4.0 * wo.z * wi.z);
         let denom = if self.nonlinear {
             Vec3::ONE - self.diffuse * self.coating.internal_reflectance
         } else {
@@ -188,11 +194,10 @@ impl RoughPlastic {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }
-        let ggx = Ggx { alpha: self.alpha };
         let h = (wo + wi).normalize();
         let ps = self.specular_probability(wo.z);
-        // Visible-normal density of h over the Jacobian of reflection.
-        let spec = ggx.d_visible(wo, h) / (4.0 * wo.dot(h));
+        // The normal's density over the Jacobian of reflection.
+        let spec = self.mf.pdf(wo, h) / (4.0 * wo.dot(h));
         ps * spec + (1.0 - ps) * wi.z / PI
     }
 
@@ -202,7 +207,7 @@ impl RoughPlastic {
         }
         let ps = self.specular_probability(wo.z);
         let wi = if uc < ps {
-            let m = Ggx { alpha: self.alpha }.sample_visible(wo, u);
+            let m = self.mf.sample(wo, u);
             2.0 * wo.dot(m) * m - wo
         } else {
             sample_cosine(u)
@@ -229,13 +234,25 @@ mod rough_plastic_test {
     /// 0.955399, R_int = 0.45045) within their quadrature error.
     #[test]
     fn coating_tables_match_mitsuba() {
-        let p = RoughPlastic::new(Vec3::splat(0.5), Vec3::ONE, 1.5, 0.01, false);
+        let p = RoughPlastic::new(
+            Vec3::splat(0.5),
+            Vec3::ONE,
+            1.5,
+            Microfacet::ggx(0.01),
+            false,
+        );
         assert!(
             (p.t(1.0) - (1.0 - fresnel(1.0, 1.5))).abs() < 1e-3,
             "{}",
             p.t(1.0)
         );
-        let p = RoughPlastic::new(Vec3::splat(0.5), Vec3::ONE, 1.5, 0.25, false);
+        let p = RoughPlastic::new(
+            Vec3::splat(0.5),
+            Vec3::ONE,
+            1.5,
+            Microfacet::ggx(0.25),
+            false,
+        );
         assert!((p.t(1.0) - 0.955399).abs() < 2e-3, "{}", p.t(1.0));
         assert!(
             (p.coating.internal_reflectance - 0.45045).abs() < 2e-3,

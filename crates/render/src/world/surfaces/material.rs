@@ -6,12 +6,12 @@
 //! |---|---|
 //! | `diffuse` | `reflectance` (0.5) |
 //! | `conductor` | `eta` (0), `k` (1), `specular_reflectance` (1): the defaults are Mitsuba's `material = "none"`, a perfect mirror |
-//! | `roughconductor` | as `conductor`, plus `alpha` (0.1; GGX) |
+//! | `roughconductor` | as `conductor`, plus `alpha` (0.1), `distribution` (`"ggx"` or `"beckmann"`; `"ggx"`), `sample_visible` (true) |
 //! | `dielectric` | `int_ior` (`bk7`), `ext_ior` (`air`) |
-//! | `roughdielectric` | as `dielectric`, plus `alpha` (0.1; GGX) |
+//! | `roughdielectric` | as `dielectric`, plus `alpha`, `distribution`, `sample_visible` as `roughconductor` |
 //! | `thindielectric` | `int_ior` (`bk7`), `ext_ior` (`air`) |
 //! | `plastic` | `diffuse_reflectance` (0.5), `specular_reflectance` (1), `int_ior` (`polypropylene`), `ext_ior` (`air`), `nonlinear` (false) |
-//! | `roughplastic` | as `plastic`, plus `alpha` (0.1; GGX) |
+//! | `roughplastic` | as `plastic`, plus `alpha`, `distribution`, `sample_visible` as `roughconductor` |
 //! | `null` | — (an index-matched boundary: rays pass straight through) |
 //! | `twosided` | `bsdf` (one table for both sides) or `front` and `back` |
 //!
@@ -21,14 +21,17 @@
 //! wrap_mode = "repeat", raw = false, to_uv = … }`, the file relative to the
 //! scene file; see `world::bitmap`).
 //! IORs are numbers or the names of Mitsuba's table ([`super::ior::IOR_TABLE`]). The
-//! rough models use GGX with visible-normal sampling (Mitsuba's default
-//! distribution is Beckmann; fogbank has GGX only).
+//! rough models' normals follow [`crate::world::bsdf::Microfacet`]; fogbank's
+//! default distribution is GGX (Mitsuba's is Beckmann, which its XML reader
+//! passes on).
 
 use super::ior::{ior, IorDesc};
 pub use super::spectrum::{SpectrumDesc, TextureDesc, UvTransformDesc};
 use crate::error::SceneError;
 use crate::world::bitmap::BitmapFiles;
-use crate::world::bsdf::{Bsdf, BsdfSample, Plastic, RoughPlastic, TwoSided};
+use crate::world::bsdf::{
+    Bsdf, BsdfSample, Distribution, Microfacet, Plastic, RoughPlastic, TwoSided,
+};
 use crate::world::texture::Texture;
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
@@ -45,6 +48,18 @@ fn one() -> SpectrumDesc {
 }
 fn rough() -> f32 {
     0.1
+}
+fn ggx() -> String {
+    "ggx".into()
+}
+fn is_ggx(s: &String) -> bool {
+    s == "ggx"
+}
+fn yes() -> bool {
+    true
+}
+fn is_true(b: &bool) -> bool {
+    *b
 }
 fn bk7() -> IorDesc {
     ior("bk7")
@@ -80,6 +95,10 @@ pub enum BsdfDesc {
     Roughconductor {
         #[serde(default = "rough")]
         alpha: f32,
+        #[serde(default = "ggx", skip_serializing_if = "is_ggx")]
+        distribution: String,
+        #[serde(default = "yes", skip_serializing_if = "is_true")]
+        sample_visible: bool,
         #[serde(default = "eta_none")]
         eta: [f32; 3],
         #[serde(default = "k_none")]
@@ -96,6 +115,10 @@ pub enum BsdfDesc {
     Roughdielectric {
         #[serde(default = "rough")]
         alpha: f32,
+        #[serde(default = "ggx", skip_serializing_if = "is_ggx")]
+        distribution: String,
+        #[serde(default = "yes", skip_serializing_if = "is_true")]
+        sample_visible: bool,
         #[serde(default = "bk7")]
         int_ior: IorDesc,
         #[serde(default = "air")]
@@ -122,6 +145,10 @@ pub enum BsdfDesc {
     Roughplastic {
         #[serde(default = "rough")]
         alpha: f32,
+        #[serde(default = "ggx", skip_serializing_if = "is_ggx")]
+        distribution: String,
+        #[serde(default = "yes", skip_serializing_if = "is_true")]
+        sample_visible: bool,
         #[serde(default = "half")]
         diffuse_reflectance: SpectrumDesc,
         #[serde(default = "one")]
@@ -171,10 +198,10 @@ impl Side {
             Bsdf::Diffuse { .. } => Bsdf::Diffuse { reflectance: c },
             Bsdf::Plastic(p) => Bsdf::Plastic(Plastic { diffuse: c, ..p }),
             Bsdf::RoughPlastic(p) => Bsdf::RoughPlastic(p.with_diffuse(c)),
-            Bsdf::Conductor { eta, k, alpha, .. } => Bsdf::Conductor {
+            Bsdf::Conductor { eta, k, mf, .. } => Bsdf::Conductor {
                 eta,
                 k,
-                alpha,
+                mf,
                 specular: c,
             },
             b => b,
@@ -315,6 +342,23 @@ impl BsdfDesc {
                 Err(SceneError(format!("{}: {a} is not ≥ 0", k("alpha"))))
             }
         };
+        let microfacet = |alpha: f32, distribution: &str, sample_visible: bool| {
+            let distribution = match distribution {
+                "ggx" => Distribution::Ggx,
+                "beckmann" => Distribution::Beckmann,
+                other => {
+                    return Err(SceneError(format!(
+                        "{}: `{other}` is not ggx or beckmann",
+                        k("distribution")
+                    )))
+                }
+            };
+            Ok(Microfacet {
+                distribution,
+                alpha: alpha_ok(alpha)?,
+                sample_visible,
+            })
+        };
         // The BSDF holds the texture's mean (for sampling weights); the
         // side looks the texture itself up at each hit.
         let texture = |s: &SpectrumDesc, name: &str| s.texture(&k(name), files);
@@ -354,15 +398,20 @@ impl BsdfDesc {
                 specular_reflectance: s,
                 ..
             } => {
-                let alpha = match self {
-                    BsdfDesc::Roughconductor { alpha, .. } => alpha_ok(*alpha)?,
-                    _ => 0.0,
+                let mf = match self {
+                    BsdfDesc::Roughconductor {
+                        alpha,
+                        distribution,
+                        sample_visible,
+                        ..
+                    } => microfacet(*alpha, distribution, *sample_visible)?,
+                    _ => Microfacet::ggx(0.0),
                 };
                 let t = texture(s, "specular_reflectance")?;
                 let bsdf = Bsdf::Conductor {
                     eta: Vec3::from(*eta),
                     k: Vec3::from(*kk),
-                    alpha,
+                    mf,
                     specular: t.mean(),
                 };
                 textured(bsdf, t)
@@ -370,18 +419,20 @@ impl BsdfDesc {
             BsdfDesc::Dielectric { int_ior, ext_ior } => Ok(Side {
                 bsdf: Bsdf::Dielectric {
                     eta: eta_of(int_ior, ext_ior)?,
-                    alpha: 0.0,
+                    mf: Microfacet::ggx(0.0),
                 },
                 texture: None,
             }),
             BsdfDesc::Roughdielectric {
                 alpha,
+                distribution,
+                sample_visible,
                 int_ior,
                 ext_ior,
             } => Ok(Side {
                 bsdf: Bsdf::Dielectric {
                     eta: eta_of(int_ior, ext_ior)?,
-                    alpha: alpha_ok(*alpha)?,
+                    mf: microfacet(*alpha, distribution, *sample_visible)?,
                 },
                 texture: None,
             }),
@@ -415,6 +466,8 @@ impl BsdfDesc {
             }
             BsdfDesc::Roughplastic {
                 alpha,
+                distribution,
+                sample_visible,
                 diffuse_reflectance,
                 specular_reflectance,
                 int_ior,
@@ -432,7 +485,10 @@ impl BsdfDesc {
                     t.mean(),
                     constant(specular_reflectance, "specular_reflectance")?,
                     eta_of(int_ior, ext_ior)?,
-                    alpha_ok(*alpha)?.max(1e-4),
+                    Microfacet {
+                        alpha: alpha.max(1e-4),
+                        ..microfacet(*alpha, distribution, *sample_visible)?
+                    },
                     *nonlinear,
                 ));
                 textured(bsdf, t)
@@ -462,7 +518,7 @@ mod material_test {
             m.front.bsdf,
             Bsdf::Dielectric {
                 eta: 1.5046 / 1.000277,
-                alpha: 0.0
+                mf: Microfacet::ggx(0.0)
             }
         );
         let m = parse("type = \"dielectric\"\nint_ior = \"water\"\next_ior = 1.0").unwrap();
@@ -470,7 +526,7 @@ mod material_test {
             m.front.bsdf,
             Bsdf::Dielectric {
                 eta: 1.333,
-                alpha: 0.0
+                mf: Microfacet::ggx(0.0)
             }
         );
         let e = parse("type = \"dielectric\"\nint_ior = \"unobtainium\"").unwrap_err();
