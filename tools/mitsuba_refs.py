@@ -69,6 +69,12 @@ SCENES = [
     "spot_fog",
     "bitmap_textures",
     "analytic_shapes",
+    "users_beckmann_conductor",
+    "users_beckmann_dielectric",
+    "users_beckmann_plastic",
+    "users_clip_fog",
+    "users_spectral_lights",
+    "users_path_include",
 ]
 TOTAL_SAMPLES = 25_000_000  # per image, default of --samples
 

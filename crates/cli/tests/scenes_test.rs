@@ -1,6 +1,6 @@
-//! Every scene of `scenes/` (TOML and Mitsuba XML, in every subfolder)
-//! renders through the `fogbank` command at 8×6 and 1 spp, as a user would
-//! try them on a plain clone. A scene that reads the MNI templates
+//! Every scene of `scenes/` (TOML and Mitsuba XML, in every subfolder but
+//! the fragments of `include/` folders) renders through the `fogbank`
+//! command at 8×6 and 1 spp, as a user would try them on a plain clone. A scene that reads the MNI templates
 //! (`data/mni/`, fetched by `tools/fetch_data.sh mni`) is skipped with a
 //! message when they are missing, unless `FOGBANK_REQUIRE_DATA=1`; every
 //! other file a scene reads must be in the repository.
@@ -18,6 +18,10 @@ fn scene_files(dir: &Path, out: &mut Vec<PathBuf>) {
         .collect();
     entries.sort();
     for p in entries {
+        // Mitsuba scenes' `include/` folders hold fragments, not scenes.
+        if p.is_dir() && p.file_name().is_some_and(|n| n == "include") {
+            continue;
+        }
         if p.is_dir() {
             scene_files(&p, out);
         } else if p.extension().is_some_and(|e| e == "toml" || e == "xml") {

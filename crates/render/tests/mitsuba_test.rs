@@ -96,6 +96,56 @@ fn bitmap_textures_agree_with_mitsuba() {
     agree("bitmap_textures");
 }
 
+// Scenes written the way Mitsuba's users write them (users_*.xml): shared
+// `include/` files (nested, or found through a `<path>`), meshes beside the
+// top file, sensors at their defaults (50 mm focal length, clip planes),
+// Beckmann microfacets at their defaults and with `sample_visible = false`,
+// and spectra (wavelength:value pairs and constants) on emitters,
+// reflectances, conductors and media.
+
+/// Beckmann roughconductor at every default, Beckmann with spectral η and
+/// k, GGX sampling normals from D cos θ.
+#[test]
+fn default_beckmann_conductors_agree_with_mitsuba() {
+    agree("users_beckmann_conductor");
+}
+
+/// A Beckmann roughdielectric at its defaults around a medium with a
+/// spectral albedo, a Beckmann pane without visible-normal sampling, a
+/// 35 mm lens.
+#[test]
+fn default_beckmann_dielectrics_agree_with_mitsuba() {
+    agree("users_beckmann_dielectric");
+}
+
+/// Beckmann roughplastics (spectral base, D cos θ sampling with the
+/// nonlinear model, a checkerboard).
+#[test]
+fn default_beckmann_plastics_agree_with_mitsuba() {
+    agree("users_beckmann_plastic");
+}
+
+/// A camera inside fog with near and far clip planes, a portrait film with
+/// the fov along its smaller axis.
+#[test]
+fn clip_planes_in_fog_agree_with_mitsuba() {
+    agree("users_clip_fog");
+}
+
+/// Directional, spot, area and constant emitters, a medium's σ_t and
+/// albedo and reflectances given as spectra.
+#[test]
+fn spectral_emitters_and_media_agree_with_mitsuba() {
+    agree("users_spectral_lights");
+}
+
+/// The studio found through a `<path>` folder; a mesh named from the top
+/// file.
+#[test]
+fn includes_through_path_folders_agree_with_mitsuba() {
+    agree("users_path_include");
+}
+
 fn refusal(xml: &str) -> String {
     let dir = std::env::temp_dir().join(format!("fogbank-xml-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

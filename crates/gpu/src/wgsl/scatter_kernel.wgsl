@@ -473,6 +473,24 @@ fn scatter(path: ptr<function, Path>, v: Vertex, depth: u32,
     return STEP_STOP;
 }
 
+// World::in_medium: whether p, reached by a ray in bounded medium
+// `current` (+ 1), lies in a medium (the bounded one, or the box of one
+// that exists there).
+fn in_medium(current: u32, p: vec3<f32>) -> bool {
+    if (current != 0u) {
+        return true;
+    }
+    for (var i = 0u; i < frame.media_count; i++) {
+        let m = media[i];
+        let q = vec3<f32>(dot(m.w2i0.xyz, p) + m.w2i0.w, dot(m.w2i1.xyz, p) + m.w2i1.w,
+                          dot(m.w2i2.xyz, p) + m.w2i2.w);
+        if (medium_active(i, current) && all(q >= vec3<f32>(0.0)) && all(q <= vec3<f32>(m.dims))) {
+            return true;
+        }
+    }
+    return false;
+}
+
 fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, u32>) -> vec3<f32> {
     var rng = sample_rng(frame.seed, pixel, sample, DIM_ESTIMATOR);
     var path: Path;
@@ -514,7 +532,10 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
                 step = scatter(&path, v, depth, &rng, lookups);
             }
         } else {
-            if (!(light_only() && path.prev_pdf >= 0.0)) {
+            // World::lost_at_far_clip: ended on the far plane inside a medium.
+            let lost = from_camera && t_limit < F32_INF
+                && in_medium(path.medium, path.ray.o + t_limit * path.ray.d);
+            if (!lost && !(light_only() && path.prev_pdf >= 0.0)) {
                 path.radiance += path.beta * escaped(path.ray.d, path.prev_pdf, path.prev_surface);
             }
             step = STEP_STOP;

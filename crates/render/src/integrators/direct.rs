@@ -68,17 +68,23 @@ impl Direct {
         let mut rng = estimator_rng(key);
         let ray = primary_ray(world, x, y, key);
         let mut lookups = 0u32;
+        let t_far = world.camera.ray_end(&ray);
         let Some((t, mi)) = next_collision(
             self.distance.into(),
             world,
             &ray,
-            world.camera.ray_end(&ray),
+            t_far,
             None,
             &mut rng,
             &mut lookups,
         ) else {
+            let lost = world.lost_at_far_clip(None, &ray, t_far);
             return PixelSample {
-                radiance: escaped(world, &self.lights, ray.d, None),
+                radiance: if lost {
+                    Vec3::ZERO
+                } else {
+                    escaped(world, &self.lights, ray.d, None)
+                },
                 lookups,
             };
         };

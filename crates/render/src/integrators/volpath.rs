@@ -276,6 +276,9 @@ impl VolPath {
             let step = match (collision, hit) {
                 (Some((t, mi)), _) => self.medium_vertex(world, &mut path, t, mi, depth, &mut rng),
                 (None, Some(h)) => self.surface_vertex(world, &mut path, &h, depth, &mut rng),
+                (None, None) if from_camera && world.lost_at_far_clip(medium, &ray, t_limit) => {
+                    Step::Stop
+                }
                 (None, None) => {
                     if !(self.light_only && path.prev.is_some()) {
                         let le = escaped(world, &self.lights, path.ray.d, path.prev);

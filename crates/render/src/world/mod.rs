@@ -137,6 +137,27 @@ impl World {
         }
     }
 
+    /// Whether point `p`, reached by a ray now in bounded medium `current`,
+    /// lies in a medium: the bounded one, or the box of a medium that
+    /// exists for the ray there.
+    pub fn in_medium(&self, current: Option<usize>, p: Vec3) -> bool {
+        current.is_some()
+            || self.media.iter().enumerate().any(|(i, m)| {
+                let q = m.medium.world_to_index.transform_point3(p.as_dvec3());
+                let d = m.medium.dims();
+                self.medium_active(i, current) && (0..3).all(|k| q[k] >= 0.0 && q[k] <= d[k] as f64)
+            })
+    }
+
+    /// Whether a camera ray whose first segment ended on the far clip plane
+    /// at `t_far`, in bounded medium `current`, is lost: Mitsuba's volpath
+    /// takes a medium to go on beyond the far plane (its transmittance to
+    /// there over the pdf of passing it is 0), so such a path brings
+    /// nothing; outside any medium the ray sees the environment.
+    pub fn lost_at_far_clip(&self, current: Option<usize>, ray: &Ray, t_far: f32) -> bool {
+        t_far.is_finite() && self.in_medium(current, ray.at(t_far))
+    }
+
     /// Half the diagonal of the media's and shapes' world bounds (1 with
     /// neither): the scene radius of the light-power proxy.
     pub fn radius(&self) -> f32 {
