@@ -155,8 +155,9 @@ fn spectra_become_mitsubas_rgb() {
     let mut checked = 0;
     for case in f["spectra"].as_array().unwrap() {
         let ctx = case["context"].as_str().unwrap();
+        // volpath: Mitsuba's default integrator (path) would drop the media.
         let xml = format!(
-            "<scene version=\"3.0.0\">{}</scene>",
+            "<scene version=\"3.0.0\"><integrator type=\"volpath\"/>{}</scene>",
             case["xml"].as_str().unwrap()
         );
         let table = toml::Value::Table(load_xml_str(&xml, Path::new("s.xml"), &[]).unwrap());
@@ -203,4 +204,109 @@ fn malformed_spectra_name_their_element() {
                </emitter></shape></scene>";
     let e = load_xml_str(xml, Path::new("bb.xml"), &[]).unwrap_err().0;
     assert!(e.contains("bb.xml:3") && e.contains("RGB variants"), "{e}");
+}
+
+fn scene_xml(body: &str) -> toml::Value {
+    let xml = format!("<scene version=\"3.0.0\">{body}</scene>");
+    toml::Value::Table(load_xml_str(&xml, Path::new("t.xml"), &[]).unwrap())
+}
+
+const FOG_IN_SPHERE: &str =
+    "<medium type=\"homogeneous\" id=\"m\"><float name=\"sigma_t\" value=\"2\"/></medium>\
+     <shape type=\"sphere\"><bsdf type=\"diffuse\"/><ref name=\"interior\" id=\"m\"/></shape>";
+
+/// Mitsuba's `path` and `direct` integrators, and its default (`path`)
+/// when a scene names none, render without media; `direct` stops at the
+/// first surface (Mitsuba's max_depth 2); `volpath` keeps the media.
+#[test]
+fn path_and_direct_integrators_ignore_media() {
+    let media = |v: &toml::Value| v["media"].as_array().unwrap().len();
+    let depth = |v: &toml::Value| v["integrator"]["max_depth"].as_integer().unwrap();
+    let none = scene_xml(FOG_IN_SPHERE);
+    assert_eq!((media(&none), depth(&none)), (0, 100_000));
+    let path = scene_xml(&format!("<integrator type=\"path\"/>{FOG_IN_SPHERE}"));
+    assert_eq!(media(&path), 0);
+    let direct = scene_xml(&format!("<integrator type=\"direct\"><integer name=\"emitter_samples\" value=\"4\"/></integrator>{FOG_IN_SPHERE}"));
+    assert_eq!((media(&direct), depth(&direct)), (0, 1));
+    let volpath = scene_xml(&format!("<integrator type=\"volpath\"/>{FOG_IN_SPHERE}"));
+    assert_eq!(media(&volpath), 1);
+    // A null surface counts as a bounce in Mitsuba's path, not in fogbank:
+    // refused with a finite depth, accepted without one.
+    let null = "<shape type=\"sphere\"><bsdf type=\"null\"/></shape>";
+    let e = load_xml_str(
+        &format!("<scene version=\"3.0.0\"><integrator type=\"path\"><integer name=\"max_depth\" value=\"5\"/></integrator>{null}</scene>"),
+        Path::new("t.xml"),
+        &[],
+    )
+    .unwrap_err()
+    .0;
+    assert!(
+        e.contains("counts a passage") || e.contains("count a passage"),
+        "{e}"
+    );
+    scene_xml(&format!("<integrator type=\"path\"/>{null}"));
+}
+
+/// Emitters default to 1, as in Mitsuba.
+#[test]
+fn emitters_default_to_one() {
+    let v = scene_xml(
+        "<emitter type=\"constant\"/><shape type=\"rectangle\"><emitter type=\"area\"/></shape>",
+    );
+    assert_eq!(
+        v["lights"][0]["radiance"].as_array().unwrap()[1].as_float(),
+        Some(1.0)
+    );
+    assert_eq!(
+        find(&v["shapes"], "radiance").unwrap().as_array().unwrap()[0].as_float(),
+        Some(1.0)
+    );
+}
+
+/// A conductor `material` is Mitsuba's RGB (η, k) of that metal; giving
+/// both a material and η is an error, as in Mitsuba.
+#[test]
+fn named_conductors_are_mitsubas() {
+    use fogbank_render::world::surfaces::conductors::conductor;
+    let (eta, k) = conductor("Au").unwrap();
+    // Mitsuba 3.9.1's traverse of `conductor` with material Au.
+    let (m_eta, m_k) = ([0.143036, 0.375307, 1.44205], [3.983, 2.38556, 1.60336]);
+    for c in 0..3 {
+        assert!((eta[c] - m_eta[c]).abs() < 1e-5 && (k[c] - m_k[c]).abs() < 1e-5);
+    }
+    let v = scene_xml("<shape type=\"rectangle\"><bsdf type=\"roughconductor\"><string name=\"material\" value=\"Cu\"/></bsdf></shape>");
+    let text = toml::to_string(&v).unwrap();
+    let desc = parse_scene(&text, "t", &[]).unwrap();
+    let scene = fogbank_render::Scene::build(desc, Path::new(".")).unwrap();
+    let s = scene.world.surfaces.as_ref().unwrap();
+    let bsdf = format!("{:?}", s.shapes[0].material.front.bsdf);
+    assert!(bsdf.contains("0.201005"), "{bsdf}");
+    let e = load_xml_str(
+        "<scene version=\"3.0.0\"><shape type=\"rectangle\"><bsdf type=\"conductor\"><string name=\"material\" value=\"Unobtainium\"/></bsdf></shape></scene>",
+        Path::new("t.xml"),
+        &[],
+    )
+    .map(|t| {
+        let desc = parse_scene(&toml::to_string(&t).unwrap(), "t", &[]).unwrap();
+        fogbank_render::Scene::build(desc, Path::new(".")).err().unwrap().0
+    })
+    .unwrap();
+    assert!(e.contains("Unobtainium") && e.contains("Au"), "{e}");
+}
+
+/// A heterogeneous medium exists only inside its σ_t volume's box, a
+/// `constvolume`'s too: the unit cube under its `to_world` (Mitsuba's
+/// `Volume::bbox`), clipped to the shape that bounds it.
+#[test]
+fn constant_volumes_bound_heterogeneous_media() {
+    let v = scene_xml(
+        "<integrator type=\"volpath\"/><medium type=\"heterogeneous\" id=\"m\"><volume type=\"constvolume\" name=\"sigma_t\">\
+         <rgb name=\"value\" value=\"0.5\"/><transform name=\"to_world\"><translate x=\"-0.5\" y=\"-0.5\" z=\"-0.5\"/></transform>\
+         </volume></medium><shape type=\"cube\"><transform name=\"to_world\"><scale value=\"0.75\"/></transform>\
+         <bsdf type=\"null\"/><ref name=\"interior\" id=\"m\"/></shape>",
+    );
+    // A box of edge 1 centred at the origin, not the cube's 1.5.
+    let m = &v["media"][0]["to_world"]["matrix"];
+    let diag: Vec<f64> = (0..3).map(|i| m[i][i].as_float().unwrap()).collect();
+    assert!(diag.iter().all(|d| (d - 1.0).abs() < 1e-6), "{m:?}");
 }

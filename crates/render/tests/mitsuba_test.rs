@@ -200,8 +200,8 @@ fn unsupported_plugins_and_parameters_are_refused_by_name_and_line() {
         scenes().join("textures/tiles_24x16.png").display()
     ));
     assert!(e.contains("format `fp16`"), "{e}");
-    let e = refusal(&format!("{head}<integrator type=\"path\"/>\n</scene>"));
-    assert!(e.contains("integrator `path`"), "{e}");
+    let e = refusal(&format!("{head}<integrator type=\"ptracer\"/>\n</scene>"));
+    assert!(e.contains("integrator `ptracer`"), "{e}");
     let e = refusal(&format!(
         "{head}<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/><film type=\"hdrfilm\"/></sensor>\n</scene>"
     ));

@@ -139,11 +139,7 @@ pub fn bsdf(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError>
         "diffuse" => reflectance(&p, "reflectance", &mut t, ids, doc)?,
         "conductor" | "roughconductor" => {
             if let Some(m) = p.string("material")? {
-                if m != "none" {
-                    return Err(p.error(format!(
-                        "material `{m}`: give eta and k as RGB (spectral data is not read)"
-                    )));
-                }
+                t.insert("material".into(), m.into());
             }
             for k in ["eta", "k"] {
                 if let Some(c) = p.rgb(k, SpectrumUse::Unbounded)? {

@@ -65,6 +65,15 @@ pub fn scene_table(doc: &Document) -> Result<Table, SceneError> {
     let mut media = MediaUse::default();
     let mut scene_box = Aabb::new(Vec3::INFINITY, Vec3::NEG_INFINITY);
     let mut sensor_medium = None;
+    let no_media = ignores_media(root.children.iter().find(|c| c.tag == "integrator"));
+    if root.children.iter().all(|c| c.tag != "integrator") {
+        // Mitsuba's default integrator is `path`.
+        let mut t = Table::new();
+        t.insert("type".into(), "volpath".into());
+        t.insert("max_depth".into(), 100_000.into());
+        t.insert("rr_depth".into(), 5.into());
+        out.insert("integrator".into(), Value::Table(t));
+    }
     for c in &root.children {
         match c.tag.as_str() {
             "integrator" => {
@@ -80,7 +89,7 @@ pub fn scene_table(doc: &Document) -> Result<Table, SceneError> {
                     return Err(c.error("a second <sensor>"));
                 }
                 let (camera, render, m) = sensor(c, &ids)?;
-                sensor_medium = m;
+                sensor_medium = m.filter(|_| !no_media);
                 out.insert("camera".into(), Value::Table(camera));
                 out.insert("render".into(), Value::Table(render));
             }
@@ -90,12 +99,12 @@ pub fn scene_table(doc: &Document) -> Result<Table, SceneError> {
                 let mut table = s.table;
                 let bounds = shape_bounds(&table, shapes.len()).map_err(|e| c.error(e.0))?;
                 scene_box = union(scene_box, bounds);
-                if let Some(m) = s.interior {
+                if let Some(m) = s.interior.filter(|_| !no_media) {
                     let i = media.index(m);
                     media.interior_box[i] = union(media.interior_box[i], bounds);
                     table.insert("interior".into(), (i as i64).into());
                 }
-                if let Some(m) = s.exterior {
+                if let Some(m) = s.exterior.filter(|_| !no_media) {
                     let i = media.index(m);
                     media.open[i] = true;
                     table.insert("exterior".into(), (i as i64).into());
@@ -106,6 +115,9 @@ pub fn scene_table(doc: &Document) -> Result<Table, SceneError> {
             "bsdf" | "texture" | "medium" | "volume" | "phase" if c.attr("id").is_some() => {}
             _ => return Err(c.error("is not supported at the top level of a scene")),
         }
+    }
+    if no_media {
+        path_depth_counts_agree(&out, &shapes).map_err(|m| root.error(m))?;
     }
     if let Some(m) = sensor_medium {
         let i = media.index(m);
@@ -147,8 +159,53 @@ fn shape_bounds(t: &Table, i: usize) -> Result<Aabb, SceneError> {
     d.bounds(i, Path::new("."))
 }
 
-/// `volpath`, `volpathmis` (the same for fogbank's achromatic media) or a
-/// `moment` around one (fogbank always writes the variance).
+/// Mitsuba's `path` and `direct` count a passage through a `null` or
+/// `thindielectric` surface as a bounce, fogbank's volpath (and Mitsuba's)
+/// do not: with a finite depth such scenes would render differently.
+fn path_depth_counts_agree(out: &Table, shapes: &[Value]) -> Result<(), String> {
+    let depth = out
+        .get("integrator")
+        .and_then(|i| i.get("max_depth"))
+        .and_then(|d| d.as_integer())
+        .unwrap_or(100_000);
+    fn passes(b: &Value) -> bool {
+        match b.get("type").and_then(|t| t.as_str()) {
+            Some("null") | Some("thindielectric") => true,
+            _ => ["bsdf", "front", "back"]
+                .iter()
+                .any(|k| b.get(*k).is_some_and(passes)),
+        }
+    }
+    let passing = shapes.iter().any(|s| s.get("bsdf").is_some_and(passes));
+    if depth < 100_000 && passing {
+        return Err(
+            "Mitsuba's `path` and `direct` integrators count a passage through a null or \
+                    thin dielectric surface as a bounce, which fogbank does not: with a finite \
+                    max_depth use volpath (or max_depth -1)"
+                .into(),
+        );
+    }
+    Ok(())
+}
+
+/// Whether Mitsuba's integrator `e` (absent: its default, `path`) renders
+/// without participating media: `path` and `direct` ignore them.
+fn ignores_media(e: Option<&Element>) -> bool {
+    match e {
+        None => true,
+        Some(e) => match e.attr("type") {
+            Some("moment") => ignores_media(e.children.iter().find(|c| c.tag == "integrator")),
+            Some("path") | Some("direct") => true,
+            _ => false,
+        },
+    }
+}
+
+/// `volpath`, `volpathmis` (the same for fogbank's achromatic media), a
+/// `moment` around one (fogbank always writes the variance), or `path` or
+/// `direct`, which are fogbank's volpath without media (Mitsuba's ignore
+/// them) and, for `direct`, stopping at the first surface (Mitsuba's
+/// max_depth 2; its emitter and BSDF sample counts change only the noise).
 fn integrator(e: &Element, ids: &Ids) -> Result<Table, SceneError> {
     let p = Plugin::new(e, ids)?;
     if p.ty == "moment" {
@@ -159,9 +216,21 @@ fn integrator(e: &Element, ids: &Ids) -> Result<Table, SceneError> {
             _ => Err(e.error("a moment integrator wraps one integrator")),
         };
     }
-    if p.ty != "volpath" && p.ty != "volpathmis" {
+    if p.ty == "direct" {
+        for k in ["emitter_samples", "bsdf_samples", "shading_samples"] {
+            p.integer(k)?;
+        }
+        if p.boolean("hide_emitters")? == Some(true) {
+            return Err(p.error("hide_emitters = true is not supported"));
+        }
+        p.finish()?;
+        let mut t = Table::new();
+        t.insert("max_depth".into(), 1.into());
+        return Ok(t);
+    }
+    if !["volpath", "volpathmis", "path"].contains(&p.ty) {
         return Err(p.error(format!(
-            "integrator `{}` is not supported (volpath, volpathmis, moment)",
+            "integrator `{}` is not supported (volpath, volpathmis, path, direct, moment)",
             p.ty
         )));
     }

@@ -16,9 +16,9 @@ fn vec3(v: DVec3) -> Value {
 pub fn light(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError> {
     let p = Plugin::new(e, ids)?;
     let mut t = Table::new();
+    // Mitsuba's emitters default to 1 (radiance, intensity, irradiance).
     let rgb = |name: &str| -> Result<[f32; 3], SceneError> {
-        p.rgb(name, SpectrumUse::Emitter)?
-            .ok_or_else(|| p.error(format!("needs `{name}`")))
+        Ok(p.rgb(name, SpectrumUse::Emitter)?.unwrap_or([1.0; 3]))
     };
     let to_world = p.transform("to_world")?;
     match p.ty {
@@ -114,9 +114,7 @@ pub fn area(e: &Element, ids: &Ids) -> Result<Table, SceneError> {
     if p.ty != "area" {
         return Err(p.error("a shape's emitter must be `area`"));
     }
-    let r = p
-        .rgb("radiance", SpectrumUse::Emitter)?
-        .ok_or_else(|| p.error("needs `radiance`"))?;
+    let r = p.rgb("radiance", SpectrumUse::Emitter)?.unwrap_or([1.0; 3]);
     p.finish()?;
     let mut t = Table::new();
     t.insert("radiance".into(), rgb_value(r));

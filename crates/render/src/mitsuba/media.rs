@@ -64,17 +64,25 @@ fn grid(e: &Element, ids: &Ids, doc: &Document) -> Result<(Table, DMat4, u32), S
     Ok((t, xf, channels))
 }
 
-/// A constant volume's value.
-fn constant(e: &Element, ids: &Ids) -> Result<Option<[f32; 3]>, SceneError> {
+/// A constant volume's value and its box: Mitsuba's volumes span the unit
+/// cube mapped by `to_world` (its axis-aligned bounds), and a
+/// heterogeneous medium exists only inside its σ_t volume's box.
+fn constant(e: &Element, ids: &Ids) -> Result<Option<([f32; 3], Aabb)>, SceneError> {
     let p = Plugin::new(e, ids)?;
     if p.ty != "constvolume" {
         return Ok(None);
     }
     let v = p.rgb("value", SpectrumUse::Unbounded)?.unwrap_or([1.0; 3]);
-    // A constant is the same through any transform (Mitsuba accepts one).
-    p.transform("to_world")?;
+    let m = p.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
     p.finish()?;
-    Ok(Some(v))
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for c in 0..8 {
+        let corner = DVec3::new((c & 1) as f64, ((c >> 1) & 1) as f64, ((c >> 2) & 1) as f64);
+        let w = m.transform_point3(corner);
+        lo = lo.min(w);
+        hi = hi.max(w);
+    }
+    Ok(Some((v, Aabb::new(lo.as_vec3(), hi.as_vec3()))))
 }
 
 fn phase(p: &Plugin, ids: &Ids, t: &mut Table) -> Result<(), SceneError> {
@@ -110,32 +118,42 @@ pub fn medium(e: &Element, ids: &Ids, doc: &Document, bounds: Aabb) -> Result<Ta
     let p = Plugin::new(e, ids)?;
     let mut t = Table::new();
     let scale = p.float("scale")?.unwrap_or(1.0);
-    let box_xf = || {
-        let (lo, hi) = (bounds.min.as_dvec3(), bounds.max.as_dvec3());
+    let box_xf = |b: Aabb| {
+        let (lo, hi) = (b.min.as_dvec3(), b.max.as_dvec3());
         DMat4::from_translation(0.5 * (lo + hi))
             * DMat4::from_scale((hi - lo).max(DVec3::splat(1e-6)))
     };
-    let constant_density = |t: &mut Table, sigma: [f32; 3]| {
+    let constant_density = |t: &mut Table, sigma: [f32; 3], b: Aabb| {
         let mut d = Table::new();
         d.insert("procedural".into(), "constant".into());
         d.insert("resolution".into(), 2.into());
         t.insert("density".into(), Value::Table(d));
         t.insert("sigma_t_scale".into(), sigma_t_scale(sigma, scale));
-        t.insert("to_world".into(), Value::Table(matrix_table(box_xf())));
+        t.insert("to_world".into(), Value::Table(matrix_table(box_xf(b))));
     };
     match p.ty {
         "homogeneous" => {
             // Mitsuba 3.9's RGB variants read a spectrum here as a bounded
             // texture, clamped to [0, 1]; fogbank does the same.
             let s = p.rgb("sigma_t", SpectrumUse::Bounded)?.unwrap_or([1.0; 3]);
-            constant_density(&mut t, s);
+            constant_density(&mut t, s, bounds);
         }
         "heterogeneous" => {
             let v = p
                 .object("volume", "sigma_t")?
                 .ok_or_else(|| p.error("needs a `sigma_t` volume"))?;
-            if let Some(c) = constant(v, ids)? {
-                constant_density(&mut t, c);
+            if let Some((c, volume_box)) = constant(v, ids)? {
+                // Where the shapes that bound it and the volume's box meet.
+                let b = Aabb::new(
+                    bounds.min.max(volume_box.min),
+                    bounds.max.min(volume_box.max),
+                );
+                if !(b.min.cmplt(b.max).all()) {
+                    return Err(v.error(
+                        "the constant volume's box (its to_world of the unit cube) misses the shapes that bound the medium",
+                    ));
+                }
+                constant_density(&mut t, c, b);
             } else {
                 let (density, xf, channels) = grid(v, ids, doc)?;
                 match channels {
@@ -175,7 +193,7 @@ fn albedo(p: &Plugin, ids: &Ids, doc: &Document, t: &mut Table) -> Result<(), Sc
     if let Some(c) = p.rgb("albedo", SpectrumUse::Bounded)? {
         t.insert("albedo".into(), rgb_value(c));
     } else if let Some(v) = p.object("volume", "albedo")? {
-        if let Some(c) = constant(v, ids)? {
+        if let Some((c, _)) = constant(v, ids)? {
             t.insert("albedo".into(), rgb_value(c));
         } else {
             let (grid, xf, _) = grid(v, ids, doc)?;

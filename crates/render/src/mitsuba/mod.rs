@@ -23,8 +23,9 @@
 //! envmap, point, directional, spot.
 //!
 //! Anything else is refused with its file, line, tag and plugin name, and
-//! so is any parameter fogbank would otherwise ignore, unless it changes
-//! nothing in Mitsuba either (a `constvolume`'s `to_world`). Conventions
+//! so is any parameter fogbank would otherwise ignore. A heterogeneous
+//! medium exists, as in Mitsuba, only inside its σ_t volume's box (the unit
+//! cube under the volume's `to_world`, for a `constvolume` too). Conventions
 //! that differ: Mitsuba's `max_depth` counts path segments (fogbank's = it
 //! − 1; −1 is unlimited); chromatic σ_t (RGB constants, 3-channel grids) is
 //! fogbank's `sigma_t_scale = [r, g, b]` / `density_rgb`. `<blackbody>` is

@@ -5,7 +5,7 @@
 //! | `type` | keys (default) |
 //! |---|---|
 //! | `diffuse` | `reflectance` (0.5) |
-//! | `conductor` | `eta` (0), `k` (1), `specular_reflectance` (1): the defaults are Mitsuba's `material = "none"`, a perfect mirror |
+//! | `conductor` | `eta` (0), `k` (1), `specular_reflectance` (1): the defaults are Mitsuba's `material = "none"`, a perfect mirror; or `material` (`"Au"`, `"Cu"`, `"Al"`, … any of Mitsuba's, [`super::conductors`]) instead of `eta` and `k` |
 //! | `roughconductor` | as `conductor`, plus `alpha` (0.1), `distribution` (`"ggx"` or `"beckmann"`; `"ggx"`), `sample_visible` (true) |
 //! | `dielectric` | `int_ior` (`bk7`), `ext_ior` (`air`) |
 //! | `roughdielectric` | as `dielectric`, plus `alpha`, `distribution`, `sample_visible` as `roughconductor` |
@@ -70,11 +70,28 @@ fn air() -> IorDesc {
 fn polypropylene() -> IorDesc {
     ior("polypropylene")
 }
-fn eta_none() -> [f32; 3] {
-    [0.0; 3]
-}
-fn k_none() -> [f32; 3] {
-    [1.0; 3]
+/// A conductor's (η, k): given, or of a named `material`
+/// ([`super::conductors`]), or Mitsuba's default `material = "none"`, a
+/// perfect mirror (η 0, k 1).
+fn complex_ior(
+    eta: Option<[f32; 3]>,
+    k: Option<[f32; 3]>,
+    material: Option<&str>,
+    key: &str,
+) -> Result<([f32; 3], [f32; 3]), SceneError> {
+    match material {
+        None | Some("none") => Ok((eta.unwrap_or([0.0; 3]), k.unwrap_or([1.0; 3]))),
+        Some(_) if eta.is_some() || k.is_some() => Err(SceneError(format!(
+            "{key}: give either eta and k or a material, not both (as Mitsuba)"
+        ))),
+        Some(m) => super::conductors::conductor(m).ok_or_else(|| {
+            let names: Vec<&str> = super::conductors::CONDUCTORS.iter().map(|c| c.0).collect();
+            SceneError(format!(
+                "{key}: `{m}` is not one of Mitsuba's conductors ({})",
+                names.join(", ")
+            ))
+        }),
+    }
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
@@ -85,10 +102,12 @@ pub enum BsdfDesc {
         reflectance: SpectrumDesc,
     },
     Conductor {
-        #[serde(default = "eta_none")]
-        eta: [f32; 3],
-        #[serde(default = "k_none")]
-        k: [f32; 3],
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        eta: Option<[f32; 3]>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        k: Option<[f32; 3]>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        material: Option<String>,
         #[serde(default = "one")]
         specular_reflectance: SpectrumDesc,
     },
@@ -99,10 +118,12 @@ pub enum BsdfDesc {
         distribution: String,
         #[serde(default = "yes", skip_serializing_if = "is_true")]
         sample_visible: bool,
-        #[serde(default = "eta_none")]
-        eta: [f32; 3],
-        #[serde(default = "k_none")]
-        k: [f32; 3],
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        eta: Option<[f32; 3]>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        k: Option<[f32; 3]>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        material: Option<String>,
         #[serde(default = "one")]
         specular_reflectance: SpectrumDesc,
     },
@@ -390,14 +411,17 @@ impl BsdfDesc {
             BsdfDesc::Conductor {
                 eta,
                 k: kk,
+                material,
                 specular_reflectance: s,
             }
             | BsdfDesc::Roughconductor {
                 eta,
                 k: kk,
+                material,
                 specular_reflectance: s,
                 ..
             } => {
+                let (eta, kk) = complex_ior(*eta, *kk, material.as_deref(), &k("material"))?;
                 let mf = match self {
                     BsdfDesc::Roughconductor {
                         alpha,
@@ -409,8 +433,8 @@ impl BsdfDesc {
                 };
                 let t = texture(s, "specular_reflectance")?;
                 let bsdf = Bsdf::Conductor {
-                    eta: Vec3::from(*eta),
-                    k: Vec3::from(*kk),
+                    eta: Vec3::from(eta),
+                    k: Vec3::from(kk),
                     mf,
                     specular: t.mean(),
                 };

@@ -4,6 +4,7 @@
 //! Media stay the regions their boxes give; shapes sit in them (a shape
 //! that bounds a medium comes next).
 
+pub mod conductors;
 pub mod frame;
 pub mod ior;
 pub mod material;
