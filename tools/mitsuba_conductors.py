@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes crates/render/src/world/surfaces/conductors.rs: the RGB complex
+"""Writes crates/render/src/world/surfaces/conductor_table.rs: the RGB complex
 index of refraction (eta, k) that Mitsuba 3's RGB variants give each named
 conductor `material` (Mitsuba integrates its measured spectra, the
 `data/ior/*.spd` files of its package, against the CIE curves without D65
@@ -17,7 +17,7 @@ import os
 import mitsuba as mi
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-OUT = os.path.join(ROOT, "crates", "render", "src", "world", "surfaces", "conductors.rs")
+OUT = os.path.join(ROOT, "crates", "render", "src", "world", "surfaces", "conductor_table.rs")
 
 
 def main():
@@ -33,7 +33,7 @@ def main():
         k = [float(x) for x in p[[k for k in p.keys() if k.endswith("bsdf.k.value")][0]]]
         rows.append((name, eta, k))
     with open(OUT, "w") as f:
-        f.write("//! Named conductors (`material = \"Au\"` on `conductor` and `roughconductor`):\n")
+        f.write("//! Named conductors (`material = \"Au\"`, see `conductors`):\n")
         f.write("//! the RGB complex IOR (η, k) Mitsuba 3's RGB variants derive from their\n")
         f.write("//! measured spectra. Written by `tools/mitsuba_conductors.py` from Mitsuba\n")
         f.write(f"//! {mi.__version__} `scalar_rgb`; do not edit by hand.\n\n")
@@ -42,11 +42,7 @@ def main():
         f.write(f"pub const CONDUCTORS: [(&str, [f32; 3], [f32; 3]); {len(rows)}] = [\n")
         for name, eta, k in rows:
             f.write(f'    ("{name}", [{eta[0]:.6}, {eta[1]:.6}, {eta[2]:.6}], [{k[0]:.6}, {k[1]:.6}, {k[2]:.6}]),\n')
-        f.write("];\n\n")
-        f.write("/// (η, k) of the conductor `name`.\n")
-        f.write("pub fn conductor(name: &str) -> Option<([f32; 3], [f32; 3])> {\n")
-        f.write("    CONDUCTORS.iter().find(|c| c.0 == name).map(|c| (c.1, c.2))\n")
-        f.write("}\n")
+        f.write("];\n")
     print("wrote", OUT, len(rows), "materials")
 
 

@@ -16,7 +16,7 @@ use common::assert_gpu_matches_cpu;
 
 #[path = "../../render/tests/support/mitsuba_agreement.rs"]
 mod mitsuba_agreement;
-use mitsuba_agreement::{assert_agrees, scenes, spp_for};
+use mitsuba_agreement::{assert_agrees, reference_scenes, scenes, spp_for};
 
 fn scene(name: &str) -> Scene {
     load_scene(Some(&scenes().join(format!("{name}.xml"))), &[]).unwrap()
@@ -153,36 +153,16 @@ fn beckmann_clip_planes_and_spectra_match_the_cpu() {
     matches_cpu("users_clip_fog", 48);
 }
 
-const SCENES: [&str; 17] = [
-    "null_mesh_medium",
-    "analytic_shapes",
-    "thin_area",
-    "light_in_medium",
-    "dielectric_media",
-    "cloud_ground",
-    "surfaces_env_area",
-    "fog_emitters",
-    "spot_fog",
-    "bitmap_textures",
-    "chromatic",
-    "users_beckmann_conductor",
-    "users_beckmann_dielectric",
-    "users_beckmann_plastic",
-    "users_clip_fog",
-    "users_spectral_lights",
-    "users_path_include",
-];
-
 #[test]
 #[ignore = "minutes per scene on lavapipe; run with --ignored on a GPU"]
 fn every_surface_scene_agrees_with_mitsuba_on_the_gpu() {
     // FOGBANK_MITSUBA_SCENES=a,b narrows the list (one pipeline each).
     let only = std::env::var("FOGBANK_MITSUBA_SCENES").unwrap_or_default();
-    for name in SCENES {
+    for name in reference_scenes() {
         if !only.is_empty() && !only.split(',').any(|n| n == name) {
             continue;
         }
-        agrees_with_mitsuba(name);
+        agrees_with_mitsuba(&name);
         eprintln!("{name}: agrees with Mitsuba");
     }
 }

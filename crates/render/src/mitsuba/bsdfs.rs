@@ -1,5 +1,5 @@
 //! `<bsdf>` and `<texture>` elements as fogbank `bsdf` tables: the same
-//! plugin names and parameter names (see `world::surfaces::material`).
+//! plugin names and parameter names (see `world::surfaces::bsdf_desc`).
 
 use super::plugin::{Ids, Plugin};
 use super::xml::{Document, Element};

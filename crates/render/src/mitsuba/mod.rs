@@ -17,7 +17,7 @@
 //! `rgb`, `float` and `spectrum` values (constants and wavelength:value
 //! pairs, converted to RGB as Mitsuba's RGB variants convert them,
 //! [`fogbank_image::spectrum`]); shapes obj, ply, rectangle, cube, sphere,
-//! disk (the last two analytic); the BSDFs of `world::surfaces::material`
+//! disk (the last two analytic); the BSDFs of `world::surfaces::bsdf_desc`
 //! with Mitsuba's default Beckmann or GGX microfacets and either sampling of
 //! normals; `checkerboard` and `bitmap` textures; emitters area, constant,
 //! envmap, point, directional, spot.

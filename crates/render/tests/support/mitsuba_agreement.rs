@@ -29,6 +29,17 @@ fn block_rel_l1(r: &Image, t: &Image, c: usize) -> f64 {
     num / den.max(1e-12)
 }
 
+/// The names of the scenes with a reference in `refs/refs.json` (the GPU's
+/// test renders them all; the CPU's has one test per scene).
+#[allow(dead_code)]
+pub fn reference_scenes() -> Vec<String> {
+    let text = std::fs::read_to_string(scenes().join("refs/refs.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let mut names: Vec<String> = v["scenes"].as_object().unwrap().keys().cloned().collect();
+    names.sort();
+    names
+}
+
 /// A reference's record in `refs/refs.json`: its spp, the noise constant
 /// of its 8×8 block relative L1 (≈ k / √samples) and that of its image
 /// mean's relative standard error (largest channel).

@@ -1,205 +1,18 @@
-//! A shape's `bsdf` table: Mitsuba 3's BSDF plugins with their parameter
-//! names and defaults, and what the integrators evaluate at a hit point
-//! (the BSDF with its textures looked up at the hit's UV).
-//!
-//! | `type` | keys (default) |
-//! |---|---|
-//! | `diffuse` | `reflectance` (0.5) |
-//! | `conductor` | `eta` (0), `k` (1), `specular_reflectance` (1): the defaults are Mitsuba's `material = "none"`, a perfect mirror; or `material` (`"Au"`, `"Cu"`, `"Al"`, … any of Mitsuba's, [`super::conductors`]) instead of `eta` and `k` |
-//! | `roughconductor` | as `conductor`, plus `alpha` (0.1), `distribution` (`"ggx"` or `"beckmann"`; `"ggx"`), `sample_visible` (true) |
-//! | `dielectric` | `int_ior` (`bk7`), `ext_ior` (`air`) |
-//! | `roughdielectric` | as `dielectric`, plus `alpha`, `distribution`, `sample_visible` as `roughconductor` |
-//! | `thindielectric` | `int_ior` (`bk7`), `ext_ior` (`air`) |
-//! | `plastic` | `diffuse_reflectance` (0.5), `specular_reflectance` (1), `int_ior` (`polypropylene`), `ext_ior` (`air`), `nonlinear` (false) |
-//! | `roughplastic` | as `plastic`, plus `alpha`, `distribution`, `sample_visible` as `roughconductor` |
-//! | `null` | — (an index-matched boundary: rays pass straight through) |
-//! | `twosided` | `bsdf` (one table for both sides) or `front` and `back` |
-//!
-//! A reflectance is a grey number, an RGB triple or a texture table
-//! (`{ type = "checkerboard", color0 = 0.4, color1 = 0.2, to_uv = { scale = [4, 4] } }`,
-//! `{ type = "bitmap", filename = "wood.png", filter_type = "bilinear",
-//! wrap_mode = "repeat", raw = false, to_uv = … }`, the file relative to the
-//! scene file; see `world::bitmap`).
-//! IORs are numbers or the names of Mitsuba's table ([`super::ior::IOR_TABLE`]). The
-//! rough models' normals follow [`crate::world::bsdf::Microfacet`]; fogbank's
-//! default distribution is GGX (Mitsuba's is Beckmann, which its XML reader
-//! passes on).
+//! What the integrators evaluate at a hit point: a shape's material (one
+//! side, or Mitsuba's `twosided`), built from its `bsdf` table
+//! ([`BsdfDesc`], the TOML schema), with its textures looked up at the hit's
+//! UV.
 
-use super::ior::{ior, IorDesc};
+use super::bsdf_desc::distribution_of;
+pub use super::bsdf_desc::BsdfDesc;
+use super::ior::IorDesc;
 pub use super::spectrum::{SpectrumDesc, TextureDesc, UvTransformDesc};
 use crate::error::SceneError;
 use crate::world::bitmap::BitmapFiles;
-use crate::world::bsdf::{
-    Bsdf, BsdfSample, Distribution, Microfacet, Plastic, RoughPlastic, TwoSided,
-};
+use crate::world::bsdf::{Bsdf, BsdfSample, Microfacet, Plastic, RoughPlastic, TwoSided};
 use crate::world::texture::Texture;
 use glam::{Vec2, Vec3};
-use serde::{Deserialize, Serialize};
 use std::path::Path;
-
-fn grey(v: f32) -> SpectrumDesc {
-    SpectrumDesc::Grey(v)
-}
-fn half() -> SpectrumDesc {
-    grey(0.5)
-}
-fn one() -> SpectrumDesc {
-    grey(1.0)
-}
-fn rough() -> f32 {
-    0.1
-}
-fn ggx() -> String {
-    "ggx".into()
-}
-fn is_ggx(s: &String) -> bool {
-    s == "ggx"
-}
-fn yes() -> bool {
-    true
-}
-fn is_true(b: &bool) -> bool {
-    *b
-}
-fn bk7() -> IorDesc {
-    ior("bk7")
-}
-fn air() -> IorDesc {
-    ior("air")
-}
-fn polypropylene() -> IorDesc {
-    ior("polypropylene")
-}
-/// A conductor's (η, k): given, or of a named `material`
-/// ([`super::conductors`]), or Mitsuba's default `material = "none"`, a
-/// perfect mirror (η 0, k 1).
-fn complex_ior(
-    eta: Option<[f32; 3]>,
-    k: Option<[f32; 3]>,
-    material: Option<&str>,
-    key: &str,
-) -> Result<([f32; 3], [f32; 3]), SceneError> {
-    match material {
-        None | Some("none") => Ok((eta.unwrap_or([0.0; 3]), k.unwrap_or([1.0; 3]))),
-        Some(_) if eta.is_some() || k.is_some() => Err(SceneError(format!(
-            "{key}: give either eta and k or a material, not both (as Mitsuba)"
-        ))),
-        Some(m) => super::conductors::conductor(m).ok_or_else(|| {
-            let names: Vec<&str> = super::conductors::CONDUCTORS.iter().map(|c| c.0).collect();
-            SceneError(format!(
-                "{key}: `{m}` is not one of Mitsuba's conductors ({})",
-                names.join(", ")
-            ))
-        }),
-    }
-}
-
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-pub enum BsdfDesc {
-    Diffuse {
-        #[serde(default = "half")]
-        reflectance: SpectrumDesc,
-    },
-    Conductor {
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        eta: Option<[f32; 3]>,
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        k: Option<[f32; 3]>,
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        material: Option<String>,
-        #[serde(default = "one")]
-        specular_reflectance: SpectrumDesc,
-    },
-    Roughconductor {
-        #[serde(default = "rough")]
-        alpha: f32,
-        #[serde(default = "ggx", skip_serializing_if = "is_ggx")]
-        distribution: String,
-        #[serde(default = "yes", skip_serializing_if = "is_true")]
-        sample_visible: bool,
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        eta: Option<[f32; 3]>,
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        k: Option<[f32; 3]>,
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        material: Option<String>,
-        #[serde(default = "one")]
-        specular_reflectance: SpectrumDesc,
-    },
-    Dielectric {
-        #[serde(default = "bk7")]
-        int_ior: IorDesc,
-        #[serde(default = "air")]
-        ext_ior: IorDesc,
-    },
-    Roughdielectric {
-        #[serde(default = "rough")]
-        alpha: f32,
-        #[serde(default = "ggx", skip_serializing_if = "is_ggx")]
-        distribution: String,
-        #[serde(default = "yes", skip_serializing_if = "is_true")]
-        sample_visible: bool,
-        #[serde(default = "bk7")]
-        int_ior: IorDesc,
-        #[serde(default = "air")]
-        ext_ior: IorDesc,
-    },
-    Thindielectric {
-        #[serde(default = "bk7")]
-        int_ior: IorDesc,
-        #[serde(default = "air")]
-        ext_ior: IorDesc,
-    },
-    Plastic {
-        #[serde(default = "half")]
-        diffuse_reflectance: SpectrumDesc,
-        #[serde(default = "one")]
-        specular_reflectance: SpectrumDesc,
-        #[serde(default = "polypropylene")]
-        int_ior: IorDesc,
-        #[serde(default = "air")]
-        ext_ior: IorDesc,
-        #[serde(default)]
-        nonlinear: bool,
-    },
-    Roughplastic {
-        #[serde(default = "rough")]
-        alpha: f32,
-        #[serde(default = "ggx", skip_serializing_if = "is_ggx")]
-        distribution: String,
-        #[serde(default = "yes", skip_serializing_if = "is_true")]
-        sample_visible: bool,
-        #[serde(default = "half")]
-        diffuse_reflectance: SpectrumDesc,
-        #[serde(default = "one")]
-        specular_reflectance: SpectrumDesc,
-        #[serde(default = "polypropylene")]
-        int_ior: IorDesc,
-        #[serde(default = "air")]
-        ext_ior: IorDesc,
-        #[serde(default)]
-        nonlinear: bool,
-    },
-    Null,
-    Twosided {
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        bsdf: Option<Box<BsdfDesc>>,
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        front: Option<Box<BsdfDesc>>,
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        back: Option<Box<BsdfDesc>>,
-    },
-}
-
-impl Default for BsdfDesc {
-    /// Mitsuba's default for a shape without a BSDF: grey diffuse.
-    fn default() -> Self {
-        BsdfDesc::Diffuse {
-            reflectance: half(),
-        }
-    }
-}
 
 /// One side's BSDF and the texture that replaces its reflectance (diffuse
 /// reflectance, plastic base, conductor tint) at each hit.
@@ -364,20 +177,16 @@ impl BsdfDesc {
             }
         };
         let microfacet = |alpha: f32, distribution: &str, sample_visible: bool| {
-            let distribution = match distribution {
-                "ggx" => Distribution::Ggx,
-                "beckmann" => Distribution::Beckmann,
-                other => {
-                    return Err(SceneError(format!(
-                        "{}: `{other}` is not ggx or beckmann",
-                        k("distribution")
-                    )))
-                }
-            };
             Ok(Microfacet {
-                distribution,
                 alpha: alpha_ok(alpha)?,
                 sample_visible,
+                ..Microfacet::ggx(0.0)
+            })
+            .and_then(|m| {
+                distribution_of(distribution, &k("distribution")).map(|d| Microfacet {
+                    distribution: d,
+                    ..m
+                })
             })
         };
         // The BSDF holds the texture's mean (for sampling weights); the
@@ -421,7 +230,8 @@ impl BsdfDesc {
                 specular_reflectance: s,
                 ..
             } => {
-                let (eta, kk) = complex_ior(*eta, *kk, material.as_deref(), &k("material"))?;
+                let (eta, kk) =
+                    super::conductors::complex_ior(*eta, *kk, material.as_deref(), &k("material"))?;
                 let mf = match self {
                     BsdfDesc::Roughconductor {
                         alpha,

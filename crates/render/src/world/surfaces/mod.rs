@@ -4,6 +4,8 @@
 //! Media stay the regions their boxes give; shapes sit in them (a shape
 //! that bounds a medium comes next).
 
+pub mod bsdf_desc;
+mod conductor_table;
 pub mod conductors;
 pub mod frame;
 pub mod ior;
