@@ -5,7 +5,6 @@ mod common;
 mod compare_cmd;
 mod converge_cmd;
 mod experiment_cmd;
-mod film_out;
 mod frames_cmd;
 mod info_cmd;
 mod merge_cmd;

@@ -3,8 +3,9 @@
 //! bit for bit; refuses parts of different renders and duplicate,
 //! overlapping or missing shards (unless `--allow-partial`).
 
-use crate::common::{peak_memory_bytes, CliResult};
+use crate::common::CliResult;
 use clap::Args;
+use fogbank::stats::peak_memory_bytes;
 use fogbank_image::{ToneCurve, ToneMapping};
 use fogbank_render::merge::merge;
 use fogbank_render::partial::Partial;
@@ -64,7 +65,7 @@ pub fn run(a: MergeArgs) -> CliResult {
         curve: ToneCurve::parse(&h.tonemap)
             .map_err(|e| format!("{}: tonemap: {e}", a.parts[0].display()))?,
     };
-    let bad_pixels = crate::film_out::write_images(&images, &p.film, &tone)?;
+    let bad_pixels = fogbank::output::write_images(&images, &p.film, &tone)?;
     let film = &p.film;
     eprintln!(
         "merged {} part(s), {} shard(s): {}×{}, {} spp{}; wrote {}",

@@ -1,7 +1,7 @@
 //! Arguments shared by the commands that measure an estimator on a scene
 //! (`stats`, `converge`).
 
-use crate::render_cmd::Device;
+use crate::render_cmd::DeviceArg as Device;
 use clap::Args;
 
 #[derive(Args)]

@@ -1,8 +1,7 @@
 //! `--shard I/N` for the commands whose work splits exactly (`render`,
-//! `stats`): which part to do, and the partial file's header.
+//! `stats`): which part to do.
 
 use clap::Args;
-use fogbank_render::partial::ShardRun;
 use fogbank_render::shard::{Shard, ShardMode};
 
 #[derive(Args, Clone)]
@@ -33,24 +32,5 @@ impl ShardArgs {
                 ShardMode::parse(&self.shard_mode).map_err(|e| format!("--shard-mode: {e}"))?,
             )?)),
         }
-    }
-}
-
-/// This machine's name, for the partial's record of where a shard ran.
-pub fn host() -> String {
-    std::fs::read_to_string("/proc/sys/kernel/hostname")
-        .map(|s| s.trim().to_string())
-        .or_else(|_| std::env::var("HOSTNAME"))
-        .unwrap_or_else(|_| "unknown".into())
-}
-
-/// The record of one shard's run of `spp` samples per pixel in total.
-pub fn run(shard: Shard, spp: u32, seconds: f64, threads: usize) -> ShardRun {
-    ShardRun {
-        shard,
-        piece: shard.piece(spp),
-        seconds,
-        threads,
-        host: host(),
     }
 }

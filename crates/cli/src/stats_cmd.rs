@@ -2,9 +2,10 @@
 //! estimator over K independent 1-spp frames (streamed: memory does not
 //! grow with K), as EXR, false-colour maps and `summary.json`.
 
-use crate::common::{peak_memory_bytes, CliResult};
+use crate::common::CliResult;
 use crate::run_args::RunArgs;
 use clap::Args;
+use fogbank::stats::peak_memory_bytes;
 use fogbank_estimators::Estimator;
 use fogbank_eval::frame_stats::frame_stats_piece;
 use fogbank_eval::{exact_reference, frame_stats, Backend, FrameStats};
@@ -66,7 +67,7 @@ pub fn run(a: StatsArgs) -> CliResult {
         if reference.is_some() || a.reference.is_some() {
             return Err(format!("--shard {}: not with a reference; merge the parts, then compare the merged mean with `fogbank compare`", shard.label()).into());
         }
-        if a.run.device == crate::render_cmd::Device::Gpu {
+        if a.run.device == crate::render_cmd::DeviceArg::Gpu {
             return Err(format!("--shard {}: not with --device gpu (GPU frames keep running means in f32, whose parts do not add up bit for bit)", shard.label()).into());
         }
         let piece = shard.piece(a.runs);
@@ -78,7 +79,7 @@ pub fn run(a: StatsArgs) -> CliResult {
             a.run.seed,
             a.runs,
             &film,
-            crate::shard_args::run(shard, a.runs, seconds, pool.current_num_threads()),
+            fogbank::shard_run::run(shard, a.runs, seconds, pool.current_num_threads()),
         );
         let path = a
             .out

@@ -24,7 +24,10 @@ pub mod shard;
 pub mod world;
 
 pub use error::SceneError;
-pub use render::{render, render_observed, render_piece, Progress, RenderOptions, RenderResult};
+pub use render::{
+    render, render_observed, render_piece, render_piece_observed, Progress, RenderOptions,
+    RenderResult,
+};
 pub use scene::{
     load_scene, load_scene_or, parse_scene, Scene, SceneDesc, DEFAULT_SCENE, TRANSMITTANCE_SCENE,
 };

@@ -97,8 +97,20 @@ pub fn render_piece(
     render_passes(scene, opts, piece, progress, None)
 }
 
+/// [`render_piece`], calling `after_pass(film, seconds)` after every
+/// complete pass when given (as [`render_observed`]).
+pub fn render_piece_observed(
+    scene: &Scene,
+    opts: &RenderOptions,
+    piece: &Piece,
+    progress: &Progress,
+    after_pass: Option<&mut AfterPass>,
+) -> RenderResult {
+    render_passes(scene, opts, piece, progress, after_pass)
+}
+
 /// What `render_observed` calls after each pass: (film, seconds so far).
-type AfterPass<'a> = dyn FnMut(&Film, f64) + 'a;
+pub type AfterPass<'a> = dyn FnMut(&Film, f64) + 'a;
 
 /// Passes per batch are chosen so that a batch takes about this long.
 const BATCH_SECONDS: f64 = 0.05;

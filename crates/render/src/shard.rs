@@ -110,6 +110,16 @@ impl Piece {
         }
     }
 
+    /// Pixel samples of a `width`×`height` image in the piece (a progress
+    /// bar's length).
+    pub fn pixel_samples(&self, width: u32, height: u32) -> u64 {
+        let pixels = (0..height)
+            .flat_map(|y| (0..width).map(move |x| (x, y)))
+            .filter(|&(x, y)| self.has_pixel(x, y, width))
+            .count() as u64;
+        pixels * (self.samples[1] - self.samples[0]) as u64
+    }
+
     /// Whether tile `t` is in the piece.
     pub fn has_tile(&self, t: u32) -> bool {
         self.tiles.is_none_or(|[i, n]| t % n == i)

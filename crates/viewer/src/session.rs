@@ -5,7 +5,7 @@
 //! (scene, seed, sample index) as `fogbank render`'s.
 
 use fogbank_render::world::film::Film;
-use fogbank_render::{render_observed, Progress, RenderOptions, Scene};
+use fogbank_render::{Progress, RenderOptions, Scene};
 use std::sync::atomic::Ordering;
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
@@ -105,20 +105,15 @@ impl Session {
                 *l.lock().unwrap() = Some(Arc::new(Snapshot::of(film, seconds)));
                 on_pass();
             };
-            let result = match &backend {
-                Backend::Cpu { threads } => rayon::ThreadPoolBuilder::new()
-                    .num_threads(*threads)
-                    .build()
-                    .map_err(|e| e.to_string())
-                    .map(|pool| {
-                        pool.install(|| render_observed(&scene, &opts, &p, &mut publish));
-                    }),
-                Backend::Gpu(gpu) => {
-                    fogbank_gpu::render::render_observed(gpu, &scene, &opts, &p, Some(&mut publish))
-                        .map(|_| ())
-                        .map_err(|e| e.to_string())
-                }
+            let renderer = match &backend {
+                Backend::Cpu { threads } => fogbank::Renderer::cpu(*threads),
+                Backend::Gpu(gpu) => Ok(fogbank::Renderer::gpu(gpu.clone(), 1)),
             };
+            let whole = fogbank::Piece::whole(max_spp);
+            let result = renderer
+                .and_then(|r| r.render(&scene, &opts, &whole, &p, Some(&mut publish)))
+                .map(|_| ())
+                .map_err(|e| e.message);
             if let Err(msg) = result {
                 *e.lock().unwrap() = Some(msg);
                 on_pass();

@@ -1,0 +1,22 @@
+//! fogbank's library entry point: what every front end — the `fogbank`
+//! command, the viewer, the Python package — calls to render. A front end
+//! loads a [`Scene`] ([`load_scene`]), picks a [`Renderer`] (the CPU's
+//! worker pool or a GPU), describes the work as a [`RenderJob`] (samples or
+//! a time budget, a shard) and gets a [`Rendered`] film back, with what to
+//! write ([`output`]) and report ([`stats::render_stats`]); animated scenes
+//! render as a [`frames::FrameSequence`]. Presentation (progress bars,
+//! notebooks, windows) stays with the front ends.
+
+pub mod error;
+pub mod frames;
+pub mod job;
+pub mod output;
+pub mod renderer;
+pub mod shard_run;
+pub mod stats;
+
+pub use error::{Error, ErrorKind};
+pub use fogbank_render::shard::{Piece, Shard, ShardMode};
+pub use fogbank_render::{load_scene, parse_scene, Film, Progress, RenderOptions, Scene};
+pub use job::RenderJob;
+pub use renderer::{Device, Rendered, Renderer};
