@@ -184,49 +184,8 @@ pub fn run(a: BenchArgs) -> CliResult {
     };
     eprintln!("building a {}³ cloud ...", a.resolution);
     let mut scene = cloud_scene(a.size, a.resolution, a.sigma_t_scale, a.frames)?;
-    let accuracy: Vec<Option<(f64, f64)>> = if a.stats_size > 0 {
-        let mut small = cloud_scene(a.stats_size, a.resolution, a.sigma_t_scale, 1)?;
-        small.media = scene.media.clone();
-        let pool = thread_pool(a.threads.iter().copied().max())?;
-        estimators
-            .iter()
-            .map(|&e| {
-                eprintln!(
-                    "accuracy of {} over {} frames at {}² ...",
-                    e.name(),
-                    a.stats_frames,
-                    a.stats_size
-                );
-                let s = pool
-                    .install(|| {
-                        transmittance_stats(
-                            &small,
-                            e,
-                            Some(Estimator::AnalyticTrilinear),
-                            a.stats_frames,
-                            3,
-                        )
-                    })
-                    .summary();
-                Some((s.mean_abs_bias, s.mean_std))
-            })
-            .collect()
-    } else {
-        vec![None; estimators.len()]
-    };
-    for d in &a.device {
-        if d != "cpu" && d != "gpu" {
-            return Err(format!("--device: `{d}` is not cpu or gpu").into());
-        }
-    }
-    let gpu = if a.device.iter().any(|d| d == "gpu") {
-        let g = fogbank_gpu::Gpu::new().map_err(|e| format!("--device gpu: {e}"))?;
-        eprintln!("GPU: {}", g.describe());
-        Some(g)
-    } else {
-        None
-    };
-    let rays = (a.size as u64 * a.size as u64 * a.frames as u64) as f64;
+    let accuracy = accuracy(&a, &scene, &estimators)?;
+    let gpu = open_gpu(&a)?;
     println!(
         "| estimator | threads (or gpu) | ms/frame | Mrays/s | lookups/ray | mean abs bias | mean std |"
     );
@@ -247,41 +206,12 @@ pub fn run(a: BenchArgs) -> CliResult {
                 estimator: e,
                 background: glam::Vec3::ONE,
             };
-            let opts = RenderOptions {
-                spp: a.frames,
-                seed: 1,
-                time_budget: None,
+            let row = Row {
+                label: &labels[i],
+                accuracy: accuracy[i],
+                threads,
             };
-            if let Backend::Gpu(_) = backend {
-                // One untimed frame first: pipeline compilation and upload.
-                let warm = RenderOptions {
-                    spp: 1,
-                    ..opts.clone()
-                };
-                backend.render(&scene, &warm, &Progress::default())?;
-            }
-            let r = pool.install(|| backend.render(&scene, &opts, &Progress::default()))?;
-            let (film, seconds) = (r.film, r.seconds);
-            let ms = seconds * 1000.0 / a.frames as f64;
-            let mrays = rays / seconds / 1e6;
-            let lpr = film.lookups as f64 / rays;
-            let (bias, std) = accuracy[i]
-                .map_or(("–".to_string(), "–".to_string()), |(b, s)| {
-                    (format!("{b:.5}"), format!("{s:.4}"))
-                });
-            let device = match backend {
-                Backend::Cpu => threads.to_string(),
-                Backend::Gpu(_) => backend.name().to_string(),
-            };
-            println!(
-                "| {} | {} | {:.1} | {:.2} | {:.1} | {} | {} |",
-                labels[i], device, ms, mrays, lpr, bias, std
-            );
-            rows.push(serde_json::json!({
-                "estimator": labels[i], "threads": device, "ms_per_frame": ms, "mrays_per_s": mrays,
-                "lookups_per_ray": lpr,
-                "mean_abs_bias": accuracy[i].map(|v| v.0), "mean_std": accuracy[i].map(|v| v.1),
-            }));
+            rows.push(time_row(&a, &scene, backend, &pool, row)?);
         }
     }
     if let Some(p) = &a.json {
@@ -292,4 +222,113 @@ pub fn run(a: BenchArgs) -> CliResult {
         integrator_scaling(&a)?;
     }
     Ok(())
+}
+
+/// (mean |bias|, mean std) of an estimator, when measured.
+type Accuracy = Option<(f64, f64)>;
+
+/// Mean |bias| and std of each estimator over `--stats-frames` frames at
+/// `--stats-size`² against the exact transmittance (none with size 0).
+fn accuracy(
+    a: &BenchArgs,
+    scene: &Scene,
+    estimators: &[Estimator],
+) -> Result<Vec<Accuracy>, Box<dyn std::error::Error>> {
+    if a.stats_size == 0 {
+        return Ok(vec![None; estimators.len()]);
+    }
+    let mut small = cloud_scene(a.stats_size, a.resolution, a.sigma_t_scale, 1)?;
+    small.media = scene.media.clone();
+    let pool = thread_pool(a.threads.iter().copied().max())?;
+    Ok(estimators
+        .iter()
+        .map(|&e| {
+            eprintln!(
+                "accuracy of {} over {} frames at {}² ...",
+                e.name(),
+                a.stats_frames,
+                a.stats_size
+            );
+            let s = pool
+                .install(|| {
+                    transmittance_stats(
+                        &small,
+                        e,
+                        Some(Estimator::AnalyticTrilinear),
+                        a.stats_frames,
+                        3,
+                    )
+                })
+                .summary();
+            Some((s.mean_abs_bias, s.mean_std))
+        })
+        .collect())
+}
+
+/// The GPU when `--device` names it.
+fn open_gpu(a: &BenchArgs) -> Result<Option<fogbank_gpu::Gpu>, String> {
+    for d in &a.device {
+        if d != "cpu" && d != "gpu" {
+            return Err(format!("--device: `{d}` is not cpu or gpu"));
+        }
+    }
+    if !a.device.iter().any(|d| d == "gpu") {
+        return Ok(None);
+    }
+    let g = fogbank_gpu::Gpu::new().map_err(|e| format!("--device gpu: {e}"))?;
+    eprintln!("GPU: {}", g.describe());
+    Ok(Some(g))
+}
+
+/// One table row's estimator label, accuracy and CPU thread count.
+struct Row<'a> {
+    label: &'a str,
+    accuracy: Option<(f64, f64)>,
+    threads: usize,
+}
+
+/// Times `--frames` frames of `scene` on `backend` (a GPU after one untimed
+/// frame of compilation and upload), prints the row and returns it as JSON.
+fn time_row(
+    a: &BenchArgs,
+    scene: &Scene,
+    backend: Backend,
+    pool: &rayon::ThreadPool,
+    row: Row,
+) -> Result<serde_json::Value, Box<dyn std::error::Error>> {
+    let opts = RenderOptions {
+        spp: a.frames,
+        seed: 1,
+        time_budget: None,
+    };
+    if let Backend::Gpu(_) = backend {
+        let warm = RenderOptions {
+            spp: 1,
+            ..opts.clone()
+        };
+        backend.render(scene, &warm, &Progress::default())?;
+    }
+    let r = pool.install(|| backend.render(scene, &opts, &Progress::default()))?;
+    let rays = (a.size as u64 * a.size as u64 * a.frames as u64) as f64;
+    let ms = r.seconds * 1000.0 / a.frames as f64;
+    let mrays = rays / r.seconds / 1e6;
+    let lpr = r.film.lookups as f64 / rays;
+    let (bias, std) = row
+        .accuracy
+        .map_or(("–".to_string(), "–".to_string()), |(b, s)| {
+            (format!("{b:.5}"), format!("{s:.4}"))
+        });
+    let device = match backend {
+        Backend::Cpu => row.threads.to_string(),
+        Backend::Gpu(_) => backend.name().to_string(),
+    };
+    println!(
+        "| {} | {} | {:.1} | {:.2} | {:.1} | {} | {} |",
+        row.label, device, ms, mrays, lpr, bias, std
+    );
+    Ok(serde_json::json!({
+        "estimator": row.label, "threads": device, "ms_per_frame": ms, "mrays_per_s": mrays,
+        "lookups_per_ray": lpr,
+        "mean_abs_bias": row.accuracy.map(|v| v.0), "mean_std": row.accuracy.map(|v| v.1),
+    }))
 }

@@ -4,9 +4,9 @@
 use crate::common::CliResult;
 use crate::run_args::RunArgs;
 use clap::Args;
-use fogbank_estimators::Estimator;
-use fogbank_eval::converge::{convergence, time_to_reach, write_csv, Curve};
-use fogbank_eval::{exact_reference, Backend};
+use fogbank::study::{write_curves, ConvergeJob};
+use fogbank::{Renderer, Scene};
+use fogbank_eval::converge::time_to_reach;
 use fogbank_render::{load_scene_or, TRANSMITTANCE_SCENE};
 use std::path::PathBuf;
 
@@ -31,41 +31,24 @@ pub struct ConvergeArgs {
 }
 
 pub fn run(a: ConvergeArgs) -> CliResult {
-    if !(a.seconds > 0.0 && a.seconds.is_finite()) {
-        return Err("--seconds must be positive".into());
-    }
-    let mut overrides = a.run.set.clone();
-    overrides.push("render.pixel_jitter=false".into());
-    let pool = a.run.pool()?;
+    let job = ConvergeJob {
+        estimators: a.estimators.clone(),
+        seconds: a.seconds,
+        reference: a.reference_estimator.clone(),
+        seed: a.run.seed,
+    };
+    job.check()?;
+    let renderer = Renderer::new(a.run.device.device(), a.run.threads)?;
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
-    let reference_estimator = Estimator::parse(&a.reference_estimator)
-        .filter(|e| matches!(e, Estimator::AnalyticTrilinear | Estimator::RegularTracking))
-        .ok_or_else(|| {
-            format!(
-                "--reference-estimator must be analytic_trilinear or regular_tracking, not `{}`",
-                a.reference_estimator
-            )
-        })?;
-    let gpu = a.run.gpu()?;
-    let backend = Backend::from(gpu.as_ref());
-    let base = load_scene_or(a.scene.as_deref(), TRANSMITTANCE_SCENE, &overrides)?;
-    let reference = pool.install(|| exact_reference(&base, reference_estimator));
-    let mut curves = Vec::new();
-    for name in &a.estimators {
-        let mut o = overrides.clone();
-        o.push(format!("integrator.estimator={name}"));
-        let scene = load_scene_or(a.scene.as_deref(), TRANSMITTANCE_SCENE, &o)?;
-        eprintln!("{name}: {} s ...", a.seconds);
-        let points = pool
-            .install(|| convergence(backend, &scene, a.seconds, &reference, a.run.seed))
-            .map_err(|e| format!("--device {}: {e}", backend.name()))?;
-        curves.push(Curve {
-            label: name.clone(),
-            points,
-        });
-    }
-    write_csv(&a.out.join("converge.csv"), &curves)?;
-    fogbank_eval::converge::plot(&curves, "equal-time convergence", &a.out.join("converge"))?;
+    let overrides = ConvergeJob::overrides(&a.run.set);
+    let load = |extra: &[String]| -> Result<Scene, fogbank::Error> {
+        let o: Vec<String> = overrides.iter().chain(extra).cloned().collect();
+        Ok(load_scene_or(a.scene.as_deref(), TRANSMITTANCE_SCENE, &o)?)
+    };
+    let curves = job.run(&renderer, &load, &mut |name| {
+        eprintln!("{name}: {} s ...", a.seconds)
+    })?;
+    write_curves(&curves, &a.out)?;
     // Equal-error comparison: the time each needs to reach the worst final MSE.
     let target = curves
         .iter()

@@ -82,123 +82,128 @@ pub fn run(a: InfoArgs) -> CliResult {
         return scientific_info(&a.file, name.contains(".nii") || name.ends_with(".hdr"));
     }
     match ext.as_str() {
-        "vdb" => {
-            let grids = vdb::list_grids(&a.file)?;
-            println!("{}: OpenVDB, {} grid(s)", a.file.display(), grids.len());
-            for d in grids {
-                println!(
-                    "grid `{}`: {} ({:?}){}",
-                    d.name,
-                    d.value_type,
-                    d.grid_class,
-                    if d.supported {
-                        ""
-                    } else {
-                        " — not a float scalar grid, skipped"
-                    }
-                );
-                if !d.supported {
-                    continue;
-                }
-                let g = vdb::read_grid(&a.file, Some(&d.name))?;
-                println!(
-                    "  file version {}, stored as {}, compression {}",
-                    g.file_version,
-                    if g.stored_as_half { "half" } else { "float" },
-                    g.compression
-                );
-                match g.active_bbox() {
-                    Some((lo, hi)) => println!(
-                        "  index bbox [{}, {}, {}] – [{}, {}, {}]",
-                        lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]
-                    ),
-                    None => println!("  index bbox: empty"),
-                }
-                println!("  active voxels {}", g.active_voxel_count());
-                if let Some((lo, hi)) = g.active_value_range() {
-                    println!(
-                        "  active value range [{lo}, {hi}], sum {:.6}",
-                        g.active_value_sum()
-                    );
-                }
-                println!(
-                    "  background {}, {} leaves, {} tiles",
-                    g.background,
-                    g.leaves.len(),
-                    g.tiles.len()
-                );
-                let (grid, xf) = vdb_grid::to_brick_grid(g)?;
-                print_transform(&xf);
-                print_memory(grid);
-            }
-        }
-        "vol" => {
-            let v = vol::read_vol(&a.file)?;
-            println!(
-                "{}: Mitsuba .vol, {}×{}×{}, {} channel(s), float32, bbox {:?} – {:?}",
-                a.file.display(),
-                v.dims[0],
-                v.dims[1],
-                v.dims[2],
-                v.channels,
-                v.bbox_min,
-                v.bbox_max
-            );
-            for c in 0..v.channels {
-                let (lo, hi, s) = range_and_sum(
-                    v.data
-                        .iter()
-                        .skip(c as usize)
-                        .step_by(v.channels as usize)
-                        .copied(),
-                );
-                let channel = v.data.iter().skip(c as usize).step_by(v.channels as usize);
-                let non_zero = channel.filter(|x| **x != 0.0).count();
-                println!(
-                    "  channel {c}: range [{lo}, {hi}], sum {s:.6}, {non_zero} non-zero voxels"
-                );
-            }
-            print_transform(&v.index_to_world());
-            print_memory(v.channel_grid(0)?);
-        }
-        "raw" => {
-            let dims = a.dims.map(|d| [d[0], d[1], d[2]]);
-            let ty = match &a.ty {
-                Some(t) => Some(
-                    raw::RawType::parse(t)
-                        .ok_or_else(|| format!("--type: unknown raw type `{t}`"))?,
-                ),
-                None => None,
-            };
-            let g = raw::read_raw(&a.file, dims, ty)?;
-            let d = g.dims();
-            let values = (0..d[2])
-                .flat_map(|k| (0..d[1]).flat_map(move |j| (0..d[0]).map(move |i| (i, j, k))));
-            let (lo, hi, s) =
-                range_and_sum(values.map(|(i, j, k)| g.fetch(i as i32, j as i32, k as i32)));
-            println!(
-                "{}: raw {}×{}×{} (values normalised to [0, 1] for integer types)",
-                a.file.display(),
-                d[0],
-                d[1],
-                d[2]
-            );
-            let non_zero = (0..d[2])
-                .flat_map(|k| (0..d[1]).flat_map(move |j| (0..d[0]).map(move |i| (i, j, k))))
-                .filter(|&(i, j, k)| g.fetch(i as i32, j as i32, k as i32) != 0.0)
-                .count();
-            println!("  value range [{lo}, {hi}], sum {s:.6}, {non_zero} non-zero voxels");
-            print_transform(&fogbank_volume::medium::unit_box_transform(d));
-            print_memory(g);
-        }
-        _ => {
-            return Err(format!(
-                "{}: unknown volume format (expected .vdb, .vol, .raw, .nii, .nii.gz, .hdr, .nrrd or .nhdr)",
-                a.file.display()
-            )
-            .into())
-        }
+        "vdb" => vdb_info(&a),
+        "vol" => vol_info(&a),
+        "raw" => raw_info(&a),
+        _ => Err(format!(
+            "{}: unknown volume format (expected .vdb, .vol, .raw, .nii, .nii.gz, .hdr, .nrrd or .nhdr)",
+            a.file.display()
+        )
+        .into()),
     }
+}
+
+/// Every grid of an OpenVDB file.
+fn vdb_info(a: &InfoArgs) -> CliResult {
+    let grids = vdb::list_grids(&a.file)?;
+    println!("{}: OpenVDB, {} grid(s)", a.file.display(), grids.len());
+    for d in grids {
+        println!(
+            "grid `{}`: {} ({:?}){}",
+            d.name,
+            d.value_type,
+            d.grid_class,
+            if d.supported {
+                ""
+            } else {
+                " — not a float scalar grid, skipped"
+            }
+        );
+        if !d.supported {
+            continue;
+        }
+        let g = vdb::read_grid(&a.file, Some(&d.name))?;
+        println!(
+            "  file version {}, stored as {}, compression {}",
+            g.file_version,
+            if g.stored_as_half { "half" } else { "float" },
+            g.compression
+        );
+        match g.active_bbox() {
+            Some((lo, hi)) => println!(
+                "  index bbox [{}, {}, {}] – [{}, {}, {}]",
+                lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]
+            ),
+            None => println!("  index bbox: empty"),
+        }
+        println!("  active voxels {}", g.active_voxel_count());
+        if let Some((lo, hi)) = g.active_value_range() {
+            println!(
+                "  active value range [{lo}, {hi}], sum {:.6}",
+                g.active_value_sum()
+            );
+        }
+        println!(
+            "  background {}, {} leaves, {} tiles",
+            g.background,
+            g.leaves.len(),
+            g.tiles.len()
+        );
+        let (grid, xf) = vdb_grid::to_brick_grid(g)?;
+        print_transform(&xf);
+        print_memory(grid);
+    }
+    Ok(())
+}
+
+/// A Mitsuba `.vol` grid, channel by channel.
+fn vol_info(a: &InfoArgs) -> CliResult {
+    let v = vol::read_vol(&a.file)?;
+    println!(
+        "{}: Mitsuba .vol, {}×{}×{}, {} channel(s), float32, bbox {:?} – {:?}",
+        a.file.display(),
+        v.dims[0],
+        v.dims[1],
+        v.dims[2],
+        v.channels,
+        v.bbox_min,
+        v.bbox_max
+    );
+    for c in 0..v.channels {
+        let (lo, hi, s) = range_and_sum(
+            v.data
+                .iter()
+                .skip(c as usize)
+                .step_by(v.channels as usize)
+                .copied(),
+        );
+        let channel = v.data.iter().skip(c as usize).step_by(v.channels as usize);
+        let non_zero = channel.filter(|x| **x != 0.0).count();
+        println!("  channel {c}: range [{lo}, {hi}], sum {s:.6}, {non_zero} non-zero voxels");
+    }
+    print_transform(&v.index_to_world());
+    print_memory(v.channel_grid(0)?);
+    Ok(())
+}
+
+/// A raw grid (`--dims`, `--type` when its name does not say).
+fn raw_info(a: &InfoArgs) -> CliResult {
+    let dims = a.dims.as_ref().map(|d| [d[0], d[1], d[2]]);
+    let ty = match &a.ty {
+        Some(t) => {
+            Some(raw::RawType::parse(t).ok_or_else(|| format!("--type: unknown raw type `{t}`"))?)
+        }
+        None => None,
+    };
+    let g = raw::read_raw(&a.file, dims, ty)?;
+    let d = g.dims();
+    let values =
+        (0..d[2]).flat_map(|k| (0..d[1]).flat_map(move |j| (0..d[0]).map(move |i| (i, j, k))));
+    let (lo, hi, s) = range_and_sum(values.map(|(i, j, k)| g.fetch(i as i32, j as i32, k as i32)));
+    println!(
+        "{}: raw {}×{}×{} (values normalised to [0, 1] for integer types)",
+        a.file.display(),
+        d[0],
+        d[1],
+        d[2]
+    );
+    let non_zero = (0..d[2])
+        .flat_map(|k| (0..d[1]).flat_map(move |j| (0..d[0]).map(move |i| (i, j, k))))
+        .filter(|&(i, j, k)| g.fetch(i as i32, j as i32, k as i32) != 0.0)
+        .count();
+    println!("  value range [{lo}, {hi}], sum {s:.6}, {non_zero} non-zero voxels");
+    print_transform(&fogbank_volume::medium::unit_box_transform(d));
+    print_memory(g);
     Ok(())
 }
 

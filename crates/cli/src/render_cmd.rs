@@ -69,7 +69,7 @@ pub enum DeviceArg {
 }
 
 impl DeviceArg {
-    fn device(self) -> Device {
+    pub(crate) fn device(self) -> Device {
         match self {
             DeviceArg::Cpu => Device::Cpu,
             DeviceArg::Gpu => Device::Gpu,

@@ -17,20 +17,3 @@ pub struct RunArgs {
     #[arg(long, value_enum, default_value_t = Device::Cpu)]
     pub device: Device,
 }
-
-impl RunArgs {
-    /// The rayon pool of `--threads`.
-    pub fn pool(&self) -> Result<rayon::ThreadPool, Box<dyn std::error::Error>> {
-        crate::common::thread_pool(self.threads)
-    }
-
-    /// The GPU with `--device gpu`, `None` with `--device cpu`.
-    pub fn gpu(&self) -> Result<Option<fogbank_gpu::Gpu>, String> {
-        match self.device {
-            Device::Cpu => Ok(None),
-            Device::Gpu => fogbank_gpu::Gpu::new()
-                .map(Some)
-                .map_err(|e| format!("--device gpu: {e}")),
-        }
-    }
-}

@@ -4,7 +4,9 @@
 //! worker pool or a GPU), describes the work as a [`RenderJob`] (samples or
 //! a time budget, a shard) and gets a [`Rendered`] film back, with what to
 //! write ([`output`]) and report ([`stats::render_stats`]); animated scenes
-//! render as a [`frames::FrameSequence`]. Presentation (progress bars,
+//! render as a [`frames::FrameSequence`]; an estimator's per-pixel
+//! statistics over independent frames are a [`study::StatsJob`].
+//! Presentation (progress bars,
 //! notebooks, windows) stays with the front ends.
 
 pub mod error;
@@ -14,6 +16,7 @@ pub mod output;
 pub mod renderer;
 pub mod shard_run;
 pub mod stats;
+pub mod study;
 
 pub use error::{Error, ErrorKind};
 pub use fogbank_render::shard::{Piece, Shard, ShardMode};
