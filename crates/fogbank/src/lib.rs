@@ -5,7 +5,8 @@
 //! a time budget, a shard) and gets a [`Rendered`] film back, with what to
 //! write ([`output`]) and report ([`stats::render_stats`]); animated scenes
 //! render as a [`frames::FrameSequence`]; an estimator's per-pixel
-//! statistics over independent frames are a [`study::StatsJob`].
+//! statistics over independent frames are a [`study::StatsJob`]; estimators
+//! on the caller's own rays are [`rays`].
 //! Presentation (progress bars,
 //! notebooks, windows) stays with the front ends.
 
@@ -13,6 +14,7 @@ pub mod error;
 pub mod frames;
 pub mod job;
 pub mod output;
+pub mod rays;
 pub mod renderer;
 pub mod shard_run;
 pub mod stats;

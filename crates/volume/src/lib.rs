@@ -19,6 +19,7 @@ pub mod occupied;
 pub mod plume;
 pub mod procedural;
 pub mod supervoxel;
+pub mod voxel_array;
 
 pub use access::{Filter, GridView, VolumeAccess};
 pub use analytic::{AnalyticField, AnalyticKind, AnalyticView};
@@ -29,3 +30,4 @@ pub use grid_builder::BrickGridBuilder;
 pub use medium::{DensityData, Medium, MediumView};
 pub use occupied::Occupied;
 pub use supervoxel::{SuperVoxel, SuperVoxelGrid, ZERO_NEAREST, ZERO_TRILINEAR};
+pub use voxel_array::{DenseArray, VoxelArray};

@@ -2,6 +2,7 @@
 //! emission colour, temperature): a grid placed in the world like the
 //! density, looked up with trilinear interpolation at scattering vertices.
 
+use super::arrays;
 use crate::error::SceneError;
 use fogbank_math::{DAffine3, Vec3};
 use fogbank_volume::loaders::{self as scalar_files, raw, vdb, vdb_grid, vol};
@@ -13,7 +14,8 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// The source of a scalar field (density, albedo, emission, temperature).
-/// Exactly one source key: `vdb`, `vol`, `raw`, `nifti`, `nrrd` or `procedural`.
+/// Exactly one source key: `vdb`, `vol`, `raw`, `nifti`, `nrrd`, `array` or
+/// `procedural`.
 ///
 /// | source | further keys |
 /// |---|---|
@@ -22,6 +24,7 @@ use std::path::Path;
 /// | `raw = "f.raw"` | `dims = [x, y, z]`, `type = "u8"/"u16"/"f32"` (or from a `name_XxYxZ_uint8.raw` file name) |
 /// | `nifti = "f.nii.gz"` | `channel` (the 3D volume of a 4D file, 0); placed by the sform/qform in RAS millimetres; values rescaled from their range onto [0, 1] |
 /// | `nrrd = "f.nrrd"` / `"f.nhdr"` | `channel` (entry of a non-spatial axis, 0); placed by `space directions`/`space origin`, LPS turned to RAS; values rescaled onto [0, 1] |
+/// | `array = "array:3"` | `channel` (default 0; a 3-channel array without it is an RGB field); an in-memory array (`fogbank.Grid` from numpy), placed by its own box (see [`super::arrays`]) |
 /// | `procedural = "cloud"` | `resolution` (128), `seed` (7) |
 /// | `procedural = "explosion"` | `resolution` (128), `seed` (7), `quantity` = `"density"` (default) or `"temperature"` (kelvin, for blackbody emission) |
 /// | `procedural = "plume"` | `resolution` (128), `seed` (7), `time` (seconds, 0; an `[animation]` adds frame/fps); rising, swirling smoke with an analytic velocity |
@@ -43,6 +46,9 @@ pub struct FieldDesc {
     /// non-spatial axis. Placed by `space directions`/`space origin` (RAS).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub nrrd: Option<String>,
+    /// An in-memory array registered by name ([`super::arrays`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub array: Option<String>,
     pub dims: Option<[u32; 3]>,
     #[serde(rename = "type")]
     pub ty: Option<String>,
@@ -86,21 +92,21 @@ impl Field {
         base: &Path,
         to_world: DAffine3,
     ) -> Result<Field, SceneError> {
-        let (channels, file_xf, source) = match &d.vol {
-            // A 3-channel .vol without `channel` is an RGB grid (Mitsuba's
-            // convention for albedo).
-            Some(f) if d.channel.is_none() => {
+        let (channels, file_xf, source) = match (&d.vol, &d.array) {
+            // A 3-channel .vol or array without `channel` is an RGB grid
+            // (Mitsuba's convention for albedo).
+            (Some(f), None) if d.channel.is_none() => {
                 let path = base.join(f);
                 let v = vol::read_vol(&path).map_err(|e| SceneError(format!("{key}: {e}")))?;
-                let n = if v.channels == 3 { 3 } else { 1 };
-                let channels = (0..n)
-                    .map(|c| {
-                        v.channel_grid(c)
-                            .map(|g| DensityData::from_f32(g, Precision::F32))
-                            .map_err(|e| SceneError(format!("{key}: {e}")))
-                    })
-                    .collect::<Result<Vec<_>, _>>()?;
+                let grids = (0..v.channels.min(3)).map(|c| v.channel_grid(c));
+                let channels = rgb_or_scalar(v.channels, grids, key)?;
                 (channels, v.index_to_world(), path.display().to_string())
+            }
+            (None, Some(name)) if d.channel.is_none() && d.procedural.is_none() => {
+                let a = arrays::get(name, key)?;
+                let grids = (0..a.channels().min(3)).map(|c| a.channel_grid(c));
+                let channels = rgb_or_scalar(a.channels(), grids, key)?;
+                (channels, a.index_to_world(), a.describe())
             }
             _ => {
                 let f = field_data(d, key, base, Precision::F32)?;
@@ -191,6 +197,22 @@ impl Field {
     }
 }
 
+/// The channel grids of a field: three for an RGB source, else the first.
+fn rgb_or_scalar(
+    channels: u32,
+    grids: impl Iterator<Item = fogbank_volume::Result<BrickGrid<f32>>>,
+    key: &str,
+) -> Result<Vec<DensityData>, SceneError> {
+    let n = if channels == 3 { 3 } else { 1 };
+    grids
+        .take(n)
+        .map(|g| {
+            g.map(|g| DensityData::from_f32(g, Precision::F32))
+                .map_err(|e| SceneError(format!("{key}: {e}")))
+        })
+        .collect()
+}
+
 fn analytic_kind(name: &str, d: &FieldDesc, key: &str) -> Result<AnalyticKind, SceneError> {
     Ok(match name {
         "empty" => AnalyticKind::Empty,
@@ -255,11 +277,12 @@ pub fn field_data(
         d.raw.is_some(),
         d.nifti.is_some(),
         d.nrrd.is_some(),
+        d.array.is_some(),
         d.procedural.is_some(),
     ];
     if sources.iter().filter(|&&s| s).count() != 1 {
         return Err(SceneError(format!(
-            "{key}: give exactly one of `vdb`, `vol`, `raw`, `nifti`, `nrrd`, `procedural`"
+            "{key}: give exactly one of `vdb`, `vol`, `raw`, `nifti`, `nrrd`, `array`, `procedural`"
         )));
     }
     if d.quantity.is_some() && d.procedural.as_deref() != Some("explosion") {
@@ -314,6 +337,19 @@ pub fn field_data(
             DensityData::from_f32(grid, precision),
             v.index_to_world(),
             path.display().to_string(),
+        ));
+    }
+    if let Some(name) = &d.array {
+        // As a `.vol` file with the same voxels and box reads.
+        let a = arrays::get(name, key)?;
+        let grid = a
+            .channel_grid(d.channel.unwrap_or(0))
+            .map_err(err)?
+            .map_values(|x| x.max(0.0));
+        return Ok(FieldData::new(
+            DensityData::from_f32(grid, precision),
+            a.index_to_world(),
+            a.describe(),
         ));
     }
     if let Some(f) = &d.raw {

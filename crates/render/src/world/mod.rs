@@ -1,6 +1,7 @@
 //! The world an integrator renders: camera, media with their property
 //! fields and emission, and lights. Nothing here knows the integrators.
 
+pub mod arrays;
 pub mod bitmap;
 pub mod blackbody;
 pub mod bsdf;

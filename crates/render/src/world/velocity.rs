@@ -6,6 +6,7 @@
 //! | key | meaning |
 //! |---|---|
 //! | `vdb = "f_{frame:04}.vdb"` | a `vec3s` grid (float or half, any compression), taken as vectors in the file's world space (OpenVDB's `is_in_world_space`, as Houdini and Blender write velocities), units per second, turned by the medium's `to_world`; `grid` names it (default `vel`, `v`, `velocity`, else the first vec3s grid) |
+//! | `array = "array:3"` | an in-memory 3-channel array (`fogbank.Grid` of shape (z, y, x, 3) from numpy), placed by its own box and the medium's `to_world`, vectors in that box's world space, units per second |
 //! | `constant = [x, y, z]` | the same velocity everywhere (world units per second) |
 //! | `procedural = "plume"` | the analytic velocity of `density = { procedural = "plume" }` (its default) |
 //!
@@ -28,6 +29,8 @@ pub struct VelocityDesc {
     pub vdb: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub grid: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub array: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub constant: Option<[f32; 3]>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -97,12 +100,13 @@ impl Velocity {
         let key = format!("{key}.velocity");
         let given = [
             v.vdb.is_some(),
+            v.array.is_some(),
             v.constant.is_some(),
             v.procedural.is_some(),
         ];
         if given.iter().filter(|&&g| g).count() != 1 {
             return Err(SceneError(format!(
-                "{key}: give exactly one of `vdb`, `constant`, `procedural`"
+                "{key}: give exactly one of `vdb`, `array`, `constant`, `procedural`"
             )));
         }
         if v.grid.is_some() && v.vdb.is_none() {
@@ -126,6 +130,9 @@ impl Velocity {
                 )));
             }
             return Ok(Some(plume()));
+        }
+        if let Some(name) = &v.array {
+            return Ok(Some(array_velocity(name, &key, placement)?));
         }
         let file = v.vdb.as_deref().unwrap_or_default();
         let path = base.join(file);
@@ -154,4 +161,29 @@ impl Velocity {
             to_world: placement.matrix3.as_mat3(),
         }))
     }
+}
+
+/// The velocity of a 3-channel in-memory array (`array = "array:3"`).
+fn array_velocity(name: &str, key: &str, placement: DAffine3) -> Result<Velocity, SceneError> {
+    let a = super::arrays::get(name, key)?;
+    if a.channels() != 3 {
+        return Err(SceneError(format!(
+            "{key}.array: {} has {} value(s) per voxel; a velocity has 3",
+            a.describe(),
+            a.channels()
+        )));
+    }
+    let channels = (0..3)
+        .map(|c| {
+            a.channel_grid(c)
+                .map(|g| DensityData::from_f32(g, Precision::F32))
+                .map_err(|e| SceneError(format!("{key}: {e}")))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let field = Field::from_channels(channels, placement * a.index_to_world(), a.describe())
+        .map_err(|SceneError(e)| SceneError(format!("{key}: {e}")))?;
+    Ok(Velocity::Grid {
+        field,
+        to_world: placement.matrix3.as_mat3(),
+    })
 }

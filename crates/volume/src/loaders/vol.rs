@@ -15,7 +15,7 @@
 
 use crate::grid::BrickGrid;
 use crate::{Result, VolumeError};
-use fogbank_math::{DAffine3, DVec3};
+use fogbank_math::DAffine3;
 use std::path::Path;
 
 #[derive(Clone, Debug)]
@@ -128,10 +128,11 @@ impl VolFile {
 
     /// Index `p ∈ [0, res]` ↦ `bbox_min + p / res · (bbox_max − bbox_min)`.
     pub fn index_to_world(&self) -> DAffine3 {
-        let lo = DVec3::from(self.bbox_min.map(f64::from));
-        let hi = DVec3::from(self.bbox_max.map(f64::from));
-        let res = DVec3::from(self.dims.map(f64::from));
-        DAffine3::from_scale_rotation_translation((hi - lo) / res, glam::DQuat::IDENTITY, lo)
+        crate::voxel_array::box_transform(
+            self.dims,
+            self.bbox_min.map(f64::from),
+            self.bbox_max.map(f64::from),
+        )
     }
 }
 
