@@ -90,7 +90,11 @@ impl Rays<'_> {
     fn unit(&self, i: usize) -> (Ray, f32, f32) {
         let d = Vec3::from(self.directions[i]);
         let len2 = d.length_squared();
-        let len = if (len2 - 1.0).abs() <= 1e-6 { 1.0 } else { len2.sqrt() };
+        let len = if (len2 - 1.0).abs() <= 1e-6 {
+            1.0
+        } else {
+            len2.sqrt()
+        };
         (
             Ray::new(Vec3::from(self.origins[i]), d / len),
             self.t_max[i] * len,
@@ -230,6 +234,16 @@ fn flight(
     Ok((t, weight, lookups))
 }
 
+/// Row-major N×samples free flights.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Flights {
+    /// Distances in the caller's units, ∞ on escape.
+    pub t: Vec<f64>,
+    /// The weight each sample carries (1 for free-flight samplers).
+    pub weight: Vec<f64>,
+    pub lookups: Vec<u32>,
+}
+
 /// `samples` distances of `sampler` along each ray through `medium`:
 /// row-major N×samples distances (∞ on escape), weights and lookups.
 pub fn sample_distance_on_rays(
@@ -240,7 +254,7 @@ pub fn sample_distance_on_rays(
     samples: u32,
     seed: u32,
     progress: &Progress,
-) -> Result<(Vec<f64>, Vec<f64>, Vec<u32>), Error> {
+) -> Result<Flights, Error> {
     rays.check(samples)?;
     if sampler == FlightSampler::AnalyticTrilinear
         && matches!(medium.view(), MediumView::Analytic(_))
@@ -269,7 +283,11 @@ pub fn sample_distance_on_rays(
                 Ok::<(), Error>(())
             })
     })?;
-    Ok((t, w, lookups))
+    Ok(Flights {
+        t,
+        weight: w,
+        lookups,
+    })
 }
 
 /// The rays through the pixel centres of `scene`'s camera, row by row (ray

@@ -55,7 +55,12 @@ fn estimates_on_camera_rays_are_the_transmittance_render() {
             // The film sums the f32 radiance (background 1) exactly.
             let mut sum = fogbank_math::ExactSum::default();
             est[i * 3..i * 3 + 3].iter().for_each(|&v| sum.add_f64(v));
-            assert_eq!(px.sum[0].to_le_bytes(), sum.to_le_bytes(), "{}: pixel {i}", e.name());
+            assert_eq!(
+                px.sum[0].to_le_bytes(),
+                sum.to_le_bytes(),
+                "{}: pixel {i}",
+                e.name()
+            );
         }
         assert_eq!(
             film.lookups,
@@ -153,5 +158,5 @@ fn bad_rays_and_samplers_are_refused_naming_the_ray() {
         &Progress::default(),
     )
     .unwrap();
-    assert_eq!(ok.0.len(), 4);
+    assert_eq!(ok.t.len(), 4);
 }
