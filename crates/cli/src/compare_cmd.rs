@@ -1,10 +1,9 @@
 //! `fogbank compare REFERENCE TEST`: image metrics of a test image against
 //! a reference (EXR or PNG).
 
-use fogbank_eval::metrics::{
-    self, FlipMode, FlipOptions, FlipResult, Image, Metric, Tonemapper, ZTest,
-};
-use serde_json::{json, Map, Value};
+use fogbank::compare::{compare, parse_metrics, CompareOptions, Outcome};
+use fogbank_eval::metrics::{self, Image, Metric};
+use serde_json::{Map, Value};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -35,62 +34,11 @@ pub struct CompareArgs {
 }
 
 pub fn run(a: CompareArgs) -> crate::common::CliResult {
-    let mut wanted: Vec<Metric> = Vec::new();
-    let mut explicit_ztest = false;
-    for name in &a.metric {
-        for m in Metric::parse(name)? {
-            explicit_ztest |= m == Metric::Ztest && !name.trim().eq_ignore_ascii_case("all");
-            if !wanted.contains(&m) {
-                wanted.push(m);
-            }
-        }
-    }
-    let flip_options = FlipOptions {
-        mode: match a.flip_mode.to_ascii_lowercase().as_str() {
-            "auto" => FlipMode::Auto,
-            "ldr" => FlipMode::Ldr,
-            "hdr" => FlipMode::Hdr,
-            other => {
-                return Err(format!("--flip-mode: expected auto, ldr or hdr, got {other:?}").into())
-            }
-        },
-        ppd: a.ppd.unwrap_or_else(metrics::flip::default_ppd),
-        tonemapper: match a.tonemapper.to_ascii_lowercase().as_str() {
-            "aces" => Tonemapper::Aces,
-            "hable" => Tonemapper::Hable,
-            "reinhard" => Tonemapper::Reinhard,
-            other => {
-                return Err(format!(
-                    "--tonemapper: expected aces, hable or reinhard, got {other:?}"
-                )
-                .into())
-            }
-        },
-        ..FlipOptions::default()
-    };
-
+    let (wanted, explicit_ztest) = parse_metrics(&a.metric)?;
+    let opts = CompareOptions::new(&a.flip_mode, a.ppd, &a.tonemapper, a.alpha)?;
     let (reference, test) = metrics::read_pair(&a.reference, &a.test)?;
-    let has_variance = reference.variance.is_some() || test.variance.is_some();
-
-    let mut results: Vec<(Metric, Outcome)> = Vec::new();
-    for m in wanted {
-        let outcome = match m {
-            Metric::Rmse => Outcome::Scalar(metrics::rmse(&reference, &test)?),
-            Metric::Relmse => Outcome::Scalar(metrics::relmse(&reference, &test)?),
-            Metric::Smape => Outcome::Scalar(metrics::smape(&reference, &test)?),
-            Metric::Flip => Outcome::Flip(metrics::flip_with(&reference, &test, &flip_options)?),
-            Metric::Ztest if !has_variance && !explicit_ztest => Outcome::Skipped(
-                "neither image has a variance layer (fogbank writes one when spp > 1)",
-            ),
-            Metric::Ztest => Outcome::Ztest(
-                metrics::ztest_with(&reference, &test, a.alpha).map_err(|e| {
-                    format!("{} vs {}: {e}", a.reference.display(), a.test.display())
-                })?,
-            ),
-        };
-        results.push((m, outcome));
-    }
-
+    let results = compare(&reference, &test, &wanted, explicit_ztest, &opts)
+        .map_err(|e| format!("{} vs {}: {e}", a.reference.display(), a.test.display()))?;
     if a.json {
         let mut obj = Map::new();
         for (m, o) in &results {
@@ -101,24 +49,6 @@ pub fn run(a: CompareArgs) -> crate::common::CliResult {
         print_table(&a, &reference, &test, &results);
     }
     Ok(())
-}
-
-enum Outcome {
-    Scalar(f64),
-    Flip(FlipResult),
-    Ztest(ZTest),
-    Skipped(&'static str),
-}
-
-impl Outcome {
-    fn to_json(&self) -> Value {
-        match self {
-            Outcome::Scalar(v) => json!(v),
-            Outcome::Flip(f) => serde_json::to_value(f).unwrap_or(Value::Null),
-            Outcome::Ztest(z) => serde_json::to_value(z).unwrap_or(Value::Null),
-            Outcome::Skipped(why) => json!({ "skipped": why }),
-        }
-    }
 }
 
 fn describe(path: &std::path::Path, img: &Image) -> String {

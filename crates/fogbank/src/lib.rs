@@ -10,6 +10,7 @@
 //! Presentation (progress bars,
 //! notebooks, windows) stays with the front ends.
 
+pub mod compare;
 pub mod error;
 pub mod frames;
 pub mod job;

@@ -276,6 +276,22 @@ pub fn write_png(
         .map_err(|e| format!("{}: {e}", path.display()))
 }
 
+/// The PNG file [`write_png`] writes, in memory (a notebook shows it).
+pub fn encode_png(
+    width: u32,
+    height: u32,
+    rgb: &[[f32; 3]],
+    tone: &ToneMapping,
+) -> Result<Vec<u8>, String> {
+    use image::ImageEncoder;
+    let bytes: Vec<u8> = rgb.iter().flat_map(|&p| tone.display8(p)).collect();
+    let mut out = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut out)
+        .write_image(&bytes, width, height, image::ExtendedColorType::Rgb8)
+        .map_err(|e| format!("PNG: {e}"))?;
+    Ok(out)
+}
+
 /// Writes named RGB layers (`NAME.R/G/B`; plain `R/G/B` for an empty name)
 /// and an optional scalar channel (`NAME.Y`) into one EXR part.
 pub fn write_exr_channels(
