@@ -132,29 +132,29 @@ def merge(parts: Sequence[Union[Image, Part, PathLike]], allow_partial: bool = F
 
 
 def transmittance(medium: Union[Medium, Grid], origins: Any, directions: Any, t_max: Any,
-                  estimator: str = "jackknife", seed: int = 0, samples: int = 1,
+                  estimator: str = "jackknife", seed: int = 0, per_ray: int = 1,
                   threads: Optional[int] = None, **options: Any) -> Tuple[np.ndarray, np.ndarray]:
     """Transmittance estimates along your own rays: returns (estimates,
-    lookups), float64 and uint32 arrays of N (or N×samples).
+    lookups), float64 and uint32 arrays of N (or N×per_ray).
 
     | parameter | meaning |
     |---|---|
     | `medium` | a scene's medium (`scene.media[i]`: its transform, σ_t scale and filter) or a `Grid` (then `sigma_t_scale=`, `filter=` as a medium's keys) |
     | `origins`, `directions` | N×3 arrays; a ray is `o + t·d`, `d` of any length |
     | `t_max` | a number or N: where each segment ends, in units of its `d` (inf: through the medium) |
-    | `estimator` | a name from `estimators()`; its options as keywords (`samples=8`, `roulette=0.1`) |
-    | `seed`, `samples` | sample `j` of ray `i` uses the stream (seed, i, j): the transmittance integrator's stream of pixel `i`, so on `scene.camera_rays()` with seed = the scene's these are a transmittance render's per-pixel samples |
+    | `estimator` | a name from `estimators()`; its options as keywords (`samples=8` for the jackknife's optical-depth samples, `roulette=0.1`) |
+    | `seed`, `per_ray` | `per_ray` independent estimates per ray; estimate `j` of ray `i` uses the stream (seed, i, j): the transmittance integrator's stream of pixel `i`'s sample `j`, so on `scene.camera_rays()` with the scene's seed these are a transmittance render's per-pixel samples |
     """
-    return _native.transmittance(medium, origins, directions, t_max, estimator, seed, samples,
+    return _native.transmittance(medium, origins, directions, t_max, estimator, seed, per_ray,
                                  threads, **options)
 
 
 def sample_distance(medium: Union[Medium, Grid], origins: Any, directions: Any, t_max: Any,
-                    sampler: str = "delta_tracking", seed: int = 0, samples: int = 1,
+                    sampler: str = "delta_tracking", seed: int = 0, per_ray: int = 1,
                     threads: Optional[int] = None, light: Optional[Sequence[float]] = None,
                     **options: Any) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Free-flight distances along your own rays: returns (t, weight,
-    lookups) arrays of N (or N×samples); `t` is inf when the ray escapes.
+    lookups) arrays of N (or N×per_ray); `t` is inf when the ray escapes.
 
     | sampler | density of t | weight |
     |---|---|---|
@@ -164,7 +164,7 @@ def sample_distance(medium: Union[Medium, Grid], origins: Any, directions: Any, 
 
     Rays, seeds and the medium as for `transmittance`.
     """
-    return _native.sample_distance(medium, origins, directions, t_max, sampler, seed, samples,
+    return _native.sample_distance(medium, origins, directions, t_max, sampler, seed, per_ray,
                                    threads, None if light is None else tuple(light), **options)
 
 

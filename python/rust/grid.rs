@@ -16,7 +16,8 @@
 //! of index space, mapped onto `bbox` (default: fogbank's box for grids
 //! without one, `[-½, ½]` along the longest axis, centred, keeping aspect,
 //! as for `.raw` files and procedural media), then by `to_world` (a 4×4
-//! affine matrix), then by the medium's own `to_world`.
+//! affine matrix), then by the medium's own `to_world`; or by
+//! `index_to_world` alone (index space straight to the world).
 
 use crate::errors::{guarded, invalid};
 use fogbank_volume::medium::unit_box_transform;
@@ -228,17 +229,20 @@ fn first_non_finite(v: &NumpyVoxels) -> Option<(u32, u32, u32, u32, f64)> {
 
 #[pymethods]
 impl Grid {
-    /// `Grid(array, to_world=None, bbox=None)`: `array` a float16/32/64
-    /// numpy array of shape (z, y, x) or (z, y, x, 3); `bbox` the box the
-    /// index space maps onto, ((x0, y0, z0), (x1, y1, z1)); `to_world` a 4×4
-    /// affine matrix applied after it.
+    /// `Grid(array, to_world=None, bbox=None, index_to_world=None)`:
+    /// `array` a float16/32/64 numpy array of shape (z, y, x) or (z, y, x,
+    /// 3); `bbox` the box the index space maps onto, ((x0, y0, z0), (x1,
+    /// y1, z1)); `to_world` a 4×4 affine matrix applied after it; or
+    /// `index_to_world`, the 4×4 matrix from index space [0, dims] to the
+    /// world (another grid's `index_to_world`, a scanner's affine).
     #[new]
-    #[pyo3(signature = (array, to_world=None, bbox=None))]
+    #[pyo3(signature = (array, to_world=None, bbox=None, index_to_world=None))]
     fn new(
         py: Python<'_>,
         array: Bound<'_, PyAny>,
         to_world: Option<Bound<'_, PyAny>>,
         bbox: Option<Bound<'_, PyAny>>,
+        index_to_world: Option<Bound<'_, PyAny>>,
     ) -> PyResult<Grid> {
         let np = py.import("numpy")?;
         if !array.is_instance(&np.getattr("ndarray")?)? {
@@ -279,16 +283,27 @@ impl Grid {
             .get_item("data")?
             .get_item(0)?
             .extract()?;
-        let mut placement = match &bbox {
-            Some(b) => {
-                let (lo, hi) = bbox_of(b)?;
-                box_transform(dims, lo, hi)
+        let placement = match (&index_to_world, &bbox, &to_world) {
+            (Some(m), None, None) => affine(m, "index_to_world")?,
+            (Some(_), _, _) => {
+                return Err(PyValueError::new_err(
+                    "index_to_world: give it alone, or bbox and to_world",
+                ))
             }
-            None => unit_box_transform(dims),
+            (None, b, m) => {
+                let boxed = match b {
+                    Some(b) => {
+                        let (lo, hi) = bbox_of(b)?;
+                        box_transform(dims, lo, hi)
+                    }
+                    None => unit_box_transform(dims),
+                };
+                match m {
+                    Some(m) => affine(m, "to_world")? * boxed,
+                    None => boxed,
+                }
+            }
         };
-        if let Some(m) = &to_world {
-            placement = affine(m, "to_world")? * placement;
-        }
         let source = format!(
             "numpy {} array {}×{}×{}{}",
             array.getattr("dtype")?.str()?,

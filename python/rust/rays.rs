@@ -129,7 +129,10 @@ fn rays_of<'py>(
     };
     let o = n3(origins, "origins")?;
     let d = n3(directions, "directions")?;
-    let t_arr = as_f32(t_max, "t_max")?;
+    // asarray, not ascontiguousarray, which makes a scalar 1-D.
+    let t_arr = np
+        .call_method1("asarray", (t_max, "float32"))
+        .map_err(|e| invalid(format!("t_max: {e}")))?;
     let t = if t_arr.getattr("ndim")?.extract::<usize>()? == 0 {
         vec![t_arr.extract::<f32>()?; o.len()]
     } else {
@@ -161,7 +164,7 @@ fn shaped<'py, T: numpy::Element>(
 /// Transmittance estimates along the caller's rays; see
 /// `fogbank.transmittance`. Returns (estimates, lookups).
 #[pyfunction]
-#[pyo3(signature = (medium, origins, directions, t_max, estimator="jackknife", seed=0, samples=1, threads=None, **options))]
+#[pyo3(signature = (medium, origins, directions, t_max, estimator="jackknife", seed=0, per_ray=1, threads=None, **options))]
 #[allow(clippy::too_many_arguments)]
 pub fn transmittance<'py>(
     py: Python<'py>,
@@ -171,7 +174,7 @@ pub fn transmittance<'py>(
     t_max: &Bound<'py, PyAny>,
     estimator: &str,
     seed: u32,
-    samples: u32,
+    per_ray: u32,
     threads: Option<usize>,
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
@@ -192,7 +195,7 @@ pub fn transmittance<'py>(
             &scene.media[index].medium,
             e,
             rays,
-            samples,
+            per_ray,
             seed,
             &progress,
         )
@@ -202,13 +205,13 @@ pub fn transmittance<'py>(
     }
     let (t, n) = w.value.map_err(to_py)?;
     let rays = r.o.len();
-    Ok((shaped(py, t, rays, samples)?, shaped(py, n, rays, samples)?))
+    Ok((shaped(py, t, rays, per_ray)?, shaped(py, n, rays, per_ray)?))
 }
 
 /// Free-flight distances along the caller's rays; see
 /// `fogbank.sample_distance`. Returns (t, weight, lookups).
 #[pyfunction]
-#[pyo3(signature = (medium, origins, directions, t_max, sampler="delta_tracking", seed=0, samples=1, threads=None, light=None, **options))]
+#[pyo3(signature = (medium, origins, directions, t_max, sampler="delta_tracking", seed=0, per_ray=1, threads=None, light=None, **options))]
 #[allow(clippy::too_many_arguments)]
 pub fn sample_distance<'py>(
     py: Python<'py>,
@@ -218,7 +221,7 @@ pub fn sample_distance<'py>(
     t_max: &Bound<'py, PyAny>,
     sampler: &str,
     seed: u32,
-    samples: u32,
+    per_ray: u32,
     threads: Option<usize>,
     light: Option<[f32; 3]>,
     options: Option<&Bound<'py, PyDict>>,
@@ -250,7 +253,7 @@ pub fn sample_distance<'py>(
             &scene.media[index].medium,
             s,
             rays,
-            samples,
+            per_ray,
             seed,
             &progress,
         )
@@ -261,9 +264,9 @@ pub fn sample_distance<'py>(
     let f = w.value.map_err(to_py)?;
     let n = r.o.len();
     Ok((
-        shaped(py, f.t, n, samples)?,
-        shaped(py, f.weight, n, samples)?,
-        shaped(py, f.lookups, n, samples)?,
+        shaped(py, f.t, n, per_ray)?,
+        shaped(py, f.weight, n, per_ray)?,
+        shaped(py, f.lookups, n, per_ray)?,
     ))
 }
 

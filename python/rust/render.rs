@@ -22,7 +22,8 @@ use std::sync::{Arc, Mutex};
 /// One worker pool per thread count and one GPU, opened once per process
 /// (opening an adapter takes a second; a pool, thread start-up).
 pub(crate) fn renderer(device: &str, threads: Option<usize>) -> PyResult<Arc<Renderer>> {
-    static CACHE: Mutex<Option<HashMap<(bool, usize), Arc<Renderer>>>> = Mutex::new(None);
+    type Cache = HashMap<(bool, usize), Arc<Renderer>>;
+    static CACHE: Mutex<Option<Cache>> = Mutex::new(None);
     let device = Device::parse(device).map_err(|e| invalid(format!("device: {e}")))?;
     let threads =
         fogbank::renderer::threads_or_all(threads).map_err(|e| invalid(format!("threads: {e}")))?;
@@ -220,7 +221,8 @@ pub fn merge<'py>(
     Ok(d)
 }
 
-/// The frames of an animated scene, one at a time (`fogbank.render_frames`).
+/// The frames of an animated scene, one at a time (what
+/// `fogbank.render_frames` iterates).
 #[pyclass(module = "fogbank._native")]
 pub struct Frames {
     // Declared first, so dropped before the scene, renderer and progress

@@ -15,9 +15,14 @@ use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyKeyError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+/// A built scene: `fogbank.load(path)`, `fogbank.load_dict(d)` or
+/// `fogbank.default_scene()`. `set(key, value)` changes it with the
+/// command line's dotted keys, `get(key)` reads them, `to_toml()` /
+/// `to_dict()` give its full description, `media` its media and
+/// `camera_rays()` the rays through its pixel centres.
 #[pyclass(module = "fogbank._native")]
 pub struct Scene {
     /// TOML text (a Mitsuba file's converted document).
@@ -35,7 +40,7 @@ pub struct Scene {
 fn build(
     text: &str,
     origin: &str,
-    base: &PathBuf,
+    base: &Path,
     overrides: &[String],
 ) -> Result<fogbank_render::Scene, SceneError> {
     let desc = parse_scene(text, origin, overrides)?;
@@ -128,7 +133,7 @@ pub fn load(
         .is_some_and(|e| e.eq_ignore_ascii_case("xml"));
     if is_xml {
         let mut defines = Vec::new();
-        let mut sets = PyDict::new(py);
+        let sets = PyDict::new(py);
         if let Some(d) = overrides {
             for (k, v) in d.iter() {
                 let key: String = k.extract()?;
@@ -144,7 +149,7 @@ pub fn load(
                 .map_err(scene_err)
         })?;
         let text = toml::to_string(&doc).map_err(crate::errors::runtime)?;
-        let o = overrides_of(Some(&mut sets), &mut grids)?;
+        let o = overrides_of(Some(&sets), &mut grids)?;
         // Its file names come out relative to the working directory.
         return Scene::new(
             py,
