@@ -20,8 +20,8 @@
 //! `index_to_world` alone (index space straight to the world).
 
 use crate::errors::{guarded, invalid};
+use fogbank_volume::medium::box_transform;
 use fogbank_volume::medium::unit_box_transform;
-use fogbank_volume::voxel_array::box_transform;
 use fogbank_volume::{DenseArray, VoxelArray};
 use glam::{DAffine3, DMat3, DVec3};
 use numpy::{PyArray1, PyArrayMethods};

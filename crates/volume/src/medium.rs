@@ -287,6 +287,13 @@ impl Medium {
     }
 }
 
+/// Index `[0, dims]` ↦ the box `[lo, hi]` (a `.vol` file's placement).
+pub fn box_transform(dims: [u32; 3], lo: [f64; 3], hi: [f64; 3]) -> DAffine3 {
+    let (lo, hi) = (DVec3::from(lo), DVec3::from(hi));
+    let res = DVec3::from(dims.map(f64::from));
+    DAffine3::from_scale_rotation_translation((hi - lo) / res, glam::DQuat::IDENTITY, lo)
+}
+
 /// Placement that maps the index box `[0, dims]` into the world box
 /// `[-½, ½]` along the longest axis, centred at the origin, keeping aspect.
 pub fn unit_box_transform(dims: [u32; 3]) -> DAffine3 {

@@ -10,7 +10,7 @@
 
 use crate::grid::{check_dims, BrickGrid};
 use crate::{Result, VolumeError};
-use glam::{DAffine3, DVec3};
+use glam::DAffine3;
 
 /// A dense array of voxels with one (a scalar field) or three (RGB albedo,
 /// a velocity) values per voxel.
@@ -40,13 +40,6 @@ impl dyn VoxelArray {
         }
         BrickGrid::from_fn(self.dims(), |i, j, k| self.value(i, j, k, c))
     }
-}
-
-/// Index `[0, dims]` ↦ the box `[lo, hi]` (a `.vol` file's placement).
-pub fn box_transform(dims: [u32; 3], lo: [f64; 3], hi: [f64; 3]) -> DAffine3 {
-    let (lo, hi) = (DVec3::from(lo), DVec3::from(hi));
-    let res = DVec3::from(dims.map(f64::from));
-    DAffine3::from_scale_rotation_translation((hi - lo) / res, glam::DQuat::IDENTITY, lo)
 }
 
 /// Voxels owned by fogbank: `data[((k·ny + j)·nx + i)·channels + c]`.
@@ -153,6 +146,7 @@ impl VoxelArray for DenseArray {
 mod voxel_array_test {
     use super::*;
     use crate::loaders::vol::{parse_vol, write_vol};
+    use crate::medium::box_transform;
 
     #[test]
     fn an_array_builds_the_grid_of_a_vol_file_with_its_voxels() {

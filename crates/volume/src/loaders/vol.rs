@@ -128,7 +128,7 @@ impl VolFile {
 
     /// Index `p ∈ [0, res]` ↦ `bbox_min + p / res · (bbox_max − bbox_min)`.
     pub fn index_to_world(&self) -> DAffine3 {
-        crate::voxel_array::box_transform(
+        crate::medium::box_transform(
             self.dims,
             self.bbox_min.map(f64::from),
             self.bbox_max.map(f64::from),
