@@ -10,7 +10,7 @@
 use crate::errors::{guarded, scene_err};
 use crate::grid::Grid;
 use crate::values;
-use fogbank_render::{parse_scene, SceneError, DEFAULT_SCENE};
+use fogbank_render::{parse_scene, SceneError, SceneFormat, DEFAULT_SCENE};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyKeyError;
 use pyo3::prelude::*;
@@ -128,47 +128,27 @@ pub fn load(
     overrides: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Scene> {
     let mut grids = Vec::new();
-    let is_xml = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("xml"));
-    if is_xml {
-        let mut defines = Vec::new();
-        let sets = PyDict::new(py);
-        if let Some(d) = overrides {
-            for (k, v) in d.iter() {
-                let key: String = k.extract()?;
-                if key.contains('.') {
-                    sets.set_item(k, v)?;
-                } else {
-                    defines.push((key, v.str()?.to_string()));
-                }
+    // Keys without a dot are a Mitsuba scene's defines (its `-D`); dotted
+    // keys override the converted scene like the command's `--set`.
+    let takes_defines = SceneFormat::of(&path).takes_defines();
+    let mut defines = Vec::new();
+    let sets = PyDict::new(py);
+    if let Some(d) = overrides {
+        for (k, v) in d.iter() {
+            let key: String = k.extract()?;
+            if takes_defines && !key.contains('.') {
+                defines.push((key, v.str()?.to_string()));
+            } else {
+                sets.set_item(k, v)?;
             }
         }
-        let doc = guarded(|| {
-            py.detach(|| fogbank_render::mitsuba::load_xml(&path, &defines))
-                .map_err(scene_err)
-        })?;
-        let text = toml::to_string(&doc).map_err(crate::errors::runtime)?;
-        let o = overrides_of(Some(&sets), &mut grids)?;
-        // Its file names come out relative to the working directory.
-        return Scene::new(
-            py,
-            text,
-            path.display().to_string(),
-            PathBuf::from(""),
-            o,
-            grids,
-        );
     }
-    let text = std::fs::read_to_string(&path).map_err(|e| {
-        crate::errors::to_py(fogbank::Error::from(SceneError(format!(
-            "{}: {e}",
-            path.display()
-        ))))
+    let source = guarded(|| {
+        py.detach(|| fogbank_render::read_scene_source(&path, &defines))
+            .map_err(scene_err)
     })?;
-    let base = path.parent().map(PathBuf::from).unwrap_or_default();
-    let o = overrides_of(overrides, &mut grids)?;
-    Scene::new(py, text, path.display().to_string(), base, o, grids)
+    let o = overrides_of(Some(&sets), &mut grids)?;
+    Scene::new(py, source.text, source.origin, source.base, o, grids)
 }
 
 /// A scene from a dict of fogbank's TOML schema (what `scene.to_dict()`

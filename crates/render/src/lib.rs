@@ -29,7 +29,8 @@ pub use render::{
     RenderResult,
 };
 pub use scene::{
-    load_scene, load_scene_or, parse_scene, Scene, SceneDesc, DEFAULT_SCENE, TRANSMITTANCE_SCENE,
+    load_scene, load_scene_or, parse_scene, read_scene_source, Scene, SceneDesc, SceneFormat,
+    SceneSource, DEFAULT_SCENE, TRANSMITTANCE_SCENE,
 };
 pub use world::film::Film;
 pub use world::World;

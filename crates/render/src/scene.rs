@@ -322,33 +322,89 @@ pub fn load_scene(path: Option<&Path>, overrides: &[String]) -> Result<Scene, Sc
     load_scene_or(path, DEFAULT_SCENE, overrides)
 }
 
+/// A scene file read as fogbank's TOML schema: its text, the name its
+/// messages use and the folder its relative file names resolve against.
+#[derive(Clone, Debug)]
+pub struct SceneSource {
+    pub text: String,
+    pub origin: String,
+    pub base: PathBuf,
+}
+
+/// The formats a scene file can be in, told by its extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SceneFormat {
+    /// fogbank's own schema (anything not named below).
+    Toml,
+    /// A Mitsuba 3 scene (`.xml`).
+    MitsubaXml,
+}
+
+impl SceneFormat {
+    pub fn of(path: &Path) -> SceneFormat {
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if ext.eq_ignore_ascii_case("xml") {
+            SceneFormat::MitsubaXml
+        } else {
+            SceneFormat::Toml
+        }
+    }
+
+    /// Whether the format has named defaults a loader may override
+    /// (Mitsuba's `<default>` and `-D name=value`).
+    pub fn takes_defines(self) -> bool {
+        self == SceneFormat::MitsubaXml
+    }
+}
+
+/// Reads a scene file of any format fogbank reads, by its extension:
+/// `.xml` is a Mitsuba 3 scene (with `defines` overriding its
+/// `<default>`s, Mitsuba's `-D`), converted with its file names made
+/// relative to the working directory; anything else is fogbank's TOML.
+/// Every front end loads files through this, so a format added here is
+/// reachable from the command, the viewer and Python alike.
+pub fn read_scene_source(
+    path: &Path,
+    defines: &[(String, String)],
+) -> Result<SceneSource, SceneError> {
+    let origin = path.display().to_string();
+    let format = SceneFormat::of(path);
+    if format == SceneFormat::MitsubaXml {
+        let doc = crate::mitsuba::load_xml(path, defines)?;
+        let text = toml::to_string(&doc).map_err(|e| SceneError(format!("{origin}: {e}")))?;
+        return Ok(SceneSource {
+            text,
+            origin,
+            base: PathBuf::new(),
+        });
+    }
+    if let Some((name, _)) = defines.first() {
+        return Err(SceneError(format!(
+            "{origin}: define {name:?}: only Mitsuba XML scenes have defaults to override; set keys with dotted overrides"
+        )));
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError(format!("{origin}: {e}")))?;
+    Ok(SceneSource {
+        text,
+        origin,
+        base: path.parent().map(Path::to_path_buf).unwrap_or_default(),
+    })
+}
+
 /// Loads a scene file, or the scene text `builtin` when `path` is `None`.
 pub fn load_scene_or(
     path: Option<&Path>,
     builtin: &str,
     overrides: &[String],
 ) -> Result<Scene, SceneError> {
-    if let Some(p) = path.filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("xml"))) {
-        // A Mitsuba scene: converted, then overridden like a TOML one. Its
-        // file names come out relative to the working directory.
-        let doc = crate::mitsuba::load_xml(p, &[])?;
-        let text =
-            toml::to_string(&doc).map_err(|e| SceneError(format!("{}: {e}", p.display())))?;
-        let desc = parse_scene(&text, &p.display().to_string(), overrides)?;
-        return Scene::build(desc, Path::new(""));
-    }
-    let (text, origin, base) = match path {
-        Some(p) => (
-            std::fs::read_to_string(p).map_err(|e| SceneError(format!("{}: {e}", p.display())))?,
-            p.display().to_string(),
-            p.parent().map(Path::to_path_buf).unwrap_or_default(),
-        ),
-        None => (
-            builtin.to_string(),
-            "built-in scene".to_string(),
-            PathBuf::from("."),
-        ),
+    let source = match path {
+        Some(p) => read_scene_source(p, &[])?,
+        None => SceneSource {
+            text: builtin.to_string(),
+            origin: "built-in scene".to_string(),
+            base: PathBuf::from("."),
+        },
     };
-    let desc = parse_scene(&text, &origin, overrides)?;
-    Scene::build(desc, &base)
+    let desc = parse_scene(&source.text, &source.origin, overrides)?;
+    Scene::build(desc, &source.base)
 }
