@@ -29,8 +29,8 @@ pub(crate) fn count_and_jitter<V: VolumeAccess>(v: &V, rng: &mut Pcg32, lookups:
 /// Lookups queued by a fixed-count estimator before it reads the volume.
 pub const BATCH: usize = 32;
 
-/// Lookups queued for one `VolumeAccess::sigma_t_lanes` call (issue 15
-/// item 2: grids answer eight at a time in SIMD lanes). Each point counts
+/// Lookups queued for one `VolumeAccess::sigma_t_lanes` call (grids
+/// answer eight at a time in SIMD lanes). Each point counts
 /// its lookup and draws its jitter when queued — the same random numbers in
 /// the same order as `sigma_t_at` one point at a time — and `drain` hands
 /// back the σ_t values in queue order, so an estimator that accumulates them

@@ -5,8 +5,7 @@
 //!
 //! The collisions' positions depend only on the majorant and the random
 //! stream, not on what is read there, so the walk draws several ahead and
-//! reads them together in SIMD lanes (issue 15: SIMD in the tracking
-//! loops). `collide` may draw random numbers too (Russian roulette): then
+//! reads them together in SIMD lanes. `collide` may draw random numbers too (Russian roulette): then
 //! the walk rewinds the stream and the lookup count to just after that
 //! collision and goes on from there one collision at a time, so the result
 //! is bit for bit the sequential walk's.

@@ -1,5 +1,5 @@
 //! Transmittance of several extinctions k_c · σ_t from one walk (chromatic
-//! media with one density, issue 23 item 5): the estimators that combine
+//! media with one density): the estimators that combine
 //! optical-depth estimates taken at positions that do not depend on the
 //! extinction's scale — regular tracking and the analytic trilinear
 //! integral (exact τ), ray marching, the jackknife at a fixed sample count

@@ -40,7 +40,7 @@ pub const INTEGRATOR_LIGHT_ONLY: u32 = INTEGRATOR_FLAGS[0].1;
 pub const INTEGRATOR_RAY_MARCHING: u32 = INTEGRATOR_FLAGS[1].1;
 /// Seed 004 Fig. 4.5: pins traced along each query ray, not looked up.
 pub const INTEGRATOR_UNQUANTISED: u32 = INTEGRATOR_FLAGS[2].1;
-/// The scene has shapes: rays meet surfaces (issue 23); without, the
+/// The scene has shapes: rays meet surfaces; without, the
 /// driver compiles the surface code out.
 pub const INTEGRATOR_SURFACES: u32 = INTEGRATOR_FLAGS[3].1;
 /// `transmittance` with surfaces or chromatic media: the scatter kernel's

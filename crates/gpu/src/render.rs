@@ -43,8 +43,8 @@ pub enum Schedule {
     /// Chunks side by side up to [`TARGET_INVOCATIONS`], several
     /// submissions in flight (the default).
     Filled,
-    /// One chunk per dispatch and a wait after each (the scheduling before
-    /// issue 21; kept for observers, which read the film after every
+    /// One chunk per dispatch and a wait after each (the simplest
+    /// scheduling; kept for observers, which read the film after every
     /// dispatch, and for the test that the two give the same image).
     Sequential,
 }

@@ -1,4 +1,4 @@
-//! The render loop's scheduling (issue 21 item 1): chunks of samples side
+//! The render loop's scheduling: chunks of samples side
 //! by side with submissions in flight give the image of one chunk per
 //! dispatch bit for bit, in few submissions.
 

@@ -1,4 +1,4 @@
-//! Seed 003 on the GPU (issue 20 item 7): bind group 3 of the `visopt` and
+//! Seed 003 on the GPU: bind group 3 of the `visopt` and
 //! `ament` kernels (`wgsl/visopt/`) — their parameters, the medium's
 //! importance rules (masks and a pre-classified importance are property
 //! records of the media buffer) and visopt's camera lists, built and frozen

@@ -2,7 +2,7 @@
 //! SIMD lanes (AVX2 + F16C, detected at run time), bit for bit the scalar
 //! lookups of `access.rs`.
 //!
-//! Issue 15 item 2. Fixed-count estimators (the jackknife's 2N lookups, ray
+//! Fixed-count estimators (the jackknife's 2N lookups, ray
 //! marching, Kettunen et al.'s estimators) know all their sample points
 //! before they read the volume, so they can read them together. One lane per
 //! point: the floor, the per-axis clamping (so points whose 2×2×2 block

@@ -1,4 +1,4 @@
-//! Issue 23 item 3 (first part): BVH build time and closest-hit / any-hit
+//! Surfaces' acceleration structure: BVH build time and closest-hit / any-hit
 //! rays per second on a generated mesh of over 10⁶ triangles — a bumpy,
 //! finely tessellated sphere with 10⁵ small triangles scattered inside
 //! and around it, so rays meet both large coherent surfaces and clutter.

@@ -1,5 +1,5 @@
-//! The light BVH against picking lights by power (issue 23 item 4; seed
-//! 002 Fig. 18's setting of many small emitters in a medium), on the CPU:
+//! The light BVH against picking lights by power (seed 002
+//! Fig. 18's setting of many small emitters in a medium), on the CPU:
 //! for each scene a reference through the BVH, then both samplers at the
 //! same spp (time, MSE, relMSE and the mean per-pixel variance the films
 //! report, over all pixels and over the darker 70 % — fog and road, where

@@ -155,7 +155,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         "Seed 004 bias bar: 48×36, 64³ cloud, albedo 1, isotropic, 8 bounces; {spp} spp per row against unbiased \
          `volpath` at {} spp. \"mean\": relative error of the image mean; \"per pixel\": mean |x − r|/r over pixels \
          above 5 % of the mean (noise included; the unbiased row shows its size). Pin rows: mean over {GRID_SEEDS} pin-grid \
-         seeds ± the standard error across them (one grid is one random realisation). Goal (issue 19): ≤ 2 %, falling as \
+         seeds ± the standard error across them (one grid is one random realisation). Goal: ≤ 2 %, falling as \
          the grid grows.\n\n| case | setting | mean | per pixel |\n|---|---|---|---|\n{}\n",
         2 * spp,
         lines.join("\n")

@@ -1,4 +1,4 @@
-//! Seed 004 Figs. 4.1 and 4.6 (issue 24 items 2 and 4): the pin stream
+//! Seed 004 Figs. 4.1 and 4.6 : the pin stream
 //! against static pins, on the surfaces scene of [`super::pins_surfaces`]
 //! (the Teapot stand-in on a diffuse ground, an area light from the left).
 //! Each method accumulates 1-spp frames for the same render time, taking

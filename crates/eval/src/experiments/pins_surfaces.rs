@@ -1,4 +1,4 @@
-//! Seed 004 Figs. 4.12–4.13 with surfaces (issue 24 item 4): the Teapot
+//! Seed 004 Figs. 4.12–4.13 with surfaces: the Teapot
 //! stand-in (`pins_runtime::CASES[0]`, sphere.vdb as fog, σ_t 40) on a
 //! diffuse ground, lit from the left by an emitting rectangle (the thesis's
 //! area light from the left) and a dim sky; 8 bounces. Ray marching

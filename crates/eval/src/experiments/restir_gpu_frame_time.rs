@@ -1,5 +1,5 @@
-//! Seed 002's frame-time table on a GPU (§6, Fig. 22's timings; issue 18
-//! item 4): `restir` at 1920×1080 (the paper's resolution) with the
+//! Seed 002's frame-time table on a GPU (§6, Fig. 22's timings):
+//! `restir` at 1920×1080 (the paper's resolution) with the
 //! paper's defaults (M = 4, Q = 4, 3 neighbours within 10 px, T̃ on mip 1),
 //! K = 1, 3, 7 on the light-probe cloud and K = 3 on the emissive
 //! explosion, device time per pass from timestamp queries averaged over the

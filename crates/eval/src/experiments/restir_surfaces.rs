@@ -1,4 +1,4 @@
-//! Seed 002 Figs. 1, 18 and the surface curve of Fig. 22 (issue 24): volumetric
+//! Seed 002 Figs. 1, 18 and the surface curve of Fig. 22: volumetric
 //! ReSTIR with surfaces against the paper's baseline at equal time, with
 //! the protocol of [`super::restir_equal_time`] (single-frame MSE over
 //! measured frames after a warm-up, the baseline's spp matched to ReSTIR's

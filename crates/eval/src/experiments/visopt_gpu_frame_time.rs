@@ -1,5 +1,5 @@
-//! Seed 003 Table 3 (and Fig. 1's frame times) on a GPU (issue 20 items 7
-//! and 8): memory and device time per 10-spp frame at 800², 1600² and
+//! Seed 003 Table 3 (and Fig. 1's frame times) on a GPU:
+//! memory and device time per 10-spp frame at 800², 1600² and
 //! 1920×1080 on the HEPTANE stand-in of `visopt-overhead` — plain DVR
 //! (`optimise = false`), `visopt` with camera-ray lists only, full
 //! single-scattering `visopt` (200-sample NEE lists) and the multiple-

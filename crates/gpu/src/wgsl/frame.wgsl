@@ -55,7 +55,7 @@ struct Frame {
 // sum of squared deviations from the mean, M2 (rgb), and the dropped
 // non-finite samples (w). Running moments rather than Σx and Σx²: in f32,
 // Σx² − (Σx)²/n loses every digit of a nearly constant pixel's variance
-// after a few thousand samples (issue 21: a deterministic estimator showed
+// after a few thousand samples (a deterministic estimator showed
 // std 3e-4 where the CPU has 0), while M2 of a constant stays exactly 0.
 // The two vec4 of pixel p are accum_moments[2p] and [2p + 1] (one binding:
 // the scatter kernel is at the 16 storage buffers a stage may have).
@@ -164,7 +164,7 @@ fn camera_ray_end(r: Ray) -> f32 {
 // lookups from 0, as each CPU estimator call does: the stochastic filter's
 // jitter hashes the running count (medium.wgsl), so a count carried over
 // from earlier calls, media or samples gave the GPU other jitters than the
-// CPU for the same random streams (issue 21).
+// CPU for the same random streams.
 fn estimate(m: MediumGpu, r: Ray, t0: f32, t1: f32,
             rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
     var count = 0u;

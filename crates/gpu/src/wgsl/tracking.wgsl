@@ -9,7 +9,7 @@
 // render does not take — pins, marching, the other samplers — out of the
 // kernel, where they would otherwise count in every invocation's registers.
 // On an H200 the Fig. 1 frame (`direct`, 1080p, 32 spp) took 2.7-5.5x
-// longer while they were uniforms (issue 21; docs/results/gpu.md).
+// longer while they were uniforms (docs/results/gpu.md).
 // The distance sampler: SAMPLER_* (delta, decomposition, regular tracking).
 override SAMPLER: u32 = 0u;
 // Seed 004: which rays read pins (PIN_MODE_*).

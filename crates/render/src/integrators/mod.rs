@@ -179,7 +179,7 @@ impl IntegratorDesc {
                     .into(),
             ));
         }
-        // Chromatic media reach volpath first (issue 23).
+        // Chromatic media reach volpath first.
         let renders_chroma = matches!(
             self,
             IntegratorDesc::VolPath(_)
@@ -188,7 +188,7 @@ impl IntegratorDesc {
         );
         if world.media.iter().any(|m| m.chroma.is_some()) && !renders_chroma {
             return Err(SceneError(format!(
-                "integrator.type: `{}` does not render chromatic extinction (sigma_t_scale = [r, g, b]) yet (use volpath, direct or transmittance)",
+                "integrator.type: `{}` does not render chromatic extinction (sigma_t_scale = [r, g, b]); volpath, direct and transmittance do",
                 self.name()
             )));
         }

@@ -187,7 +187,7 @@ impl VolPath {
             pin_set: {
                 if p.pins.mode != PinMode::Off && world.media.iter().any(|m| m.chroma.is_some()) {
                     return Err(SceneError(
-                        "integrator.pins: pins of chromatic media are not supported yet".into(),
+                        "integrator.pins: pins store one extinction per cell; chromatic media (sigma_t_scale = [r, g, b]) cannot use them".into(),
                     ));
                 }
                 // Checks every grid's size now; gathering waits.

@@ -1,4 +1,4 @@
-//! Chromatic extinction (issue 23 item 5): σ_t differing per RGB channel,
+//! Chromatic extinction: σ_t differing per RGB channel,
 //! σ_t,c(x) = s_c · d(x) — one density, a scale per channel
 //! (`sigma_t_scale = [s_r, s_g, s_b]`).
 //!

@@ -271,7 +271,7 @@ impl MediumDesc {
         }
         if self.albedo_grid.is_some() || self.emission.is_some() || self.velocity.is_some() {
             return Err(SceneError(format!(
-                "{key}: instances of a medium with albedo_grid, emission or velocity are not supported yet"
+                "{key}: instances share one density grid only: a medium with albedo_grid, emission or velocity cannot be instanced"
             )));
         }
         self.instances
@@ -434,7 +434,7 @@ impl MediumDesc {
         };
         if chroma.is_some() && (m.velocity.is_some() || !m.instances.is_empty()) {
             return Err(SceneError(format!(
-                "{key}.sigma_t_scale: chromatic extinction with velocity or instances is not supported yet"
+                "{key}.sigma_t_scale: chromatic extinction is one density with a scale per channel; it cannot be combined with velocity or instances"
             )));
         }
         let mut sm = SceneMedium {

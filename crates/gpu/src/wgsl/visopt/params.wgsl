@@ -1,4 +1,4 @@
-// Seed 003 on the device (issue 20 item 7): the parameters of `visopt` and
+// Seed 003 on the device: the parameters of `visopt` and
 // `ament` (visopt/params.rs, ament.rs), the importance rules and visopt's
 // frozen camera lists, bind group 3 of both kernels (crates/gpu/src/visopt).
 

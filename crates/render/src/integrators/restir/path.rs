@@ -9,7 +9,7 @@
 //! §4.2) keeps every vertex from x_2 on fixed. A fixed vertex's measure is
 //! volume, so p̂ and F carry 1/|x_i − x_{i−1}|² on the segment reaching it.
 //!
-//! Surfaces (seed 002 §4.2, issue 24): a vertex may lie on a surface — the
+//! Surfaces (seed 002 §4.2): a vertex may lie on a surface — the
 //! closest one along (x_{i−1}, ω_{i−1}), wherever reuse moves that ray, so
 //! it has no distance of its own and its factor in F is T·f_s·|cos θ|
 //! instead of T·σ_s·ρ. A `Light` end on an emitting shape keeps its point

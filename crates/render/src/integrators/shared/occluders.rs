@@ -1,5 +1,5 @@
 //! Surfaces for the integrators that have no surface rules yet — `visopt`,
-//! `ament` and `point_mis` (issue 23 item 6): shapes are opaque black
+//! `ament` and `point_mis`: shapes are opaque black
 //! occluders. A segment a surface cuts carries nothing and no surface
 //! reflects or emits. `restir` uses the same visibility (in candidate
 //! generation, in the reuse target p̂ and in F alike, so p̂ = 0 exactly

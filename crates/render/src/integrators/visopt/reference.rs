@@ -1,5 +1,5 @@
 //! A deterministic evaluation of what `visopt` estimates, for its
-//! unbiasedness test (issue 20 acceptance 3): with the camera lists frozen
+//! unbiasedness test: with the camera lists frozen
 //! and light rays unoptimised, single scattering has the expectation
 //!
 //! ```text

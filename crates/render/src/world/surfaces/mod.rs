@@ -1,4 +1,4 @@
-//! Surfaces (issue 23): `[[shapes]]` entries — meshes from OBJ and PLY
+//! Surfaces: `[[shapes]]` entries — meshes from OBJ and PLY
 //! files or Mitsuba's unit shapes, placed by `to_world`, with a BSDF and
 //! optionally an area emitter — gathered into one triangle mesh and BVH.
 //! Media stay the regions their boxes give; shapes sit in them (a shape
