@@ -123,7 +123,7 @@ fn bad_instances_are_refused_by_key() {
     );
     let e = scene(&emissive, &[]).err().unwrap_or_default();
     assert!(
-        e.contains("media.0.instances") && e.contains("not supported"),
+        e.contains("media.0.instances") && e.contains("cannot be instanced"),
         "{e}"
     );
 }
