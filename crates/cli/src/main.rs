@@ -7,6 +7,7 @@ mod converge_cmd;
 mod experiment_cmd;
 mod frames_cmd;
 mod info_cmd;
+mod integrators_cmd;
 mod merge_cmd;
 mod render_cmd;
 mod report_cmd;
@@ -39,6 +40,8 @@ enum Command {
     Info(info_cmd::InfoArgs),
     /// List the transmittance estimators.
     Estimators,
+    /// List the integrators and their parameters (`integrator.type` and keys).
+    Integrators(integrators_cmd::IntegratorsArgs),
     /// Primary-ray transmittance throughput per estimator.
     Bench(bench_cmd::BenchArgs),
     /// Run one of the seeds' experiments (seeds 000, 002, 003 and 004; NAME's help lists them).
@@ -71,6 +74,7 @@ fn main() -> ExitCode {
             }
             Ok(())
         }
+        Command::Integrators(a) => integrators_cmd::run(a),
         Command::Bench(a) => bench_cmd::run(a),
         Command::Experiment(a) => experiment_cmd::run(a),
         Command::Compare(a) => compare_cmd::run(a),

@@ -71,6 +71,27 @@ fn bad_set_key_is_an_error_naming_it() {
     );
 }
 
+#[test]
+fn integrators_prints_each_registered_table() {
+    let out = fogbank().args(["integrators"]).output().unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    for (name, params) in fogbank_render::integrators::REGISTRY.iter() {
+        assert!(
+            text.contains(&format!("integrator.type = \"{name}\"")),
+            "{name}"
+        );
+        assert!(
+            text.contains(&fogbank_render::params::markdown_table(params)),
+            "{name}"
+        );
+    }
+    let one = fogbank().args(["integrators", "restir"]).output().unwrap();
+    let one = String::from_utf8(one.stdout).unwrap();
+    assert!(one.contains("`temporal_cap`") && !one.contains("`rr_depth` | 3 | first bounce"));
+    run_fails_naming(fogbank().args(["integrators", "volpth"]), "volpth");
+}
+
 /// An integrator that sees shapes only as black occluders says so, unless
 /// `--quiet`.
 #[test]

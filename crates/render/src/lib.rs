@@ -1,11 +1,16 @@
 //! Scenes, cameras, lights, integrators and the progressive render loop.
 //!
 //! Modules in layers, each importing only those before it:
-//! `error`, `params`, `overrides` → `world` (camera, film, media and their
-//! fields, emission, phase) and `lights` → `integrators` (the shared pieces
-//! in `integrators::shared`, one file or folder per integrator, registered in
-//! `integrators/mod.rs`) → `animation` (keyframes, per-frame files) → `scene` (description + world + integrator) →
-//! `render` (the progressive loop); `desc` re-exports every description.
+//! `error`, `params`, `overrides`, `rebase` (a scene's file names written
+//! for another folder) and `shard` (which part of a render one shard does)
+//! → `world` (camera, film, media and their fields, emission, phase) and
+//! `lights` → `mitsuba` (Mitsuba 3 XML read into the scene schema) →
+//! `integrators` (the shared pieces in `integrators::shared`, one file or
+//! folder per integrator, registered in `integrators/mod.rs`) →
+//! `animation` (keyframes, per-frame files) → `scene` (description, world
+//! and integrator; scene files of every format) → `render` (the progressive
+//! loop) → `partial` (a shard's `.fbpart`) → `merge` (shards added up bit
+//! for bit); `desc` re-exports every description.
 
 pub mod animation;
 pub mod desc;

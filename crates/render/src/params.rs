@@ -93,6 +93,23 @@ pub fn keys(params: &[Param]) -> Vec<&'static str> {
     params.iter().map(|p| p.key).collect()
 }
 
+/// A parameter table as Markdown (`| key | default | meaning |`), the
+/// form an integrator's module doc carries and `fogbank integrators`
+/// prints: the docs are checked against this, so `PARAMS` is their one
+/// source (`tests/param_tables_test.rs`).
+pub fn markdown_table(params: &[Param]) -> String {
+    let mut s = String::from("| key | default | meaning |\n|---|---|---|\n");
+    for p in params {
+        s += &format!(
+            "| `{}` | {} | {} |\n",
+            p.key,
+            p.default.replace('|', "\\|"),
+            p.meaning.replace('|', "\\|")
+        );
+    }
+    s
+}
+
 /// Reads the estimator of an integrator's table: `estimator = "name"`, or
 /// `estimator = { type = "name", samples = 20, … }`; the estimator's options
 /// may also stand flat in the integrator's table (`samples = 20`), as

@@ -9,11 +9,15 @@
 //! | key | default | meaning |
 //! |---|---|---|
 //! | `step` | 0.002 | Δx in the medium's [−1, 1]³ units (the paper's HEPTANE step) |
-//! | `form` | `normalised` | `printed`: Eq. 3–4, sums without Δx (μ' → 0 as Δx → 0, Eq. 5, Fig. 2); `normalised`: Σ g_j² Δx, the paper's comparison form (Figs. 5–6) |
+//! | `form` | normalised | `printed`: Eq. 3–4, sums without Δx (μ' → 0 as Δx → 0, Eq. 5, Fig. 2); `normalised`: Σ g_j² Δx, the paper's comparison form (Figs. 5–6) |
 //! | `jitter` | false | one random start offset in [0, Δx) per pixel sample (Fig. 6's jittered variant) |
-//! | `p`, `q`, `r`, `lambda` | 1, 70, 30, 1 | as `visopt` |
+//! | `p` | 1 | weight of the data term, as `visopt` |
+//! | `q` | 70 | weight of importance behind a sample, as `visopt` |
+//! | `r` | 30 | weight of importance before a sample, as `visopt` |
+//! | `lambda` | 1 | exponent of (1 − g)^{2λ}, as `visopt` |
 //! | `optimise` | true | false: plain ray-marched DVR |
-//! | `shading`, `n` | false, 40 | HG plus the gradient lobe, as `visopt` |
+//! | `shading` | false | HG plus the gradient lobe, as `visopt` |
+//! | `n` | 40 | the lobe's exponent |
 //!
 //! Importance is the medium's `[[media.importance]]` (post-interpolative,
 //! as the paper's comparison replaces AZD17's own). Shapes are opaque black
@@ -34,37 +38,37 @@ pub const PARAMS: [Param; 10] = [
     Param {
         key: "step",
         default: "0.002",
-        meaning: "Δx in [−1, 1]³ units",
+        meaning: "Δx in the medium's [−1, 1]³ units (the paper's HEPTANE step)",
     },
     Param {
         key: "form",
         default: "normalised",
-        meaning: "printed (Eq. 3–4) or normalised (Σ g² Δx)",
+        meaning: "`printed`: Eq. 3–4, sums without Δx (μ' → 0 as Δx → 0, Eq. 5, Fig. 2); `normalised`: Σ g_j² Δx, the paper's comparison form (Figs. 5–6)",
     },
     Param {
         key: "jitter",
         default: "false",
-        meaning: "random start offset per pixel sample",
+        meaning: "one random start offset in [0, Δx) per pixel sample (Fig. 6's jittered variant)",
     },
     Param {
         key: "p",
         default: "1",
-        meaning: "weight of the data term",
+        meaning: "weight of the data term, as `visopt`",
     },
     Param {
         key: "q",
         default: "70",
-        meaning: "weight of importance behind a sample",
+        meaning: "weight of importance behind a sample, as `visopt`",
     },
     Param {
         key: "r",
         default: "30",
-        meaning: "weight of importance before a sample",
+        meaning: "weight of importance before a sample, as `visopt`",
     },
     Param {
         key: "lambda",
         default: "1",
-        meaning: "exponent of (1 − g)^{2λ}",
+        meaning: "exponent of (1 − g)^{2λ}, as `visopt`",
     },
     Param {
         key: "optimise",
@@ -74,7 +78,7 @@ pub const PARAMS: [Param; 10] = [
     Param {
         key: "shading",
         default: "false",
-        meaning: "HG plus the gradient lobe",
+        meaning: "HG plus the gradient lobe, as `visopt`",
     },
     Param {
         key: "n",

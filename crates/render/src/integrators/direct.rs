@@ -8,8 +8,13 @@
 //! only thing that changes. It equals `volpath` with `max_depth = 1`.
 
 //!
-//! Parameters: those of [`ScatterParams`] (`distance_sampler`, `estimator`
-//! with its options, `preset`).
+//! Parameters (those `volpath` shares, [`ScatterParams`]):
+//!
+//! | key | default | meaning |
+//! |---|---|---|
+//! | `distance_sampler` | delta_tracking | free-flight sampler: `delta_tracking`, `decomposition_tracking`, `regular_tracking` |
+//! | `estimator` | ratio_tracking | NEE transmittance estimator (`fogbank estimators`), with its options |
+//! | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only (no phase-sampled escape MIS) and Russian roulette by albedo, seed 002's baseline exactly (§6, §6.1; give the medium `supervoxel = 8`) |
 
 use super::shared::free_flight::next_collision;
 use super::shared::next_event::{escaped, light_sample, phase_sample_to_environment};

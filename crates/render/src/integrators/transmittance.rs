@@ -6,8 +6,8 @@
 //!
 //! | key | default | meaning |
 //! |---|---|---|
-//! | `estimator` | `ratio_tracking` | transmittance estimator (`fogbank estimators`), with its options flat in `[integrator]` or as `{ type = "…", … }` |
-//! | `background` | (1, 1, 1) | radiance behind the media; the image is T · background |
+//! | `estimator` | ratio_tracking | transmittance estimator (`fogbank estimators`), with its options flat in `[integrator]` or as `{ type = "…", … }` |
+//! | `background` | [1, 1, 1] | radiance behind the media; the image is T · background |
 
 use super::shared::free_flight::shadow_transmittance_in;
 use super::shared::tracking::Shadow;
@@ -22,7 +22,7 @@ pub const PARAMS: [Param; 2] = [
     Param {
         key: "estimator",
         default: "ratio_tracking",
-        meaning: "transmittance estimator, with its options",
+        meaning: "transmittance estimator (`fogbank estimators`), with its options flat in `[integrator]` or as `{ type = \"…\", … }`",
     },
     Param {
         key: "background",
@@ -48,9 +48,10 @@ impl Default for TransmittanceParams {
 
 impl TransmittanceParams {
     pub fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
+        let d = TransmittanceParams::default();
         Ok(TransmittanceParams {
             estimator: take_estimator(r)?,
-            background: r.take("background")?.unwrap_or([1.0; 3]),
+            background: r.take("background")?.unwrap_or(d.background),
         })
     }
 

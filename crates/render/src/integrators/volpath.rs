@@ -12,16 +12,18 @@
 //! partner. A real collision adds the medium's emission (σ_a/σ_t) L_e.
 //! Russian roulette on the throughput after `rr_depth` bounces (seed 002
 //! uses 3).
-
 //!
 //! | key | default | meaning |
 //! |---|---|---|
-//! | `distance_sampler` | `delta_tracking` | free-flight sampler: `delta_tracking`, `decomposition_tracking`, `regular_tracking` |
-//! | `estimator` | `ratio_tracking` | NEE transmittance estimator (`fogbank estimators`), with its options |
-//! | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only (no phase-sampled escape MIS) and roulette by albedo, seed 002's baseline exactly (§6; give the medium `supervoxel = 8`) |
+//! | `distance_sampler` | delta_tracking | free-flight sampler: `delta_tracking`, `decomposition_tracking`, `regular_tracking` |
+//! | `estimator` | ratio_tracking | NEE transmittance estimator (`fogbank estimators`), with its options |
+//! | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only (no phase-sampled escape MIS) and Russian roulette by albedo, seed 002's baseline exactly (§6, §6.1; give the medium `supervoxel = 8`) |
 //! | `max_depth` | 64 | longest path, in scattering vertices (1..=100000) |
 //! | `rr_depth` | 3 | first bounce with Russian roulette on the throughput |
-//! | `pins`, `tracking`, `march_step`, `pin_grid` | off | seed 004's pins and ray-marching baseline, see [`super::shared::pin_params`] |
+//! | `pins` | off | seed 004's pins: `off`, `all`, `secondary` (all but the view ray), `ms` (PinMS: multiple scattering only) |
+//! | `tracking` | ray_marching with pins, else unbiased | rays without pins: `ray_marching` (seed 004's baseline) or `unbiased` (`distance_sampler` + `estimator`) |
+//! | `march_step` | 0.03 | ray-marching step in edges of the medium's box |
+//! | `pin_grid` | {} | the pin grid (`shared::pin_params`): `positions`, `memory_ratio` (0.1), `phi` (16), `theta` (4), `step` (0.01), `jitter` (1), `mask_iterations` (5), `unquantised`, `seed`, `stream` (0: static; pins streamed into each grid before every pass), `stream_spacing` (0.1) |
 
 use super::shared::free_flight::{next_collision, MAX_CROSSINGS};
 use super::shared::next_event::{
@@ -64,12 +66,12 @@ pub const PARAMS: [Param; 9] = [
     Param {
         key: PIN_KEYS[0],
         default: "off",
-        meaning: "seed 004 pins: off, all, secondary (all but the view ray), ms (PinMS: multiple scattering only)",
+        meaning: "seed 004's pins: `off`, `all`, `secondary` (all but the view ray), `ms` (PinMS: multiple scattering only)",
     },
     Param {
         key: PIN_KEYS[1],
         default: "ray_marching with pins, else unbiased",
-        meaning: "rays without pins: ray_marching (seed 004's baseline) or unbiased (distance_sampler + estimator)",
+        meaning: "rays without pins: `ray_marching` (seed 004's baseline) or `unbiased` (`distance_sampler` + `estimator`)",
     },
     Param {
         key: PIN_KEYS[2],
@@ -79,7 +81,7 @@ pub const PARAMS: [Param; 9] = [
     Param {
         key: PIN_KEYS[3],
         default: "{}",
-        meaning: "pin grid: positions, memory_ratio (0.1), phi (16), theta (4), step (0.01), jitter (1), mask_iterations (5), unquantised, seed",
+        meaning: "the pin grid (`shared::pin_params`): `positions`, `memory_ratio` (0.1), `phi` (16), `theta` (4), `step` (0.01), `jitter` (1), `mask_iterations` (5), `unquantised`, `seed`, `stream` (0: static; pins streamed into each grid before every pass), `stream_spacing` (0.1)",
     },
 ];
 
@@ -104,8 +106,9 @@ impl Default for VolPathParams {
 
 impl VolPathParams {
     pub fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
+        let d = VolPathParams::default();
         let scatter = ScatterParams::read(r)?;
-        let max_depth = r.take("max_depth")?.unwrap_or(64);
+        let max_depth = r.take("max_depth")?.unwrap_or(d.max_depth);
         if max_depth == 0 || max_depth > 100_000 {
             return Err(SceneError(format!(
                 "{}: {max_depth} is outside 1..=100000",
@@ -115,7 +118,7 @@ impl VolPathParams {
         Ok(VolPathParams {
             scatter,
             max_depth,
-            rr_depth: r.take("rr_depth")?.unwrap_or(3),
+            rr_depth: r.take("rr_depth")?.unwrap_or(d.rr_depth),
             pins: PinParams::read(r)?,
         })
     }

@@ -13,13 +13,12 @@ pub const PARAMS: [Param; 3] = [
     Param {
         key: "strategy",
         default: "mis_jackknife",
-        meaning:
-            "free_flight, equiangular, mis_miller, mis_naive, mis_jackknife, mis_jackknife_biased",
+        meaning: "`free_flight`, `equiangular`, `mis_miller` (ratio-tracking weights from delta tracking's null collisions, Miller et al. 2019), `mis_naive` (Eq. 10 with g(X), m = 1; biased), `mis_jackknife` (Eq. 9, jackknife weights, unbiased), `mis_jackknife_biased` (Eq. 10)",
     },
     Param {
         key: "estimator",
         default: "ratio_tracking",
-        meaning: "transmittance estimator of the light ray, with its options",
+        meaning: "transmittance estimator of the light ray (`fogbank estimators`), with its options",
     },
     Param {
         key: "mis_samples",

@@ -21,12 +21,12 @@ pub const PARAMS: [Param; 21] = [
     Param {
         key: "reuse",
         default: "spatiotemporal",
-        meaning: "none, spatial, temporal or spatiotemporal",
+        meaning: "`none` (plain RIS), `spatial`, `temporal`, `spatiotemporal`",
     },
     Param {
         key: "mis",
         default: "talbot",
-        meaning: "combination MIS: talbot, stochastic, uniform (biased), pairwise (beyond the paper: 2N target evaluations for N neighbours instead of N(N+1))",
+        meaning: "combination MIS: `talbot` (Eq. 11), `stochastic` (Eq. 10), `uniform` (1/M, Eq. 9, biased), `pairwise` (beyond the paper: 2N target evaluations for N neighbours instead of N(N + 1))",
     },
     Param {
         key: "temporal_cap",
@@ -36,7 +36,7 @@ pub const PARAMS: [Param; 21] = [
     Param {
         key: "neighbours",
         default: "3",
-        meaning: "spatial neighbours besides the pixel (0..=32)",
+        meaning: "spatial neighbours besides the pixel itself (0..=32)",
     },
     Param {
         key: "radius",
@@ -46,72 +46,72 @@ pub const PARAMS: [Param; 21] = [
     Param {
         key: "frames",
         default: "8",
-        meaning: "frames per sequence of a static render (the last is kept)",
+        meaning: "frames per sequence of a static render (the last one is kept)",
     },
     Param {
         key: "primary_mip",
         default: "1",
-        meaning: "mip of candidate tracking on the primary segment (0: full resolution)",
+        meaning: "mip of candidate regular tracking on the primary segment (0: exact trilinear free flight at full resolution)",
     },
     Param {
         key: "indirect_mip",
         default: "2",
-        meaning: "mip of candidate tracking after the first vertex",
+        meaning: "mip of candidate regular tracking after the first vertex",
     },
     Param {
         key: "nee_mip",
         default: "2",
-        meaning: "mip of the marched T̃ on candidate NEE segments",
+        meaning: "mip of the ray-marched T̃ on candidate NEE segments",
     },
     Param {
         key: "nee_transmittance",
         default: "true",
-        meaning: "false: candidates ignore NEE transmittance",
+        meaning: "false: candidates ignore NEE transmittance (Fig. 11)",
     },
     Param {
         key: "reuse_mip",
         default: "1",
-        meaning: "mip of the marched T̃ in the reuse target",
+        meaning: "mip of the ray-marched T̃ in the reuse target p̂ (0: full resolution)",
     },
     Param {
         key: "reuse_step",
         default: "1",
-        meaning: "marching step of the reuse T̃, in voxel diagonals",
+        meaning: "marching step of T̃ in p̂, in voxel diagonals of `reuse_mip`",
     },
     Param {
         key: "estimator",
         default: "analytic_trilinear",
-        meaning: "transmittance of final shading",
+        meaning: "transmittance of final shading: exact, or any unbiased estimator",
     },
     Param {
         key: "reuse_bc4",
         default: "false",
-        meaning: "the reuse T̃'s mip through BC4 compression (4 bits a voxel, §5.1)",
+        meaning: "march the reuse T̃ through a BC4-compressed copy of its mip (4 bits a voxel, §5.1; p̂ only, so no bias)",
     },
     Param {
         key: "primary_table",
         default: "true",
-        meaning: "tabulate the reuse T̃ of every primary ray once per frame (the same p̂, fewer lookups; CPU)",
+        meaning: "tabulate the reuse T̃ of every pixel's primary ray once per frame (`restir::primary`): the same p̂ bit for bit with one lookup per first segment instead of a march (CPU; the GPU marches)",
     },
     Param {
         key: "shift",
         default: "direction",
-        meaning: "path shift of reuse: direction (ω_i, z_i copied) or vertex (x_2 … kept; not with shapes)",
+        meaning: "path shift of reuse: `direction` (ω_i and z_i copied, §4.2's default) or `vertex` (x_2 … x_k kept, 1/z² terms; not with shapes)",
     },
     Param {
         key: "reprojection",
         default: "true",
-        meaning: "temporal reuse reprojects x_1 (false: the same pixel, Fig. 8)",
+        meaning: "temporal reuse follows x_1 to the previous frame (false: the same pixel, Fig. 8)",
     },
     Param {
         key: "velocity_resampling",
         default: "true",
-        meaning: "reproject a pixel without x_1 through a resampled medium point (§5.2)",
+        meaning: "a sample without x_1 reprojects through a medium point resampled ∝ σ_t·T along its ray (§5.2, Fig. 13)",
     },
     Param {
         key: "rr_depth",
         default: "3",
-        meaning: "Russian roulette by albedo after this vertex when K is larger",
+        meaning: "Russian roulette by albedo after vertex x_rr_depth (only when K > rr_depth, §6.1)",
     },
 ];
 
@@ -264,7 +264,7 @@ impl RestirParams {
             let v = r.take(key)?.unwrap_or(*level);
             *level = in_range(r, key, v, 0, MAX_MIP)?;
         }
-        let nee_transmittance = r.take("nee_transmittance")?.unwrap_or(true);
+        let nee_transmittance = r.take("nee_transmittance")?.unwrap_or(d.nee_transmittance);
         let reuse_step: f32 = r.take("reuse_step")?.unwrap_or(d.reuse_step);
         let estimator = if r.has("estimator") {
             take_estimator(r)?
@@ -279,12 +279,15 @@ impl RestirParams {
             )));
         }
         let rr_depth = r.take("rr_depth")?.unwrap_or(d.rr_depth);
-        let reuse_bc4 = r.take("reuse_bc4")?.unwrap_or(false);
-        let primary_table = r.take("primary_table")?.unwrap_or(true);
-        let reprojection = r.take("reprojection")?.unwrap_or(true);
-        let velocity_resampling = r.take("velocity_resampling")?.unwrap_or(true);
+        let reuse_bc4 = r.take("reuse_bc4")?.unwrap_or(d.reuse_bc4);
+        let primary_table = r.take("primary_table")?.unwrap_or(d.primary_table);
+        let reprojection = r.take("reprojection")?.unwrap_or(d.reprojection);
+        let velocity_resampling = r
+            .take("velocity_resampling")?
+            .unwrap_or(d.velocity_resampling);
         let vertex_reuse = match r.take::<String>("shift")?.as_deref() {
-            None | Some("direction") => false,
+            None => d.vertex_reuse,
+            Some("direction") => false,
             Some("vertex") => true,
             Some(other) => {
                 return Err(SceneError(format!(

@@ -118,28 +118,23 @@ impl DistanceSampler {
     }
 }
 
-/// Parameters `direct` and `volpath` share.
-///
-/// | key | default | meaning |
-/// |---|---|---|
-/// | `distance_sampler` | `delta_tracking` | free-flight sampler: `delta_tracking`, `decomposition_tracking`, `regular_tracking` |
-/// | `estimator` | `ratio_tracking` | NEE transmittance estimator (`fogbank estimators`), with its options |
-/// | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only and Russian roulette by albedo, seed 002's baseline exactly (§6, §6.1) |
+/// Parameters `direct` and `volpath` share (their module docs carry the
+/// table).
 pub const SCATTER_PARAMS: [Param; 3] = [
     Param {
         key: "distance_sampler",
         default: "delta_tracking",
-        meaning: "free-flight sampler: delta_tracking, decomposition_tracking, regular_tracking",
+        meaning: "free-flight sampler: `delta_tracking`, `decomposition_tracking`, `regular_tracking`",
     },
     Param {
         key: "estimator",
         default: "ratio_tracking",
-        meaning: "NEE transmittance estimator, with its options",
+        meaning: "NEE transmittance estimator (`fogbank estimators`), with its options",
     },
     Param {
         key: "preset",
         default: "none",
-        meaning: "baseline = decomposition tracking + residual ratio tracking; restir_baseline = the same, light sampling only, roulette by albedo (seed 002 §6)",
+        meaning: "`baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only (no phase-sampled escape MIS) and Russian roulette by albedo, seed 002's baseline exactly (§6, §6.1; give the medium `supervoxel = 8`)",
     },
 ];
 

@@ -279,7 +279,9 @@ impl PinParams {
                 )))
             }
         };
-        let march_step = r.take::<f32>("march_step")?.unwrap_or(0.03);
+        let march_step = r
+            .take::<f32>("march_step")?
+            .unwrap_or(PinParams::default().march_step);
         if !(march_step > 0.0 && march_step <= 1.0) {
             return Err(SceneError(format!(
                 "{}: {march_step} is outside (0, 1] (box edges)",

@@ -9,20 +9,48 @@ use crate::error::SceneError;
 use crate::params::{Param, ParamReader};
 
 pub const PARAMS: [Param; 14] = [
-    Param { key: "p", default: "1", meaning: "Eq. 8: weight of the data term (> 0)" },
+    Param {
+        key: "p",
+        default: "1",
+        meaning: "Eq. 8: weight of the data term (> 0); lengths in the medium's [−1, 1]³ units",
+    },
     Param { key: "q", default: "70", meaning: "Eq. 7: weight of important matter behind a point: thins occluders" },
     Param { key: "r", default: "30", meaning: "Eq. 7: weight of important matter in front of a point: thins background clutter" },
     Param { key: "lambda", default: "1", meaning: "Eq. 8: exponent of (1 − g)^{2λ}" },
     Param { key: "samples", default: "64", meaning: "N, importance samples per camera ray and pass" },
-    Param { key: "passes", default: "4", meaning: "camera-list passes: 1 uniform + (passes − 1) adaptive, then frozen" },
+    Param {
+        key: "passes",
+        default: "4",
+        meaning: "1 uniform + (passes − 1) adaptive camera-list passes, then the lists are frozen",
+    },
     Param { key: "merge_distance", default: "0 (auto: 2·L/N)", meaning: "d of Alg. 1, in [−1, 1]³ units; 0 picks 2·L/N per ray" },
     Param { key: "gap_share", default: "0.5", meaning: "share of adaptive strata at change points and ray ends" },
-    Param { key: "light_samples", default: "200", meaning: "importance samples per NEE ray list (0: light rays unoptimised)" },
-    Param { key: "scattering", default: "single", meaning: "single; first (optimised first NEE, plain multiple scattering); all (every NEE optimised)" },
-    Param { key: "max_depth", default: "64", meaning: "longest path in scattering vertices (not with single)" },
-    Param { key: "shading", default: "false", meaning: "add the gradient lobe ‖∇μ_t‖ (H·N)^n (N·ω_L)₊ to HG at NEE (§3; Figs. 6, 9 enable it)" },
+    Param {
+        key: "light_samples",
+        default: "200",
+        meaning: "importance samples of each NEE ray's list (0: light rays unoptimised)",
+    },
+    Param {
+        key: "scattering",
+        default: "single",
+        meaning: "`single`, `first` (optimised first NEE + plain multiple scattering), `all` (every NEE optimised)",
+    },
+    Param {
+        key: "max_depth",
+        default: "64",
+        meaning: "longest path in scattering vertices, with `first` or `all`",
+    },
+    Param {
+        key: "shading",
+        default: "false",
+        meaning: "add the gradient lobe ‖∇μ_t‖ (H·N)^n (N·ω_L)₊ to HG at NEE (§3; the paper enables it in Figs. 6 and 9)",
+    },
     Param { key: "n", default: "40", meaning: "Blinn–Phong exponent of the lobe" },
-    Param { key: "optimise", default: "true", meaning: "false renders plain DVR (μ' = μ) with the same sampler" },
+    Param {
+        key: "optimise",
+        default: "true",
+        meaning: "false: plain DVR (μ' = μ) with the same sampler",
+    },
 ];
 
 /// The three multiple-scattering settings of §5.4 (Fig. 9).
@@ -137,7 +165,8 @@ impl VisOptParams {
         let light_samples = count("light_samples", d.light_samples, 0, 4096)?;
         let max_depth = count("max_depth", d.max_depth, 1, 100_000)?;
         let scattering = match r.take::<String>("scattering")?.as_deref() {
-            None | Some("single") => Scattering::Single,
+            None => d.scattering,
+            Some("single") => Scattering::Single,
             Some("first") => Scattering::First,
             Some("all") => Scattering::All,
             Some(other) => {
