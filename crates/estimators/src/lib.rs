@@ -27,6 +27,32 @@
 //!
 //! In seed 000's 1D experiments (`fogbank-eval`), `Profile1D::sigma_t_at`
 //! is μ(t) of the paper's figures (their axis labels keep the paper's μ).
+//!
+//! # Modules
+//!
+//! In layers, each importing only those before it:
+//!
+//! - `estimate` (what one estimate returns), `lookup` (the one place estimators read the
+//!   volume: counts the lookup, draws the stochastic-filter jitter), `roulette` (Russian
+//!   roulette on a tracking walk's running weight), `jackknife_function` (jackknife
+//!   estimates of functions of τ, seed 000 §5.1: Eq. 7, App. F's MIS weights, Eq. 3's
+//!   UMVU estimate of e^{−τ}) and the deterministic integrals: `regular_tracking`
+//!   (Szirmay-Kalos et al. 2010, seed 000 §2.1: exact τ of the nearest-filtered grid
+//!   along a DDA), `analytic_trilinear` (exact τ of the trilinear interpolant, seed 002
+//!   §5) and `deterministic_marching` (the reuse target's T̃, seed 002 §4.3, §5.1);
+//! - `null_collisions` (the tentative-collision process of the tracking estimators),
+//!   `optical_depth` (importance-sampled ray-marching estimates of τ, seed 000 Algs. 1
+//!   and 2) and `pins` (pin transmittance sampling, seed 004, Hansen 2025);
+//! - `ratio_tracking` (Novák et al. 2014, seed 000 §2.2), `residual_ratio_tracking`
+//!   (Novák et al. 2014: a per-super-voxel control extinction plus ratio tracking of the
+//!   residual), `jackknife` (seed 000's jackknife transmittance, Eqs. 4 and 5, and its
+//!   ablations), `kettunen` (Kettunen et al. 2021's biased and unbiased ray-marching
+//!   estimators) and `ray_marching` (naive ray marching, T = exp(−X), biased);
+//! - `distance` (distance samplers: delta, decomposition and regular tracking, and the
+//!   equiangular sampler) → `track_length` (seed 000 §2.2: delta tracking's 0/1 estimate);
+//! - `estimator` (the registry: names, options, descriptions, per-ray dispatch) →
+//!   `scaled` (transmittances of several extinctions k_c · σ_t from one walk, for
+//!   chromatic media with one density).
 
 /// Expands `body` once per storage type with `v` bound to the typed view, so
 /// each estimator is monomorphised and the match happens once per ray.

@@ -1,5 +1,5 @@
-//! Russian roulette on the running weight of a tracking estimator (issue
-//! 15): ratio tracking multiplies its weight by 1 − σ_t/σ̄ at every
+//! Russian roulette on the running weight of a tracking estimator:
+//! ratio tracking multiplies its weight by 1 − σ_t/σ̄ at every
 //! tentative collision, so in a dense medium it keeps reading the grid long
 //! after the weight has become negligible — its cost grows with the
 //! majorant's optical depth without bound. pbrt-v4 and Mitsuba 3 play

@@ -2,6 +2,19 @@
 //!
 //! Image I/O and the image metrics live in `fogbank-image` and are
 //! re-exported here as [`image_io`] and [`metrics`].
+//!
+//! Modules in layers, each importing only those before it:
+//! - `backend` (where an experiment renders: the CPU reference or the wgpu backend),
+//!   `plot` (line plots, histograms and heat maps in panels, written as SVG and PNG),
+//!   `denoise` (an external denoiser, Intel Open Image Denoise by default, run as a
+//!   command) and `report` (`fogbank report`: one offline HTML page of the runs below a
+//!   folder);
+//! - `frame_stats` (per-pixel mean, single-frame std and bias over K independent 1-spp
+//!   frames, seed 000 §6.1) and `converge` (equal-time curves: MSE against a reference
+//!   as a function of render time);
+//! - `maps` (false-colour maps of per-pixel statistics with a colour bar, seed 000
+//!   Figs. 8 and 10) and `experiments` (the seeds' figures and tables, each writing CSV,
+//!   plots and a `summary.md`).
 
 pub mod backend;
 pub mod converge;

@@ -9,6 +9,13 @@
 //! on the caller's own rays are [`rays`].
 //! Presentation (progress bars,
 //! notebooks, windows) stays with the front ends.
+//!
+//! Modules in layers, each importing only those before it: `error` (errors with a
+//! kind each front end maps to its own) and `shard_run` (the record of where and how a
+//! shard ran, kept in its partial result) → `renderer` (the CPU's worker pool or a GPU,
+//! behind one call) → `job` (samples per pixel or a time budget, a shard, and the checks
+//! every front end shares), `compare` (`fogbank compare`'s metrics of a test image
+//! against a reference), `stats`, `rays` and `output` → `frames` and `study`.
 
 pub mod compare;
 pub mod error;

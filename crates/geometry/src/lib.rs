@@ -1,6 +1,14 @@
 //! Surfaces: triangle meshes and analytic spheres and disks, watertight
 //! ray–triangle intersection and the BVH (one flat node array for the CPU
 //! and the GPU). A layer beside `fogbank-volume`, on top of `fogbank-math`.
+//!
+//! Modules in layers, each importing only those before it: `mesh` (triangle meshes:
+//! positions, index triples, optional normals and UVs), `triangle` (watertight
+//! ray–triangle intersection), `analytic` (Mitsuba 3's `sphere` and `disk`, intersected
+//! exactly) and `bvh` (a binned-SAH BVH over boxed primitives, one flat array of 32-byte
+//! nodes the CPU and WGSL read alike) → `loaders` (mesh files: OBJ and PLY) and `shapes`
+//! (Mitsuba 3's mesh-backed `rectangle` and `cube`, and test meshes) → `accel` (one BVH
+//! over a mesh and analytic shapes: closest-hit and any-hit queries).
 
 pub mod accel;
 pub mod analytic;

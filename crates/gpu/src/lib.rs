@@ -7,6 +7,29 @@
 //! estimator chosen by a pipeline-overridable constant so the hot loop has
 //! no dispatch. PCG32/PCG3D are bit-identical to the CPU's, so a pixel's
 //! random stream is the same on both.
+//!
+//! Modules in layers, each importing only those before it (`context` and `pipelines`
+//! refer to each other):
+//! - `contract` (every id and flag bit a WGSL kernel switches on, taken from the Rust
+//!   registries) → `shaders`; `context` (the wgpu device: adapter, limits, timestamp
+//!   support) and `pipelines` (compute pipelines and bind group layouts, built once per
+//!   device);
+//! - `scene_buffers`, `accumulation` (bind group 1: the frame uniform and the
+//!   accumulation buffers, read back as a film) and `surfaces` (the scene's BVH, shapes,
+//!   triangles and materials on the device);
+//! - `lights` (bind group 2: lights, environment map, the media's albedo, phase and
+//!   emission, the surfaces), `visopt` (seed 003: bind group 3 of the `visopt` and
+//!   `ament` kernels) and seed 004's pins: `pin_kernel` (the bind-group layout and
+//!   pipeline its grid-writing kernels share) → `pin_stream` (the pins streamed into
+//!   each grid before every pass) → `pins` (every medium's pin grid gathered on the
+//!   device, bind group 3 of the scatter kernel);
+//! - `diagnostics` (kernels that test the WGSL ports against the CPU bit for bit) and
+//!   `restir` (seed 002 §5: the passes of the CPU's `restir::frame` as compute kernels);
+//! - `kernel` (which per-sample kernel an integrator runs: the GPU's integrator
+//!   registry) → `kernel_setup` (bind groups, buffers, pipeline and timestamp queries
+//!   before a kernel's first dispatch) → `render` (the progressive render loop).
+//!
+//! Tests: `contract_test`, `pipelines_test`, `render_test`.
 
 pub mod accumulation;
 pub mod context;

@@ -2,6 +2,19 @@
 //!
 //! Everything here is plain data and pure functions so that the WGSL port can
 //! mirror it line by line (PCG32 and PCG3D are bit-identical on CPU and GPU).
+//!
+//! Modules:
+//! - geometry: `ray` (rays with an unnormalised direction, `t` a world distance) and
+//!   `bbox` (axis-aligned boxes with a robust slab test);
+//! - sampling: `rng` (PCG32 streams keyed by pixel, sample index and dimension; the
+//!   PCG3D hash), `warp` (the unit square to other domains, for BSDF and light sampling)
+//!   and `piecewise` (piecewise-linear transfer functions, as ParaView's);
+//! - numerics: `erf` (the error function, its complement and inverse in f32, as in
+//!   WGSL), `special` (adaptive Simpson quadrature, the regularised incomplete gamma
+//!   function), `chi2` (chi-square tests of samplers against their pdfs) and `exact_sum`
+//!   (order-independent sums in 256-bit fixed point);
+//! - data: `sample_data` (where the volume files of scenes, experiments and tests are)
+//!   and `testdata` (the policy for tests that need files outside the repository).
 
 pub mod bbox;
 pub mod chi2;

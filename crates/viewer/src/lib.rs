@@ -7,6 +7,13 @@
 //! saving the image (EXR with variance, or PNG) and the scene (TOML that
 //! `fogbank render` reproduces exactly). The window is eframe's (winit +
 //! wgpu + egui); a script ([`script`]) plays the same actions for tests.
+//!
+//! Modules in layers, each importing only those before it: `session` (one scene
+//! rendering progressively on a worker thread, publishing snapshots of its film) and
+//! `orbit` (orbit, pan and zoom of a look-at camera) → `display` (snapshots to pixels:
+//! the tone-mapped image, the relative-error map, the split screen) → `script`
+//! (scripted sessions) → `controls` (the control panel) → `app` (the window and the
+//! dispatch of every action) → `shortcuts` (keyboard shortcuts and the help overlay).
 
 pub mod app;
 pub mod controls;

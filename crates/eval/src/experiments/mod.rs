@@ -38,6 +38,7 @@ pub mod restir_protocol;
 pub mod restir_race;
 pub mod restir_scenes;
 pub mod restir_surfaces;
+mod scene_edit;
 pub mod table1;
 pub mod trials;
 pub mod visopt_denoise;

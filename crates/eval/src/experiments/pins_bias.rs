@@ -1,4 +1,4 @@
-//! Seed 004, the bias bar (fogbank's, not the thesis's): PinMS on
+//! Seed 004, fogbank's bias bar for pins (not the thesis's): PinMS on
 //! an albedo-1 isotropic cloud, 8 bounces, under an environment light and
 //! under a point light, rendered to convergence, against unbiased `volpath`;
 //! the relative error of the image mean and the mean per-pixel relative

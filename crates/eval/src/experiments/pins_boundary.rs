@@ -1,5 +1,5 @@
-//! Seed 004 Fig. 4.12 (and the issue's "boundary bias of hard-edged
-//! volumes, shown and measured"): the thesis finds PinMS's worst error at
+//! Seed 004 Fig. 4.12 (and the boundary bias of hard-edged volumes, shown
+//! and measured): the thesis finds PinMS's worst error at
 //! the hard boundaries of dense volumes lit from the side — contrast lost
 //! at the edges, the shadowed back brighter. fogbank measures it on the
 //! Teapot stand-in of Fig. 4.11 (`sphere.vdb` as a dense fog, hard-edged)

@@ -1,4 +1,4 @@
-//! Seed 004 Fig. 4.10 and the speed criterion: many overlapping
+//! Seed 004 Fig. 4.10 and fogbank's speed criterion for pins: many overlapping
 //! instances of one cloud (10, 50, 250), albedo 1, isotropic, 8 bounces,
 //! under the sky probe; the ray-marching baseline at step 0.08 against
 //! PinMS (pins for multiple scattering, ray marching at the same step for

@@ -27,6 +27,7 @@ use super::restir_protocol::{
 };
 use super::restir_race::{equal_time_race, Rival};
 use super::restir_scenes::{Motion, Shot};
+use super::scene_edit::SceneText;
 use super::writer::Writer;
 use crate::plot::{palette, Corner, Figure, LinePlot, Mark, Series};
 use fogbank_render::integrators::restir::frame::{PassTimes, Sequence};
@@ -70,7 +71,7 @@ fn cloud(lights: &str, seed: u32, scale: f32) -> String {
     )
 }
 
-fn cases() -> Vec<Case> {
+fn cases() -> Result<Vec<Case>, String> {
     let probe = "[[lights]]\ntype = \"envmap\"\nfile = \"probes/sky.hdr\"\n";
     let sun = "[[lights]]\ntype = \"directional\"\ndirection = [-0.4, -0.8, -0.3]\nirradiance = [3.0, 2.9, 2.7]\n\
                [[lights]]\ntype = \"constant\"\nradiance = [0.2, 0.25, 0.35]\n";
@@ -79,12 +80,12 @@ fn cases() -> Vec<Case> {
         sigma_t_scale = 8.0\nalbedo = [0.9, 0.9, 0.9]\n\
         [[lights]]\ntype = \"envmap\"\nfile = \"probes/sky.hdr\"\n[render]\npixel_jitter = false\n"
         .to_string();
-    let explosion = std::fs::read_to_string(scenes_dir().join("explosion.toml"))
-        .unwrap_or_default()
-        .replace("width = 480", "width = 128")
-        .replace("height = 400", "height = 96")
-        .replace("[render]\nspp = 32", "[render]\npixel_jitter = false")
-        .replace("[integrator]\ntype = \"volpath\"\nmax_depth = 8\n", "");
+    let explosion = SceneText::read(&scenes_dir().join("explosion.toml"))?
+        .replace("width = 480", "width = 128")?
+        .replace("height = 400", "height = 96")?
+        .replace("[render]\nspp = 128", "[render]\npixel_jitter = false")?
+        .replace("[integrator]\ntype = \"volpath\"\nmax_depth = 8\n", "")?
+        .text();
     let mut v = Vec::new();
     for k in [1, 3, 7] {
         v.push(Case {
@@ -117,10 +118,15 @@ fn cases() -> Vec<Case> {
         height: 96,
     }
     .text();
-    let still = still[..still.find("[animation]").unwrap_or(still.len())].replace(
+    let still = SceneText::new(
+        &still[..still.find("[animation]").unwrap_or(still.len())],
+        "the still plume",
+    )
+    .replace(
         "[integrator]\ntype = \"restir\"\nmax_depth = 3\nradius = 2.0\n",
         "",
-    );
+    )?
+    .text();
     for k in [3, 7] {
         v.push(Case {
             name: "plume, still",
@@ -140,10 +146,12 @@ fn cases() -> Vec<Case> {
     };
     v.push(Case {
         name: "animated plume",
-        scene: plume.text().replace(
-            "[integrator]\ntype = \"restir\"\nmax_depth = 3\nradius = 2.0\n",
-            "",
-        ),
+        scene: SceneText::new(plume.text(), "the animated plume")
+            .replace(
+                "[integrator]\ntype = \"restir\"\nmax_depth = 3\nradius = 2.0\n",
+                "",
+            )?
+            .text(),
         k: 3,
         restir: &[],
     });
@@ -178,7 +186,7 @@ fn cases() -> Vec<Case> {
         })
         .collect();
     v.extend(pairwise);
-    v
+    Ok(v)
 }
 
 struct Measured {
@@ -368,7 +376,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let threads = rayon::current_num_threads();
     let table = compare(
         w,
-        &cases(),
+        &cases()?,
         reference_spp,
         "Seed 002 Fig. 22: MSE of accumulated frames vs time (solid ReSTIR, dashed baseline)",
     )?;
@@ -494,4 +502,18 @@ pub fn compare(
         lines.join("\n"),
         images.join("; ")
     ))
+}
+
+#[cfg(test)]
+mod restir_equal_time_test {
+    use super::*;
+
+    /// Every case's scene, the shipped explosion adapted by its edits
+    /// included, reads as a scene.
+    #[test]
+    fn every_case_reads_as_a_scene() {
+        for c in cases().unwrap() {
+            fogbank_render::parse_scene(&c.scene, c.name, &[]).unwrap();
+        }
+    }
 }

@@ -16,6 +16,7 @@
 
 use super::restir_equal_time::{compare, Case, DEFAULT_REFERENCE_SPP, FRAMES, RADIUS, WARM_UP};
 use super::restir_protocol::scenes_dir;
+use super::scene_edit::SceneText;
 use super::writer::Writer;
 
 /// The Fig. 1 stand-in at 128×96.
@@ -39,13 +40,14 @@ pub fn emissive_shapes_scene() -> String {
 
 /// The Fig. 18 stand-in at 128×72.
 fn street_scene() -> Result<String, String> {
-    let path = scenes_dir().join("street/restir_street.toml");
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    Ok(text
-        .replace("width = 320", "width = 128")
-        .replace("height = 180", "height = 72")
-        .replace("file = \"windows.obj\"", "file = \"street/windows.obj\"")
-        .replace("[integrator]\ntype = \"restir\"\nmax_depth = 1\n", ""))
+    Ok(
+        SceneText::read(&scenes_dir().join("street/restir_street.toml"))?
+            .replace("width = 320", "width = 128")?
+            .replace("height = 180", "height = 72")?
+            .replace("file = \"windows.obj\"", "file = \"street/windows.obj\"")?
+            .replace("[integrator]\ntype = \"restir\"\nmax_depth = 1\n", "")?
+            .text(),
+    )
 }
 
 fn cases() -> Result<Vec<Case>, String> {

@@ -15,6 +15,7 @@
 //! directional light, at [`IMAGE_WIDTH`]² and `--trials` spp (default 16):
 //! the paper's visual comparison.
 
+use super::scene_edit::SceneText;
 use super::visopt_head::timed;
 use super::writer::Writer;
 use fogbank_render::integrators::visopt::optimised::importance_at;
@@ -134,10 +135,12 @@ fn side_by_side(
 ) -> Result<(), String> {
     let mut images = Vec::new();
     for (_, pre) in VARIANTS {
-        let text = format!("{LIT}\n{}", make(pre)).replace(
-            &format!("width = {WIDTH}, height = {WIDTH}"),
-            &format!("width = {IMAGE_WIDTH}, height = {IMAGE_WIDTH}"),
-        );
+        let text = SceneText::new(format!("{LIT}\n{}", make(pre)), file)
+            .replace(
+                &format!("width = {WIDTH}, height = {WIDTH}"),
+                &format!("width = {IMAGE_WIDTH}, height = {IMAGE_WIDTH}"),
+            )?
+            .text();
         images.push(timed(&build(&text, base)?, spp, 3).1);
     }
     let panels: Vec<&[[f32; 3]]> = images.iter().map(|i| i.as_slice()).collect();
@@ -187,10 +190,12 @@ fn study(
     let mut list_lines = Vec::new();
     for passes in [4, 16, 64] {
         let s = build(
-            &make("").replace(
-                "type = \"visopt\"",
-                &format!("type = \"visopt\", passes = {passes}"),
-            ),
+            &SceneText::new(make(""), name)
+                .replace(
+                    "type = \"visopt\"",
+                    &format!("type = \"visopt\", passes = {passes}"),
+                )?
+                .text(),
             base,
         )?;
         let (rel, found) = compare(&list_integrals(&s)?, &truth);
