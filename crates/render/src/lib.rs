@@ -39,3 +39,6 @@ pub use scene::{
 };
 pub use world::film::Film;
 pub use world::World;
+
+#[cfg(test)]
+mod registry_test;

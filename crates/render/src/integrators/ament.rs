@@ -28,10 +28,12 @@ use super::shared::next_event::delta_lights;
 use super::shared::{estimator_rng, occluders, primary_ray, PixelSample};
 use super::visopt::segments::mu_factor;
 use crate::error::SceneError;
+use crate::integrators::plugin::{Capabilities, IntegratorParams};
 use crate::params::{Param, ParamReader};
 use crate::world::medium::SceneMedium;
 use crate::world::shading::dvr_phase;
 use crate::world::World;
+use fogbank_estimators::Estimator;
 use fogbank_math::{Ray, SampleKey, Vec3};
 
 pub const PARAMS: [Param; 10] = [
@@ -118,8 +120,15 @@ impl Default for AmentParams {
     }
 }
 
-impl AmentParams {
-    pub fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
+impl IntegratorParams for AmentParams {
+    const NAME: &'static str = "ament";
+    const PARAMS: &'static [Param] = &PARAMS;
+    const CAPABILITIES: Capabilities = Capabilities {
+        chromatic: false,
+        far_clip: false,
+    };
+
+    fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
         let d = AmentParams::default();
         let mut num = |key: &str, default: f32, positive: bool| -> Result<f32, SceneError> {
             let v = r.take::<f64>(key)?.map_or(default, |v| v as f32);
@@ -166,7 +175,7 @@ impl AmentParams {
         })
     }
 
-    pub fn write(&self, t: &mut toml::Table) {
+    fn write(&self, t: &mut toml::Table) {
         for (k, v) in [
             ("step", self.step),
             ("p", self.p),
@@ -193,6 +202,12 @@ impl AmentParams {
         ] {
             t.insert(k.into(), v.into());
         }
+    }
+
+    // Shadow rays are marched like camera rays; no estimator is read, and
+    // visopt's (ratio tracking) stands for it in listings and kernel set-up.
+    fn estimator(&self) -> Estimator {
+        Estimator::RatioTracking { roulette: 0.0 }
     }
 }
 

@@ -21,7 +21,9 @@ use super::shared::next_event::{escaped, light_sample, phase_sample_to_environme
 use super::shared::{estimator_rng, primary_ray, DistanceSampler, PixelSample, ScatterParams};
 use super::volpath::{VolPath, VolPathParams};
 use crate::error::SceneError;
+use crate::integrators::plugin::{Capabilities, IntegratorParams};
 use crate::lights::sample::LightSampler;
+use crate::params::{Param, ParamReader};
 use crate::world::phase::HenyeyGreenstein;
 use crate::world::World;
 use fogbank_estimators::Estimator;
@@ -31,6 +33,28 @@ use fogbank_math::{SampleKey, Vec3};
 /// its path length.
 pub type DirectParams = ScatterParams;
 pub use super::shared::SCATTER_PARAMS as PARAMS;
+
+impl IntegratorParams for ScatterParams {
+    const NAME: &'static str = "direct";
+    const PARAMS: &'static [Param] = &PARAMS;
+    const CAPABILITIES: Capabilities = Capabilities {
+        chromatic: true,
+        far_clip: true,
+    };
+
+    /// The table `volpath` reads too (`ScatterParams`' own reader).
+    fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
+        ScatterParams::read_scatter(r)
+    }
+
+    fn write(&self, t: &mut toml::Table) {
+        self.write_scatter(t)
+    }
+
+    fn estimator(&self) -> Estimator {
+        self.estimator
+    }
+}
 
 #[derive(Clone, Debug)]
 pub struct Direct {

@@ -3,17 +3,24 @@
 //! radiance and the lookups it cost, reading the [`World`]; its typed
 //! parameter struct and parameter table live in its own file.
 //!
-//! Adding an integrator: a variant in [`IntegratorDesc`] and
-//! [`IntegratorKind`] and a line in each `match` below.
+//! Adding an integrator: its folder, with its parameter struct
+//! implementing [`plugin::IntegratorParams`] (name, table, reader, writer,
+//! estimator, capabilities), and one line in the `integrators!` list below,
+//! which says how the description builds. A new kind of render loop (not
+//! one of [`IntegratorKind`]'s) adds a variant there too.
 
 pub mod ament;
 pub mod direct;
+pub mod plugin;
 pub mod point_mis;
 pub mod restir;
 pub mod shared;
 pub mod transmittance;
 pub mod visopt;
 pub mod volpath;
+
+#[cfg(test)]
+mod test_background;
 
 use crate::error::SceneError;
 use crate::params::{Param, ParamReader};
@@ -22,24 +29,112 @@ use ament::{Ament, AmentParams};
 use direct::{Direct, DirectParams};
 use fogbank_estimators::Estimator;
 use fogbank_math::{SampleKey, Vec3};
+use plugin::{Capabilities, IntegratorParams};
 use point_mis::{PointMis, PointMisParams};
 use restir::{Restir, RestirParams};
 use shared::PixelSample;
+use std::sync::LazyLock;
 use transmittance::TransmittanceParams;
 use visopt::{VisOpt, VisOptParams};
 use volpath::{VolPath, VolPathParams};
 
-/// The `[integrator]` table: `type` selects the integrator, every other key
-/// is one of its parameters (see each integrator's table).
-#[derive(Clone, Debug, PartialEq)]
-pub enum IntegratorDesc {
-    Transmittance(TransmittanceParams),
-    Direct(DirectParams),
-    VolPath(VolPathParams),
-    PointMis(PointMisParams),
-    Restir(RestirParams),
-    VisOpt(VisOptParams),
-    Ament(AmentParams),
+/// The integrators, one line each: the variant of [`IntegratorDesc`], the
+/// parameter type (its [`IntegratorParams`]), and how the description
+/// builds the integrator for a world. Generates `IntegratorDesc`,
+/// [`REGISTRY`] and every dispatch over the descriptions.
+macro_rules! integrators {
+    ($($(#[$meta:meta])* $variant:ident($params:ty) => |$p:ident, $world:ident| $build:expr,)*) => {
+        /// The `[integrator]` table: `type` selects the integrator, every
+        /// other key is one of its parameters (see each integrator's table).
+        #[derive(Clone, Debug, PartialEq)]
+        pub enum IntegratorDesc {
+            $($(#[$meta])* $variant($params),)*
+        }
+
+        /// Every integrator's `type` and parameter table, in registration
+        /// order.
+        pub static REGISTRY: LazyLock<Vec<(&'static str, &'static [Param])>> =
+            LazyLock::new(registry);
+
+        // Entries may carry `#[cfg]`s, which `vec![]`'s elements cannot.
+        #[allow(clippy::vec_init_then_push)]
+        fn registry() -> Vec<(&'static str, &'static [Param])> {
+            let mut v = Vec::new();
+            $($(#[$meta])* v.push((<$params>::NAME, <$params>::PARAMS));)*
+            v
+        }
+
+        impl IntegratorDesc {
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $($(#[$meta])* IntegratorDesc::$variant(_) => <$params>::NAME,)*
+                }
+            }
+
+            /// The integrators with a capability, in registration order.
+            fn names_with(has: fn(Capabilities) -> bool) -> Vec<&'static str> {
+                let mut v = Vec::new();
+                $($(#[$meta])* if has(<$params>::CAPABILITIES) {
+                    v.push(<$params>::NAME);
+                })*
+                v
+            }
+
+            fn capabilities(&self) -> Capabilities {
+                match self {
+                    $($(#[$meta])* IntegratorDesc::$variant(_) => <$params>::CAPABILITIES,)*
+                }
+            }
+
+            /// The transmittance estimator as given (before any preset).
+            pub fn estimator(&self) -> Estimator {
+                match self {
+                    $($(#[$meta])* IntegratorDesc::$variant(p) => p.estimator(),)*
+                }
+            }
+
+            fn write_params(&self, t: &mut toml::Table) {
+                match self {
+                    $($(#[$meta])* IntegratorDesc::$variant(p) => p.write(t),)*
+                }
+            }
+
+            /// The description of integrator `name`, read from `r`.
+            fn read_named(name: &str, r: &mut ParamReader) -> Result<Option<IntegratorDesc>, SceneError> {
+                $($(#[$meta])* if name == <$params>::NAME {
+                    return Ok(Some(IntegratorDesc::$variant(<$params>::read(r)?)));
+                })*
+                Ok(None)
+            }
+
+            fn build_kind(&self, world: &World) -> Result<IntegratorKind, SceneError> {
+                Ok(match self {
+                    $($(#[$meta])* IntegratorDesc::$variant($p) => {
+                        let $world = world;
+                        $build
+                    })*
+                })
+            }
+        }
+    };
+}
+
+integrators! {
+    Transmittance(TransmittanceParams) => |p, _world| IntegratorKind::Transmittance {
+        estimator: p.estimator,
+        background: Vec3::from(p.background),
+    },
+    Direct(DirectParams) => |p, world| IntegratorKind::Direct(Direct::new(p, world)?),
+    VolPath(VolPathParams) => |p, world| IntegratorKind::VolPath(VolPath::new(p, world)?),
+    PointMis(PointMisParams) => |p, world| IntegratorKind::PointMis(PointMis::new(p, world)?),
+    Restir(RestirParams) => |p, world| IntegratorKind::Restir(Restir::new(p, world)?),
+    VisOpt(VisOptParams) => |p, world| IntegratorKind::VisOpt(VisOpt::new(p, world)?),
+    Ament(AmentParams) => |p, world| IntegratorKind::Ament(Ament::new(p, world)?),
+    #[cfg(test)]
+    TestBackground(test_background::TestBackground) => |p, _world| IntegratorKind::Transmittance {
+        estimator: Estimator::TrackLength,
+        background: Vec3::splat(p.level),
+    },
 }
 
 impl Default for IntegratorDesc {
@@ -48,30 +143,7 @@ impl Default for IntegratorDesc {
     }
 }
 
-/// Every integrator's `type` and parameter table, in one place.
-pub const REGISTRY: [(&str, &[Param]); 7] = [
-    ("transmittance", &transmittance::PARAMS),
-    ("direct", &direct::PARAMS),
-    ("volpath", &volpath::PARAMS),
-    ("point_mis", &point_mis::PARAMS),
-    ("restir", &restir::PARAMS),
-    ("visopt", &visopt::PARAMS),
-    ("ament", &ament::PARAMS),
-];
-
 impl IntegratorDesc {
-    pub fn name(&self) -> &'static str {
-        match self {
-            IntegratorDesc::Transmittance(_) => "transmittance",
-            IntegratorDesc::Direct(_) => "direct",
-            IntegratorDesc::VolPath(_) => "volpath",
-            IntegratorDesc::PointMis(_) => "point_mis",
-            IntegratorDesc::Restir(_) => "restir",
-            IntegratorDesc::VisOpt(_) => "visopt",
-            IntegratorDesc::Ament(_) => "ament",
-        }
-    }
-
     /// The typed description of the table at scene key `path`.
     pub fn from_table(path: &str, mut table: toml::Table) -> Result<IntegratorDesc, SceneError> {
         let ty = match table.remove("type") {
@@ -92,16 +164,8 @@ impl IntegratorDesc {
             )));
         };
         let mut r = ParamReader::new(path, name, table);
-        let desc = match name {
-            "transmittance" => IntegratorDesc::Transmittance(TransmittanceParams::read(&mut r)?),
-            "direct" => IntegratorDesc::Direct(DirectParams::read(&mut r)?),
-            "volpath" => IntegratorDesc::VolPath(VolPathParams::read(&mut r)?),
-            "point_mis" => IntegratorDesc::PointMis(PointMisParams::read(&mut r)?),
-            "restir" => IntegratorDesc::Restir(RestirParams::read(&mut r)?),
-            "visopt" => IntegratorDesc::VisOpt(VisOptParams::read(&mut r)?),
-            "ament" => IntegratorDesc::Ament(AmentParams::read(&mut r)?),
-            _ => unreachable!("every registered integrator is read"),
-        };
+        let desc =
+            IntegratorDesc::read_named(name, &mut r)?.expect("every registered integrator is read");
         // The estimator's options may stand flat in the table.
         let mut takes: Vec<&str> = params.iter().map(|p| p.key).collect();
         let estimator = desc.estimator();
@@ -141,31 +205,8 @@ impl IntegratorDesc {
     pub fn to_table(&self) -> toml::Table {
         let mut t = toml::Table::new();
         t.insert("type".into(), self.name().into());
-        match self {
-            IntegratorDesc::Transmittance(p) => p.write(&mut t),
-            IntegratorDesc::Direct(p) => p.write(&mut t),
-            IntegratorDesc::VolPath(p) => p.write(&mut t),
-            IntegratorDesc::PointMis(p) => p.write(&mut t),
-            IntegratorDesc::Restir(p) => p.write(&mut t),
-            IntegratorDesc::VisOpt(p) => p.write(&mut t),
-            IntegratorDesc::Ament(p) => p.write(&mut t),
-        }
+        self.write_params(&mut t);
         t
-    }
-
-    /// The transmittance estimator as given (before any preset).
-    pub fn estimator(&self) -> Estimator {
-        match self {
-            IntegratorDesc::Transmittance(p) => p.estimator,
-            IntegratorDesc::Direct(p) => p.estimator,
-            IntegratorDesc::VolPath(p) => p.scatter.estimator,
-            IntegratorDesc::PointMis(p) => p.estimator,
-            IntegratorDesc::Restir(p) => p.estimator,
-            // NEE rays are ratio-tracked through μ' (§5.3).
-            IntegratorDesc::VisOpt(_) => Estimator::RatioTracking { roulette: 0.0 },
-            // Deterministic marching; the estimator is not used.
-            IntegratorDesc::Ament(_) => Estimator::RatioTracking { roulette: 0.0 },
-        }
     }
 
     /// The integrator ready to render `world`.
@@ -179,47 +220,25 @@ impl IntegratorDesc {
                     .into(),
             ));
         }
-        // Chromatic media reach volpath first.
-        let renders_chroma = matches!(
-            self,
-            IntegratorDesc::VolPath(_)
-                | IntegratorDesc::Direct(_)
-                | IntegratorDesc::Transmittance(_)
-        );
-        if world.media.iter().any(|m| m.chroma.is_some()) && !renders_chroma {
+        let caps = self.capabilities();
+        if world.media.iter().any(|m| m.chroma.is_some()) && !caps.chromatic {
             return Err(SceneError(format!(
-                "integrator.type: `{}` does not render chromatic extinction (sigma_t_scale = [r, g, b]); volpath, direct and transmittance do",
-                self.name()
+                "integrator.type: `{}` does not render chromatic extinction (sigma_t_scale = [r, g, b]); {} do",
+                self.name(),
+                IntegratorDesc::names_with(|c| c.chromatic).join(", ")
             )));
         }
-        let clips = matches!(
-            self,
-            IntegratorDesc::VolPath(_)
-                | IntegratorDesc::Direct(_)
-                | IntegratorDesc::Transmittance(_)
-                | IntegratorDesc::PointMis(_)
-        );
-        if !clips && world.far_clip_cuts() {
+        if !caps.far_clip && world.far_clip_cuts() {
             return Err(SceneError(format!(
                 "camera.far_clip: the far plane cuts the scene, and `{}` does not end camera rays \
-                 on it (volpath, direct, transmittance and point_mis do); move it beyond the scene",
-                self.name()
+                 on it ({} do); move it beyond the scene",
+                self.name(),
+                IntegratorDesc::names_with(|c| c.far_clip).join(", ")
             )));
         }
         // restir, visopt, ament and point_mis see shapes as opaque black
         // occluders (shared/occluders.rs) and refuse the rest themselves.
-        Ok(match self {
-            IntegratorDesc::Transmittance(p) => IntegratorKind::Transmittance {
-                estimator: p.estimator,
-                background: Vec3::from(p.background),
-            },
-            IntegratorDesc::Direct(p) => IntegratorKind::Direct(Direct::new(p, world)?),
-            IntegratorDesc::VolPath(p) => IntegratorKind::VolPath(VolPath::new(p, world)?),
-            IntegratorDesc::PointMis(p) => IntegratorKind::PointMis(PointMis::new(p, world)?),
-            IntegratorDesc::Restir(p) => IntegratorKind::Restir(Restir::new(p, world)?),
-            IntegratorDesc::VisOpt(p) => IntegratorKind::VisOpt(VisOpt::new(p, world)?),
-            IntegratorDesc::Ament(p) => IntegratorKind::Ament(Ament::new(p, world)?),
-        })
+        self.build_kind(world)
     }
 }
 

@@ -13,6 +13,7 @@ use super::shared::free_flight::shadow_transmittance_in;
 use super::shared::tracking::Shadow;
 use super::shared::{estimator_rng, primary_ray, PixelSample};
 use crate::error::SceneError;
+use crate::integrators::plugin::{Capabilities, IntegratorParams};
 use crate::params::{estimator_value, take_estimator, Param, ParamReader};
 use crate::world::World;
 use fogbank_estimators::{transmittance, Estimate, Estimator};
@@ -46,8 +47,15 @@ impl Default for TransmittanceParams {
     }
 }
 
-impl TransmittanceParams {
-    pub fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
+impl IntegratorParams for TransmittanceParams {
+    const NAME: &'static str = "transmittance";
+    const PARAMS: &'static [Param] = &PARAMS;
+    const CAPABILITIES: Capabilities = Capabilities {
+        chromatic: true,
+        far_clip: true,
+    };
+
+    fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
         let d = TransmittanceParams::default();
         Ok(TransmittanceParams {
             estimator: take_estimator(r)?,
@@ -55,10 +63,14 @@ impl TransmittanceParams {
         })
     }
 
-    pub fn write(&self, t: &mut toml::Table) {
+    fn write(&self, t: &mut toml::Table) {
         t.insert("estimator".into(), estimator_value(self.estimator));
         let bg = self.background.map(|c| toml::Value::from(f64::from(c)));
         t.insert("background".into(), toml::Value::Array(bg.to_vec()));
+    }
+
+    fn estimator(&self) -> Estimator {
+        self.estimator
     }
 }
 

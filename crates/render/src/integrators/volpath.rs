@@ -37,6 +37,7 @@ use super::shared::{
     estimator_rng, primary_ray, PixelSample, Preset, ScatterParams, SCATTER_PARAMS,
 };
 use crate::error::SceneError;
+use crate::integrators::plugin::{Capabilities, IntegratorParams};
 use crate::lights::sample::{LightSampler, Vertex};
 use crate::params::{Param, ParamReader};
 use crate::world::chroma::ChromaEvent;
@@ -104,10 +105,17 @@ impl Default for VolPathParams {
     }
 }
 
-impl VolPathParams {
-    pub fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
+impl IntegratorParams for VolPathParams {
+    const NAME: &'static str = "volpath";
+    const PARAMS: &'static [Param] = &PARAMS;
+    const CAPABILITIES: Capabilities = Capabilities {
+        chromatic: true,
+        far_clip: true,
+    };
+
+    fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
         let d = VolPathParams::default();
-        let scatter = ScatterParams::read(r)?;
+        let scatter = ScatterParams::read_scatter(r)?;
         let max_depth = r.take("max_depth")?.unwrap_or(d.max_depth);
         if max_depth == 0 || max_depth > 100_000 {
             return Err(SceneError(format!(
@@ -123,11 +131,15 @@ impl VolPathParams {
         })
     }
 
-    pub fn write(&self, t: &mut toml::Table) {
-        self.scatter.write(t);
+    fn write(&self, t: &mut toml::Table) {
+        self.scatter.write_scatter(t);
         t.insert("max_depth".into(), i64::from(self.max_depth).into());
         t.insert("rr_depth".into(), i64::from(self.rr_depth).into());
         self.pins.write(t);
+    }
+
+    fn estimator(&self) -> Estimator {
+        self.scatter.estimator
     }
 }
 

@@ -2,6 +2,7 @@
 
 use super::strategy::Strategy;
 use crate::error::SceneError;
+use crate::integrators::plugin::{Capabilities, IntegratorParams};
 use crate::params::{estimator_value, take_estimator, Param, ParamReader};
 use fogbank_estimators::Estimator;
 
@@ -45,8 +46,15 @@ impl Default for PointMisParams {
     }
 }
 
-impl PointMisParams {
-    pub fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
+impl IntegratorParams for PointMisParams {
+    const NAME: &'static str = "point_mis";
+    const PARAMS: &'static [Param] = &PARAMS;
+    const CAPABILITIES: Capabilities = Capabilities {
+        chromatic: false,
+        far_clip: true,
+    };
+
+    fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
         let name = r
             .take::<String>("strategy")?
             .unwrap_or_else(|| "mis_jackknife".into());
@@ -71,9 +79,13 @@ impl PointMisParams {
         })
     }
 
-    pub fn write(&self, t: &mut toml::Table) {
+    fn write(&self, t: &mut toml::Table) {
         t.insert("strategy".into(), self.strategy.name().into());
         t.insert("estimator".into(), estimator_value(self.estimator));
         t.insert("mis_samples".into(), i64::from(self.mis_samples).into());
+    }
+
+    fn estimator(&self) -> Estimator {
+        self.estimator
     }
 }

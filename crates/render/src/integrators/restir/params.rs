@@ -4,6 +4,7 @@
 use super::path::MAX_K;
 use super::volume::MAX_MIP;
 use crate::error::SceneError;
+use crate::integrators::plugin::{Capabilities, IntegratorParams};
 use crate::params::{take_estimator, Param, ParamReader};
 use fogbank_estimators::Estimator;
 
@@ -230,8 +231,15 @@ fn in_range<T: PartialOrd + std::fmt::Display + Copy>(
     }
 }
 
-impl RestirParams {
-    pub fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
+impl IntegratorParams for RestirParams {
+    const NAME: &'static str = "restir";
+    const PARAMS: &'static [Param] = &PARAMS;
+    const CAPABILITIES: Capabilities = Capabilities {
+        chromatic: false,
+        far_clip: false,
+    };
+
+    fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
         let d = RestirParams::default();
         let max_depth = r.take("max_depth")?.unwrap_or(d.max_depth);
         let candidates = r.take("candidates")?.unwrap_or(d.candidates);
@@ -324,7 +332,7 @@ impl RestirParams {
         })
     }
 
-    pub fn write(&self, t: &mut toml::Table) {
+    fn write(&self, t: &mut toml::Table) {
         t.insert("max_depth".into(), i64::from(self.max_depth).into());
         t.insert("candidates".into(), i64::from(self.candidates).into());
         t.insert("reuse".into(), self.reuse.name().into());
@@ -362,6 +370,10 @@ impl RestirParams {
             }
             .into(),
         );
+    }
+
+    fn estimator(&self) -> Estimator {
+        self.estimator
     }
 }
 

@@ -178,7 +178,7 @@ impl Default for ScatterParams {
 }
 
 impl ScatterParams {
-    pub fn read(r: &mut ParamReader) -> Result<ScatterParams, SceneError> {
+    pub fn read_scatter(r: &mut ParamReader) -> Result<ScatterParams, SceneError> {
         let distance_sampler = match r.take::<String>("distance_sampler")? {
             None => None,
             Some(s) => Some(DistanceSampler::parse(&s).ok_or_else(|| {
@@ -208,7 +208,7 @@ impl ScatterParams {
         })
     }
 
-    pub fn write(&self, t: &mut toml::Table) {
+    pub fn write_scatter(&self, t: &mut toml::Table) {
         if let Some(d) = self.distance_sampler {
             t.insert("distance_sampler".into(), d.name().into());
         }

@@ -6,7 +6,9 @@
 //! rays with the light playing the camera.
 
 use crate::error::SceneError;
+use crate::integrators::plugin::{Capabilities, IntegratorParams};
 use crate::params::{Param, ParamReader};
+use fogbank_estimators::Estimator;
 
 pub const PARAMS: [Param; 14] = [
     Param {
@@ -115,8 +117,15 @@ impl Default for VisOptParams {
     }
 }
 
-impl VisOptParams {
-    pub fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
+impl IntegratorParams for VisOptParams {
+    const NAME: &'static str = "visopt";
+    const PARAMS: &'static [Param] = &PARAMS;
+    const CAPABILITIES: Capabilities = Capabilities {
+        chromatic: false,
+        far_clip: false,
+    };
+
+    fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
         let d = VisOptParams::default();
         let mut f =
             |key: &str, default: f32, ok: fn(f32) -> bool, what: &str| -> Result<f32, SceneError> {
@@ -188,7 +197,7 @@ impl VisOptParams {
         })
     }
 
-    pub fn write(&self, t: &mut toml::Table) {
+    fn write(&self, t: &mut toml::Table) {
         for (k, v) in [
             ("p", self.p),
             ("q", self.q),
@@ -211,5 +220,10 @@ impl VisOptParams {
         t.insert("scattering".into(), self.scattering.name().into());
         t.insert("shading".into(), self.shading.into());
         t.insert("optimise".into(), self.optimise.into());
+    }
+
+    // NEE rays are ratio-tracked through μ' (§5.3).
+    fn estimator(&self) -> Estimator {
+        Estimator::RatioTracking { roulette: 0.0 }
     }
 }
