@@ -305,7 +305,7 @@ fn experiment_help_lists_every_experiment() {
         .split(|c: char| !c.is_ascii_alphanumeric() && c != '-')
         .collect();
     for name in fogbank_eval::experiments::names() {
-        assert!(words.contains(name), "`{name}` missing from:\n{help}");
+        assert!(words.contains(&name), "`{name}` missing from:\n{help}");
     }
 }
 

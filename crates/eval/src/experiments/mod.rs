@@ -69,49 +69,60 @@ pub struct ExperimentReport {
     pub seconds: f64,
 }
 
+/// How an experiment runs: into a writer, with an optional trial count,
+/// returning the finding that `summary.md` states.
+type Run = fn(&mut Writer, Option<u64>) -> Result<String, String>;
+
+/// Every experiment, by the name `fogbank experiment` takes, listed once.
+const EXPERIMENTS: &[(&str, Run)] = &[
+    ("fig1", fig1::run),
+    ("fig2", fig2::run),
+    ("fig3", fig3::run),
+    ("fig4", |w, trials| {
+        fig4::run(w, trials, fig4::Variant::Smooth)
+    }),
+    ("fig5", fig5::run),
+    ("fig6", |w, trials| {
+        fig4::run(w, trials, fig4::Variant::Sparse)
+    }),
+    ("fig7", fig7::run),
+    ("fig12", fig12::run),
+    ("fig13", fig13::run),
+    ("table1", table1::run),
+    ("fig14", fig14::run),
+    ("restir-equal-time", restir_equal_time::run),
+    ("restir-surfaces", restir_surfaces::run),
+    ("restir-ablation", restir_ablation::run),
+    ("restir-dynamic", restir_dynamic::run),
+    ("restir-bias", restir_bias::run),
+    ("restir-gpu-frame-time", restir_gpu_frame_time::run),
+    ("pins-stream", pins_stream::run),
+    ("pins-surfaces", pins_surfaces::run),
+    ("pins-fig3-4", pins_fig3_4::run),
+    ("pins-instances", pins_instances::run),
+    ("pins-memory", pins_memory::run),
+    ("pins-ablation", pins_ablation::run),
+    ("pins-bias", pins_bias::run),
+    ("pins-boundary", pins_boundary::run),
+    ("pins-runtime", pins_runtime::run),
+    ("pins-gpu-runtime", pins_runtime::run_gpu),
+    ("pins-convergence", pins_convergence::run),
+    ("visopt-fig2", visopt_fig2::run),
+    ("visopt-fig7", visopt_fig7::run),
+    ("visopt-overhead", visopt_overhead::run),
+    ("visopt-head", visopt_head::run),
+    ("visopt-pre", visopt_pre::run),
+    ("visopt-equal-time", visopt_equal_time::run),
+    ("visopt-teaser", visopt_teaser::run),
+    ("visopt-denoise", visopt_denoise::run),
+    ("visopt-gpu-frame-time", visopt_gpu_frame_time::run),
+    ("bvh-perf", bvh_perf::run),
+    ("light-bvh", light_bvh::run),
+];
+
 /// The experiment names `run` accepts.
-pub fn names() -> &'static [&'static str] {
-    &[
-        "fig1",
-        "fig2",
-        "fig3",
-        "fig4",
-        "fig5",
-        "fig6",
-        "fig7",
-        "fig12",
-        "fig13",
-        "table1",
-        "fig14",
-        "restir-equal-time",
-        "restir-surfaces",
-        "restir-ablation",
-        "restir-dynamic",
-        "restir-bias",
-        "restir-gpu-frame-time",
-        "pins-stream",
-        "pins-surfaces",
-        "pins-fig3-4",
-        "pins-instances",
-        "pins-memory",
-        "pins-ablation",
-        "pins-bias",
-        "pins-boundary",
-        "pins-runtime",
-        "pins-gpu-runtime",
-        "pins-convergence",
-        "visopt-fig2",
-        "visopt-fig7",
-        "visopt-overhead",
-        "visopt-head",
-        "visopt-pre",
-        "visopt-equal-time",
-        "visopt-teaser",
-        "visopt-denoise",
-        "visopt-gpu-frame-time",
-        "bvh-perf",
-        "light-bvh",
-    ]
+pub fn names() -> Vec<&'static str> {
+    EXPERIMENTS.iter().map(|(n, _)| *n).collect()
 }
 
 /// Runs experiment `name` into directory `out` (created if missing) with
@@ -120,59 +131,19 @@ pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentRepo
     if trials == Some(0) {
         return Err("--trials must be at least 1".into());
     }
+    let Some((_, experiment)) = EXPERIMENTS.iter().find(|(n, _)| *n == name) else {
+        return Err(format!(
+            "unknown experiment '{name}' (known: {})",
+            names().join(", ")
+        ));
+    };
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let start = Instant::now();
     let mut w = Writer {
         out: out.to_path_buf(),
         files: Vec::new(),
     };
-    let summary = match name {
-        "fig1" => fig1::run(&mut w, trials),
-        "fig2" => fig2::run(&mut w, trials),
-        "fig3" => fig3::run(&mut w, trials),
-        "fig4" => fig4::run(&mut w, trials, fig4::Variant::Smooth),
-        "fig6" => fig4::run(&mut w, trials, fig4::Variant::Sparse),
-        "fig5" => fig5::run(&mut w, trials),
-        "fig7" => fig7::run(&mut w, trials),
-        "fig12" => fig12::run(&mut w, trials),
-        "fig13" => fig13::run(&mut w, trials),
-        "table1" => table1::run(&mut w, trials),
-        "fig14" => fig14::run(&mut w, trials),
-        "restir-equal-time" => restir_equal_time::run(&mut w, trials),
-        "restir-surfaces" => restir_surfaces::run(&mut w, trials),
-        "restir-ablation" => restir_ablation::run(&mut w, trials),
-        "restir-dynamic" => restir_dynamic::run(&mut w, trials),
-        "restir-bias" => restir_bias::run(&mut w, trials),
-        "restir-gpu-frame-time" => restir_gpu_frame_time::run(&mut w, trials),
-        "pins-stream" => pins_stream::run(&mut w, trials),
-        "pins-surfaces" => pins_surfaces::run(&mut w, trials),
-        "pins-fig3-4" => pins_fig3_4::run(&mut w, trials),
-        "pins-instances" => pins_instances::run(&mut w, trials),
-        "pins-memory" => pins_memory::run(&mut w, trials),
-        "pins-ablation" => pins_ablation::run(&mut w, trials),
-        "pins-bias" => pins_bias::run(&mut w, trials),
-        "pins-boundary" => pins_boundary::run(&mut w, trials),
-        "pins-runtime" => pins_runtime::run(&mut w, trials),
-        "pins-gpu-runtime" => pins_runtime::run_gpu(&mut w, trials),
-        "pins-convergence" => pins_convergence::run(&mut w, trials),
-        "visopt-fig2" => visopt_fig2::run(&mut w, trials),
-        "visopt-fig7" => visopt_fig7::run(&mut w, trials),
-        "visopt-overhead" => visopt_overhead::run(&mut w, trials),
-        "visopt-head" => visopt_head::run(&mut w, trials),
-        "visopt-pre" => visopt_pre::run(&mut w, trials),
-        "visopt-equal-time" => visopt_equal_time::run(&mut w, trials),
-        "visopt-teaser" => visopt_teaser::run(&mut w, trials),
-        "visopt-denoise" => visopt_denoise::run(&mut w, trials),
-        "bvh-perf" => bvh_perf::run(&mut w, trials),
-        "light-bvh" => light_bvh::run(&mut w, trials),
-        "visopt-gpu-frame-time" => visopt_gpu_frame_time::run(&mut w, trials),
-        _ => {
-            return Err(format!(
-                "unknown experiment '{name}' (known: {})",
-                names().join(", ")
-            ))
-        }
-    }?;
+    let summary = experiment(&mut w, trials)?;
     let seconds = start.elapsed().as_secs_f64();
     let command = match trials {
         Some(t) => format!("fogbank experiment {name} --trials {t}"),
