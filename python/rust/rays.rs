@@ -8,8 +8,9 @@ use crate::grid::Grid;
 use crate::scene::Medium;
 use crate::watch::watched;
 use fogbank::rays::{sample_distance_on_rays, transmittance_on_rays, FlightSampler, Rays};
-use fogbank::Progress;
+use fogbank::{Progress, Renderer};
 use fogbank_estimators::{Estimator, EstimatorOptions};
+use fogbank_volume::Medium as VolumeMedium;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -93,6 +94,32 @@ struct RayArrays {
     o: Vec<[f32; 3]>,
     d: Vec<[f32; 3]>,
     t: Vec<f32>,
+}
+
+/// Runs `work` on the caller's rays through medium `index` of `scene` on
+/// the CPU pool, with the GIL released and Ctrl-C watched (an interrupt
+/// raises `KeyboardInterrupt`).
+fn on_rays<T: Send>(
+    py: Python<'_>,
+    (scene, index): (Arc<fogbank_render::Scene>, usize),
+    r: &RayArrays,
+    threads: Option<usize>,
+    work: impl FnOnce(&Renderer, &VolumeMedium, Rays, &Progress) -> Result<T, fogbank::Error> + Send,
+) -> PyResult<T> {
+    let renderer = crate::render::renderer("cpu", threads)?;
+    let progress = Progress::default();
+    let w = watched(py, &progress, None, || {
+        let rays = Rays {
+            origins: &r.o,
+            directions: &r.d,
+            t_max: &r.t,
+        };
+        work(&renderer, &scene.media[index].medium, rays, &progress)
+    })?;
+    if let Some(i) = w.interrupt {
+        return Err(i);
+    }
+    w.value.map_err(to_py)
 }
 
 fn rays_of<'py>(
@@ -180,30 +207,11 @@ pub fn transmittance<'py>(
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
     let mut grid_keys = Vec::new();
     let e = estimator_of(estimator, options, &mut grid_keys)?;
-    let (scene, index) = medium_of(py, medium, &mut grid_keys)?;
+    let on = medium_of(py, medium, &mut grid_keys)?;
     let r = rays_of(origins, directions, t_max)?;
-    let renderer = crate::render::renderer("cpu", threads)?;
-    let progress = Progress::default();
-    let w = watched(py, &progress, None, || {
-        let rays = Rays {
-            origins: &r.o,
-            directions: &r.d,
-            t_max: &r.t,
-        };
-        transmittance_on_rays(
-            &renderer,
-            &scene.media[index].medium,
-            e,
-            rays,
-            per_ray,
-            seed,
-            &progress,
-        )
+    let (t, n) = on_rays(py, on, &r, threads, |renderer, m, rays, progress| {
+        transmittance_on_rays(renderer, m, e, rays, per_ray, seed, progress)
     })?;
-    if let Some(i) = w.interrupt {
-        return Err(i);
-    }
-    let (t, n) = w.value.map_err(to_py)?;
     let rays = r.o.len();
     Ok((shaped(py, t, rays, per_ray)?, shaped(py, n, rays, per_ray)?))
 }
@@ -238,30 +246,11 @@ pub fn sample_distance<'py>(
             }
         }
     }
-    let (scene, index) = medium_of(py, medium, &mut grid_keys)?;
+    let on = medium_of(py, medium, &mut grid_keys)?;
     let r = rays_of(origins, directions, t_max)?;
-    let renderer = crate::render::renderer("cpu", threads)?;
-    let progress = Progress::default();
-    let w = watched(py, &progress, None, || {
-        let rays = Rays {
-            origins: &r.o,
-            directions: &r.d,
-            t_max: &r.t,
-        };
-        sample_distance_on_rays(
-            &renderer,
-            &scene.media[index].medium,
-            s,
-            rays,
-            per_ray,
-            seed,
-            &progress,
-        )
+    let f = on_rays(py, on, &r, threads, |renderer, m, rays, progress| {
+        sample_distance_on_rays(renderer, m, s, rays, per_ray, seed, progress)
     })?;
-    if let Some(i) = w.interrupt {
-        return Err(i);
-    }
-    let f = w.value.map_err(to_py)?;
     let n = r.o.len();
     Ok((
         shaped(py, f.t, n, per_ray)?,
