@@ -295,107 +295,178 @@ pub fn field_data(
             "{key}.time: only used with procedural = \"plume\""
         )));
     }
-    let err = |e: fogbank_volume::VolumeError| SceneError(format!("{key}: {e}"));
     if let Some(f) = &d.vdb {
-        let path = base.join(f);
-        let g = vdb::read_grid(&path, d.grid.as_deref()).map_err(err)?;
-        let (level_set, background, name) =
-            (vdb_grid::is_level_set(&g), g.background, g.name.clone());
-        let mode = d.level_set.as_deref().unwrap_or("fog");
-        if level_set && mode != "fog" && mode != "raw" {
-            return Err(SceneError(format!(
-                "{key}.level_set: `{mode}` is not `fog` or `raw`"
-            )));
-        }
-        // The file's leaves become the builder's bricks, and each brick is
-        // mapped and stored in the medium's precision as it is finished:
-        // the voxels exist in f32 once.
-        let (builder, xf) = vdb_grid::to_builder(g).map_err(err)?;
-        let (fog, to_fog) = (
-            vdb_grid::level_set_fog(background),
-            level_set && mode == "fog",
-        );
-        let map = move |v: f32| if to_fog { fog(v) } else { v.max(0.0) };
-        let data = match precision {
-            Precision::F16 => DensityData::F16(builder.finish_converted(map)),
-            Precision::F32 => DensityData::F32(builder.finish_converted(map)),
-        };
-        return Ok(FieldData::new(
-            data,
-            xf,
-            format!("{} ({})", path.display(), name),
-        ));
+        return vdb_field(d, f, key, base, precision);
     }
     if let Some(f) = &d.vol {
-        let path = base.join(f);
-        let v = vol::read_vol(&path).map_err(err)?;
-        let grid = v
-            .channel_grid(d.channel.unwrap_or(0))
-            .map_err(err)?
-            .map_values(|x| x.max(0.0));
-        return Ok(FieldData::new(
-            DensityData::from_f32(grid, precision),
-            v.index_to_world(),
-            path.display().to_string(),
-        ));
+        return vol_field(d, f, key, base, precision);
     }
     if let Some(name) = &d.array {
-        // As a `.vol` file with the same voxels and box reads.
-        let a = arrays::get(name, key)?;
-        let grid = a
-            .channel_grid(d.channel.unwrap_or(0))
-            .map_err(err)?
-            .map_values(|x| x.max(0.0));
-        return Ok(FieldData::new(
-            DensityData::from_f32(grid, precision),
-            a.index_to_world(),
-            a.describe(),
-        ));
+        return array_field(d, name, key, precision);
     }
     if let Some(f) = &d.raw {
-        let path = base.join(f);
-        let ty = match &d.ty {
-            Some(t) => Some(raw::RawType::parse(t).ok_or_else(|| {
-                SceneError(format!(
-                    "{key}.type: unknown raw type `{t}` (u8, u16, i16, f32, f64)"
-                ))
-            })?),
-            None => None,
-        };
-        let grid = raw::read_raw(&path, d.dims, ty).map_err(err)?;
-        let xf = unit_box_transform(grid.dims());
-        return Ok(FieldData::new(
+        return raw_field(d, f, key, base, precision);
+    }
+    if let Some(f) = &d.nifti {
+        return scalar_file_field(d, f, true, key, base, precision);
+    }
+    if let Some(f) = &d.nrrd {
+        return scalar_file_field(d, f, false, key, base, precision);
+    }
+    procedural_field(d, key, precision)
+}
+
+/// A volume reader's error as a scene error naming the key.
+fn volume_error(key: &str) -> impl Fn(fogbank_volume::VolumeError) -> SceneError + Copy + '_ {
+    move |e| SceneError(format!("{key}: {e}"))
+}
+
+/// A VDB grid, its leaves the bricks (level sets as fog unless `raw`).
+fn vdb_field(
+    d: &FieldDesc,
+    f: &str,
+    key: &str,
+    base: &Path,
+    precision: Precision,
+) -> Result<FieldData, SceneError> {
+    let err = volume_error(key);
+    let path = base.join(f);
+    let g = vdb::read_grid(&path, d.grid.as_deref()).map_err(err)?;
+    let (level_set, background, name) = (vdb_grid::is_level_set(&g), g.background, g.name.clone());
+    let mode = d.level_set.as_deref().unwrap_or("fog");
+    if level_set && mode != "fog" && mode != "raw" {
+        return Err(SceneError(format!(
+            "{key}.level_set: `{mode}` is not `fog` or `raw`"
+        )));
+    }
+    // The file's leaves become the builder's bricks, and each brick is
+    // mapped and stored in the medium's precision as it is finished:
+    // the voxels exist in f32 once.
+    let (builder, xf) = vdb_grid::to_builder(g).map_err(err)?;
+    let (fog, to_fog) = (
+        vdb_grid::level_set_fog(background),
+        level_set && mode == "fog",
+    );
+    let map = move |v: f32| if to_fog { fog(v) } else { v.max(0.0) };
+    let data = match precision {
+        Precision::F16 => DensityData::F16(builder.finish_converted(map)),
+        Precision::F32 => DensityData::F32(builder.finish_converted(map)),
+    };
+    Ok(FieldData::new(
+        data,
+        xf,
+        format!("{} ({})", path.display(), name),
+    ))
+}
+
+/// A Mitsuba `.vol` file's channel.
+fn vol_field(
+    d: &FieldDesc,
+    f: &str,
+    key: &str,
+    base: &Path,
+    precision: Precision,
+) -> Result<FieldData, SceneError> {
+    let err = volume_error(key);
+    let path = base.join(f);
+    let v = vol::read_vol(&path).map_err(err)?;
+    let grid = v
+        .channel_grid(d.channel.unwrap_or(0))
+        .map_err(err)?
+        .map_values(|x| x.max(0.0));
+    Ok(FieldData::new(
+        DensityData::from_f32(grid, precision),
+        v.index_to_world(),
+        path.display().to_string(),
+    ))
+}
+
+/// An in-memory voxel array, as a `.vol` file with the same voxels and box reads.
+fn array_field(
+    d: &FieldDesc,
+    name: &str,
+    key: &str,
+    precision: Precision,
+) -> Result<FieldData, SceneError> {
+    let err = volume_error(key);
+    // As a `.vol` file with the same voxels and box reads.
+    let a = arrays::get(name, key)?;
+    let grid = a
+        .channel_grid(d.channel.unwrap_or(0))
+        .map_err(err)?
+        .map_values(|x| x.max(0.0));
+    Ok(FieldData::new(
+        DensityData::from_f32(grid, precision),
+        a.index_to_world(),
+        a.describe(),
+    ))
+}
+
+/// A headerless raw file in the unit box.
+fn raw_field(
+    d: &FieldDesc,
+    f: &str,
+    key: &str,
+    base: &Path,
+    precision: Precision,
+) -> Result<FieldData, SceneError> {
+    let err = volume_error(key);
+    let path = base.join(f);
+    let ty = match &d.ty {
+        Some(t) => Some(raw::RawType::parse(t).ok_or_else(|| {
+            SceneError(format!(
+                "{key}.type: unknown raw type `{t}` (u8, u16, i16, f32, f64)"
+            ))
+        })?),
+        None => None,
+    };
+    let grid = raw::read_raw(&path, d.dims, ty).map_err(err)?;
+    let xf = unit_box_transform(grid.dims());
+    Ok(FieldData::new(
+        DensityData::from_f32(grid, precision),
+        xf,
+        path.display().to_string(),
+    ))
+}
+
+/// A NIfTI or NRRD volume, its value range mapped onto [0, 1].
+fn scalar_file_field(
+    d: &FieldDesc,
+    f: &str,
+    nifti: bool,
+    key: &str,
+    base: &Path,
+    precision: Precision,
+) -> Result<FieldData, SceneError> {
+    let err = volume_error(key);
+    let path = base.join(f);
+    let index = d.channel.unwrap_or(0);
+    let v = if nifti {
+        scalar_files::nifti::read(&path, index)
+    } else {
+        scalar_files::nrrd::read(&path, index)
+    }
+    .map_err(err)?;
+    // The value range maps onto [0, 1]; a transfer function's points
+    // (in file units) are mapped the same way.
+    let grid = v.normalised_grid().map_err(err)?;
+    Ok(FieldData {
+        units: Some(v.range().unwrap_or((0.0, 1.0))),
+        ..FieldData::new(
             DensityData::from_f32(grid, precision),
-            xf,
-            path.display().to_string(),
-        ));
-    }
-    if let Some((f, nifti)) = d
-        .nifti
-        .as_ref()
-        .map(|f| (f, true))
-        .or(d.nrrd.as_ref().map(|f| (f, false)))
-    {
-        let path = base.join(f);
-        let index = d.channel.unwrap_or(0);
-        let v = if nifti {
-            scalar_files::nifti::read(&path, index)
-        } else {
-            scalar_files::nrrd::read(&path, index)
-        }
-        .map_err(err)?;
-        // The value range maps onto [0, 1]; a transfer function's points
-        // (in file units) are mapped the same way.
-        let grid = v.normalised_grid().map_err(err)?;
-        return Ok(FieldData {
-            units: Some(v.range().unwrap_or((0.0, 1.0))),
-            ..FieldData::new(
-                DensityData::from_f32(grid, precision),
-                v.index_to_world,
-                format!("{} ({})", path.display(), v.description),
-            )
-        });
-    }
+            v.index_to_world,
+            format!("{} ({})", path.display(), v.description),
+        )
+    })
+}
+
+/// A procedural or analytic field of `resolution`³ voxels in the unit box.
+fn procedural_field(
+    d: &FieldDesc,
+    key: &str,
+    precision: Precision,
+) -> Result<FieldData, SceneError> {
+    let err = volume_error(key);
     let name = d.procedural.as_deref().unwrap_or_default();
     let res = d.resolution.unwrap_or(128);
     // Seeded noise shapes with no options beyond resolution and seed.
