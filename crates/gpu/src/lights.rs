@@ -238,7 +238,7 @@ impl LightBuffers {
         let mut shading: Vec<[f32; 4]> = scene
             .media
             .iter()
-            .map(|m| [m.albedo[0], m.albedo[1], m.albedo[2], m.phase_g])
+            .map(|m| [m.albedo[0], m.albedo[1], m.albedo[2], m.phase.g])
             .collect();
         // Per medium three vec4s: (albedo grid first + 1, its channels,
         // emission kind, emission grid first + 1) as small exact floats,

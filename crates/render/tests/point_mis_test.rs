@@ -8,7 +8,6 @@ use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
 use fogbank_render::integrators::point_mis::{jackknife_weights, Strategy};
 use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::lights::Light;
-use fogbank_render::world::phase::HenyeyGreenstein;
 use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene};
 use fogbank_volume::{MediumView, VolumeAccess};
 use std::path::Path;
@@ -63,7 +62,7 @@ fn quadrature(s: &Scene, steps: usize) -> Vec<f64> {
         v.sigma_t(p, Vec3::ZERO)
     }
     let m = &s.media[0];
-    let hg = HenyeyGreenstein { g: m.phase_g };
+    let hg = m.phase;
     let mut rng = Pcg32::new(1, 1);
     let (w, h) = (s.camera.width, s.camera.height);
     let mut out = Vec::new();

@@ -16,6 +16,7 @@
 //! | `estimator` | ratio_tracking | NEE transmittance estimator (`fogbank estimators`), with its options |
 //! | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only (no phase-sampled escape MIS) and Russian roulette by albedo, seed 002's baseline exactly (§6, §6.1; give the medium `supervoxel = 8`) |
 
+use super::shared::context::{MediumVertex, NextEvent, PathContext};
 use super::shared::free_flight::next_collision;
 use super::shared::next_event::{escaped, light_sample, phase_sample_to_environment};
 use super::shared::{estimator_rng, primary_ray, DistanceSampler, PixelSample, ScatterParams};
@@ -24,7 +25,6 @@ use crate::error::SceneError;
 use crate::integrators::plugin::{Capabilities, IntegratorParams};
 use crate::lights::sample::LightSampler;
 use crate::params::{Param, ParamReader};
-use crate::world::phase::HenyeyGreenstein;
 use crate::world::World;
 use fogbank_estimators::Estimator;
 use fogbank_math::{SampleKey, Vec3};
@@ -95,18 +95,10 @@ impl Direct {
             return v.sample(world, x, y, key);
         }
         let mut rng = estimator_rng(key);
+        let cx = &mut PathContext::new(world, &mut rng);
         let ray = primary_ray(world, x, y, key);
-        let mut lookups = 0u32;
         let t_far = world.camera.ray_end(&ray);
-        let Some((t, mi)) = next_collision(
-            self.distance.into(),
-            world,
-            &ray,
-            t_far,
-            None,
-            &mut rng,
-            &mut lookups,
-        ) else {
+        let Some((t, mi)) = next_collision(cx, self.distance.into(), &ray, t_far, None) else {
             let lost = world.lost_at_far_clip(None, &ray, t_far);
             return PixelSample {
                 radiance: if lost {
@@ -114,7 +106,7 @@ impl Direct {
                 } else {
                     escaped(world, &self.lights, ray.d, None)
                 },
-                lookups,
+                lookups: cx.lookups,
             };
         };
         let m = &world.media[mi];
@@ -122,25 +114,22 @@ impl Direct {
         let albedo = m.albedo_at(p);
         let mut radiance = m.emitted(p, albedo);
         if albedo != Vec3::ZERO {
-            let hg = HenyeyGreenstein { g: m.phase_g };
-            let (lights, nee) = (&self.lights, self.nee);
-            let rng = &mut rng;
-            radiance +=
-                albedo * light_sample(world, lights, nee.into(), p, ray.d, &hg, rng, &mut lookups);
-            let (wi, pdf) = hg.sample(-ray.d, [rng.next_f32(), rng.next_f32()]);
-            radiance += albedo
-                * phase_sample_to_environment(
-                    world,
-                    lights,
-                    nee.into(),
-                    p,
-                    wi,
-                    pdf,
-                    None,
-                    rng,
-                    &mut lookups,
-                );
+            let v = MediumVertex {
+                p,
+                d: ray.d,
+                phase: m.phase,
+                medium: None,
+            };
+            let nee = NextEvent {
+                lights: &self.lights,
+                shadow: self.nee.into(),
+                mis: true,
+            };
+            radiance += albedo * light_sample(cx, &nee, &v);
+            let (wi, pdf) = v.phase.sample(-ray.d, cx.next_2d());
+            radiance += albedo * phase_sample_to_environment(cx, &nee, &v, wi, pdf);
         }
+        let lookups = cx.lookups;
         PixelSample { radiance, lookups }
     }
 }

@@ -9,6 +9,7 @@
 //! | `estimator` | ratio_tracking | transmittance estimator (`fogbank estimators`), with its options flat in `[integrator]` or as `{ type = "…", … }` |
 //! | `background` | [1, 1, 1] | radiance behind the media; the image is T · background |
 
+use super::shared::context::PathContext;
 use super::shared::free_flight::shadow_transmittance_in;
 use super::shared::tracking::Shadow;
 use super::shared::{estimator_rng, primary_ray, PixelSample};
@@ -108,20 +109,12 @@ pub fn sample(
         // dielectrics let part of it through), bounded media count only
         // inside their shapes, and chromatic media per channel.
         let camera_medium = world.surfaces.as_ref().and_then(|s| s.camera_medium);
-        let mut lookups = 0;
+        let cx = &mut PathContext::new(world, &mut rng);
         let nee = Shadow::Estimator(estimator);
-        let t = shadow_transmittance_in(
-            nee,
-            world,
-            &ray,
-            t_max,
-            camera_medium,
-            &mut rng,
-            &mut lookups,
-        );
+        let t = shadow_transmittance_in(cx, nee, &ray, t_max, camera_medium);
         return PixelSample {
             radiance: background * t,
-            lookups,
+            lookups: cx.lookups,
         };
     }
     let e = along_ray(world, estimator, &ray, t_max, &mut rng);

@@ -25,9 +25,10 @@
 //! | `march_step` | 0.03 | ray-marching step in edges of the medium's box |
 //! | `pin_grid` | {} | the pin grid (`shared::pin_params`): `positions`, `memory_ratio` (0.1), `phi` (16), `theta` (4), `step` (0.01), `jitter` (1), `mask_iterations` (5), `unquantised`, `seed`, `stream` (0: static; pins streamed into each grid before every pass), `stream_spacing` (0.1) |
 
+use super::shared::context::{MediumVertex, NextEvent, PathContext, SurfaceVertex};
 use super::shared::free_flight::{next_collision, MAX_CROSSINGS};
 use super::shared::next_event::{
-    emitter_weight, escaped, light_sample_surface, light_sample_weighted,
+    emitter_weight, escaped, light_sample, light_sample_surface,
     phase_sample_to_environment, sampled_direction_to_lights, SampledFrom,
 };
 use super::shared::pin_params::{PinMode, PinParams, PIN_KEYS};
@@ -41,7 +42,6 @@ use crate::integrators::plugin::{Capabilities, IntegratorParams};
 use crate::lights::sample::{LightSampler, Vertex};
 use crate::params::{Param, ParamReader};
 use crate::world::chroma::ChromaEvent;
-use crate::world::phase::HenyeyGreenstein;
 use crate::world::surfaces::{ShadingFrame, SurfaceHit};
 use crate::world::World;
 use fogbank_estimators::Estimator;
@@ -148,7 +148,6 @@ struct Path {
     ray: Ray,
     beta: Vec3,
     radiance: Vec3,
-    lookups: u32,
     /// The last scattering vertex, the solid-angle pdf its direction was
     /// sampled with and its kind, for MIS with light sampling (`None`:
     /// camera ray or delta lobe). Null boundaries leave it unchanged.
@@ -254,11 +253,11 @@ impl VolPath {
         set: Option<&PinSet>,
     ) -> PixelSample {
         let mut rng = estimator_rng(key);
+        let cx = &mut PathContext::new(world, &mut rng);
         let mut path = Path {
             ray: primary_ray(world, x, y, key),
             beta: Vec3::ONE,
             radiance: Vec3::ZERO,
-            lookups: 0,
             prev: None,
             medium: world.surfaces.as_ref().and_then(|s| s.camera_medium),
         };
@@ -279,18 +278,10 @@ impl VolPath {
             let t_end = hit.map_or(t_limit, |h| h.t);
             let flight = self.pins.flight(depth, self.distance, set);
             let (ray, medium) = (path.ray, path.medium);
-            let collision = next_collision(
-                flight,
-                world,
-                &ray,
-                t_end,
-                medium,
-                &mut rng,
-                &mut path.lookups,
-            );
+            let collision = next_collision(cx, flight, &ray, t_end, medium);
             let step = match (collision, hit) {
-                (Some((t, mi)), _) => self.medium_vertex(world, &mut path, t, mi, depth, &mut rng),
-                (None, Some(h)) => self.surface_vertex(world, &mut path, &h, depth, &mut rng),
+                (Some((t, mi)), _) => self.medium_vertex(cx, &mut path, t, mi, depth),
+                (None, Some(h)) => self.surface_vertex(cx, &mut path, &h, depth),
                 (None, None) if from_camera && world.lost_at_far_clip(medium, &ray, t_limit) => {
                     Step::Stop
                 }
@@ -321,7 +312,7 @@ impl VolPath {
         }
         PixelSample {
             radiance: path.radiance,
-            lookups: path.lookups,
+            lookups: cx.lookups,
         }
     }
 
@@ -330,23 +321,22 @@ impl VolPath {
     /// phase-sampled direction evaluated toward the lights).
     fn medium_vertex(
         &self,
-        world: &World,
+        cx: &mut PathContext,
         path: &mut Path,
         t: f32,
         mi: usize,
         depth: u32,
-        rng: &mut Pcg32,
     ) -> Step {
-        let m = &world.media[mi];
+        let m = &cx.world.media[mi];
         let p = path.ray.at(t);
         let d = path.ray.d;
         let mut albedo = m.albedo_at(p);
         if let Some(c) = &m.chroma {
             // A collision of the tracked (largest) channel: each channel
             // scatters, absorbs (emits) or passes with its own probability.
-            let k = c.k_at(&m.medium, p, &mut path.lookups);
+            let k = c.k_at(&m.medium, p, &mut cx.lookups);
             path.radiance += path.beta * (m.emitted(p, albedo) * k);
-            match c.event(path.beta, albedo, k, rng.next_f32()) {
+            match c.event(path.beta, albedo, k, cx.next_f32()) {
                 ChromaEvent::Scatter(w) => albedo = w,
                 ChromaEvent::Pass(w) => {
                     path.beta *= w;
@@ -362,38 +352,18 @@ impl VolPath {
         if path.beta == Vec3::ZERO {
             return Step::Stop;
         }
-        let hg = HenyeyGreenstein { g: m.phase_g };
-        let shadow = self.pins.shadow(depth, self.nee, self.pin_set(world));
-        let (lookups, medium) = (&mut path.lookups, path.medium);
-        let mis = !self.light_only;
-        path.radiance += path.beta
-            * light_sample_weighted(
-                world,
-                &self.lights,
-                shadow,
-                p,
-                d,
-                &hg,
-                mis,
-                medium,
-                rng,
-                lookups,
-            );
-        let (wi, pdf) = hg.sample(-d, [rng.next_f32(), rng.next_f32()]);
+        let v = MediumVertex {
+            p,
+            d,
+            phase: m.phase,
+            medium: path.medium,
+        };
+        let nee = self.next_event(cx.world, depth);
+        path.radiance += path.beta * light_sample(cx, &nee, &v);
+        let (wi, pdf) = v.phase.sample(-d, cx.next_2d());
         if depth + 1 == self.max_depth {
             if !self.light_only {
-                path.radiance += path.beta
-                    * phase_sample_to_environment(
-                        world,
-                        &self.lights,
-                        shadow,
-                        p,
-                        wi,
-                        pdf,
-                        path.medium,
-                        rng,
-                        &mut path.lookups,
-                    );
+                path.radiance += path.beta * phase_sample_to_environment(cx, &nee, &v, wi, pdf);
             }
             return Step::Stop;
         }
@@ -403,7 +373,19 @@ impl VolPath {
             at: Vertex::Medium,
         });
         path.ray = Ray::new(p, wi);
-        self.roulette(path, depth, albedo, rng)
+        self.roulette(path, depth, albedo, cx.rng)
+    }
+
+    /// Next-event estimation at a vertex of depth `depth`: this
+    /// integrator's light strategy, the shadow estimator for that depth
+    /// (PinMS switches to pins past the first bounce), MIS unless light
+    /// sampling is the only strategy.
+    fn next_event(&self, world: &World, depth: u32) -> NextEvent<'_> {
+        NextEvent {
+            lights: &self.lights,
+            shadow: self.pins.shadow(depth, self.nee, self.pin_set(world)),
+            mis: !self.light_only,
+        }
     }
 
     /// A surface hit: its emission (MIS-weighted against light sampling),
@@ -412,12 +394,12 @@ impl VolPath {
     /// toward the lights).
     fn surface_vertex(
         &self,
-        world: &World,
+        cx: &mut PathContext,
         path: &mut Path,
         h: &SurfaceHit,
         depth: u32,
-        rng: &mut Pcg32,
     ) -> Step {
+        let world = cx.world;
         let surfaces = world.surfaces.as_ref().expect("a hit has surfaces");
         let d = path.ray.d;
         if let Some((le, li)) = surfaces.emitted(h, d) {
@@ -435,25 +417,19 @@ impl VolPath {
         let bsdf = material.at(h.uv);
         let frame = ShadingFrame::new(h.ns);
         let wo = frame.to_local(-d);
-        let shadow = self.pins.shadow(depth, self.nee, self.pin_set(world));
+        let nee = self.next_event(world, depth);
         if !bsdf.is_delta() {
-            path.radiance += path.beta
-                * light_sample_surface(
-                    world,
-                    &self.lights,
-                    shadow,
-                    h,
-                    &frame,
-                    wo,
-                    &bsdf,
-                    !self.light_only,
-                    path.medium,
-                    rng,
-                    &mut path.lookups,
-                );
+            let v = SurfaceVertex {
+                hit: h,
+                frame,
+                wo,
+                bsdf: &bsdf,
+                medium: path.medium,
+            };
+            path.radiance += path.beta * light_sample_surface(cx, &nee, &v);
         }
-        let uc = rng.next_f32();
-        let Some(bs) = bsdf.sample(wo, uc, [rng.next_f32(), rng.next_f32()]) else {
+        let uc = cx.next_f32();
+        let Some(bs) = bsdf.sample(wo, uc, cx.next_2d()) else {
             return Step::Stop;
         };
         let weight = bs.weight();
@@ -481,16 +457,7 @@ impl VolPath {
                 let ray = h.spawn(wi);
                 path.radiance += path.beta
                     * weight
-                    * sampled_direction_to_lights(
-                        world,
-                        &self.lights,
-                        shadow,
-                        &ray,
-                        prev,
-                        medium,
-                        rng,
-                        &mut path.lookups,
-                    );
+                    * sampled_direction_to_lights(cx, &nee, &ray, prev, medium);
             }
             return Step::Stop;
         }
@@ -498,7 +465,7 @@ impl VolPath {
         path.prev = prev;
         path.medium = medium;
         path.ray = h.spawn(wi);
-        self.roulette(path, depth, weight, rng)
+        self.roulette(path, depth, weight, cx.rng)
     }
 
     /// Russian roulette on the throughput from `rr_depth` on (seed 002's

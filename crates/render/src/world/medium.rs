@@ -5,7 +5,7 @@ use super::chroma::{rgb_density, Chroma};
 use super::emission::{Emission, EmissionDesc};
 use super::field::{field_data, Field, FieldData, FieldDesc};
 use super::importance::{Importance, ImportanceInputs, ImportancePreDesc, ImportanceRuleDesc};
-use super::phase::PhaseDesc;
+use super::phase::{HenyeyGreenstein, PhaseDesc};
 use super::transfer::{Transfer, TransferDesc, TransferLookup, TransferMode};
 use super::velocity::{Velocity, VelocityDesc};
 use crate::error::SceneError;
@@ -166,7 +166,9 @@ pub struct SceneMedium {
     pub transfer: Option<TransferLookup>,
     /// Where the medium matters for visibility optimisation (seed 003).
     pub importance: Importance,
-    pub phase_g: f32,
+    /// The phase function (pbrt-v4's and Mitsuba 3's media hold one too;
+    /// Henyey–Greenstein is the only model, g = 0 isotropic).
+    pub phase: HenyeyGreenstein,
     /// What the density came from, for `--stats` and messages.
     pub source: String,
     /// How the medium's matter moves (None: it is still).
@@ -446,10 +448,12 @@ impl MediumDesc {
             emission,
             transfer,
             importance,
-            phase_g: if m.phase.ty == "isotropic" {
-                0.0
-            } else {
-                m.phase.g
+            phase: HenyeyGreenstein {
+                g: if m.phase.ty == "isotropic" {
+                    0.0
+                } else {
+                    m.phase.g
+                },
             },
             source,
             entry: i,

@@ -8,7 +8,6 @@
 //! next-event estimation: directions are sampled from HG alone.
 
 use super::medium::SceneMedium;
-use super::phase::HenyeyGreenstein;
 use fogbank_math::Vec3;
 
 /// The scatter function of seed 003 §3 at `p` for a ray along `d` toward
@@ -16,7 +15,7 @@ use fogbank_math::Vec3;
 /// when `lobe` is set, with ∇μ_t in the [−1, 1]³ units of `unit` (2 / the
 /// medium's longest world extent; μ and the length each scale by 1/unit).
 pub fn dvr_phase(m: &SceneMedium, p: Vec3, d: Vec3, wi: Vec3, lobe: Option<f32>, unit: f32) -> f32 {
-    let hg = HenyeyGreenstein { g: m.phase_g }.eval(d.dot(wi));
+    let hg = m.phase.eval(d.dot(wi));
     match lobe {
         None => hg,
         Some(n) => hg + gradient_lobe(m.gradient_sigma_t(p) / (unit * unit), d, wi, n),

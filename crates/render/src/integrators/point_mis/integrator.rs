@@ -139,7 +139,7 @@ impl PointMis {
             b,
             light: position,
             intensity,
-            hg: HenyeyGreenstein { g: medium.phase_g },
+            hg: medium.phase,
             surfaces: world.surfaces.as_ref(),
         };
         Some((seg, pmf))

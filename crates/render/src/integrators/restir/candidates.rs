@@ -28,7 +28,6 @@ use super::target::{environment, luminance};
 use super::volume::{sigma_t, track, SegmentT};
 use crate::integrators::shared::occluders::visible;
 use crate::lights::sample::Vertex;
-use crate::world::phase::HenyeyGreenstein;
 use fogbank_estimators::distance::TrackedFlight;
 use fogbank_math::{Pcg32, Ray, Vec3};
 
@@ -46,9 +45,15 @@ impl Restir {
         lookups: &mut u32,
     ) -> Reservoir<PathSample> {
         let mut res = Reservoir::default();
+        let mut s = Stream {
+            data,
+            rng,
+            res: &mut res,
+            lookups: &mut *lookups,
+        };
         for _ in 0..self.params.candidates {
-            res.count(1.0);
-            self.walk(data, ray0, rng, &mut res, lookups);
+            s.res.count(1.0);
+            self.walk(&mut s, ray0);
         }
         if let Some(y) = res.y {
             let p_hat = self.p_hat(data, pixel, ray0, &y, lookups);
@@ -57,16 +62,9 @@ impl Restir {
         res
     }
 
-    /// One random walk, streaming its candidates into `res`.
-    fn walk(
-        &self,
-        data: &FrameData,
-        ray0: &Ray,
-        rng: &mut Pcg32,
-        res: &mut Reservoir<PathSample>,
-        lookups: &mut u32,
-    ) {
-        let p = &self.params;
+    /// One random walk, streaming its candidates into the reservoir.
+    fn walk(&self, s: &mut Stream, ray0: &Ray) {
+        let (p, data) = (&self.params, s.data);
         let world = data.world;
         let full = &world.media[0].medium;
         let mut y = PathSample::BACKGROUND;
@@ -93,9 +91,9 @@ impl Restir {
                 level == 0,
                 &ray,
                 t_surface,
-                rng,
+                s.rng,
             );
-            *lookups += flight.lookups;
+            *s.lookups += flight.lookups;
             let Some(t) = flight.t.filter(|&t| t < t_surface) else {
                 // The walk passes every collision up to the surface (or
                 // out of the medium): probability T* of the range.
@@ -104,17 +102,18 @@ impl Restir {
                     if k == 1 {
                         // p = T* of the whole ray, p̂ = T*·lum(L_env): w = lum(L_env).
                         let w = luminance(environment(world, ray.d));
-                        res.stream(PathSample::BACKGROUND, w, w * p_pass as f32, rng.next_f32());
+                        let u = s.rng.next_f32();
+                        s.res.stream(PathSample::BACKGROUND, w, w * p_pass as f32, u);
                     }
                     return;
                 };
                 w.p_walk *= p_pass;
-                if !self.surface_vertex(data, &mut y, &mut w, &v, k, rng, res, lookups) {
+                if !self.surface_vertex(s, &mut y, &mut w, &v, k) {
                     return;
                 }
                 continue;
             };
-            if !self.medium_vertex(data, &mut y, &mut w, t, &flight, k, rng, res, lookups) {
+            if !self.medium_vertex(s, &mut y, &mut w, t, &flight, k) {
                 return;
             }
         }
@@ -124,22 +123,18 @@ impl Restir {
     /// walk's ray where `flight` collided: emission (an emitter is kept
     /// fixed in space under reuse), next-event estimation with the phase
     /// function, then phase sampling. Returns whether the walk goes on.
-    #[allow(clippy::too_many_arguments)]
     fn medium_vertex(
         &self,
-        data: &FrameData,
+        s: &mut Stream,
         y: &mut PathSample,
         w: &mut Walk,
         t: f32,
         flight: &TrackedFlight,
         k: usize,
-        rng: &mut Pcg32,
-        res: &mut Reservoir<PathSample>,
-        lookups: &mut u32,
     ) -> bool {
-        let m = &data.world.media[0];
+        let m = &s.data.world.media[0];
         let full = &m.medium;
-        let hg = HenyeyGreenstein { g: m.phase_g };
+        let hg = m.phase;
         let ray = w.ray;
         let x = ray.at(t);
         w.p_walk *= (-flight.tau).exp() * flight.sigma_t;
@@ -166,21 +161,25 @@ impl Restir {
                 p_e *= (1.0 / (t * t)) as f64;
             }
             let we = luminance(w.beta * m.emitted(x, albedo) * (sigma * inv_sigma_star));
-            res.stream(ye, we, we * p_e as f32, rng.next_f32());
+            let u = s.rng.next_f32();
+            s.res.stream(ye, we, we * p_e as f32, u);
         }
-        let beta = w.beta * albedo * (sigma * inv_sigma_star);
         let scatter = |wi: Vec3| Vec3::splat(hg.pdf(-ray.d, wi));
-        let from = Ray::new(x, ray.d);
-        let p_y = w.p_walk * w.g_fixed;
-        self.nee_candidate(data, y, &from, None, &scatter, beta, p_y, rng, res, lookups);
+        let at = NeeVertex {
+            from: Ray::new(x, ray.d),
+            surface: None,
+            beta: w.beta * albedo * (sigma * inv_sigma_star),
+            p_walk: w.p_walk * w.g_fixed,
+        };
+        self.nee_candidate(s, y, &at, &scatter);
         w.beta *= albedo * (sigma * inv_sigma_star);
         if k == self.params.max_depth as usize {
             return false;
         }
-        let (wi, pdf) = hg.sample(-ray.d, [rng.next_f32(), rng.next_f32()]);
+        let (wi, pdf) = hg.sample(-ray.d, [s.rng.next_f32(), s.rng.next_f32()]);
         w.p_walk *= pdf as f64;
         y.dir[k - 1] = wi;
-        if !self.roulette(w, k, albedo, rng) {
+        if !self.roulette(w, k, albedo, s.rng) {
             return false;
         }
         w.ray = Ray::new(x, wi);
@@ -191,17 +190,13 @@ impl Restir {
     /// the camera is a candidate (k = 1; later vertices reach emitters by
     /// light sampling), then next-event estimation with the BSDF, then BSDF
     /// sampling. Returns whether the walk goes on.
-    #[allow(clippy::too_many_arguments)]
     fn surface_vertex(
         &self,
-        data: &FrameData,
+        s: &mut Stream,
         y: &mut PathSample,
         w: &mut Walk,
         v: &SurfaceVertex,
         k: usize,
-        rng: &mut Pcg32,
-        res: &mut Reservoir<PathSample>,
-        lookups: &mut u32,
     ) -> bool {
         let d = w.ray.d;
         y.k = k as u8;
@@ -210,30 +205,26 @@ impl Restir {
         y.x[k - 1] = v.hit.p;
         if k == 1 {
             // p = T* up to the surface, p̂ = T*·lum(L_e): w = lum(L_e).
-            let we = luminance(v.emitted(data.world, d));
+            let we = luminance(v.emitted(s.data.world, d));
             if we > 0.0 {
                 let mut ye = *y;
                 ye.end = PathEnd::Emission;
-                res.stream(ye, we, we * w.p_walk as f32, rng.next_f32());
+                let u = s.rng.next_f32();
+                s.res.stream(ye, we, we * w.p_walk as f32, u);
             }
         }
         let scatter = |wi: Vec3| v.scatter(d, wi);
-        let from = Ray::new(v.hit.p, d);
-        self.nee_candidate(
-            data,
-            y,
-            &from,
-            Some(v),
-            &scatter,
-            w.beta,
-            w.p_walk,
-            rng,
-            res,
-            lookups,
-        );
+        let at = NeeVertex {
+            from: Ray::new(v.hit.p, d),
+            surface: Some(v),
+            beta: w.beta,
+            p_walk: w.p_walk,
+        };
+        self.nee_candidate(s, y, &at, &scatter);
         if k == self.params.max_depth as usize {
             return false;
         }
+        let rng = &mut *s.rng;
         let wo = v.frame.to_local(-d);
         let uc = rng.next_f32();
         let Some(bs) = v.bsdf.sample(wo, uc, [rng.next_f32(), rng.next_f32()]) else {
@@ -269,27 +260,20 @@ impl Restir {
         true
     }
 
-    /// The scattering candidate at the vertex `from.o` (reached along
-    /// `from.d`; on surface `surface` or in the medium; `beta` already
-    /// holds the vertex's σ_s/σ_t*): next-event estimation toward one light
+    /// The scattering candidate at vertex `at` (see [`NeeVertex`]): next-event estimation toward one light
     /// picked by power, with the vertex's `scatter` factor (phase function,
     /// or f_s·|cos θ|) and T̃ of the NEE mip on the shadow segment (Fig. 11).
     /// An emitting shape's sampled point is kept with the path, in its area
     /// measure: p̂ and p both carry |cos θ_q|/|q − x|², so w is unchanged.
-    #[allow(clippy::too_many_arguments)]
     fn nee_candidate(
         &self,
-        data: &FrameData,
+        s: &mut Stream,
         y: &PathSample,
-        from: &Ray,
-        surface: Option<&SurfaceVertex>,
+        at: &NeeVertex,
         scatter: &dyn Fn(Vec3) -> Vec3,
-        beta: Vec3,
-        p_walk: f64,
-        rng: &mut Pcg32,
-        res: &mut Reservoir<PathSample>,
-        lookups: &mut u32,
     ) {
+        let (data, rng) = (s.data, &mut *s.rng);
+        let (from, surface, beta, p_walk) = (&at.from, at.surface, at.beta, at.p_walk);
         let world = data.world;
         let full = &world.media[0].medium;
         let x = from.o;
@@ -327,7 +311,7 @@ impl Restir {
                 step: 1.0,
                 primary: None,
             }
-            .eval(full, &shadow, ls.distance, lookups)
+            .eval(full, &shadow, ls.distance, s.lookups)
         } else {
             1.0
         };
@@ -343,8 +327,28 @@ impl Restir {
             yl.light_point = q;
             p_y *= light.area_factor(x, q) as f64;
         }
-        res.stream(yl, w, w * p_y as f32, u_keep);
+        s.res.stream(yl, w, w * p_y as f32, u_keep);
     }
+}
+
+/// What the vertices of one pixel's walks share: the frame, the pixel's
+/// reservoir the candidates stream into, the random stream and the lookup
+/// counter.
+struct Stream<'a> {
+    data: &'a FrameData<'a>,
+    rng: &'a mut Pcg32,
+    res: &'a mut Reservoir<PathSample>,
+    lookups: &'a mut u32,
+}
+
+/// A vertex offering a next-event candidate: `from.o`, reached along
+/// `from.d`, on `surface` or (`None`) in the medium; `beta` already holds
+/// the vertex's σ_s/σ_t*, `p_walk` the walk's pdf up to it.
+struct NeeVertex<'v> {
+    from: Ray,
+    surface: Option<&'v SurfaceVertex>,
+    beta: Vec3,
+    p_walk: f64,
 }
 
 /// A walk's state between vertices: its ray, throughput ∏ σ_s/σ_t* (and

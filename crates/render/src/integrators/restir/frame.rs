@@ -6,7 +6,7 @@
 //! Primary rays go through pixel centres in every pass (the authors' code):
 //! reuse compares targets of fixed pixel rays.
 
-use super::integrator::{FrameData, Restir};
+use super::integrator::{pixel_ray, FrameData, Restir};
 use super::path::PathSample;
 use super::primary::PrimaryT;
 use super::reservoir::Reservoir;
@@ -104,10 +104,7 @@ impl<'r> Sequence<'r> {
             .rng()
         };
         let pixel = |i: usize| ((i as u32) % w, (i as u32) / w);
-        let ray = |i: usize| {
-            let (x, y) = pixel(i);
-            cam.ray(x as f32 + 0.5, y as f32 + 0.5)
-        };
+        let ray = |i: usize| pixel_ray(cur.world, pixel(i));
         let mut times = PassTimes::default();
         let mut lookups = 0u64;
 
@@ -129,7 +126,7 @@ impl<'r> Sequence<'r> {
                     data: prev,
                 };
                 let (t, l) = collect(n, |i, lk| {
-                    r.temporal(cur, &before, pixel(i), &ray(i), res[i], &mut rng(i, 1), lk)
+                    r.temporal(cur, &before, pixel(i), res[i], &mut rng(i, 1), lk)
                 });
                 res = t;
                 lookups += l;

@@ -52,6 +52,13 @@ pub struct FrameData<'a> {
     pub primary: Option<&'a PrimaryT>,
 }
 
+/// The ray through the centre of pixel `(x, y)`: ReSTIR's passes reuse one
+/// path per pixel across passes and frames, so its camera rays are not
+/// jittered.
+pub fn pixel_ray(world: &World, (x, y): (u32, u32)) -> Ray {
+    world.camera.ray(x as f32 + 0.5, y as f32 + 0.5)
+}
+
 /// The built integrator (for the scene's world as built).
 #[derive(Clone, Debug)]
 pub struct Restir {
@@ -155,7 +162,7 @@ impl Restir {
     pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
         let data = self.data(world);
         let mut rng = estimator_rng(key);
-        let ray = world.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
+        let ray = pixel_ray(world, (x, y));
         let mut lookups = 0;
         let res = self.candidates(&data, None, &ray, &mut rng, &mut lookups);
         let radiance = self.shade(&data, &ray, &res, &mut rng, &mut lookups);

@@ -15,7 +15,6 @@ use super::surface::SurfaceVertex;
 use super::volume::{sigma_t, SegmentT};
 use crate::integrators::shared::occluders::visible;
 use crate::lights::Light;
-use crate::world::phase::HenyeyGreenstein;
 use crate::world::World;
 use fogbank_math::{Ray, Vec3};
 
@@ -70,7 +69,7 @@ pub fn evaluate(
         }
         return le * tr.eval_primary(full, ray0, f32::INFINITY, lookups);
     }
-    let hg = HenyeyGreenstein { g: m.phase_g };
+    let hg = m.phase;
     let k = y.k as usize;
     let (mut x, mut d) = (ray0.o, ray0.d);
     // The current vertex when it lies on a surface.

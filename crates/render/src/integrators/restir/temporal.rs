@@ -15,11 +15,11 @@
 //! and lights (Talbot, as the authors' code).
 
 use super::combine::Input;
-use super::integrator::{FrameData, Restir};
+use super::integrator::{pixel_ray, FrameData, Restir};
 use super::path::PathSample;
 use super::reservoir::Reservoir;
 use super::velocity_resampling::resample_point;
-use fogbank_math::{Pcg32, Ray, Vec3};
+use fogbank_math::{Pcg32, Vec3};
 
 /// The previous frame: its final reservoirs and its data (camera, volume,
 /// lights).
@@ -51,17 +51,16 @@ enum Seen {
 }
 
 impl Restir {
-    #[allow(clippy::too_many_arguments)]
     pub fn temporal(
         &self,
         cur: &FrameData,
         prev: &Previous,
         pixel: (u32, u32),
-        ray: &Ray,
         cand: Reservoir<PathSample>,
         rng: &mut Pcg32,
         lookups: &mut u32,
     ) -> Reservoir<PathSample> {
+        let ray = &pixel_ray(cur.world, pixel);
         let cam = &prev.data.world.camera;
         let (w, h) = (cam.width, cam.height);
         let u = [rng.next_f32(), rng.next_f32()];
@@ -103,7 +102,7 @@ impl Restir {
             Input {
                 res: old,
                 pixel: (from.1 * w + from.0) as usize,
-                ray: cam.ray(from.0 as f32 + 0.5, from.1 as f32 + 0.5),
+                ray: pixel_ray(prev.data.world, from),
                 data: prev.data,
             },
         ];

@@ -2,9 +2,9 @@
 //! next real collision across overlapping media (free-flight sampling) and
 //! the transmittance of a shadow segment.
 
+use super::context::PathContext;
 use super::tracking::{self, Flight, Shadow};
-use crate::world::World;
-use fogbank_math::{Pcg32, Ray, Vec3};
+use fogbank_math::{Ray, Vec3};
 use std::cell::Cell;
 
 /// The next real collision across all media before `t_end` (the next
@@ -13,14 +13,13 @@ use std::cell::Cell;
 /// `current` is the bounded medium the ray is in (see
 /// [`World::medium_active`]).
 pub fn next_collision(
+    cx: &mut PathContext,
     s: Flight,
-    world: &World,
     ray: &Ray,
     t_end: f32,
     current: Option<usize>,
-    rng: &mut Pcg32,
-    lookups: &mut u32,
 ) -> Option<(f32, usize)> {
+    let (world, rng, lookups) = (cx.world, &mut *cx.rng, &mut cx.lookups);
     let hit: Cell<Option<(f32, usize)>> = Cell::new(None);
     let t_max = || hit.get().map_or(t_end, |h| h.0);
     world.media_along(ray, t_max, |i| {
@@ -39,15 +38,8 @@ pub fn next_collision(
 /// Transmittance of the segment `[0, distance]` of `ray` through every
 /// medium (the product of per-medium estimates is unbiased when they are);
 /// 0 when a surface other than an index-matched boundary blocks it.
-pub fn shadow_transmittance(
-    nee: Shadow,
-    world: &World,
-    ray: &Ray,
-    distance: f32,
-    rng: &mut Pcg32,
-    lookups: &mut u32,
-) -> Vec3 {
-    shadow_transmittance_in(nee, world, ray, distance, None, rng, lookups)
+pub fn shadow_transmittance(cx: &mut PathContext, nee: Shadow, ray: &Ray, distance: f32) -> Vec3 {
+    shadow_transmittance_in(cx, nee, ray, distance, None)
 }
 
 /// Index-matched boundaries a ray may cross in a row (a guard against
@@ -58,33 +50,32 @@ pub const MAX_CROSSINGS: u32 = 1024;
 /// `current`: across medium transitions (null boundaries) it continues in
 /// the medium on their far side; thin dielectrics pass 1 − R′ of it.
 pub fn shadow_transmittance_in(
+    cx: &mut PathContext,
     nee: Shadow,
-    world: &World,
     ray: &Ray,
     distance: f32,
     current: Option<usize>,
-    rng: &mut Pcg32,
-    lookups: &mut u32,
 ) -> Vec3 {
+    let world = cx.world;
     let Some(s) = &world.surfaces else {
-        return media_transmittance(nee, world, ray, distance, current, rng, lookups);
+        return media_transmittance(cx, nee, ray, distance, current);
     };
     if !s.shadows_walk() {
         if s.occluded(ray, distance) {
             return Vec3::ZERO;
         }
-        return media_transmittance(nee, world, ray, distance, current, rng, lookups);
+        return media_transmittance(cx, nee, ray, distance, current);
     }
     let (mut ray, mut left, mut current, mut tr) = (*ray, distance, current, Vec3::ONE);
     for _ in 0..MAX_CROSSINGS {
         let Some(h) = s.intersect(&ray, left) else {
-            return tr * media_transmittance(nee, world, &ray, left, current, rng, lookups);
+            return tr * media_transmittance(cx, nee, &ray, left, current);
         };
         let material = &s.shapes[h.shape as usize].material;
         let Some(pass) = material.null_transmission(h.ns.dot(ray.d)) else {
             return Vec3::ZERO;
         };
-        tr *= pass * media_transmittance(nee, world, &ray, h.t, current, rng, lookups);
+        tr *= pass * media_transmittance(cx, nee, &ray, h.t, current);
         if tr == Vec3::ZERO {
             return Vec3::ZERO;
         }
@@ -99,14 +90,13 @@ pub fn shadow_transmittance_in(
 /// in bounded medium `current`, surfaces aside: per channel (equal
 /// channels unless a medium's extinction is chromatic).
 fn media_transmittance(
+    cx: &mut PathContext,
     nee: Shadow,
-    world: &World,
     ray: &Ray,
     distance: f32,
     current: Option<usize>,
-    rng: &mut Pcg32,
-    lookups: &mut u32,
 ) -> Vec3 {
+    let (world, rng, lookups) = (cx.world, &mut *cx.rng, &mut cx.lookups);
     let mut t = Vec3::ONE;
     world.media_along(
         ray,

@@ -4,6 +4,7 @@
 //! sampling, shadow transmittance, next-event estimation and escape to the
 //! environment.
 
+pub mod context;
 pub mod free_flight;
 pub mod next_event;
 pub mod occluders;

@@ -6,14 +6,12 @@
 //! phase pdf equals f.
 
 use super::balance;
+use super::context::{MediumVertex, NextEvent, PathContext, SurfaceVertex};
 use super::free_flight::shadow_transmittance_in;
-use super::tracking::Shadow;
 use crate::lights::area::SHADOW_SHORTEN;
 use crate::lights::sample::{LightSample, LightSampler, Vertex};
-use crate::world::phase::HenyeyGreenstein;
-use crate::world::surfaces::{ShadingFrame, SurfaceBsdf, SurfaceHit};
 use crate::world::World;
-use fogbank_math::{Pcg32, Ray, Vec3};
+use fogbank_math::{Ray, Vec3};
 
 /// A direction sampled at a path vertex (by the phase function or a
 /// non-delta BSDF lobe): the vertex, the direction's solid-angle pdf, and
@@ -29,60 +27,31 @@ pub struct SampledFrom {
 /// One light picked for a point of kind `at` and a sample of it seen from
 /// `p`, with the pick's probability.
 fn pick_light(
-    world: &World,
+    cx: &mut PathContext,
     lights: &LightSampler,
     p: Vec3,
     at: Vertex,
-    rng: &mut Pcg32,
 ) -> Option<(LightSample, f32)> {
-    let (li, pmf) = lights.pick(rng.next_f32(), at, p)?;
-    let ls = world.lights[li].sample_li(p, [rng.next_f32(), rng.next_f32()])?;
+    let (li, pmf) = lights.pick(cx.next_f32(), at, p)?;
+    let ls = cx.world.lights[li].sample_li(p, cx.next_2d())?;
     Some((ls, pmf))
 }
 
-/// Light-sampling strategy at `p` for a path arriving along direction `d`:
-/// L_i f T̂ / pdf, MIS-weighted against phase sampling for non-delta lights.
-/// The caller multiplies by the path throughput.
-#[allow(clippy::too_many_arguments)]
-pub fn light_sample(
-    world: &World,
-    lights: &LightSampler,
-    nee: Shadow,
-    p: Vec3,
-    d: Vec3,
-    hg: &HenyeyGreenstein,
-    rng: &mut Pcg32,
-    lookups: &mut u32,
-) -> Vec3 {
-    light_sample_weighted(world, lights, nee, p, d, hg, true, None, rng, lookups)
-}
-
-/// [`light_sample`], MIS-weighted against phase sampling when `mis` is set
-/// and with full weight otherwise (light sampling as the only strategy),
-/// from a point in bounded medium `current`.
-#[allow(clippy::too_many_arguments)]
-pub fn light_sample_weighted(
-    world: &World,
-    lights: &LightSampler,
-    nee: Shadow,
-    p: Vec3,
-    d: Vec3,
-    hg: &HenyeyGreenstein,
-    mis: bool,
-    current: Option<usize>,
-    rng: &mut Pcg32,
-    lookups: &mut u32,
-) -> Vec3 {
-    let Some((ls, pmf)) = pick_light(world, lights, p, Vertex::Medium, rng) else {
+/// Light-sampling strategy at medium vertex `v`: L_i f T̂ / pdf,
+/// MIS-weighted against phase sampling for non-delta lights when `nee.mis`
+/// is set and with full weight otherwise (light sampling as the only
+/// strategy). The caller multiplies by the path throughput.
+pub fn light_sample(cx: &mut PathContext, nee: &NextEvent, v: &MediumVertex) -> Vec3 {
+    let Some((ls, pmf)) = pick_light(cx, nee.lights, v.p, Vertex::Medium) else {
         return Vec3::ZERO;
     };
-    let f = hg.eval(d.dot(ls.wi));
+    let f = v.phase.eval(v.d.dot(ls.wi));
     if f <= 0.0 || ls.radiance == Vec3::ZERO {
         return Vec3::ZERO;
     }
-    let ray = Ray::new(p, ls.wi);
-    let tr = shadow_transmittance_in(nee, world, &ray, ls.distance, current, rng, lookups);
-    if ls.is_delta || !mis {
+    let ray = Ray::new(v.p, ls.wi);
+    let tr = shadow_transmittance_in(cx, nee.shadow, &ray, ls.distance, v.medium);
+    if ls.is_delta || !nee.mis {
         ls.radiance * (f * tr / (pmf * if ls.is_delta { 1.0 } else { ls.pdf }))
     } else {
         let light_pdf = pmf * ls.pdf;
@@ -129,29 +98,24 @@ pub fn escaped(world: &World, lights: &LightSampler, d: Vec3, prev: Option<Sampl
     l
 }
 
-/// Phase-sampling strategy at a path's last vertex: the direction `wi`
+/// Phase-sampling strategy at a path's last vertex `v`: the direction `wi`
 /// (sampled with pdf `phase_pdf`) is not traced by free-flight sampling but
 /// its transmittance to infinity is estimated with the NEE estimator, so the
 /// MIS partner of [`light_sample`] is never missing.
-#[allow(clippy::too_many_arguments)]
 pub fn phase_sample_to_environment(
-    world: &World,
-    lights: &LightSampler,
-    nee: Shadow,
-    p: Vec3,
+    cx: &mut PathContext,
+    nee: &NextEvent,
+    v: &MediumVertex,
     wi: Vec3,
     phase_pdf: f32,
-    current: Option<usize>,
-    rng: &mut Pcg32,
-    lookups: &mut u32,
 ) -> Vec3 {
-    let ray = Ray::new(p, wi);
+    let ray = Ray::new(v.p, wi);
     let prev = Some(SampledFrom {
-        p,
+        p: v.p,
         pdf: phase_pdf,
         at: Vertex::Medium,
     });
-    sampled_direction_to_lights(world, lights, nee, &ray, prev, current, rng, lookups)
+    sampled_direction_to_lights(cx, nee, &ray, prev, v.medium)
 }
 
 /// The last vertex's sampled direction (phase function or BSDF; `prev`
@@ -161,36 +125,33 @@ pub fn phase_sample_to_environment(
 /// transmittance up to there is estimated with the NEE estimator. `prev.p`
 /// is the vertex (the ray's origin may sit just off a surface); the ray
 /// starts in bounded medium `current`.
-#[allow(clippy::too_many_arguments)]
 pub fn sampled_direction_to_lights(
-    world: &World,
-    lights: &LightSampler,
-    nee: Shadow,
+    cx: &mut PathContext,
+    nee: &NextEvent,
     ray: &Ray,
     prev: Option<SampledFrom>,
     current: Option<usize>,
-    rng: &mut Pcg32,
-    lookups: &mut u32,
 ) -> Vec3 {
+    let world = cx.world;
     if let Some(s) = &world.surfaces {
         if let Some(h) = s.intersect_opaque(ray, f32::INFINITY) {
             let Some((le, li)) = s.emitted(&h, ray.d) else {
                 return Vec3::ZERO;
             };
-            let w = emitter_weight(world, lights, li, h.p, ray.d, prev);
+            let w = emitter_weight(world, nee.lights, li, h.p, ray.d, prev);
             let distance = h.t * (1.0 - SHADOW_SHORTEN);
-            let tr = shadow_transmittance_in(nee, world, ray, distance, current, rng, lookups);
+            let tr = shadow_transmittance_in(cx, nee.shadow, ray, distance, current);
             return le * (w * tr);
         }
     }
     if !world.scene_lights().any(|(_, l)| l.is_environment()) {
         return Vec3::ZERO;
     }
-    let le = escaped(world, lights, ray.d, prev);
+    let le = escaped(world, nee.lights, ray.d, prev);
     if le == Vec3::ZERO {
         return Vec3::ZERO;
     }
-    le * shadow_transmittance_in(nee, world, ray, f32::INFINITY, current, rng, lookups)
+    le * shadow_transmittance_in(cx, nee.shadow, ray, f32::INFINITY, current)
 }
 
 /// MIS weight of an area light's emission reached at `q` along `d` by a
@@ -213,42 +174,30 @@ pub fn emitter_weight(
     }
 }
 
-/// Light sampling at a surface hit: L_i f |cos θ_i| T / pdf, MIS-weighted
-/// against BSDF sampling for non-delta lights when `mis` is set. The shadow
-/// ray leaves from the side of the surface the light is on, in the medium
-/// there (the path arrived in bounded medium `current`).
-#[allow(clippy::too_many_arguments)]
-pub fn light_sample_surface(
-    world: &World,
-    lights: &LightSampler,
-    nee: Shadow,
-    hit: &SurfaceHit,
-    frame: &ShadingFrame,
-    wo: Vec3,
-    bsdf: &SurfaceBsdf,
-    mis: bool,
-    current: Option<usize>,
-    rng: &mut Pcg32,
-    lookups: &mut u32,
-) -> Vec3 {
-    let Some((ls, pmf)) = pick_light(world, lights, hit.p, Vertex::Surface, rng) else {
+/// Light sampling at surface vertex `v`: L_i f |cos θ_i| T / pdf,
+/// MIS-weighted against BSDF sampling for non-delta lights when `nee.mis`
+/// is set. The shadow ray leaves from the side of the surface the light is
+/// on, in the medium there.
+pub fn light_sample_surface(cx: &mut PathContext, nee: &NextEvent, v: &SurfaceVertex) -> Vec3 {
+    let hit = v.hit;
+    let Some((ls, pmf)) = pick_light(cx, nee.lights, hit.p, Vertex::Surface) else {
         return Vec3::ZERO;
     };
-    let wi = frame.to_local(ls.wi);
-    let f = bsdf.eval(wo, wi) * wi.z.abs();
+    let wi = v.frame.to_local(ls.wi);
+    let f = v.bsdf.eval(v.wo, wi) * wi.z.abs();
     if f == Vec3::ZERO || ls.radiance == Vec3::ZERO {
         return Vec3::ZERO;
     }
-    let current = match &world.surfaces {
-        Some(s) => s.target_medium(hit, ls.wi, current),
-        None => current,
+    let current = match &cx.world.surfaces {
+        Some(s) => s.target_medium(hit, ls.wi, v.medium),
+        None => v.medium,
     };
     let ray = hit.spawn(ls.wi);
-    let tr = shadow_transmittance_in(nee, world, &ray, ls.distance, current, rng, lookups);
-    if ls.is_delta || !mis {
+    let tr = shadow_transmittance_in(cx, nee.shadow, &ray, ls.distance, current);
+    if ls.is_delta || !nee.mis {
         ls.radiance * f * (tr / (pmf * if ls.is_delta { 1.0 } else { ls.pdf }))
     } else {
         let light_pdf = pmf * ls.pdf;
-        ls.radiance * f * (tr * balance(light_pdf, bsdf.pdf(wo, wi)) / light_pdf)
+        ls.radiance * f * (tr * balance(light_pdf, v.bsdf.pdf(v.wo, wi)) / light_pdf)
     }
 }

@@ -15,6 +15,7 @@ use super::optimised::{Optimised, RayList, Weights};
 use super::params::{Scattering, VisOptParams};
 use super::segments::Segment;
 use crate::error::SceneError;
+use crate::integrators::shared::context::PathContext;
 use crate::integrators::shared::free_flight::next_collision;
 use crate::integrators::shared::next_event::escaped;
 use crate::integrators::shared::{
@@ -22,12 +23,11 @@ use crate::integrators::shared::{
 };
 use crate::lights::sample::{LightSampler, Vertex};
 use crate::world::medium::SceneMedium;
-use crate::world::phase::HenyeyGreenstein;
 use crate::world::shading::dvr_phase;
 use crate::world::World;
 use fogbank_estimators::distance::delta_tracking;
 use fogbank_estimators::ratio_tracking;
-use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
+use fogbank_math::{Ray, SampleKey, Vec3};
 use fogbank_volume::MediumView;
 use std::sync::{Arc, OnceLock};
 
@@ -99,8 +99,8 @@ impl VisOpt {
 
     pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
         let mut rng = estimator_rng(key);
+        let cx = &mut PathContext::new(world, &mut rng);
         let ray = primary_ray(world, x, y, key);
-        let mut lookups = 0u32;
         let m = &world.media[0];
         let t_end = occluders::first_surface(world, &ray);
         // The environment, unless a surface hides it (black: occluders.rs).
@@ -111,7 +111,7 @@ impl VisOpt {
         let Some((r, t0, t1)) = m.medium.to_index(&ray, 0.0, t_end) else {
             return PixelSample {
                 radiance: background(),
-                lookups,
+                lookups: 0,
             };
         };
         let (list, big_k_z, length) = self.lists(world).get(x, y);
@@ -125,62 +125,44 @@ impl VisOpt {
         let flight = if self.params.optimise {
             with_view!(m, v => {
                 let o = Optimised { inner: &v, medium: m, ray: r, list, weights: self.weights(), unit: self.unit };
-                delta_tracking::sample(&o, &r, t0, t1, &mut rng)
+                delta_tracking::sample(&o, &r, t0, t1, cx.rng)
             })
         } else {
-            with_view!(m, v => delta_tracking::sample(&v, &r, t0, t1, &mut rng))
+            with_view!(m, v => delta_tracking::sample(&v, &r, t0, t1, cx.rng))
         };
-        lookups += flight.lookups;
+        cx.lookups += flight.lookups;
         let Some(t) = flight.t else {
             return PixelSample {
                 radiance: background(),
-                lookups,
+                lookups: cx.lookups,
             };
         };
         let p = ray.at(t);
         let albedo = m.albedo_at(p);
         let mut radiance = m.emitted(p, albedo);
-        radiance += albedo
-            * self.next_event(
-                world,
-                p,
-                ray.d,
-                self.params.optimise,
-                &mut rng,
-                &mut lookups,
-            );
+        radiance += albedo * self.next_event(cx, p, ray.d, self.params.optimise);
         if self.params.scattering != Scattering::Single {
-            radiance += albedo * self.continue_path(world, m, p, ray.d, &mut rng, &mut lookups);
+            radiance += albedo * self.continue_path(cx, m, p, ray.d);
         }
-        PixelSample { radiance, lookups }
+        PixelSample {
+            radiance,
+            lookups: cx.lookups,
+        }
     }
 
     /// Multiple scattering after the first vertex (§5.4 settings 2 and 3):
     /// HG-sampled directions, free flights through the original μ.
-    fn continue_path(
-        &self,
-        world: &World,
-        m: &SceneMedium,
-        mut p: Vec3,
-        mut d: Vec3,
-        rng: &mut Pcg32,
-        lookups: &mut u32,
-    ) -> Vec3 {
-        let hg = HenyeyGreenstein { g: m.phase_g };
+    fn continue_path(&self, cx: &mut PathContext, m: &SceneMedium, mut p: Vec3, mut d: Vec3) -> Vec3 {
+        let world = cx.world;
+        let hg = m.phase;
         let optimise_nee = self.params.optimise && self.params.scattering == Scattering::All;
         let (mut beta, mut radiance) = (Vec3::ONE, Vec3::ZERO);
         for depth in 1..self.params.max_depth {
-            let (wi, _) = hg.sample(-d, [rng.next_f32(), rng.next_f32()]);
+            let (wi, _) = hg.sample(-d, cx.next_2d());
             let ray = Ray::new(p, wi);
-            let Some((t, _)) = next_collision(
-                DistanceSampler::DeltaTracking.into(),
-                world,
-                &ray,
-                occluders::first_surface(world, &ray),
-                None,
-                rng,
-                lookups,
-            ) else {
+            let t_end = occluders::first_surface(world, &ray);
+            let delta_tracking = DistanceSampler::DeltaTracking.into();
+            let Some((t, _)) = next_collision(cx, delta_tracking, &ray, t_end, None) else {
                 break;
             };
             p = ray.at(t);
@@ -191,10 +173,10 @@ impl VisOpt {
             if beta == Vec3::ZERO {
                 break;
             }
-            radiance += beta * self.next_event(world, p, d, optimise_nee, rng, lookups);
+            radiance += beta * self.next_event(cx, p, d, optimise_nee);
             if depth >= 3 {
                 let q = beta.max_element().min(1.0);
-                if rng.next_f32() >= q {
+                if cx.next_f32() >= q {
                     break;
                 }
                 beta /= q;
@@ -206,20 +188,13 @@ impl VisOpt {
     /// L_i f T / pdf toward one light picked by power, f = HG + lobe, T by
     /// ratio tracking through μ' of a fresh light-ray list (`optimise`) or
     /// through μ.
-    fn next_event(
-        &self,
-        world: &World,
-        p: Vec3,
-        d: Vec3,
-        optimise: bool,
-        rng: &mut Pcg32,
-        lookups: &mut u32,
-    ) -> Vec3 {
+    fn next_event(&self, cx: &mut PathContext, p: Vec3, d: Vec3, optimise: bool) -> Vec3 {
+        let world = cx.world;
         let m = &world.media[0];
-        let Some((li, pmf)) = self.lights.pick(rng.next_f32(), Vertex::Medium, p) else {
+        let Some((li, pmf)) = self.lights.pick(cx.next_f32(), Vertex::Medium, p) else {
             return Vec3::ZERO;
         };
-        let Some(ls) = world.lights[li].sample_li(p, [rng.next_f32(), rng.next_f32()]) else {
+        let Some(ls) = world.lights[li].sample_li(p, cx.next_2d()) else {
             return Vec3::ZERO;
         };
         let f = self.phase(m, p, d, ls.wi);
@@ -230,6 +205,7 @@ impl VisOpt {
         if !occluders::visible(world, &shadow, ls.distance) {
             return Vec3::ZERO;
         }
+        let rng = &mut *cx.rng;
         let tr = match m.medium.to_index(&shadow, 0.0, ls.distance) {
             None => 1.0,
             Some((r, s0, s1)) => {
@@ -253,7 +229,7 @@ impl VisOpt {
                 } else {
                     with_view!(m, v => ratio_tracking::transmittance(&v, &r, s0, s1, rng, 0.0))
                 };
-                *lookups += est.lookups;
+                cx.lookups += est.lookups;
                 est.transmittance
             }
         };
