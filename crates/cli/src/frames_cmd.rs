@@ -79,11 +79,9 @@ fn write_frame(
         }
         let seconds = part.seconds;
         let out = frame_output(&outputs[0], f);
-        let seed = frame.scene.desc.render.seed;
         write_partial(
             &out,
             &frame.scene,
-            seed,
             spp,
             s,
             part,

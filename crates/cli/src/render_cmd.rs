@@ -260,8 +260,7 @@ fn write_shard(
         .into());
     }
     let seconds = rendered.seconds;
-    let seed = scene.desc.render.seed;
-    write_partial(out, scene, seed, spp, s, rendered, renderer.threads(), None)?;
+    write_partial(out, scene, spp, s, rendered, renderer.threads(), None)?;
     if !quiet {
         eprintln!(
             "shard {} ({}): {:.2} s, {} threads; wrote {}",

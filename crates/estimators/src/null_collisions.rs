@@ -20,26 +20,40 @@ const AHEAD: usize = 8;
 /// reads them one at a time.
 const MIN_AHEAD: f32 = 4.0;
 
-/// Walks `[t0, t1]`. `rate(cell, length)` gives a super-voxel's rate and a
-/// value handed to its collisions (e.g. a control extinction); `collide(t, μ,
-/// rate, value, rng)` handles one tentative collision at `t` and returns
-/// `false` to stop the walk. `draws`: the random numbers `collide` draws
-/// at a collision where the walk goes on (ratio tracking 0, delta
-/// tracking's real-or-null choice 1); a collision that draws otherwise
-/// ends the round. Returns whether the walk reached `t1`.
-#[allow(clippy::too_many_arguments)]
+/// What a tracking estimator makes of the tentative process.
+/// `rate(cell, length)` gives a super-voxel's rate and a value handed to
+/// its collisions (e.g. a control extinction); `collide(t, μ, rate, value,
+/// rng)` handles one tentative collision at `t` and returns `false` to stop
+/// the walk. `draws`: the random numbers `collide` draws at a collision
+/// where the walk goes on (ratio tracking 0, delta tracking's real-or-null
+/// choice 1); a collision that draws otherwise ends the round.
+pub struct Tracking<R, C> {
+    pub draws: u32,
+    pub rate: R,
+    pub collide: C,
+}
+
+/// Walks `[t0, t1]` with the tentative collisions of `tracking`. Returns
+/// whether the walk reached `t1`.
 #[inline(always)]
-pub fn walk<V: VolumeAccess>(
+pub fn walk<V: VolumeAccess, R, C>(
     v: &V,
     ray: &Ray,
     t0: f32,
     t1: f32,
     rng: &mut Pcg32,
     lookups: &mut u32,
-    draws: u32,
-    mut rate: impl FnMut(&SuperVoxel, f32) -> (f32, f32),
-    mut collide: impl FnMut(f32, f32, f32, f32, &mut Pcg32) -> bool,
-) -> bool {
+    tracking: Tracking<R, C>,
+) -> bool
+where
+    R: FnMut(&SuperVoxel, f32) -> (f32, f32),
+    C: FnMut(f32, f32, f32, f32, &mut Pcg32) -> bool,
+{
+    let Tracking {
+        draws,
+        mut rate,
+        mut collide,
+    } = tracking;
     let sv = v.supervoxels();
     // Reading ahead until a round finds `collide` drawing; one at a time
     // after that (a roulette that draws at every collision would discard

@@ -5,11 +5,11 @@
 //! falls below it ([`crate::roulette`]), which bounds its cost in dense
 //! media.
 
-use crate::null_collisions::walk;
+use crate::null_collisions::{walk, Tracking};
 use crate::roulette::roulette;
 use crate::Estimate;
 use fogbank_math::{Pcg32, Ray};
-use fogbank_volume::VolumeAccess;
+use fogbank_volume::{SuperVoxel, VolumeAccess};
 
 pub fn transmittance<V: VolumeAccess>(
     v: &V,
@@ -43,13 +43,15 @@ pub fn transmittance_scaled<V: VolumeAccess, const N: usize>(
         t1,
         rng,
         &mut lookups,
-        0,
-        |s, _| (s.max, 0.0),
-        |_, sigma_t, sigma_maj, _, rng| {
-            for (t, k) in tr.iter_mut().zip(k) {
-                *t *= 1.0 - k * sigma_t / sigma_maj;
-            }
-            tr != [0.0; N] && roulette(&mut tr, [1.0; N], threshold, rng)
+        Tracking {
+            draws: 0,
+            rate: |s: &SuperVoxel, _| (s.max, 0.0),
+            collide: |_, sigma_t, sigma_maj, _, rng: &mut Pcg32| {
+                for (t, k) in tr.iter_mut().zip(k) {
+                    *t *= 1.0 - k * sigma_t / sigma_maj;
+                }
+                tr != [0.0; N] && roulette(&mut tr, [1.0; N], threshold, rng)
+            },
         },
     );
     (tr, lookups)

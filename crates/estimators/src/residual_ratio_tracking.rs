@@ -11,7 +11,7 @@
 //! running estimate exp(−τ_c)·(residual weight) once that falls below it
 //! ([`crate::roulette`]).
 
-use crate::null_collisions::walk;
+use crate::null_collisions::{walk, Tracking};
 use crate::roulette::roulette;
 use crate::Estimate;
 use fogbank_math::{Pcg32, Ray};
@@ -73,13 +73,15 @@ pub fn transmittance_scaled<V: VolumeAccess, const N: usize>(
         t1,
         rng,
         &mut lookups,
-        0,
-        rate,
-        |_, sigma_t, sigma_r, sigma_c, rng| {
-            for (r, k) in ratio.iter_mut().zip(k) {
-                *r *= 1.0 - k * (sigma_t - sigma_c) / sigma_r;
-            }
-            threshold <= 0.0 || roulette(&mut ratio, k.map(control), threshold, rng)
+        Tracking {
+            draws: 0,
+            rate,
+            collide: |_, sigma_t, sigma_r, sigma_c, rng: &mut Pcg32| {
+                for (r, k) in ratio.iter_mut().zip(k) {
+                    *r *= 1.0 - k * (sigma_t - sigma_c) / sigma_r;
+                }
+                threshold <= 0.0 || roulette(&mut ratio, k.map(control), threshold, rng)
+            },
         },
     );
     let mut t = [0.0f32; N];

@@ -8,7 +8,7 @@ mod common;
 
 use common::*;
 use fogbank_estimators::lookup::{sample_exponential, sigma_t_at};
-use fogbank_estimators::null_collisions::walk;
+use fogbank_estimators::null_collisions::{walk, Tracking};
 use fogbank_math::{Pcg32, Ray};
 use fogbank_volume::{
     Dda, DensityData, Filter, Medium, MediumView, Precision, SuperVoxel, VolumeAccess,
@@ -109,7 +109,12 @@ fn trace<V: VolumeAccess>(
     let rate = |s: &SuperVoxel, _: f32| (s.max, 0.0);
     let draws = if kind >= 4 { 1 } else { 0 };
     let reached = if lanes {
-        walk(v, ray, t0, t1, &mut rng, &mut lookups, draws, rate, collide)
+        let tracking = Tracking {
+            draws,
+            rate,
+            collide,
+        };
+        walk(v, ray, t0, t1, &mut rng, &mut lookups, tracking)
     } else {
         walk_sequential(v, ray, t0, t1, &mut rng, &mut lookups, rate, collide)
     };

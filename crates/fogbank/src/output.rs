@@ -75,18 +75,18 @@ pub fn write_images(outputs: &[PathBuf], film: &Film, tone: &ToneMapping) -> Res
 }
 
 /// Writes shard `shard`'s part of a render of `spp` samples as a partial
-/// result at `out` (`frame`: the animation frame it belongs to).
-#[allow(clippy::too_many_arguments)]
+/// result at `out` (`frame`: the animation frame it belongs to), under
+/// the scene's seed.
 pub fn write_partial(
     out: &Path,
     scene: &Scene,
-    seed: u32,
     spp: u32,
     shard: Shard,
     rendered: Rendered,
     threads: usize,
     frame: Option<u32>,
 ) -> Result<(), Error> {
+    let seed = scene.desc.render.seed;
     let run = shard_run::run(shard, spp, rendered.seconds, threads);
     let mut header = PartialHeader::for_shard("render", scene, seed, spp, &rendered.film, run);
     header.identity.frame = frame;

@@ -136,6 +136,15 @@ pub(crate) fn render_scheduled(
         None => chunks * SAMPLES_PER_CHUNK,
     };
     let timer = KernelTimer::new(gpu, opts.spp.div_ceil(per_dispatch), MAX_TIMED_DISPATCHES);
+    let dispatch = Dispatch {
+        gpu,
+        acc: &acc,
+        groups: &groups,
+        main: &main,
+        merge: &merge,
+        band,
+        timer: timer.as_ref(),
+    };
     let mut start = Instant::now();
     let mut interrupted = false;
     let (mut submitted, mut issued, mut submits) = (0u32, 0u32, 0u32);
@@ -157,16 +166,7 @@ pub(crate) fn render_scheduled(
             if let Some(st) = stream {
                 st.submit(gpu, &groups.media, submitted);
             }
-            let index = submit_dispatch(
-                gpu,
-                &acc,
-                &groups,
-                (&main, &merge),
-                &mut frame,
-                band,
-                timer.as_ref(),
-                issued,
-            );
+            let index = dispatch.submit(&mut frame, issued);
             submits += h.div_ceil(band);
             in_flight.push_back((index, n));
             submitted += n;
@@ -229,55 +229,71 @@ fn pass_writes(
     })
 }
 
-#[allow(clippy::too_many_arguments)]
-fn submit_dispatch(
-    gpu: &Gpu,
-    acc: &Accumulators,
-    groups: &SceneGroups,
-    (main, merge): (&wgpu::ComputePipeline, &wgpu::ComputePipeline),
-    frame: &mut crate::accumulation::Frame,
+/// What one sample dispatch submits: the render and merge pipelines over
+/// the scene's bind groups and the accumulators, band by band (`band`
+/// rows at a time), timed when a timer is given.
+struct Dispatch<'a> {
+    gpu: &'a Gpu,
+    acc: &'a Accumulators,
+    groups: &'a SceneGroups,
+    main: &'a wgpu::ComputePipeline,
+    merge: &'a wgpu::ComputePipeline,
     band: u32,
-    timer: Option<&KernelTimer>,
-    issued: u32,
-) -> wgpu::SubmissionIndex {
-    let (w, h) = (frame.width, frame.height);
-    let bands = h.div_ceil(band);
-    let mut index = None;
-    for b in 0..bands {
-        frame.tile_y = b * band;
-        let rows = band.min(h - frame.tile_y);
-        frame.band_pixels = w * rows;
-        gpu.queue
-            .write_buffer(&acc.frame, 0, bytemuck::bytes_of(frame));
-        let mut enc = gpu.device.create_command_encoder(&Default::default());
-        let (begin, end) = match timer.and_then(|t| t.writes(issued, b, bands)) {
-            Some(t) => (
-                t.beginning_of_pass_write_index.map(|i| (t.query_set, i)),
-                t.end_of_pass_write_index.map(|i| (t.query_set, i)),
-            ),
-            None => (None, None),
-        };
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("render"),
-                timestamp_writes: pass_writes(begin, true),
-            });
-            pass.set_pipeline(main);
-            pass.set_bind_group(1, &acc.group, &[]);
-            groups.bind(&mut pass);
-            pass.dispatch_workgroups(w.div_ceil(8), rows.div_ceil(8), frame.chunks);
+    timer: Option<&'a KernelTimer>,
+}
+
+impl Dispatch<'_> {
+    /// Submits the samples `frame` describes (the `issued`-th dispatch) and
+    /// returns the last submission.
+    fn submit(&self, frame: &mut crate::accumulation::Frame, issued: u32) -> wgpu::SubmissionIndex {
+        let Dispatch {
+            gpu,
+            acc,
+            groups,
+            main,
+            merge,
+            band,
+            timer,
+        } = *self;
+        let (w, h) = (frame.width, frame.height);
+        let bands = h.div_ceil(band);
+        let mut index = None;
+        for b in 0..bands {
+            frame.tile_y = b * band;
+            let rows = band.min(h - frame.tile_y);
+            frame.band_pixels = w * rows;
+            gpu.queue
+                .write_buffer(&acc.frame, 0, bytemuck::bytes_of(frame));
+            let mut enc = gpu.device.create_command_encoder(&Default::default());
+            let (begin, end) = match timer.and_then(|t| t.writes(issued, b, bands)) {
+                Some(t) => (
+                    t.beginning_of_pass_write_index.map(|i| (t.query_set, i)),
+                    t.end_of_pass_write_index.map(|i| (t.query_set, i)),
+                ),
+                None => (None, None),
+            };
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("render"),
+                    timestamp_writes: pass_writes(begin, true),
+                });
+                pass.set_pipeline(main);
+                pass.set_bind_group(1, &acc.group, &[]);
+                groups.bind(&mut pass);
+                pass.dispatch_workgroups(w.div_ceil(8), rows.div_ceil(8), frame.chunks);
+            }
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("merge"),
+                    timestamp_writes: pass_writes(end, false),
+                });
+                pass.set_pipeline(merge);
+                pass.set_bind_group(1, &acc.group, &[]);
+                groups.bind(&mut pass);
+                pass.dispatch_workgroups(frame.band_pixels.div_ceil(64), 1, 1);
+            }
+            index = Some(gpu.queue.submit([enc.finish()]));
         }
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("merge"),
-                timestamp_writes: pass_writes(end, false),
-            });
-            pass.set_pipeline(merge);
-            pass.set_bind_group(1, &acc.group, &[]);
-            groups.bind(&mut pass);
-            pass.dispatch_workgroups(frame.band_pixels.div_ceil(64), 1, 1);
-        }
-        index = Some(gpu.queue.submit([enc.finish()]));
+        index.expect("an image has at least one band")
     }
-    index.expect("an image has at least one band")
 }

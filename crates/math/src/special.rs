@@ -26,18 +26,26 @@ pub fn adaptive_simpson(f: &mut impl FnMut(f64) -> f64, a: f64, b: f64, toleranc
     const MIN_DEPTH: u32 = 4;
     const MAX_DEPTH: u32 = 16;
     const RELATIVE: f64 = 1e-4;
-    #[allow(clippy::too_many_arguments)]
-    fn refine(
-        f: &mut impl FnMut(f64) -> f64,
+    /// An interval [a, b] with f at its ends and midpoint and its Simpson
+    /// estimate.
+    #[derive(Clone, Copy)]
+    struct Panel {
         a: f64,
         b: f64,
         fa: f64,
         fm: f64,
         fb: f64,
         whole: f64,
-        tolerance: f64,
-        depth: u32,
-    ) -> f64 {
+    }
+    fn refine(f: &mut impl FnMut(f64) -> f64, p: Panel, tolerance: f64, depth: u32) -> f64 {
+        let Panel {
+            a,
+            b,
+            fa,
+            fm,
+            fb,
+            whole,
+        } = p;
         let m = 0.5 * (a + b);
         let (lm, rm) = (0.5 * (a + m), 0.5 * (m + b));
         let (flm, frm) = (f(lm), f(rm));
@@ -49,12 +57,37 @@ pub fn adaptive_simpson(f: &mut impl FnMut(f64) -> f64, a: f64, b: f64, toleranc
         if depth >= MAX_DEPTH || (depth >= MIN_DEPTH && converged) {
             return halves + delta / 15.0;
         }
-        refine(f, a, m, fa, flm, fm, left, 0.5 * tolerance, depth + 1)
-            + refine(f, m, b, fm, frm, fb, right, 0.5 * tolerance, depth + 1)
+        let (l, r) = (
+            Panel {
+                a,
+                b: m,
+                fa,
+                fm: flm,
+                fb: fm,
+                whole: left,
+            },
+            Panel {
+                a: m,
+                b,
+                fa: fm,
+                fm: frm,
+                fb,
+                whole: right,
+            },
+        );
+        refine(f, l, 0.5 * tolerance, depth + 1) + refine(f, r, 0.5 * tolerance, depth + 1)
     }
     let (fa, fm, fb) = (f(a), f(0.5 * (a + b)), f(b));
     let whole = (b - a) / 6.0 * (fa + 4.0 * fm + fb);
-    refine(f, a, b, fa, fm, fb, whole, tolerance, 0)
+    let p = Panel {
+        a,
+        b,
+        fa,
+        fm,
+        fb,
+        whole,
+    };
+    refine(f, p, tolerance, 0)
 }
 
 /// Gauss–Legendre quadrature on [0, 1] with `n` points: (node, weight)

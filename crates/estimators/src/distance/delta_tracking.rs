@@ -4,9 +4,9 @@
 //! track-length estimator.
 
 use super::FreeFlight;
-use crate::null_collisions::walk;
+use crate::null_collisions::{walk, Tracking};
 use fogbank_math::{Pcg32, Ray};
-use fogbank_volume::VolumeAccess;
+use fogbank_volume::{SuperVoxel, VolumeAccess};
 
 /// The first real collision `(t, σ_t(t))` in `[t0, t1]`, or `None`;
 /// `on_null(σ_t, σ_maj)` sees every null collision before it.
@@ -28,16 +28,18 @@ pub fn track<V: VolumeAccess>(
         t1,
         rng,
         lookups,
-        1,
-        |s, _| (s.max, 0.0),
-        |t, sigma_t, sigma_maj, _, rng| {
-            if rng.next_f32() * sigma_maj < sigma_t {
-                hit = Some((t, sigma_t));
-                false
-            } else {
-                on_null(sigma_t, sigma_maj);
-                true
-            }
+        Tracking {
+            draws: 1,
+            rate: |s: &SuperVoxel, _| (s.max, 0.0),
+            collide: |t, sigma_t, sigma_maj, _, rng: &mut Pcg32| {
+                if rng.next_f32() * sigma_maj < sigma_t {
+                    hit = Some((t, sigma_t));
+                    false
+                } else {
+                    on_null(sigma_t, sigma_maj);
+                    true
+                }
+            },
         },
     );
     hit

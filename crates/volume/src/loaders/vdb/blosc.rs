@@ -112,22 +112,18 @@ pub fn decompress(src: &[u8], expected: usize) -> Result<Vec<u8>, BloscError> {
             "Blosc frame too short for its {nblocks} block offsets"
         ));
     }
+    let format = BlockFormat {
+        flags,
+        typesize,
+        codec,
+    };
     let mut tmp = vec![0u8; blocksize];
     for j in 0..nblocks {
         let is_leftover = j == nblocks - 1 && leftover > 0;
         let bsize = if is_leftover { leftover } else { blocksize };
         let start = read_u32(src, HEADER_LEN + 4 * j).unwrap_or(u32::MAX) as usize;
         let dest = &mut out[j * blocksize..j * blocksize + bsize];
-        decode_block(
-            src,
-            start,
-            flags,
-            typesize,
-            codec,
-            is_leftover,
-            dest,
-            &mut tmp[..bsize],
-        )
+        decode_block(src, start, &format, is_leftover, dest, &mut tmp[..bsize])
         .map_err(|e| BloscError(format!("Blosc block {j}: {e}")))?;
     }
     Ok(out)
@@ -153,17 +149,23 @@ impl Codec {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn decode_block(
-    src: &[u8],
-    mut offset: usize,
+/// How a frame's blocks are coded: the header's flags (shuffles, split),
+/// the element size the shuffles work on, and the codec.
+struct BlockFormat {
     flags: u8,
     typesize: usize,
     codec: Codec,
+}
+
+fn decode_block(
+    src: &[u8],
+    mut offset: usize,
+    format: &BlockFormat,
     is_leftover: bool,
     dest: &mut [u8],
     tmp: &mut [u8],
 ) -> Result<(), BloscError> {
+    let (flags, typesize, codec) = (format.flags, format.typesize, format.codec);
     let bsize = dest.len();
     let shuffle = flags & FLAG_SHUFFLE != 0 && typesize > 1;
     let bitshuffle = !shuffle && flags & FLAG_BITSHUFFLE != 0 && bsize >= typesize;
