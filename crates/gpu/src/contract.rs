@@ -348,3 +348,8 @@ pub fn wgsl_prelude() -> String {
     ));
     s
 }
+
+/// A vector and a fourth component as one WGSL `vec4<f32>`.
+pub(crate) fn v4(v: glam::Vec3, w: f32) -> [f32; 4] {
+    [v.x, v.y, v.z, w]
+}

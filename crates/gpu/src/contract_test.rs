@@ -6,7 +6,8 @@
 use crate::accumulation::Frame;
 use crate::contract::{wgsl_prelude, EMISSION_KINDS};
 use crate::kernel::Kernel;
-use crate::lights::{EnvParams, LightGpu};
+use crate::lights::environment::EnvParams;
+use crate::lights::records::LightGpu;
 use crate::render::render_kernel;
 use crate::scene_buffers::MediumGpu;
 use crate::shaders::{self, check_layout};

@@ -101,8 +101,8 @@ pub fn light_picks(
     scene: &fogbank_render::Scene,
     queries: &[[f32; 4]],
 ) -> Result<Vec<[u32; 4]>, GpuError> {
-    let properties = vec![[0u32; 5]; scene.media.len()];
-    let lights = crate::lights::LightBuffers::upload(gpu, scene, &properties)?;
+    let grids = vec![crate::medium_records::MediumGrids::default(); scene.media.len()];
+    let lights = crate::lights::LightBuffers::upload(gpu, scene, &grids)?;
     let q = gpu.storage_buffer("pick_queries", bytemuck::cast_slice(queries));
     let out = output_buffer(gpu, "pick_answers", queries.len() as u64 * 16);
     let source = [

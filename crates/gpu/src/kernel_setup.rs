@@ -36,7 +36,7 @@ impl SceneGroups {
         };
         let media = SceneBuffers::upload_with(gpu, scene, &[], &fields)?;
         let lights = if kernel.scatter {
-            Some(LightBuffers::upload(gpu, scene, &media.properties)?)
+            Some(LightBuffers::upload(gpu, scene, &media.grids)?)
         } else {
             None
         };

@@ -40,6 +40,7 @@ pub mod diagnostics;
 mod kernel;
 mod kernel_setup;
 pub mod lights;
+pub mod medium_records;
 mod pin_kernel;
 pub mod pin_stream;
 pub mod pins;

@@ -3,9 +3,12 @@
 //! into flat storage buffers, with a per-medium record of offsets and
 //! placement (`MediumGpu` in `wgsl/medium.wgsl`).
 
+use crate::medium_records::MediumGrids;
 use crate::{Gpu, GpuError};
 use bytemuck::{Pod, Zeroable};
 use fogbank_render::world::emission::Emission;
+use fogbank_render::world::field::Field;
+use fogbank_render::world::medium::SceneMedium;
 use fogbank_render::Scene;
 use fogbank_volume::{AnalyticKind, BrickGrid, DensityData, Filter, Medium, Voxel};
 
@@ -38,11 +41,9 @@ pub struct SceneBuffers {
     /// The scene's media first, then the channels of their property grids
     /// (albedo, emission, temperature), which reuse the grid fetch code.
     pub media: Vec<MediumGpu>,
-    /// Per scene medium: (first record + 1 of its albedo grid or 0, its
-    /// channels, first record + 1 of its emission/temperature grid or 0,
-    /// first record + 1 of its chromatic channels' media or 0, 1 when their
-    /// ratios k vary in space).
-    pub properties: Vec<[u32; 5]>,
+    /// Per scene medium, where its property grids and chromatic channels
+    /// are among `media`.
+    pub grids: Vec<MediumGrids>,
     pub bind_group_layout: wgpu::BindGroupLayout,
     pub bind_group: wgpu::BindGroup,
     /// Bytes uploaded (for stats).
@@ -117,42 +118,9 @@ impl SceneBuffers {
             pack_transfer(&mut record, &sm.medium, sm.transfer.as_ref(), &mut p).map_err(err)?;
             media.push(record);
         }
-        let mut properties = Vec::new();
+        let mut grids = Vec::new();
         for (i, sm) in scene.media.iter().enumerate() {
-            let mut push = |f: &fogbank_render::world::field::Field| -> Result<u32, GpuError> {
-                let first = media.len() as u32;
-                let (channels, w2i) = f.parts();
-                for c in channels {
-                    media.push(
-                        pack_property(c, w2i, &mut p)
-                            .map_err(|e| GpuError(format!("media.{i} ({}): {}", f.source, e.0)))?,
-                    );
-                }
-                Ok(first + 1)
-            };
-            let albedo = match &sm.albedo_grid {
-                Some(f) => (push(f)?, f.channel_count() as u32),
-                None => (0, 0),
-            };
-            let emission = match &sm.emission {
-                Some(Emission::Color { grid: Some(f), .. }) => push(f)?,
-                Some(Emission::Blackbody { temperature, .. }) => push(temperature)?,
-                _ => 0,
-            };
-            // Chromatic extinction: each channel's medium (Chroma::channels).
-            let chroma = match &sm.chroma {
-                Some(c) => {
-                    let first = media.len() as u32 + 1;
-                    for (k, cm) in c.channels.iter().enumerate() {
-                        media.push(pack_medium(cm, scene.camera.origin, &mut p).map_err(|e| {
-                            GpuError(format!("media.{i} ({}) channel {k}: {}", sm.source, e.0))
-                        })?);
-                    }
-                    (first, c.varying() as u32)
-                }
-                None => (0, 0),
-            };
-            properties.push([albedo.0, albedo.1, emission, chroma.0, chroma.1]);
+            grids.push(pack_grids(i, sm, scene.camera.origin, &mut media, &mut p)?);
         }
         let extra_first = media.len() as u32;
         for (i, m) in extra.iter().enumerate() {
@@ -205,7 +173,7 @@ impl SceneBuffers {
         let bind_group = gpu.bind_group_of("media", &bind_group_layout, &bufs.each_ref());
         Ok(SceneBuffers {
             media,
-            properties,
+            grids,
             bind_group_layout,
             bind_group,
             bytes,
@@ -213,6 +181,48 @@ impl SceneBuffers {
             field_first,
         })
     }
+}
+
+/// Scene medium `i`'s property grids (albedo, emission or temperature)
+/// and chromatic channels as records appended to `media`, and where they
+/// are.
+fn pack_grids(
+    i: usize,
+    sm: &SceneMedium,
+    camera: glam::Vec3,
+    media: &mut Vec<MediumGpu>,
+    p: &mut Packed,
+) -> Result<MediumGrids, GpuError> {
+    let mut push = |f: &Field, media: &mut Vec<MediumGpu>| -> Result<u32, GpuError> {
+        let first = media.len() as u32;
+        let (channels, w2i) = f.parts();
+        for c in channels {
+            media.push(
+                pack_property(c, w2i, p)
+                    .map_err(|e| GpuError(format!("media.{i} ({}): {}", f.source, e.0)))?,
+            );
+        }
+        Ok(first + 1)
+    };
+    let mut g = MediumGrids::default();
+    if let Some(f) = &sm.albedo_grid {
+        (g.albedo, g.albedo_channels) = (push(f, media)?, f.channel_count() as u32);
+    }
+    g.emission = match &sm.emission {
+        Some(Emission::Color { grid: Some(f), .. }) => push(f, media)?,
+        Some(Emission::Blackbody { temperature, .. }) => push(temperature, media)?,
+        _ => 0,
+    };
+    // Chromatic extinction: each channel's medium (Chroma::channels).
+    if let Some(c) = &sm.chroma {
+        (g.chroma, g.chroma_varies) = (media.len() as u32 + 1, c.varying() as u32);
+        for (k, cm) in c.channels.iter().enumerate() {
+            media.push(pack_medium(cm, camera, p).map_err(|e| {
+                GpuError(format!("media.{i} ({}) channel {k}: {}", sm.source, e.0))
+            })?);
+        }
+    }
+    Ok(g)
 }
 
 /// (table, constants, data offsets), storage, dimensions.

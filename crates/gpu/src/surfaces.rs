@@ -14,7 +14,7 @@
 //! | shading | per leaf slot four `vec4`: vertex normals and UVs (an analytic shape: its world → object rows, quadric and flip) |
 //! | tables | 64 + 1 floats per rough plastic (tabulated transmittance, internal reflectance); bitmap texels (`channels` floats each, rows in file order, padded to a `vec4`) |
 
-use crate::contract::{bsdf_id, texture_id, PRIMITIVE_ANALYTIC, SHAPE_STRIDE};
+use crate::contract::{bsdf_id, texture_id, v4, PRIMITIVE_ANALYTIC, SHAPE_STRIDE};
 use crate::{Gpu, GpuError};
 use fogbank_geometry::BvhNode;
 use fogbank_render::world::bsdf::{Bsdf, Distribution, Microfacet};
@@ -32,10 +32,6 @@ pub(crate) struct SurfaceBuffers {
 
 fn u(x: u32) -> f32 {
     f32::from_bits(x)
-}
-
-fn v4(v: glam::Vec3, w: f32) -> [f32; 4] {
-    [v.x, v.y, v.z, w]
 }
 
 /// The packed nodes and data of `scene`'s surfaces; without any, an empty

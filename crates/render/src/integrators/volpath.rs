@@ -28,8 +28,8 @@
 use super::shared::context::{MediumVertex, NextEvent, PathContext, SurfaceVertex};
 use super::shared::free_flight::{next_collision, MAX_CROSSINGS};
 use super::shared::next_event::{
-    emitter_weight, escaped, light_sample, light_sample_surface,
-    phase_sample_to_environment, sampled_direction_to_lights, SampledFrom,
+    emitter_weight, escaped, light_sample, light_sample_surface, phase_sample_to_environment,
+    sampled_direction_to_lights, SampledFrom,
 };
 use super::shared::pin_params::{PinMode, PinParams, PIN_KEYS};
 use super::shared::pin_stream::PinStream;
@@ -455,9 +455,8 @@ impl VolPath {
         if depth + 1 == self.max_depth {
             if !self.light_only {
                 let ray = h.spawn(wi);
-                path.radiance += path.beta
-                    * weight
-                    * sampled_direction_to_lights(cx, &nee, &ray, prev, medium);
+                path.radiance +=
+                    path.beta * weight * sampled_direction_to_lights(cx, &nee, &ray, prev, medium);
             }
             return Step::Stop;
         }

@@ -293,10 +293,12 @@ impl MediumDesc {
             .collect()
     }
 
-    /// The medium `media.{i}`, its files resolved against `base`.
-    pub fn build(&self, i: usize, base: &Path) -> Result<SceneMedium, SceneError> {
+    /// The filter and voxel precision this entry asks for, after checking
+    /// them and
+    /// the other scalar options (super-voxel size, extinction scale,
+    /// phase function) against their ranges.
+    fn sampling(&self, key: &str) -> Result<(Filter, Precision), SceneError> {
         let m = self;
-        let key = format!("media.{i}");
         let post = m
             .transfer
             .as_ref()
@@ -355,18 +357,82 @@ impl MediumDesc {
                 m.phase.g
             )));
         }
+        Ok((filter, precision))
+    }
+
+    /// The constant albedo (the tint of `albedo_grid`): 1 under a transfer
+    /// function, which gives the colour, else 0.8.
+    fn constant_albedo(&self, key: &str) -> Result<[f32; 3], SceneError> {
+        let m = self;
+        let albedo = m.albedo.unwrap_or(if m.transfer.is_some() {
+            [1.0; 3]
+        } else {
+            [0.8; 3]
+        });
+        if !albedo.iter().all(|a| (0.0..=1.0).contains(a)) {
+            return Err(SceneError(format!(
+                "{key}.albedo: each channel must be in [0, 1], got {albedo:?}"
+            )));
+        }
+        Ok(albedo)
+    }
+
+    /// The density's voxels (with their file's transform, source and
+    /// stored range), and for `density_rgb` the three channels' grids.
+    fn density(
+        &self,
+        key: &str,
+        base: &Path,
+        filter: Filter,
+        precision: Precision,
+    ) -> Result<(FieldData, Option<[DensityData; 3]>), SceneError> {
+        let m = self;
         let dkey = format!("{key}.density");
-        let (field, rgb_grids) = if m.density_rgb {
+        if m.density_rgb {
             if m.transfer.is_some() || filter != Filter::Trilinear {
                 return Err(SceneError(format!(
                     "{key}.density_rgb: needs filter = \"trilinear\" and no transfer function"
                 )));
             }
             let (f, g) = rgb_density(&m.density, &dkey, base, m.sigma_t_scale.channels())?;
-            (f, Some(g))
+            Ok((f, Some(g)))
         } else {
-            (field_data(&m.density, &dkey, base, precision)?, None)
-        };
+            Ok((field_data(&m.density, &dkey, base, precision)?, None))
+        }
+    }
+
+    /// The importance rule of seed 003, reading the density's scalar in
+    /// its stored range `units` (normalised to [0, 1]).
+    fn importance(
+        &self,
+        key: &str,
+        base: &Path,
+        units: Option<(f32, f32)>,
+        placement: DAffine3,
+    ) -> Result<Importance, SceneError> {
+        let m = self;
+        let stored = units.map_or((1.0, 0.0), |(lo, hi)| {
+            if hi > lo {
+                (1.0 / (hi - lo), -lo / (hi - lo))
+            } else {
+                (1.0, -lo)
+            }
+        });
+        Importance::build(
+            &m.importance,
+            &format!("{key}.importance"),
+            base,
+            stored,
+            placement,
+        )
+    }
+
+    /// The medium `media.{i}`, its files resolved against `base`.
+    pub fn build(&self, i: usize, base: &Path) -> Result<SceneMedium, SceneError> {
+        let m = self;
+        let key = format!("media.{i}");
+        let (filter, precision) = m.sampling(&key)?;
+        let (field, rgb_grids) = m.density(&key, base, filter, precision)?;
         let FieldData {
             data,
             to_world: file_xf,
@@ -379,16 +445,7 @@ impl MediumDesc {
         if xf.matrix3.determinant().abs() < 1e-30 {
             return Err(SceneError(format!("{key}.to_world: transform is singular")));
         }
-        let albedo = m.albedo.unwrap_or(if m.transfer.is_some() {
-            [1.0; 3]
-        } else {
-            [0.8; 3]
-        });
-        if !albedo.iter().all(|a| (0.0..=1.0).contains(a)) {
-            return Err(SceneError(format!(
-                "{key}.albedo: each channel must be in [0, 1], got {albedo:?}"
-            )));
-        }
+        let albedo = m.constant_albedo(&key)?;
         let mut albedo_grid = m
             .albedo_grid
             .as_ref()
@@ -414,20 +471,7 @@ impl MediumDesc {
             }
         };
         let velocity = Velocity::build(m.velocity.as_ref(), &m.density, &key, base, placement, xf)?;
-        let stored = units.map_or((1.0, 0.0), |(lo, hi)| {
-            if hi > lo {
-                (1.0 / (hi - lo), -lo / (hi - lo))
-            } else {
-                (1.0, -lo)
-            }
-        });
-        let importance = Importance::build(
-            &m.importance,
-            &format!("{key}.importance"),
-            base,
-            stored,
-            placement,
-        )?;
+        let importance = m.importance(&key, base, units, placement)?;
         let (scale, channels) = (m.sigma_t_scale.max(), m.sigma_t_scale.channels());
         let medium = Medium::classified(data, opacity, scale, filter, xf, m.supervoxel);
         let chroma = match rgb_grids {
@@ -459,27 +503,39 @@ impl MediumDesc {
             entry: i,
         };
         if let Some(pre) = &m.importance_pre {
-            let pkey = format!("{key}.importance_pre");
-            if matches!(sm.medium.data, DensityData::Analytic(_)) {
-                return Err(SceneError(format!(
-                    "{pkey}: analytic media have no voxels to classify"
-                )));
-            }
-            let gradient = sm.importance.needs_gradient();
-            let inputs = |p: Vec3| ImportanceInputs {
-                p,
-                sigma_t: sm.sigma_t_smooth(p),
-                scalar: sm.scalar_at(p),
-                gradient: if gradient {
-                    sm.gradient_sigma_t(p).length()
-                } else {
-                    0.0
-                },
-            };
-            let (dims, xf) = (sm.medium.dims(), sm.medium.index_to_world);
-            sm.importance = sm.importance.preclassified(dims, xf, inputs, pre, &pkey)?;
+            sm.preclassify_importance(pre, &format!("{key}.importance_pre"))?;
         }
         Ok(sm)
+    }
+}
+
+impl SceneMedium {
+    /// Classifies the importance rule over the voxels once (seed 003's
+    /// pre-classified importance) instead of per lookup.
+    fn preclassify_importance(
+        &mut self,
+        pre: &ImportancePreDesc,
+        pkey: &str,
+    ) -> Result<(), SceneError> {
+        if matches!(self.medium.data, DensityData::Analytic(_)) {
+            return Err(SceneError(format!(
+                "{pkey}: analytic media have no voxels to classify"
+            )));
+        }
+        let gradient = self.importance.needs_gradient();
+        let inputs = |p: Vec3| ImportanceInputs {
+            p,
+            sigma_t: self.sigma_t_smooth(p),
+            scalar: self.scalar_at(p),
+            gradient: if gradient {
+                self.gradient_sigma_t(p).length()
+            } else {
+                0.0
+            },
+        };
+        let (dims, xf) = (self.medium.dims(), self.medium.index_to_world);
+        self.importance = self.importance.preclassified(dims, xf, inputs, pre, pkey)?;
+        Ok(())
     }
 }
 

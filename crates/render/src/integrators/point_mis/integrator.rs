@@ -207,117 +207,171 @@ impl PointMis {
         rng: &mut Pcg32,
         lookups: &mut u32,
     ) -> Vec3 {
+        match self.strategy {
+            Strategy::FreeFlight => self.free_flight(v, s, rng, lookups),
+            Strategy::Equiangular => self.equiangular(v, s, rng, lookups),
+            Strategy::MisMiller => self.mis_miller(v, s, rng, lookups),
+            Strategy::MisJackknife => self.mis_jackknife(v, s, rng, lookups),
+            Strategy::MisNaive | Strategy::MisJackknifeBiased => self.mis_eq10(v, s, rng, lookups),
+        }
+    }
+
+    /// Free-flight sampling of the scattering distance.
+    fn free_flight<V: VolumeAccess>(
+        &self,
+        v: &V,
+        s: &Segment,
+        rng: &mut Pcg32,
+        lookups: &mut u32,
+    ) -> Vec3 {
+        let mut total = Vec3::ZERO;
+        let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
+        *lookups += f.lookups;
+        if let Some(t1) = f.t {
+            total += self.in_scattered(s, t1, rng, lookups);
+        }
+        total
+    }
+
+    /// Equiangular sampling toward the point light.
+    fn equiangular<V: VolumeAccess>(
+        &self,
+        v: &V,
+        s: &Segment,
+        rng: &mut Pcg32,
+        lookups: &mut u32,
+    ) -> Vec3 {
+        let mut total = Vec3::ZERO;
+        let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
+        if pdf0 > 0.0 && pdf0.is_finite() {
+            let sigma_t = Self::segment_sigma_t(v, s, t0, rng, lookups);
+            if sigma_t > 0.0 {
+                let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng, 0.0);
+                *lookups += tr.lookups;
+                let l = self.in_scattered(s, t0, rng, lookups);
+                total += l * (tr.transmittance * sigma_t / pdf0);
+            }
+        }
+        total
+    }
+
+    /// Both samples MIS-combined with weights from ratio-tracked transmittance (Miller et al. 2019).
+    fn mis_miller<V: VolumeAccess>(
+        &self,
+        v: &V,
+        s: &Segment,
+        rng: &mut Pcg32,
+        lookups: &mut u32,
+    ) -> Vec3 {
         let p0 = |t: f32| equiangular::pdf(&s.world, s.light, s.a, s.b, t);
         let mut total = Vec3::ZERO;
-        match self.strategy {
-            Strategy::FreeFlight => {
-                let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
-                *lookups += f.lookups;
-                if let Some(t1) = f.t {
-                    total += self.in_scattered(s, t1, rng, lookups);
+        // Free-flight sample: w1 = μ T_rt / (p0 + μ T_rt) with T_rt from
+        // delta tracking's null collisions before t1 (seed 000 §6.2).
+        let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
+        *lookups += f.lookups;
+        if let Some(t1) = f.t {
+            let w1 = balance(f.sigma_t * f.ratio, p0(t1));
+            if w1 > 0.0 {
+                total += self.in_scattered(s, t1, rng, lookups) * w1;
+            }
+        }
+        // Equiangular sample: one ratio-tracking walk over [a, t0]
+        // gives both T(t0) and the weight; w0 T μ / p0 = q/(p0 + q).
+        let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
+        if pdf0 > 0.0 && pdf0.is_finite() {
+            let sigma_t = Self::segment_sigma_t(v, s, t0, rng, lookups);
+            if sigma_t > 0.0 {
+                let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng, 0.0);
+                *lookups += tr.lookups;
+                let c = balance(sigma_t * tr.transmittance, pdf0);
+                if c != 0.0 {
+                    total += self.in_scattered(s, t0, rng, lookups) * c;
                 }
             }
-            Strategy::Equiangular => {
-                let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
-                if pdf0 > 0.0 && pdf0.is_finite() {
-                    let sigma_t = Self::segment_sigma_t(v, s, t0, rng, lookups);
-                    if sigma_t > 0.0 {
-                        let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng, 0.0);
-                        *lookups += tr.lookups;
-                        let l = self.in_scattered(s, t0, rng, lookups);
-                        total += l * (tr.transmittance * sigma_t / pdf0);
-                    }
+        }
+        total
+    }
+
+    /// Both samples MIS-combined with jackknife weight estimates (seed 000, Eq. 9).
+    fn mis_jackknife<V: VolumeAccess>(
+        &self,
+        v: &V,
+        s: &Segment,
+        rng: &mut Pcg32,
+        lookups: &mut u32,
+    ) -> Vec3 {
+        let p0 = |t: f32| equiangular::pdf(&s.world, s.light, s.a, s.b, t);
+        let mut total = Vec3::ZERO;
+        // Seed 000, Eq. 9. Every weight uses its own optical-depth
+        // estimates and σ_t lookup, independent of the distance
+        // sample and of T̃(t0), as App. D's proof needs.
+        let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
+        *lookups += f.lookups;
+        if let Some(t1) = f.t {
+            // The value read by delta tracking is correlated with the
+            // acceptance under stochastic filtering; read afresh.
+            let sigma_t = if v.needs_jitter() {
+                Self::segment_sigma_t(v, s, t1, rng, lookups)
+            } else {
+                f.sigma_t
+            };
+            let (x0, x1) = self.depths(v, s, t1, false, rng, lookups);
+            let (sigma_t, p) = (sigma_t as f64, p0(t1) as f64);
+            let w1 = mis_weight(sigma_t, 0.0, sigma_t, p, x0, x1) as f32;
+            if w1 != 0.0 && w1.is_finite() {
+                total += self.in_scattered(s, t1, rng, lookups) * w1;
+            }
+        }
+        let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
+        if pdf0 > 0.0 && pdf0.is_finite() {
+            let sigma_t_w = Self::segment_sigma_t(v, s, t0, rng, lookups);
+            let sigma_t = if v.needs_jitter() {
+                Self::segment_sigma_t(v, s, t0, rng, lookups)
+            } else {
+                sigma_t_w
+            };
+            if sigma_t > 0.0 {
+                let (x0, x1) = self.depths(v, s, t0, false, rng, lookups);
+                let (mw, p) = (sigma_t_w as f64, pdf0 as f64);
+                let w0 = mis_weight(0.0, p, mw, p, x0, x1) as f32;
+                let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng, 0.0);
+                *lookups += tr.lookups;
+                let c = w0 * tr.transmittance * sigma_t / pdf0;
+                if c != 0.0 && c.is_finite() {
+                    total += self.in_scattered(s, t0, rng, lookups) * c;
                 }
             }
-            Strategy::MisMiller => {
-                // Free-flight sample: w1 = μ T_rt / (p0 + μ T_rt) with T_rt from
-                // delta tracking's null collisions before t1 (seed 000 §6.2).
-                let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
-                *lookups += f.lookups;
-                if let Some(t1) = f.t {
-                    let w1 = balance(f.sigma_t * f.ratio, p0(t1));
-                    if w1 > 0.0 {
-                        total += self.in_scattered(s, t1, rng, lookups) * w1;
-                    }
-                }
-                // Equiangular sample: one ratio-tracking walk over [a, t0]
-                // gives both T(t0) and the weight; w0 T μ / p0 = q/(p0 + q).
-                let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
-                if pdf0 > 0.0 && pdf0.is_finite() {
-                    let sigma_t = Self::segment_sigma_t(v, s, t0, rng, lookups);
-                    if sigma_t > 0.0 {
-                        let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng, 0.0);
-                        *lookups += tr.lookups;
-                        let c = balance(sigma_t * tr.transmittance, pdf0);
-                        if c != 0.0 {
-                            total += self.in_scattered(s, t0, rng, lookups) * c;
-                        }
-                    }
-                }
+        }
+        total
+    }
+
+    /// Seed 000, Eq. 10: the weighting function estimated at both samples.
+    fn mis_eq10<V: VolumeAccess>(
+        &self,
+        v: &V,
+        s: &Segment,
+        rng: &mut Pcg32,
+        lookups: &mut u32,
+    ) -> Vec3 {
+        let mut total = Vec3::ZERO;
+        // Seed 000, Eq. 10: both samples contribute g̃(τ(t_j)) L_s(t_j)
+        // with g(τ) = μ e^{−τ}/(p0 + μ e^{−τ}) (Eq. 11), estimated by
+        // Eq. 12 (jackknife) or g(X) (naive, m = 1).
+        let naive = self.strategy == Strategy::MisNaive;
+        let ts = eq10_distances(v, s, rng, lookups);
+        for (t, p, known_mu) in ts.into_iter().flatten() {
+            let sigma_t = match known_mu {
+                Some(m) if !v.needs_jitter() => m,
+                _ => Self::segment_sigma_t(v, s, t, rng, lookups),
+            };
+            if sigma_t <= 0.0 {
+                continue;
             }
-            Strategy::MisJackknife => {
-                // Seed 000, Eq. 9. Every weight uses its own optical-depth
-                // estimates and σ_t lookup, independent of the distance
-                // sample and of T̃(t0), as App. D's proof needs.
-                let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
-                *lookups += f.lookups;
-                if let Some(t1) = f.t {
-                    // The value read by delta tracking is correlated with the
-                    // acceptance under stochastic filtering; read afresh.
-                    let sigma_t = if v.needs_jitter() {
-                        Self::segment_sigma_t(v, s, t1, rng, lookups)
-                    } else {
-                        f.sigma_t
-                    };
-                    let (x0, x1) = self.depths(v, s, t1, false, rng, lookups);
-                    let (sigma_t, p) = (sigma_t as f64, p0(t1) as f64);
-                    let w1 = mis_weight(sigma_t, 0.0, sigma_t, p, x0, x1) as f32;
-                    if w1 != 0.0 && w1.is_finite() {
-                        total += self.in_scattered(s, t1, rng, lookups) * w1;
-                    }
-                }
-                let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
-                if pdf0 > 0.0 && pdf0.is_finite() {
-                    let sigma_t_w = Self::segment_sigma_t(v, s, t0, rng, lookups);
-                    let sigma_t = if v.needs_jitter() {
-                        Self::segment_sigma_t(v, s, t0, rng, lookups)
-                    } else {
-                        sigma_t_w
-                    };
-                    if sigma_t > 0.0 {
-                        let (x0, x1) = self.depths(v, s, t0, false, rng, lookups);
-                        let (mw, p) = (sigma_t_w as f64, pdf0 as f64);
-                        let w0 = mis_weight(0.0, p, mw, p, x0, x1) as f32;
-                        let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng, 0.0);
-                        *lookups += tr.lookups;
-                        let c = w0 * tr.transmittance * sigma_t / pdf0;
-                        if c != 0.0 && c.is_finite() {
-                            total += self.in_scattered(s, t0, rng, lookups) * c;
-                        }
-                    }
-                }
-            }
-            Strategy::MisNaive | Strategy::MisJackknifeBiased => {
-                // Seed 000, Eq. 10: both samples contribute g̃(τ(t_j)) L_s(t_j)
-                // with g(τ) = μ e^{−τ}/(p0 + μ e^{−τ}) (Eq. 11), estimated by
-                // Eq. 12 (jackknife) or g(X) (naive, m = 1).
-                let naive = self.strategy == Strategy::MisNaive;
-                let ts = eq10_distances(v, s, rng, lookups);
-                for (t, p, known_mu) in ts.into_iter().flatten() {
-                    let sigma_t = match known_mu {
-                        Some(m) if !v.needs_jitter() => m,
-                        _ => Self::segment_sigma_t(v, s, t, rng, lookups),
-                    };
-                    if sigma_t <= 0.0 {
-                        continue;
-                    }
-                    let (x0, x1) = self.depths(v, s, t, naive, rng, lookups);
-                    let m = sigma_t as f64;
-                    let g = mis_weight(m, 0.0, m, p as f64, x0, x1) as f32;
-                    if g != 0.0 && g.is_finite() {
-                        total += self.in_scattered(s, t, rng, lookups) * g;
-                    }
-                }
+            let (x0, x1) = self.depths(v, s, t, naive, rng, lookups);
+            let m = sigma_t as f64;
+            let g = mis_weight(m, 0.0, m, p as f64, x0, x1) as f32;
+            if g != 0.0 && g.is_finite() {
+                total += self.in_scattered(s, t, rng, lookups) * g;
             }
         }
         total

@@ -103,7 +103,8 @@ impl Restir {
                         // p = T* of the whole ray, p̂ = T*·lum(L_env): w = lum(L_env).
                         let w = luminance(environment(world, ray.d));
                         let u = s.rng.next_f32();
-                        s.res.stream(PathSample::BACKGROUND, w, w * p_pass as f32, u);
+                        s.res
+                            .stream(PathSample::BACKGROUND, w, w * p_pass as f32, u);
                     }
                     return;
                 };

@@ -152,7 +152,13 @@ impl VisOpt {
 
     /// Multiple scattering after the first vertex (§5.4 settings 2 and 3):
     /// HG-sampled directions, free flights through the original μ.
-    fn continue_path(&self, cx: &mut PathContext, m: &SceneMedium, mut p: Vec3, mut d: Vec3) -> Vec3 {
+    fn continue_path(
+        &self,
+        cx: &mut PathContext,
+        m: &SceneMedium,
+        mut p: Vec3,
+        mut d: Vec3,
+    ) -> Vec3 {
         let world = cx.world;
         let hg = m.phase;
         let optimise_nee = self.params.optimise && self.params.scattering == Scattering::All;

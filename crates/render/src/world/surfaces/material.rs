@@ -165,117 +165,57 @@ impl BsdfDesc {
     }
 
     fn side(&self, key: &str, files: &BitmapFiles) -> Result<Side, SceneError> {
-        let k = |name: &str| format!("{key}.{name}");
-        let eta_of = |int: &IorDesc, ext: &IorDesc| -> Result<f32, SceneError> {
-            Ok(int.value(&k("int_ior"))? / ext.value(&k("ext_ior"))?)
-        };
-        let alpha_ok = |a: f32| {
-            if a.is_finite() && a >= 0.0 {
-                Ok(a)
-            } else {
-                Err(SceneError(format!("{}: {a} is not ≥ 0", k("alpha"))))
-            }
-        };
-        let microfacet = |alpha: f32, distribution: &str, sample_visible: bool| {
-            Ok(Microfacet {
-                alpha: alpha_ok(alpha)?,
-                sample_visible,
-                ..Microfacet::ggx(0.0)
-            })
-            .and_then(|m| {
-                distribution_of(distribution, &k("distribution")).map(|d| Microfacet {
-                    distribution: d,
-                    ..m
-                })
-            })
-        };
-        // The BSDF holds the texture's mean (for sampling weights); the
-        // side looks the texture itself up at each hit.
-        let texture = |s: &SpectrumDesc, name: &str| s.texture(&k(name), files);
-        let textured = |bsdf: Bsdf, t: Texture| -> Result<Side, SceneError> {
-            Ok(match t {
-                Texture::Constant(_) => Side {
-                    bsdf,
-                    texture: None,
-                },
-                t => Side {
-                    bsdf,
-                    texture: Some(t),
-                },
-            })
-        };
-        let constant = |s: &SpectrumDesc, name: &str| -> Result<Vec3, SceneError> {
-            Ok(texture(s, name)?.mean())
+        let c = SideContext { key, files };
+        let plain = |bsdf| Side {
+            bsdf,
+            texture: None,
         };
         match self {
             BsdfDesc::Diffuse { reflectance } => {
-                let t = texture(reflectance, "reflectance")?;
-                textured(
-                    Bsdf::Diffuse {
-                        reflectance: t.mean(),
-                    },
-                    t,
-                )
+                let t = c.texture(reflectance, "reflectance")?;
+                let reflectance = t.mean();
+                Ok(textured(Bsdf::Diffuse { reflectance }, t))
             }
             BsdfDesc::Conductor {
                 eta,
-                k: kk,
+                k,
                 material,
-                specular_reflectance: s,
-            }
-            | BsdfDesc::Roughconductor {
+                specular_reflectance,
+            } => c.conductor(
+                [*eta, *k],
+                material,
+                specular_reflectance,
+                Microfacet::ggx(0.0),
+            ),
+            BsdfDesc::Roughconductor {
                 eta,
-                k: kk,
+                k,
                 material,
-                specular_reflectance: s,
-                ..
+                specular_reflectance,
+                alpha,
+                distribution,
+                sample_visible,
             } => {
-                let (eta, kk) =
-                    super::conductors::complex_ior(*eta, *kk, material.as_deref(), &k("material"))?;
-                let mf = match self {
-                    BsdfDesc::Roughconductor {
-                        alpha,
-                        distribution,
-                        sample_visible,
-                        ..
-                    } => microfacet(*alpha, distribution, *sample_visible)?,
-                    _ => Microfacet::ggx(0.0),
-                };
-                let t = texture(s, "specular_reflectance")?;
-                let bsdf = Bsdf::Conductor {
-                    eta: Vec3::from(eta),
-                    k: Vec3::from(kk),
-                    mf,
-                    specular: t.mean(),
-                };
-                textured(bsdf, t)
+                let mf = c.microfacet(*alpha, distribution, *sample_visible)?;
+                c.conductor([*eta, *k], material, specular_reflectance, mf)
             }
-            BsdfDesc::Dielectric { int_ior, ext_ior } => Ok(Side {
-                bsdf: Bsdf::Dielectric {
-                    eta: eta_of(int_ior, ext_ior)?,
-                    mf: Microfacet::ggx(0.0),
-                },
-                texture: None,
-            }),
+            BsdfDesc::Dielectric { int_ior, ext_ior } => Ok(plain(Bsdf::Dielectric {
+                eta: c.eta(int_ior, ext_ior)?,
+                mf: Microfacet::ggx(0.0),
+            })),
             BsdfDesc::Roughdielectric {
                 alpha,
                 distribution,
                 sample_visible,
                 int_ior,
                 ext_ior,
-            } => Ok(Side {
-                bsdf: Bsdf::Dielectric {
-                    eta: eta_of(int_ior, ext_ior)?,
-                    mf: microfacet(*alpha, distribution, *sample_visible)?,
-                },
-                texture: None,
-            }),
-            BsdfDesc::Thindielectric { int_ior, ext_ior } => Ok(Side {
-                bsdf: Bsdf::ThinDielectric {
-                    eta: eta_of(int_ior, ext_ior)?,
-                },
-                texture: None,
-            }),
+            } => Ok(plain(Bsdf::Dielectric {
+                eta: c.eta(int_ior, ext_ior)?,
+                mf: c.microfacet(*alpha, distribution, *sample_visible)?,
+            })),
+            BsdfDesc::Thindielectric { int_ior, ext_ior } => Ok(plain(Bsdf::ThinDielectric {
+                eta: c.eta(int_ior, ext_ior)?,
+            })),
             BsdfDesc::Plastic {
                 diffuse_reflectance,
                 specular_reflectance,
@@ -283,20 +223,14 @@ impl BsdfDesc {
                 ext_ior,
                 nonlinear,
             } => {
-                if let SpectrumDesc::Texture(_) = specular_reflectance {
-                    return Err(SceneError(format!(
-                        "{}: a texture is not supported here (only for diffuse_reflectance)",
-                        k("specular_reflectance")
-                    )));
-                }
-                let t = texture(diffuse_reflectance, "diffuse_reflectance")?;
+                let (t, specular) = c.plastic_layers(diffuse_reflectance, specular_reflectance)?;
                 let bsdf = Bsdf::Plastic(Plastic {
                     diffuse: t.mean(),
-                    specular: constant(specular_reflectance, "specular_reflectance")?,
-                    eta: eta_of(int_ior, ext_ior)?,
+                    specular,
+                    eta: c.eta(int_ior, ext_ior)?,
                     nonlinear: *nonlinear,
                 });
-                textured(bsdf, t)
+                Ok(textured(bsdf, t))
             }
             BsdfDesc::Roughplastic {
                 alpha,
@@ -308,31 +242,118 @@ impl BsdfDesc {
                 ext_ior,
                 nonlinear,
             } => {
-                if let SpectrumDesc::Texture(_) = specular_reflectance {
-                    return Err(SceneError(format!(
-                        "{}: a texture is not supported here (only for diffuse_reflectance)",
-                        k("specular_reflectance")
-                    )));
-                }
-                let t = texture(diffuse_reflectance, "diffuse_reflectance")?;
+                let (t, specular) = c.plastic_layers(diffuse_reflectance, specular_reflectance)?;
                 let bsdf = Bsdf::RoughPlastic(RoughPlastic::new(
                     t.mean(),
-                    constant(specular_reflectance, "specular_reflectance")?,
-                    eta_of(int_ior, ext_ior)?,
+                    specular,
+                    c.eta(int_ior, ext_ior)?,
                     Microfacet {
                         alpha: alpha.max(1e-4),
-                        ..microfacet(*alpha, distribution, *sample_visible)?
+                        ..c.microfacet(*alpha, distribution, *sample_visible)?
                     },
                     *nonlinear,
                 ));
-                textured(bsdf, t)
+                Ok(textured(bsdf, t))
             }
-            BsdfDesc::Null => Ok(Side {
-                bsdf: Bsdf::Null,
-                texture: None,
-            }),
+            BsdfDesc::Null => Ok(plain(Bsdf::Null)),
             BsdfDesc::Twosided { .. } => Ok(self.build_with(key, files)?.front),
         }
+    }
+}
+
+/// A side whose BSDF holds the texture's mean (for sampling weights) and
+/// looks the texture itself up at each hit; a constant needs no lookup.
+fn textured(bsdf: Bsdf, t: Texture) -> Side {
+    match t {
+        Texture::Constant(_) => Side {
+            bsdf,
+            texture: None,
+        },
+        t => Side {
+            bsdf,
+            texture: Some(t),
+        },
+    }
+}
+
+/// What building one side reads besides its description: its key (for
+/// messages) and the bitmap files its textures share.
+struct SideContext<'a> {
+    key: &'a str,
+    files: &'a BitmapFiles,
+}
+
+impl SideContext<'_> {
+    fn k(&self, name: &str) -> String {
+        format!("{}.{name}", self.key)
+    }
+
+    /// The relative index of refraction int/ext.
+    fn eta(&self, int: &IorDesc, ext: &IorDesc) -> Result<f32, SceneError> {
+        Ok(int.value(&self.k("int_ior"))? / ext.value(&self.k("ext_ior"))?)
+    }
+
+    fn microfacet(
+        &self,
+        alpha: f32,
+        distribution: &str,
+        sample_visible: bool,
+    ) -> Result<Microfacet, SceneError> {
+        if !(alpha.is_finite() && alpha >= 0.0) {
+            return Err(SceneError(format!(
+                "{}: {alpha} is not ≥ 0",
+                self.k("alpha")
+            )));
+        }
+        Ok(Microfacet {
+            alpha,
+            sample_visible,
+            distribution: distribution_of(distribution, &self.k("distribution"))?,
+        })
+    }
+
+    fn texture(&self, s: &SpectrumDesc, name: &str) -> Result<Texture, SceneError> {
+        s.texture(&self.k(name), self.files)
+    }
+
+    /// A smooth or rough conductor of complex IOR (eta, k) or a named
+    /// `material`, tinted by the specular reflectance.
+    fn conductor(
+        &self,
+        [eta, k]: [Option<[f32; 3]>; 2],
+        material: &Option<String>,
+        specular_reflectance: &SpectrumDesc,
+        mf: Microfacet,
+    ) -> Result<Side, SceneError> {
+        let (eta, k) =
+            super::conductors::complex_ior(eta, k, material.as_deref(), &self.k("material"))?;
+        let t = self.texture(specular_reflectance, "specular_reflectance")?;
+        let bsdf = Bsdf::Conductor {
+            eta: Vec3::from(eta),
+            k: Vec3::from(k),
+            mf,
+            specular: t.mean(),
+        };
+        Ok(textured(bsdf, t))
+    }
+
+    /// A plastic's diffuse texture and constant specular reflectance (a
+    /// specular texture is refused, as the coating's weight needs one
+    /// value).
+    fn plastic_layers(
+        &self,
+        diffuse: &SpectrumDesc,
+        specular: &SpectrumDesc,
+    ) -> Result<(Texture, Vec3), SceneError> {
+        if let SpectrumDesc::Texture(_) = specular {
+            return Err(SceneError(format!(
+                "{}: a texture is not supported here (only for diffuse_reflectance)",
+                self.k("specular_reflectance")
+            )));
+        }
+        let t = self.texture(diffuse, "diffuse_reflectance")?;
+        let specular = self.texture(specular, "specular_reflectance")?.mean();
+        Ok((t, specular))
     }
 }
 

@@ -132,6 +132,129 @@ fn world_medium(media: &[SceneMedium], entry: usize, key: &str) -> Result<usize,
     }
 }
 
+/// The shapes' geometry as it is gathered, shape by shape: one mesh of
+/// every triangle (with per-vertex normals and uvs, zero where a shape has
+/// none), the analytic shapes, and per primitive its shape. Emitting
+/// analytic shapes' lights come before the emitting triangles' (the light
+/// BVH takes a run of triangles at the end), so `first_triangle` and
+/// `first_light` count within their kind until [`Gathered::finish`].
+#[derive(Default)]
+struct Gathered {
+    mesh: TriangleMesh,
+    normals: Vec<Vec3>,
+    uvs: Vec<Vec2>,
+    analytic: Vec<AnalyticShape>,
+    shapes: Vec<Shape>,
+    shape_of: Vec<u32>,
+    analytic_shape_of: Vec<u32>,
+    analytic_lights: Vec<Light>,
+    triangle_lights: Vec<Light>,
+}
+
+impl Gathered {
+    fn add_analytic(
+        &mut self,
+        i: usize,
+        a: AnalyticShape,
+        mut shape: Shape,
+    ) -> Result<(), SceneError> {
+        shape.analytic = true;
+        shape.first_triangle = self.analytic.len() as u32;
+        shape.first_light = self.analytic_lights.len() as u32;
+        if let Some(le) = shape.emission {
+            self.analytic_lights.push(
+                analytic_light(&a, le)
+                    .ok_or_else(|| SceneError(format!("shapes.{i}: its area is not finite")))?,
+            );
+        }
+        self.analytic.push(a);
+        self.analytic_shape_of.push(i as u32);
+        self.shapes.push(shape);
+        Ok(())
+    }
+
+    fn add_mesh(&mut self, i: usize, mesh: TriangleMesh, mut shape: Shape) {
+        let all = &mut self.mesh;
+        let v0 = all.positions.len() as u32;
+        shape.first_triangle = all.triangles.len() as u32;
+        shape.first_light = self.triangle_lights.len() as u32;
+        shape.has_normals = !mesh.normals.is_empty();
+        shape.has_uvs = !mesh.uvs.is_empty();
+        if let Some(le) = shape.emission {
+            self.triangle_lights.extend(triangle_lights(&mesh, le));
+        }
+        let nv = mesh.positions.len();
+        self.normals.extend(if shape.has_normals {
+            mesh.normals
+        } else {
+            vec![Vec3::ZERO; nv]
+        });
+        self.uvs.extend(if shape.has_uvs {
+            mesh.uvs
+        } else {
+            vec![Vec2::ZERO; nv]
+        });
+        all.positions.extend(mesh.positions);
+        all.triangles
+            .extend(mesh.triangles.iter().map(|t| t.map(|v| v + v0)));
+        self.shape_of
+            .extend(std::iter::repeat_n(i as u32, mesh.triangles.len()));
+        self.shapes.push(shape);
+    }
+
+    /// The acceleration structure, the shapes with their first primitive
+    /// and light in the scene's numbering, and per primitive its shape;
+    /// the emitting shapes' lights are appended to `lights`.
+    fn finish(self, lights: &mut Vec<Light>) -> (MeshAccel, Vec<Shape>, Vec<u32>) {
+        let Gathered {
+            mut mesh,
+            normals,
+            uvs,
+            analytic,
+            mut shapes,
+            mut shape_of,
+            analytic_shape_of,
+            analytic_lights,
+            triangle_lights,
+        } = self;
+        let (triangles, scene_lights) = (mesh.triangles.len() as u32, lights.len() as u32);
+        for s in &mut shapes {
+            if s.analytic {
+                s.first_triangle += triangles;
+                s.first_light += scene_lights;
+            } else {
+                s.first_light += scene_lights + analytic_lights.len() as u32;
+            }
+        }
+        lights.extend(analytic_lights);
+        lights.extend(triangle_lights);
+        shape_of.extend(analytic_shape_of);
+        mesh.normals = normals;
+        mesh.uvs = uvs;
+        (MeshAccel::with_analytic(mesh, analytic), shapes, shape_of)
+    }
+}
+
+/// One area light per triangle of an emitting mesh (a degenerate triangle
+/// keeps its place with zero area, so light indices follow triangles).
+fn triangle_lights(mesh: &TriangleMesh, le: Vec3) -> impl Iterator<Item = Light> + '_ {
+    (0..mesh.len()).map(move |t| {
+        let n = mesh.triangles[t]
+            .iter()
+            .map(|&v| mesh.normals.get(v as usize).copied().unwrap_or(Vec3::ZERO))
+            .sum();
+        let tri = AreaTriangle::new(mesh.corners(t), n, le);
+        Light::Area(tri.unwrap_or(AreaTriangle {
+            p0: Vec3::ZERO,
+            e1: Vec3::ZERO,
+            e2: Vec3::ZERO,
+            n: Vec3::Z,
+            area: 0.0,
+            radiance: Vec3::ZERO,
+        }))
+    })
+}
+
 impl Surfaces {
     /// The shapes, their emitting triangles appended to `lights`; `media`
     /// are the world's media (which shapes may bound) and `camera` the
@@ -144,17 +267,7 @@ impl Surfaces {
         lights: &mut Vec<Light>,
     ) -> Result<Surfaces, SceneError> {
         let mut bounded = vec![false; media.len()];
-        let mut all = TriangleMesh::default();
-        let mut analytic = Vec::new();
-        let mut shapes = Vec::new();
-        // Per primitive, its shape: triangles first, then analytic shapes.
-        let (mut shape_of, mut analytic_shape_of) = (Vec::new(), Vec::new());
-        let (mut normals, mut uvs) = (Vec::new(), Vec::new());
-        // Emitting analytic shapes' lights come before the emitting
-        // triangles' (the light BVH takes a run of triangles at the end);
-        // `first_triangle` and `first_light` count within their kind until
-        // both are known.
-        let (mut analytic_lights, mut triangle_lights) = (Vec::new(), Vec::new());
+        let mut g = Gathered::default();
         let files = BitmapFiles::new(base);
         for (i, d) in descs.iter().enumerate() {
             let geometry = d.geometry(i, base)?;
@@ -175,7 +288,7 @@ impl Surfaces {
             };
             let (interior, exterior) =
                 (side(d.interior, "interior")?, side(d.exterior, "exterior")?);
-            let mut shape = Shape {
+            let shape = Shape {
                 material,
                 emission,
                 first_triangle: 0,
@@ -186,83 +299,19 @@ impl Surfaces {
                 has_uvs: false,
                 analytic: false,
             };
-            let mesh = match geometry {
-                Geometry::Analytic(a) => {
-                    shape.analytic = true;
-                    shape.first_triangle = analytic.len() as u32;
-                    shape.first_light = analytic_lights.len() as u32;
-                    if let Some(le) = emission {
-                        analytic_lights.push(analytic_light(&a, le).ok_or_else(|| {
-                            SceneError(format!("shapes.{i}: its area is not finite"))
-                        })?);
-                    }
-                    analytic.push(a);
-                    analytic_shape_of.push(i as u32);
-                    shapes.push(shape);
-                    continue;
-                }
-                Geometry::Mesh(mesh) => mesh,
-            };
-            let v0 = all.positions.len() as u32;
-            shape.first_triangle = all.triangles.len() as u32;
-            shape.first_light = triangle_lights.len() as u32;
-            shape.has_normals = !mesh.normals.is_empty();
-            shape.has_uvs = !mesh.uvs.is_empty();
-            if let Some(le) = emission {
-                for t in 0..mesh.len() {
-                    let n = mesh.triangles[t]
-                        .iter()
-                        .map(|&v| mesh.normals.get(v as usize).copied().unwrap_or(Vec3::ZERO))
-                        .sum();
-                    let tri = AreaTriangle::new(mesh.corners(t), n, le);
-                    triangle_lights.push(Light::Area(tri.unwrap_or(AreaTriangle {
-                        p0: Vec3::ZERO,
-                        e1: Vec3::ZERO,
-                        e2: Vec3::ZERO,
-                        n: Vec3::Z,
-                        area: 0.0,
-                        radiance: Vec3::ZERO,
-                    })));
-                }
-            }
-            let nv = mesh.positions.len();
-            normals.extend(if shape.has_normals {
-                mesh.normals
-            } else {
-                vec![Vec3::ZERO; nv]
-            });
-            uvs.extend(if shape.has_uvs {
-                mesh.uvs
-            } else {
-                vec![Vec2::ZERO; nv]
-            });
-            all.positions.extend(mesh.positions);
-            all.triangles
-                .extend(mesh.triangles.iter().map(|t| t.map(|v| v + v0)));
-            shape_of.extend(std::iter::repeat_n(i as u32, mesh.triangles.len()));
-            shapes.push(shape);
-        }
-        let (triangles, scene_lights) = (all.triangles.len() as u32, lights.len() as u32);
-        for s in &mut shapes {
-            if s.analytic {
-                s.first_triangle += triangles;
-                s.first_light += scene_lights;
-            } else {
-                s.first_light += scene_lights + analytic_lights.len() as u32;
+            match geometry {
+                Geometry::Analytic(a) => g.add_analytic(i, a, shape)?,
+                Geometry::Mesh(mesh) => g.add_mesh(i, mesh, shape),
             }
         }
-        lights.extend(analytic_lights);
-        lights.extend(triangle_lights);
-        shape_of.extend(analytic_shape_of);
-        all.normals = normals;
-        all.uvs = uvs;
+        let (accel, shapes, shape_of) = g.finish(lights);
         let passes: Vec<bool> = shapes.iter().map(|s| s.material.passes_light()).collect();
         let partial = shapes
             .iter()
             .any(|s| s.material.passes_light() && !s.material.is_null());
         let walk = bounded.iter().any(|&b| b) || partial;
         let mut s = Surfaces {
-            accel: MeshAccel::with_analytic(all, analytic),
+            accel,
             shape_of,
             shapes,
             bounded,
