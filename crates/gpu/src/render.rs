@@ -8,6 +8,7 @@ use crate::accumulation::{after_passes, read_film, SAMPLES_PER_CHUNK};
 pub use crate::accumulation::{GpuRender, Observer};
 use crate::kernel::Kernel;
 use crate::kernel_setup::{self, Accumulators, KernelTimer, SceneGroups};
+use crate::pin_stream::PinStreamPass;
 use crate::{Gpu, GpuError};
 use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{Progress, RenderOptions, Scene};
@@ -47,6 +48,16 @@ pub enum Schedule {
     /// scheduling; kept for observers, which read the film after every
     /// dispatch, and for the test that the two give the same image).
     Sequential,
+}
+
+impl Schedule {
+    /// Dispatches submitted before the oldest is waited for.
+    fn in_flight(self) -> usize {
+        match self {
+            Schedule::Filled => IN_FLIGHT,
+            Schedule::Sequential => 1,
+        }
+    }
 }
 
 /// Chunks per dispatch for `band_pixels` pixels per band and `spp` samples
@@ -104,6 +115,22 @@ pub(crate) fn render_kernel(
     render_scheduled(gpu, scene, kernel, opts, progress, after, schedule)
 }
 
+/// Chunks and samples per dispatch. The pin stream (`streamed`) changes
+/// the grids before every pass: one sample index a dispatch.
+fn dispatch_size(
+    streamed: bool,
+    schedule: Schedule,
+    kernel: &Kernel,
+    band_pixels: u64,
+    spp: u32,
+) -> (u32, u32) {
+    if streamed {
+        return (1, 1);
+    }
+    let chunks = chunks_per_dispatch(schedule, kernel, band_pixels, spp);
+    (chunks, chunks * SAMPLES_PER_CHUNK)
+}
+
 /// [`render_kernel`] with an explicit [`Schedule`]. The image is the same
 /// for both: chunks of [`SAMPLES_PER_CHUNK`] samples merge into the film in
 /// sample order either way.
@@ -121,20 +148,12 @@ pub(crate) fn render_scheduled(
     let pixels = (w as u64) * (h as u64);
     let band = groups.band_rows(h);
     let band_pixels = w as u64 * band.min(h) as u64;
-    // The pin stream changes the grids before every pass: one sample
-    // index a dispatch.
     let stream = groups.pins.as_ref().and_then(|p| p.stream.as_ref());
-    let chunks = match stream {
-        Some(_) => 1,
-        None => chunks_per_dispatch(schedule, kernel, band_pixels, opts.spp),
-    };
+    let (chunks, per_dispatch) =
+        dispatch_size(stream.is_some(), schedule, kernel, band_pixels, opts.spp);
     let acc = Accumulators::new(gpu, pixels, chunks as u64 * band_pixels);
     let (main, merge) = kernel_setup::pipeline(gpu, scene, kernel, &groups, &acc.layout)?;
     let mut frame = kernel_setup::initial_frame(scene, kernel, opts);
-    let per_dispatch = match stream {
-        Some(_) => 1,
-        None => chunks * SAMPLES_PER_CHUNK,
-    };
     let timer = KernelTimer::new(gpu, opts.spp.div_ceil(per_dispatch), MAX_TIMED_DISPATCHES);
     let dispatch = Dispatch {
         gpu,
@@ -144,29 +163,21 @@ pub(crate) fn render_scheduled(
         merge: &merge,
         band,
         timer: timer.as_ref(),
+        stream,
     };
     let mut start = Instant::now();
     let mut interrupted = false;
     let (mut submitted, mut issued, mut submits) = (0u32, 0u32, 0u32);
     // Submitted dispatches not yet waited for: (last submission, samples).
     let mut in_flight = std::collections::VecDeque::new();
-    let in_flight_limit = match schedule {
-        Schedule::Filled => IN_FLIGHT,
-        Schedule::Sequential => 1,
-    };
+    let in_flight_limit = schedule.in_flight();
     loop {
         let cancelled = progress.cancel.load(Ordering::Relaxed);
         interrupted |= cancelled;
         let stop = cancelled || opts.time_budget.is_some_and(|b| start.elapsed() >= b);
         if !stop && submitted < opts.spp {
             let n = per_dispatch.min(opts.spp - submitted);
-            frame.first_sample = submitted;
-            frame.sample_count = n;
-            frame.chunks = n.div_ceil(SAMPLES_PER_CHUNK);
-            if let Some(st) = stream {
-                st.submit(gpu, &groups.media, submitted);
-            }
-            let index = dispatch.submit(&mut frame, issued);
+            let index = dispatch.submit_samples(&mut frame, submitted..submitted + n, issued);
             submits += h.div_ceil(band);
             in_flight.push_back((index, n));
             submitted += n;
@@ -188,24 +199,16 @@ pub(crate) fn render_scheduled(
         })?;
     }
     let seconds = start.elapsed().as_secs_f64();
-    let gpu_ms = match &timer {
-        Some(t) => t.total_ms(gpu, issued)?,
-        None => None,
-    };
     Ok(GpuRender {
         film: read_film(gpu, w, h, &acc.moments, &acc.lookups)?,
         seconds,
-        gpu_ms,
+        gpu_ms: timer.map_or(Ok(None), |t| t.total_ms(gpu, issued))?,
         interrupted,
         upload_bytes: groups.bytes(),
         submits,
     })
 }
 
-/// Submits one dispatch of `frame` (its samples and chunks set): per band
-/// of rows, the chunks side by side and then their merge, each band in its
-/// own submission (a band's frame uniform lands before it). Returns the
-/// last submission.
 /// Blocks until submission `index` has run.
 fn wait_for(gpu: &Gpu, index: wgpu::SubmissionIndex) -> Result<(), GpuError> {
     gpu.device
@@ -240,11 +243,33 @@ struct Dispatch<'a> {
     merge: &'a wgpu::ComputePipeline,
     band: u32,
     timer: Option<&'a KernelTimer>,
+    /// The pin stream, which changes the grids before each sample index.
+    stream: Option<&'a PinStreamPass>,
 }
 
 impl Dispatch<'_> {
-    /// Submits the samples `frame` describes (the `issued`-th dispatch) and
-    /// returns the last submission.
+    /// Submits sample indices `samples` (the `issued`-th dispatch), after
+    /// the pin stream's grids for them.
+    fn submit_samples(
+        &self,
+        frame: &mut crate::accumulation::Frame,
+        samples: std::ops::Range<u32>,
+        issued: u32,
+    ) -> wgpu::SubmissionIndex {
+        let n = samples.end - samples.start;
+        frame.first_sample = samples.start;
+        frame.sample_count = n;
+        frame.chunks = n.div_ceil(SAMPLES_PER_CHUNK);
+        if let Some(st) = self.stream {
+            st.submit(self.gpu, &self.groups.media, samples.start);
+        }
+        self.submit(frame, issued)
+    }
+
+    /// Submits one dispatch of `frame` (its samples and chunks set; the
+    /// `issued`-th dispatch): per band of rows, the chunks side by side and
+    /// then their merge, each band in its own submission (a band's frame
+    /// uniform lands before it). Returns the last submission.
     fn submit(&self, frame: &mut crate::accumulation::Frame, issued: u32) -> wgpu::SubmissionIndex {
         let Dispatch {
             gpu,
@@ -254,6 +279,7 @@ impl Dispatch<'_> {
             merge,
             band,
             timer,
+            ..
         } = *self;
         let (w, h) = (frame.width, frame.height);
         let bands = h.div_ceil(band);

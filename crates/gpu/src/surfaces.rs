@@ -19,6 +19,7 @@ use crate::{Gpu, GpuError};
 use fogbank_geometry::BvhNode;
 use fogbank_render::world::bsdf::{Bsdf, Distribution, Microfacet};
 use fogbank_render::world::surfaces::material::Side;
+use fogbank_render::world::surfaces::Surfaces;
 use fogbank_render::world::texture::Texture;
 use fogbank_render::Scene;
 use std::collections::HashMap;
@@ -61,6 +62,31 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
         base: coating_base,
         bitmaps: HashMap::new(),
     };
+    pack_shapes(s, &mut data, &mut tables);
+    let tri_base = data.len() as u32;
+    let shading_base = tri_base + 3 * accel.bvh.order.len() as u32;
+    pack_primitives(s, &mut data);
+    pack_shading(s, &mut data);
+    debug_assert_eq!(data.len() as u32, coating_base);
+    data.extend(tables.rows);
+    data[0] = [
+        u(shape_base),
+        u(tri_base),
+        u(shading_base),
+        u(s.camera_medium.map_or(0, |m| m as u32 + 1)),
+    ];
+    data[1] = [
+        u(s.shadows_walk() as u32),
+        u(s.shapes.len() as u32),
+        0.0,
+        0.0,
+    ];
+    (nodes, data)
+}
+
+/// Per shape (`SHAPE_STRIDE` vec4s): its media, first light and
+/// primitive, flags, emission, then its front and back sides.
+fn pack_shapes(s: &Surfaces, data: &mut Vec<[f32; 4]>, tables: &mut Tables) {
     for (i, shape) in s.shapes.iter().enumerate() {
         let (normals, uvs) = shape.shading_data();
         let m = &shape.material;
@@ -80,11 +106,16 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
         data.push([u(flags), u(i as u32), 0.0, 0.0]);
         data.push(v4(shape.emission.unwrap_or_default(), 0.0));
         for side in [Some(&m.front), m.back.as_ref()] {
-            pack_side(side.unwrap_or(&m.front), &mut data, &mut tables);
+            pack_side(side.unwrap_or(&m.front), data, tables);
         }
     }
-    let tri_base = data.len() as u32;
-    let shading_base = tri_base + 3 * accel.bvh.order.len() as u32;
+}
+
+/// Per primitive in BVH leaf order, three vec4s: a triangle's corners
+/// (with its shape, index and whether it passes light), or an analytic
+/// shape's centre and radius.
+fn pack_primitives(s: &Surfaces, data: &mut Vec<[f32; 4]>) {
+    let accel = s.accel();
     for (slot, &t) in accel.bvh.order.iter().enumerate() {
         let corners = accel.leaf_corners()[slot];
         let shape = s.shape_of()[t as usize];
@@ -106,6 +137,13 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
             data.push(v4(p, w[k]));
         }
     }
+}
+
+/// Per primitive in BVH leaf order, four vec4s: a triangle's vertex
+/// normals and uvs, or an analytic shape's world → object rows, quadric
+/// and flip.
+fn pack_shading(s: &Surfaces, data: &mut Vec<[f32; 4]>) {
+    let accel = s.accel();
     let mesh = &accel.mesh;
     for &t in &accel.bvh.order {
         if let Some(a) = accel.analytic_of(t) {
@@ -131,21 +169,6 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
         data.push(v4(n(2), uv(1).x));
         data.push([uv(1).y, uv(2).x, uv(2).y, 0.0]);
     }
-    debug_assert_eq!(data.len() as u32, coating_base);
-    data.extend(tables.rows);
-    data[0] = [
-        u(shape_base),
-        u(tri_base),
-        u(shading_base),
-        u(s.camera_medium.map_or(0, |m| m as u32 + 1)),
-    ];
-    data[1] = [
-        u(s.shadows_walk() as u32),
-        u(s.shapes.len() as u32),
-        0.0,
-        0.0,
-    ];
-    (nodes, data)
 }
 
 /// The tables after the triangles: rough plastics' coating tables and

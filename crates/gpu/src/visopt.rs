@@ -148,6 +148,45 @@ fn band_rows(width: u32, height: u32, entries: u32, budget: u64) -> u32 {
     rows.min(height.div_ceil(8) * 8)
 }
 
+/// The integrator's parameters in the uniform, and its camera lists when
+/// it optimises with them (`visopt`; `ament` marches without).
+fn integrator_uniform<'s>(
+    scene: &'s Scene,
+    u: &mut VisOptUniform,
+) -> Result<Option<&'s CameraLists>, GpuError> {
+    let flag = |bit: u32, on: bool| if on { bit } else { 0 };
+    Ok(match &scene.integrator {
+        IntegratorKind::VisOpt(v) => {
+            let p = &v.params;
+            (u.p, u.q, u.r, u.lambda, u.n) = (p.p, p.q, p.r, p.lambda, p.n);
+            u.unit = v.unit;
+            u.merge_distance = p.merge_distance;
+            u.light_samples = p.light_samples;
+            u.scattering = scattering_id(p.scattering);
+            u.max_depth = p.max_depth;
+            u.flags |= flag(VISOPT_OPTIMISE, p.optimise) | flag(VISOPT_SHADING, p.shading);
+            p.optimise.then(|| v.lists(&scene.world))
+        }
+        IntegratorKind::Ament(a) => {
+            let p = &a.params;
+            (u.p, u.q, u.r, u.lambda, u.n) = (p.p, p.q, p.r, p.lambda, p.n);
+            u.unit = a.unit;
+            u.step = p.step;
+            u.flags |= flag(VISOPT_OPTIMISE, p.optimise)
+                | flag(VISOPT_SHADING, p.shading)
+                | flag(VISOPT_PRINTED, p.printed)
+                | flag(VISOPT_JITTER, p.jitter);
+            None
+        }
+        other => {
+            return Err(GpuError(format!(
+                "integrator \"{}\" has no seed 003 buffers",
+                other.name()
+            )))
+        }
+    })
+}
+
 impl VisOptBuffers {
     /// `field_first`: the property records of [`importance_fields`] as
     /// [`crate::scene_buffers::SceneBuffers::field_first`] gives them.
@@ -173,40 +212,7 @@ impl VisOptBuffers {
             u.flags |= flag(VISOPT_PRE_NEAREST, pre.parts().1);
         }
         let empty = CameraLists::default();
-        let lists = match &scene.integrator {
-            IntegratorKind::VisOpt(v) => {
-                let p = &v.params;
-                (u.p, u.q, u.r, u.lambda, u.n) = (p.p, p.q, p.r, p.lambda, p.n);
-                u.unit = v.unit;
-                u.merge_distance = p.merge_distance;
-                u.light_samples = p.light_samples;
-                u.scattering = scattering_id(p.scattering);
-                u.max_depth = p.max_depth;
-                u.flags |= flag(VISOPT_OPTIMISE, p.optimise) | flag(VISOPT_SHADING, p.shading);
-                if p.optimise {
-                    v.lists(&scene.world)
-                } else {
-                    &empty
-                }
-            }
-            IntegratorKind::Ament(a) => {
-                let p = &a.params;
-                (u.p, u.q, u.r, u.lambda, u.n) = (p.p, p.q, p.r, p.lambda, p.n);
-                u.unit = a.unit;
-                u.step = p.step;
-                u.flags |= flag(VISOPT_OPTIMISE, p.optimise)
-                    | flag(VISOPT_SHADING, p.shading)
-                    | flag(VISOPT_PRINTED, p.printed)
-                    | flag(VISOPT_JITTER, p.jitter);
-                &empty
-            }
-            other => {
-                return Err(GpuError(format!(
-                    "integrator \"{}\" has no seed 003 buffers",
-                    other.name()
-                )))
-            }
-        };
+        let lists = integrator_uniform(scene, &mut u)?.unwrap_or(&empty);
         // The rules (6 words each), then the headers (absolute offsets),
         // then the pool: one buffer.
         let rules = pack_rules(imp, field_first);

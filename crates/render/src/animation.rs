@@ -157,30 +157,16 @@ impl AnimationDesc {
             )));
         }
         let last = self.frames - 1;
-        let check_frames = |table: &str, frames: &mut dyn Iterator<Item = (u32, usize)>| {
-            let mut previous: std::collections::HashMap<usize, u32> = Default::default();
-            for (i, (f, target)) in frames.enumerate() {
-                if f > last {
-                    return Err(SceneError(format!(
-                        "animation.{table}.{i}.frame: {f} is outside 0..={last}"
-                    )));
-                }
-                if let Some(&p) = previous.get(&target) {
-                    if f <= p {
-                        return Err(SceneError(format!(
-                            "animation.{table}.{i}.frame: keys must be in increasing frame order ({f} after {p})"
-                        )));
-                    }
-                }
-                previous.insert(target, f);
-            }
-            Ok(())
-        };
-        check_frames("camera", &mut self.camera.iter().map(|k| (k.frame, 0)))?;
-        check_frames("media", &mut self.media.iter().map(|k| (k.frame, k.medium)))?;
+        check_frames("camera", last, self.camera.iter().map(|k| (k.frame, 0)))?;
+        check_frames(
+            "media",
+            last,
+            self.media.iter().map(|k| (k.frame, k.medium)),
+        )?;
         check_frames(
             "lights",
-            &mut self.lights.iter().map(|k| (k.frame, k.light)),
+            last,
+            self.lights.iter().map(|k| (k.frame, k.light)),
         )?;
         for (i, k) in self.media.iter().enumerate() {
             if k.medium >= media.len() {
@@ -199,30 +185,7 @@ impl AnimationDesc {
                     lights.len()
                 )));
             };
-            let allowed: &[&str] = match l {
-                LightDesc::Constant { .. } => &["radiance"],
-                LightDesc::Envmap { .. } => &["rotate"],
-                LightDesc::Sky { .. } => &[],
-                LightDesc::Point { .. } => &["position", "intensity"],
-                LightDesc::Directional { .. } => &["direction", "irradiance"],
-                LightDesc::Spot { .. } => &["position", "direction", "intensity"],
-            };
-            let given = [
-                ("position", k.position.is_some()),
-                ("direction", k.direction.is_some()),
-                ("rotate", k.rotate.is_some()),
-                ("intensity", k.intensity.is_some()),
-                ("irradiance", k.irradiance.is_some()),
-                ("radiance", k.radiance.is_some()),
-            ];
-            if let Some((key, _)) = given.iter().find(|(key, g)| *g && !allowed.contains(key)) {
-                return Err(SceneError(format!(
-                    "animation.lights.{i}.{key}: light {} is a {} light, which animates {}",
-                    k.light,
-                    light_type(l),
-                    allowed.join(", ")
-                )));
-            }
+            check_light_key(i, k, l)?;
         }
         Ok(())
     }
@@ -337,4 +300,59 @@ fn light_type(l: &LightDesc) -> &'static str {
         LightDesc::Directional { .. } => "directional",
         LightDesc::Spot { .. } => "spot",
     }
+}
+
+/// Key frames of animation table `table` (frame, animated index): each
+/// frame in 0..=`last`, and increasing per animated index.
+fn check_frames(
+    table: &str,
+    last: u32,
+    frames: impl Iterator<Item = (u32, usize)>,
+) -> Result<(), SceneError> {
+    let mut previous: std::collections::HashMap<usize, u32> = Default::default();
+    for (i, (f, target)) in frames.enumerate() {
+        if f > last {
+            return Err(SceneError(format!(
+                "animation.{table}.{i}.frame: {f} is outside 0..={last}"
+            )));
+        }
+        if let Some(&p) = previous.get(&target) {
+            if f <= p {
+                return Err(SceneError(format!(
+                    "animation.{table}.{i}.frame: keys must be in increasing frame order ({f} after {p})"
+                )));
+            }
+        }
+        previous.insert(target, f);
+    }
+    Ok(())
+}
+
+/// Light key `animation.lights.{i}` animates only what its light `l` has.
+fn check_light_key(i: usize, k: &LightKey, l: &LightDesc) -> Result<(), SceneError> {
+    let allowed: &[&str] = match l {
+        LightDesc::Constant { .. } => &["radiance"],
+        LightDesc::Envmap { .. } => &["rotate"],
+        LightDesc::Sky { .. } => &[],
+        LightDesc::Point { .. } => &["position", "intensity"],
+        LightDesc::Directional { .. } => &["direction", "irradiance"],
+        LightDesc::Spot { .. } => &["position", "direction", "intensity"],
+    };
+    let given = [
+        ("position", k.position.is_some()),
+        ("direction", k.direction.is_some()),
+        ("rotate", k.rotate.is_some()),
+        ("intensity", k.intensity.is_some()),
+        ("irradiance", k.irradiance.is_some()),
+        ("radiance", k.radiance.is_some()),
+    ];
+    if let Some((key, _)) = given.iter().find(|(key, g)| *g && !allowed.contains(key)) {
+        return Err(SceneError(format!(
+            "animation.lights.{i}.{key}: light {} is a {} light, which animates {}",
+            k.light,
+            light_type(l),
+            allowed.join(", ")
+        )));
+    }
+    Ok(())
 }

@@ -121,52 +121,71 @@ fn coverage(
         .fold(1u64, |l, n| (l / gcd(l, n) * n).min(tiles as u64)) as u32;
     let mut gaps: Vec<(u32, [u32; 2])> = Vec::new();
     for t in 0..period.min(tiles) {
-        let mut here: Vec<&(&str, &ShardRun)> = runs
-            .iter()
-            .filter(|(_, r)| r.piece.has_tile(t) && r.piece.samples[0] < r.piece.samples[1])
-            .collect();
-        here.sort_by_key(|(_, r)| r.piece.samples);
-        let mut next = 0;
-        for w in 0..here.len() {
-            let (name, r) = here[w];
-            let [a, b] = r.piece.samples;
-            if a < next {
-                let (prev_name, prev) = here[w - 1];
-                return Err(if prev.piece == r.piece {
-                    format!(
-                        "duplicate shard {} ({}): {prev_name} and {name}",
-                        r.shard.label(),
-                        r.piece.describe()
-                    )
-                } else {
-                    format!(
-                        "{name} (shard {}, {}) overlaps {prev_name} (shard {}, {}) in tile {t}",
-                        r.shard.label(),
-                        r.piece.describe(),
-                        prev.shard.label(),
-                        prev.piece.describe()
-                    )
-                });
-            }
-            if a > next {
-                gaps.push((t, [next, a]));
-            }
-            next = next.max(b);
-        }
-        if next < spp {
-            gaps.push((t, [next, spp]));
-        }
+        gaps.extend(tile_gaps(runs, t, spp)?.into_iter().map(|g| (t, g)));
     }
     if gaps.is_empty() {
         return Ok(Vec::new());
     }
-    // Name missing shards when every part comes from one N and mode.
+    Ok(missing(runs, &gaps, tiles, period, spp))
+}
+
+/// The sample ranges of tile `t` that no run holds; an error when two
+/// runs hold the same sample.
+fn tile_gaps(runs: &[(&str, &ShardRun)], t: u32, spp: u32) -> Result<Vec<[u32; 2]>, String> {
+    let mut gaps = Vec::new();
+    let mut here: Vec<&(&str, &ShardRun)> = runs
+        .iter()
+        .filter(|(_, r)| r.piece.has_tile(t) && r.piece.samples[0] < r.piece.samples[1])
+        .collect();
+    here.sort_by_key(|(_, r)| r.piece.samples);
+    let mut next = 0;
+    for w in 0..here.len() {
+        let (name, r) = here[w];
+        let [a, b] = r.piece.samples;
+        if a < next {
+            let (prev_name, prev) = here[w - 1];
+            return Err(if prev.piece == r.piece {
+                format!(
+                    "duplicate shard {} ({}): {prev_name} and {name}",
+                    r.shard.label(),
+                    r.piece.describe()
+                )
+            } else {
+                format!(
+                    "{name} (shard {}, {}) overlaps {prev_name} (shard {}, {}) in tile {t}",
+                    r.shard.label(),
+                    r.piece.describe(),
+                    prev.shard.label(),
+                    prev.piece.describe()
+                )
+            });
+        }
+        if a > next {
+            gaps.push([next, a]);
+        }
+        next = next.max(b);
+    }
+    if next < spp {
+        gaps.push([next, spp]);
+    }
+    Ok(gaps)
+}
+
+/// What is missing, in words: the missing shards when every part comes
+/// from one N and mode, else the gaps grouped by sample range.
+fn missing(
+    runs: &[(&str, &ShardRun)],
+    gaps: &[(u32, [u32; 2])],
+    tiles: u32,
+    period: u32,
+    spp: u32,
+) -> Vec<String> {
     let (n, mode) = (runs[0].1.shard.count, runs[0].1.shard.mode);
     if runs
         .iter()
         .all(|(_, r)| r.shard.count == n && r.shard.mode == mode)
     {
-        return Ok((0..n)
+        return (0..n)
             .filter(|&i| !runs.iter().any(|(_, r)| r.shard.index == i))
             .map(|i| {
                 let s = crate::shard::Shard {
@@ -176,11 +195,11 @@ fn coverage(
                 };
                 format!("shard {} ({})", s.label(), s.piece(spp).describe())
             })
-            .collect());
+            .collect();
     }
     // Otherwise the gaps, grouped by sample range.
     let mut by_range: Vec<([u32; 2], u32)> = Vec::new();
-    for (t, g) in &gaps {
+    for (t, g) in gaps {
         // Tile t stands for every tile congruent to it modulo the period.
         let k = (tiles - t).div_ceil(period);
         match by_range.iter_mut().find(|(r, _)| r == g) {
@@ -188,10 +207,10 @@ fn coverage(
             None => by_range.push((*g, k)),
         }
     }
-    Ok(by_range
+    by_range
         .into_iter()
         .map(|([a, b], k)| format!("samples {a}..{b} of {k} of the {tiles} tiles"))
-        .collect())
+        .collect()
 }
 
 fn gcd(a: u64, b: u64) -> u64 {

@@ -4,6 +4,7 @@
 //! index order, so the image is bit-identical for any thread count or
 //! scheduling.
 
+use crate::integrators::restir::Restir;
 use crate::integrators::shared::PixelSample;
 use crate::integrators::IntegratorKind;
 use crate::scene::Scene;
@@ -160,19 +161,7 @@ fn render_passes(
         let clock = Instant::now();
         let totals = match &scene.integrator {
             IntegratorKind::Restir(r) => {
-                match r.last_frame(&scene.world, opts.seed, pass, &progress.cancel) {
-                    Some(f) => {
-                        let t = add_frame(&mut film, &f.radiance);
-                        progress
-                            .samples_done
-                            .fetch_add(f.radiance.len() as u64, Ordering::Relaxed);
-                        RowTotals {
-                            lookups: f.lookups,
-                            ..t
-                        }
-                    }
-                    None => RowTotals::default(),
-                }
+                restir_pass(r, scene, opts.seed, pass, &mut film, progress)
             }
             integrator => {
                 let world = &scene.world;
@@ -183,14 +172,8 @@ fn render_passes(
                     }
                     _ => integrator.sample_pixel(world, x, y, key),
                 };
-                pixel_passes(
-                    &sample,
-                    opts.seed,
-                    pass..pass + n,
-                    piece,
-                    &mut film,
-                    progress,
-                )
+                let passes = pass..pass + n;
+                pixel_passes(&sample, opts.seed, passes, piece, &mut film, progress)
             }
         };
         film.lookups += totals.lookups;
@@ -216,6 +199,31 @@ fn render_passes(
         film,
         seconds: start.elapsed().as_secs_f64(),
         interrupted,
+    }
+}
+
+/// Sample index `pass` of a frame-based integrator: ReSTIR's last frame
+/// of the sequence for that index, added to the film.
+fn restir_pass(
+    r: &Restir,
+    scene: &Scene,
+    seed: u32,
+    pass: u32,
+    film: &mut Film,
+    progress: &Progress,
+) -> RowTotals {
+    match r.last_frame(&scene.world, seed, pass, &progress.cancel) {
+        Some(f) => {
+            let t = add_frame(film, &f.radiance);
+            progress
+                .samples_done
+                .fetch_add(f.radiance.len() as u64, Ordering::Relaxed);
+            RowTotals {
+                lookups: f.lookups,
+                ..t
+            }
+        }
+        None => RowTotals::default(),
     }
 }
 

@@ -10,8 +10,10 @@ use crate::display::Overlay;
 use crate::script::Action;
 use eframe::egui;
 use fogbank_image::{ToneCurve, ToneMapping};
+use fogbank_render::integrators::shared::DistanceSampler;
 use fogbank_render::integrators::REGISTRY;
 use fogbank_render::lights::LightDesc;
+use fogbank_render::params::Param;
 use fogbank_render::SceneDesc;
 
 /// What the panel shows and edits: the scene description in place, the
@@ -76,111 +78,17 @@ pub fn panel(v: &mut PanelState, ui: &mut egui::Ui) -> PanelOutput {
     let mut edited = false;
     let mut switch_backend = None;
     ui.heading("fogbank");
-
     ui.collapsing("Render", |ui| {
-        let names: Vec<&str> = if v.gpu_available {
-            vec!["cpu", "gpu"]
-        } else {
-            vec!["cpu"]
-        };
-        switch_backend = choose(ui, "backend", v.backend, &names);
-        let integrators: Vec<&str> = REGISTRY.iter().map(|(n, _)| *n).collect();
-        let current = v.desc.integrator.name();
-        if let Some(t) = choose(ui, "integrator", current, &integrators) {
-            actions.push(Action::Set(vec![format!("integrator.type={t}")]));
-        }
-        let params = REGISTRY
-            .iter()
-            .find(|(n, _)| *n == current)
-            .map(|(_, p)| *p)
-            .unwrap_or(&[]);
-        let has = |k: &str| params.iter().any(|p| p.key == k);
-        let table = toml::Value::try_from(&v.desc.integrator).ok();
-        let value_of = |k: &str| -> Option<String> {
-            let t = table.as_ref()?.get(k)?;
-            Some(match t {
-                toml::Value::String(s) => s.clone(),
-                toml::Value::Table(t) => t
-                    .get("type")
-                    .and_then(|x| x.as_str())
-                    .unwrap_or("")
-                    .to_string(),
-                other => other.to_string(),
-            })
-        };
-        if has("estimator") {
-            let est = v.desc.integrator.estimator().name();
-            if let Some(e) = choose(ui, "estimator", est, &estimator_names()) {
-                actions.push(Action::Set(vec![format!("integrator.estimator={e}")]));
-            }
-        }
-        if has("distance_sampler") {
-            let ds = value_of("distance_sampler").unwrap_or_else(|| "delta_tracking".into());
-            let names = [
-                "delta_tracking",
-                "decomposition_tracking",
-                "regular_tracking",
-            ];
-            if let Some(d) = choose(ui, "distance sampler", &ds, &names) {
-                actions.push(Action::Set(vec![format!(
-                    "integrator.distance_sampler={d}"
-                )]));
-            }
-        }
-        // Every other option of the integrator, as text (Enter applies).
-        for p in params
-            .iter()
-            .filter(|p| !matches!(p.key, "estimator" | "distance_sampler" | "type"))
-        {
-            let id = ui.make_persistent_id(("param", current, p.key));
-            let mut text: String = ui
-                .data_mut(|d| d.get_temp::<String>(id))
-                .unwrap_or_else(|| value_of(p.key).unwrap_or_else(|| p.default.to_string()));
-            let r = ui
-                .horizontal(|ui| {
-                    ui.label(p.key).on_hover_text(p.meaning);
-                    ui.add(egui::TextEdit::singleline(&mut text).desired_width(90.0))
-                })
-                .inner;
-            if r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)) {
-                actions.push(Action::Set(vec![format!("integrator.{}={text}", p.key)]));
-                ui.data_mut(|d| d.remove::<String>(id));
-            } else if r.changed() {
-                ui.data_mut(|d| d.insert_temp(id, text));
-            }
-        }
-        let mut spp = v.desc.render.seed as f32;
-        if slider(ui, &mut spp, 0.0..=1000.0, "seed", false) {
-            v.desc.render.seed = spp as u32;
+        switch_backend = render_section(v, ui, &mut actions);
+        let mut seed = v.desc.render.seed as f32;
+        if slider(ui, &mut seed, 0.0..=1000.0, "seed", false) {
+            v.desc.render.seed = seed as u32;
             edited = true;
         }
     });
-
     if !v.desc.media.is_empty() {
-        ui.collapsing("Medium", |ui| {
-            let m = &mut v.desc.media[0];
-            let mut scale = m.sigma_t_scale.max();
-            if slider(ui, &mut scale, 0.01..=1000.0, "density scale (σ_t)", true) {
-                for m in v.desc.media.iter_mut() {
-                    m.sigma_t_scale = m.sigma_t_scale.with_max(scale);
-                }
-                edited = true;
-            }
-            let m = &mut v.desc.media[0];
-            let mut albedo = m.albedo.map_or(1.0, |a| a[0]);
-            if slider(ui, &mut albedo, 0.0..=1.0, "albedo", false) {
-                m.albedo = Some([albedo; 3]);
-                edited = true;
-            }
-            let mut g = m.phase.g;
-            if slider(ui, &mut g, -0.95..=0.95, "HG g", false) {
-                m.phase.ty = "hg".into();
-                m.phase.g = g;
-                edited = true;
-            }
-        });
+        ui.collapsing("Medium", |ui| edited |= medium_section(v, ui));
     }
-
     if let Some(light) = v.desc.lights.iter_mut().find(|l| {
         matches!(
             l,
@@ -191,57 +99,172 @@ pub fn panel(v: &mut PanelState, ui: &mut egui::Ui) -> PanelOutput {
             edited |= light_controls(ui, light);
         });
     }
-
-    ui.collapsing("Display", |ui| {
-        let mut e = v.tone.exposure;
-        if ui
-            .add(egui::Slider::new(&mut e, -8.0..=8.0).text("exposure (stops)"))
-            .changed()
-        {
-            actions.push(Action::Exposure(e));
-        }
-        let names = ToneCurve::NAMES;
-        if let Some(c) = choose(ui, "tone curve", v.tone.curve.name(), &names) {
-            actions.push(Action::ToneCurve(ToneCurve::parse(&c).unwrap()));
-        }
-        let mut o = v.overlay;
-        ui.radio_value(&mut o, Overlay::Image, "image");
-        ui.radio_value(
-            &mut o,
-            Overlay::RelativeError,
-            "relative std. error (0 … 20 %)",
-        );
-        if o != v.overlay {
-            actions.push(Action::Overlay(o));
-        }
-    });
-
-    ui.collapsing("Compare", |ui| {
-        let mut on = v.split.is_some();
-        if ui.checkbox(&mut on, "split screen at equal time").changed() {
-            actions.push(Action::Split(on.then(|| "track_length".to_string())));
-        }
-        if let Some(s) = v.split.clone() {
-            if let Some(e) = choose(ui, "right half", &s, &estimator_names()) {
-                actions.push(Action::Split(Some(e)));
-            }
-        }
-    });
-
-    ui.collapsing("Save", |ui| {
-        ui.text_edit_singleline(v.save_image_path);
-        if ui.button("save image (.exr / .png)").clicked() {
-            actions.push(Action::SaveImage(v.save_image_path.clone().into()));
-        }
-        ui.text_edit_singleline(v.save_scene_path);
-        if ui.button("save scene (.toml)").clicked() {
-            actions.push(Action::SaveScene(v.save_scene_path.clone().into()));
-        }
-    });
+    ui.collapsing("Display", |ui| display_section(v, ui, &mut actions));
+    ui.collapsing("Compare", |ui| compare_section(v, ui, &mut actions));
+    ui.collapsing("Save", |ui| save_section(v, ui, &mut actions));
     PanelOutput {
         actions,
         edited,
         backend: switch_backend,
+    }
+}
+
+/// Backend, integrator, its estimator and distance sampler, and every other
+/// parameter of its table as text (Enter applies); returns a backend the
+/// user switched to.
+fn render_section(v: &PanelState, ui: &mut egui::Ui, actions: &mut Vec<Action>) -> Option<String> {
+    let names: Vec<&str> = if v.gpu_available {
+        vec!["cpu", "gpu"]
+    } else {
+        vec!["cpu"]
+    };
+    let switch_backend = choose(ui, "backend", v.backend, &names);
+    let integrators: Vec<&str> = REGISTRY.iter().map(|(n, _)| *n).collect();
+    let current = v.desc.integrator.name();
+    if let Some(t) = choose(ui, "integrator", current, &integrators) {
+        actions.push(Action::Set(vec![format!("integrator.type={t}")]));
+    }
+    let params = REGISTRY
+        .iter()
+        .find(|(n, _)| *n == current)
+        .map(|(_, p)| *p)
+        .unwrap_or(&[]);
+    let has = |k: &str| params.iter().any(|p| p.key == k);
+    let table = toml::Value::try_from(&v.desc.integrator).ok();
+    let value_of = |k: &str| -> Option<String> {
+        let t = table.as_ref()?.get(k)?;
+        Some(match t {
+            toml::Value::String(s) => s.clone(),
+            toml::Value::Table(t) => t
+                .get("type")
+                .and_then(|x| x.as_str())
+                .unwrap_or("")
+                .to_string(),
+            other => other.to_string(),
+        })
+    };
+    if has("estimator") {
+        let est = v.desc.integrator.estimator().name();
+        if let Some(e) = choose(ui, "estimator", est, &estimator_names()) {
+            actions.push(Action::Set(vec![format!("integrator.estimator={e}")]));
+        }
+    }
+    if has("distance_sampler") {
+        let ds = value_of("distance_sampler").unwrap_or_else(|| "delta_tracking".into());
+        let names = DistanceSampler::ALL.map(|d| d.name());
+        if let Some(d) = choose(ui, "distance sampler", &ds, &names) {
+            actions.push(Action::Set(vec![format!(
+                "integrator.distance_sampler={d}"
+            )]));
+        }
+    }
+    for p in params
+        .iter()
+        .filter(|p| !matches!(p.key, "estimator" | "distance_sampler" | "type"))
+    {
+        let shown = value_of(p.key).unwrap_or_else(|| p.default.to_string());
+        if let Some(text) = param_field(ui, current, p, shown) {
+            actions.push(Action::Set(vec![format!("integrator.{}={text}", p.key)]));
+        }
+    }
+    switch_backend
+}
+
+/// One integrator parameter as a text field showing `shown` until edited;
+/// the edited text when Enter applies it.
+fn param_field(ui: &mut egui::Ui, integrator: &str, p: &Param, shown: String) -> Option<String> {
+    let id = ui.make_persistent_id(("param", integrator, p.key));
+    let mut text: String = ui.data_mut(|d| d.get_temp::<String>(id)).unwrap_or(shown);
+    let r = ui
+        .horizontal(|ui| {
+            ui.label(p.key).on_hover_text(p.meaning);
+            ui.add(egui::TextEdit::singleline(&mut text).desired_width(90.0))
+        })
+        .inner;
+    if r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)) {
+        ui.data_mut(|d| d.remove::<String>(id));
+        return Some(text);
+    }
+    if r.changed() {
+        ui.data_mut(|d| d.insert_temp(id, text));
+    }
+    None
+}
+
+/// Density scale, albedo and HG g of the first medium (the scale applies
+/// to all); true when changed.
+fn medium_section(v: &mut PanelState, ui: &mut egui::Ui) -> bool {
+    let mut edited = false;
+    let m = &mut v.desc.media[0];
+    let mut scale = m.sigma_t_scale.max();
+    if slider(ui, &mut scale, 0.01..=1000.0, "density scale (σ_t)", true) {
+        for m in v.desc.media.iter_mut() {
+            m.sigma_t_scale = m.sigma_t_scale.with_max(scale);
+        }
+        edited = true;
+    }
+    let m = &mut v.desc.media[0];
+    let mut albedo = m.albedo.map_or(1.0, |a| a[0]);
+    if slider(ui, &mut albedo, 0.0..=1.0, "albedo", false) {
+        m.albedo = Some([albedo; 3]);
+        edited = true;
+    }
+    let mut g = m.phase.g;
+    if slider(ui, &mut g, -0.95..=0.95, "HG g", false) {
+        m.phase.ty = "hg".into();
+        m.phase.g = g;
+        edited = true;
+    }
+    edited
+}
+
+/// Exposure, tone curve and the overlay (image or relative error).
+fn display_section(v: &PanelState, ui: &mut egui::Ui, actions: &mut Vec<Action>) {
+    let mut e = v.tone.exposure;
+    if ui
+        .add(egui::Slider::new(&mut e, -8.0..=8.0).text("exposure (stops)"))
+        .changed()
+    {
+        actions.push(Action::Exposure(e));
+    }
+    let names = ToneCurve::NAMES;
+    if let Some(c) = choose(ui, "tone curve", v.tone.curve.name(), &names) {
+        actions.push(Action::ToneCurve(ToneCurve::parse(&c).unwrap()));
+    }
+    let mut o = v.overlay;
+    ui.radio_value(&mut o, Overlay::Image, "image");
+    ui.radio_value(
+        &mut o,
+        Overlay::RelativeError,
+        "relative std. error (0 … 20 %)",
+    );
+    if o != v.overlay {
+        actions.push(Action::Overlay(o));
+    }
+}
+
+/// The split screen at equal time and the estimator of its right half.
+fn compare_section(v: &PanelState, ui: &mut egui::Ui, actions: &mut Vec<Action>) {
+    let mut on = v.split.is_some();
+    if ui.checkbox(&mut on, "split screen at equal time").changed() {
+        actions.push(Action::Split(on.then(|| "track_length".to_string())));
+    }
+    if let Some(s) = v.split.clone() {
+        if let Some(e) = choose(ui, "right half", &s, &estimator_names()) {
+            actions.push(Action::Split(Some(e)));
+        }
+    }
+}
+
+/// Where to save the image and the scene.
+fn save_section(v: &mut PanelState, ui: &mut egui::Ui, actions: &mut Vec<Action>) {
+    ui.text_edit_singleline(v.save_image_path);
+    if ui.button("save image (.exr / .png)").clicked() {
+        actions.push(Action::SaveImage(v.save_image_path.clone().into()));
+    }
+    ui.text_edit_singleline(v.save_scene_path);
+    if ui.button("save scene (.toml)").clicked() {
+        actions.push(Action::SaveScene(v.save_scene_path.clone().into()));
     }
 }
 

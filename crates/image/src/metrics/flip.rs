@@ -193,7 +193,14 @@ pub fn flip_with(
         });
     }
 
-    // HDR-FLIP. Negative and NaN values are not radiance; clamp them to 0.
+    hdr_flip(reference, test, options)
+}
+
+/// HDR-FLIP (Andersson et al. 2021): the maximum of LDR-FLIP over tone-
+/// mapped copies at the exposures of `options` (or the reference's range).
+fn hdr_flip(reference: &Image, test: &Image, options: &FlipOptions) -> Result<FlipResult, String> {
+    let (w, h) = (reference.width, reference.height);
+    // Negative and NaN values are not radiance; clamp them to 0.
     let sanitize = |img: &Image| -> Vec<C3> {
         img.rgb
             .iter()

@@ -58,6 +58,75 @@ pub struct ZTest {
     pub map: Vec<f32>,
 }
 
+/// Same size, α in (0, 1), and a variance layer in at least one image.
+fn check_inputs(reference: &Image, test: &Image, alpha: f64) -> Result<(), String> {
+    check_same_size(reference, test)?;
+    if !(alpha > 0.0 && alpha < 1.0) {
+        return Err(format!("alpha must be in (0, 1), got {alpha}"));
+    }
+    if reference.variance.is_none() && test.variance.is_none() {
+        return Err(
+            "the z-test needs a variance layer (variance.R/G/B) in the reference or \
+             the test; fogbank writes one when spp > 1"
+                .to_string(),
+        );
+    }
+    Ok(())
+}
+
+/// The z of every pixel channel, its kind (0: exact and equal, 1: a
+/// statistical test, 2: an exact mismatch, negative or NaN variance, or
+/// NaN values) and the number of statistical tests.
+fn channel_tests(reference: &Image, test: &Image) -> (Vec<[f64; 3]>, Vec<[u8; 3]>, usize) {
+    let zero = [0f32; 3];
+    let var_at = |img: &Image, i: usize| img.variance.as_ref().map_or(zero, |v| v[i]);
+
+    let n_pix = reference.len();
+    let mut z = vec![[0f64; 3]; n_pix];
+    // Per channel: 0 = exact and equal, 1 = statistical test, 2 = exact mismatch.
+    let mut kind = vec![[0u8; 3]; n_pix];
+    let mut tests = 0usize;
+    for i in 0..n_pix {
+        let (r, t) = (reference.rgb[i], test.rgb[i]);
+        let (vr, vt) = (var_at(reference, i), var_at(test, i));
+        for c in 0..3 {
+            let var = vr[c] as f64 + vt[c] as f64;
+            let d = t[c] as f64 - r[c] as f64;
+            // f32 storage rounds each value by up to half an ULP, and a
+            // renderer that accumulates and normalises in f32 (Mitsuba:
+            // Σ w·L / Σ w) by a few more; the variance layers do not include
+            // that, so add ROUNDING_ULPS of it as noise.
+            let rounding =
+                ROUNDING_ULPS * f32::EPSILON as f64 * (t[c].abs().max(r[c].abs()) as f64);
+            if var > 0.0 {
+                z[i][c] = d / (var + rounding * rounding).sqrt();
+                kind[i][c] = 1;
+                tests += 1;
+            } else if var == 0.0 && d.abs() <= rounding {
+                kind[i][c] = 0;
+            } else {
+                // Unequal exact values, negative or NaN variance, NaN values.
+                z[i][c] = f64::INFINITY;
+                kind[i][c] = 2;
+            }
+        }
+    }
+
+    (z, kind, tests)
+}
+
+/// The Šidák-corrected level α_each = 1 − (1 − α)^(1/n) of each of `tests`
+/// tests and its two-sided threshold on |z|.
+fn sidak_threshold(alpha: f64, tests: usize) -> (f64, f64) {
+    if tests == 0 {
+        (0.0, f64::INFINITY)
+    } else {
+        // 1 − (1 − α)^(1/n) without cancellation for large n.
+        let a = -((-alpha).ln_1p() / tests as f64).exp_m1();
+        (a, -normal_quantile(0.5 * a))
+    }
+}
+
 /// [`ztest_with`] at the family-wise level α = [`ZTEST_ALPHA`] = 0.01.
 pub fn ztest(reference: &Image, test: &Image) -> Result<ZTest, String> {
     ztest_with(reference, test, ZTEST_ALPHA)
@@ -94,59 +163,10 @@ pub fn ztest(reference: &Image, test: &Image) -> Result<ZTest, String> {
 /// low-variance reference such a pixel may fail although the estimator is
 /// unbiased. Compare renders with enough samples for the CLT to apply.
 pub fn ztest_with(reference: &Image, test: &Image, alpha: f64) -> Result<ZTest, String> {
-    check_same_size(reference, test)?;
-    if !(alpha > 0.0 && alpha < 1.0) {
-        return Err(format!("alpha must be in (0, 1), got {alpha}"));
-    }
-    if reference.variance.is_none() && test.variance.is_none() {
-        return Err(
-            "the z-test needs a variance layer (variance.R/G/B) in the reference or \
-             the test; fogbank writes one when spp > 1"
-                .to_string(),
-        );
-    }
-    let zero = [0f32; 3];
-    let var_at = |img: &Image, i: usize| img.variance.as_ref().map_or(zero, |v| v[i]);
-
-    // First pass: z per channel, and the number of tests.
+    check_inputs(reference, test, alpha)?;
     let n_pix = reference.len();
-    let mut z = vec![[0f64; 3]; n_pix];
-    // Per channel: 0 = exact and equal, 1 = statistical test, 2 = exact mismatch.
-    let mut kind = vec![[0u8; 3]; n_pix];
-    let mut tests = 0usize;
-    for i in 0..n_pix {
-        let (r, t) = (reference.rgb[i], test.rgb[i]);
-        let (vr, vt) = (var_at(reference, i), var_at(test, i));
-        for c in 0..3 {
-            let var = vr[c] as f64 + vt[c] as f64;
-            let d = t[c] as f64 - r[c] as f64;
-            // f32 storage rounds each value by up to half an ULP, and a
-            // renderer that accumulates and normalises in f32 (Mitsuba:
-            // Σ w·L / Σ w) by a few more; the variance layers do not include
-            // that, so add ROUNDING_ULPS of it as noise.
-            let rounding =
-                ROUNDING_ULPS * f32::EPSILON as f64 * (t[c].abs().max(r[c].abs()) as f64);
-            if var > 0.0 {
-                z[i][c] = d / (var + rounding * rounding).sqrt();
-                kind[i][c] = 1;
-                tests += 1;
-            } else if var == 0.0 && d.abs() <= rounding {
-                kind[i][c] = 0;
-            } else {
-                // Unequal exact values, negative or NaN variance, NaN values.
-                z[i][c] = f64::INFINITY;
-                kind[i][c] = 2;
-            }
-        }
-    }
-
-    let (alpha_each, threshold) = if tests == 0 {
-        (0.0, f64::INFINITY)
-    } else {
-        // 1 − (1 − α)^(1/n) without cancellation for large n.
-        let a = -((-alpha).ln_1p() / tests as f64).exp_m1();
-        (a, -normal_quantile(0.5 * a))
-    };
+    let (z, kind, tests) = channel_tests(reference, test);
+    let (alpha_each, threshold) = sidak_threshold(alpha, tests);
 
     let mut failing_pixels = 0;
     let mut zero_variance_pixels = 0;

@@ -171,30 +171,13 @@ impl LightDesc {
                 scale,
                 rotate,
                 filter,
-            } => {
-                let path = base.join(file);
-                let rotation = match rotate {
-                    Some([x, y, z, deg]) => glam::Mat3::from_axis_angle(
-                        Vec3::new(*x, *y, *z)
-                            .try_normalize()
-                            .ok_or_else(|| SceneError(format!("lights.{i}.rotate: zero axis")))?,
-                        deg.to_radians(),
-                    ),
-                    None => glam::Mat3::IDENTITY,
-                };
-                let mut env = envmap::Envmap::load(&path, *scale, rotation)
-                    .map_err(|e| SceneError(format!("lights.{i}: {e}")))?;
-                match filter.as_deref() {
-                    None | Some("nearest") => {}
-                    Some("bilinear") => env = env.bilinear(),
-                    Some(other) => {
-                        return Err(SceneError(format!(
-                            "lights.{i}.filter: `{other}` is not nearest or bilinear"
-                        )))
-                    }
-                }
-                Light::Envmap(std::sync::Arc::new(env))
-            }
+            } => Light::Envmap(std::sync::Arc::new(load_envmap(
+                &base.join(file),
+                *scale,
+                *rotate,
+                filter.as_deref(),
+                i,
+            )?)),
             LightDesc::Sky {
                 zenith,
                 horizon,
@@ -251,4 +234,36 @@ impl LightDesc {
             }
         })
     }
+}
+
+/// The environment map `path` of light `lights.{i}`, scaled, rotated by
+/// `rotate` (axis and degrees) and filtered as asked.
+fn load_envmap(
+    path: &Path,
+    scale: f32,
+    rotate: Option<[f32; 4]>,
+    filter: Option<&str>,
+    i: usize,
+) -> Result<envmap::Envmap, SceneError> {
+    let rotation = match rotate {
+        Some([x, y, z, deg]) => glam::Mat3::from_axis_angle(
+            Vec3::new(x, y, z)
+                .try_normalize()
+                .ok_or_else(|| SceneError(format!("lights.{i}.rotate: zero axis")))?,
+            deg.to_radians(),
+        ),
+        None => glam::Mat3::IDENTITY,
+    };
+    let mut env = envmap::Envmap::load(path, scale, rotation)
+        .map_err(|e| SceneError(format!("lights.{i}: {e}")))?;
+    match filter {
+        None | Some("nearest") => {}
+        Some("bilinear") => env = env.bilinear(),
+        Some(other) => {
+            return Err(SceneError(format!(
+                "lights.{i}.filter: `{other}` is not nearest or bilinear"
+            )))
+        }
+    }
+    Ok(env)
 }

@@ -102,6 +102,66 @@ pub struct Classified {
     pub emission: Option<[DensityData; 3]>,
 }
 
+/// Post-interpolative (classify per lookup) or pre-interpolative (classify
+/// the voxels, with an optional box prefilter).
+fn transfer_mode(d: &TransferDesc, key: &str) -> Result<TransferMode, SceneError> {
+    Ok(
+        match (
+            d.mode.as_deref().unwrap_or("post"),
+            d.prefilter.as_deref().unwrap_or("none"),
+        ) {
+            ("post", "none") => TransferMode::Post,
+            ("post", _) => {
+                return Err(SceneError(format!(
+                    "{key}.prefilter: only used with mode = \"pre\""
+                )))
+            }
+            ("pre", f @ ("none" | "box")) => TransferMode::Pre {
+                box_filter: f == "box",
+            },
+            ("pre", f) => {
+                return Err(SceneError(format!(
+                    "{key}.prefilter: `{f}` is not none or box"
+                )))
+            }
+            (m, _) => return Err(SceneError(format!("{key}.mode: `{m}` is not post or pre"))),
+        },
+    )
+}
+
+/// The map s = a·v + b from the points' values to stored units: file units
+/// → stored, s = (v − lo)/(hi − lo) for stored values that stand for the
+/// file range `units`; with `rescale`, the points' own range `points` onto
+/// the data's `stored_range`.
+fn value_map(
+    rescale: bool,
+    units: Option<(f32, f32)>,
+    points: (f32, f32),
+    stored_range: (f32, f32),
+    key: &str,
+) -> Result<(f32, f32), SceneError> {
+    // File units → stored units: s = (v − lo)/(hi − lo).
+    let (lo, hi) = units.unwrap_or((0.0, 1.0));
+    let (mut a, mut b) = if hi > lo {
+        (1.0 / (hi - lo), -lo / (hi - lo))
+    } else {
+        (1.0, -lo)
+    };
+    if rescale {
+        // The points' own range onto the data's (stored) range.
+        let (x0, x1) = points;
+        let (s0, s1) = stored_range;
+        let k = if x1 > x0 { (s1 - s0) / (x1 - x0) } else { 1.0 };
+        (a, b) = (k, s0 - k * x0);
+    }
+    if !(a > 0.0 && a.is_finite() && b.is_finite()) {
+        return Err(SceneError(format!(
+            "{key}: the value range cannot be mapped"
+        )));
+    }
+    Ok((a, b))
+}
+
 impl Transfer {
     /// Builds `d` (scene key `key`) for data whose stored values stand for
     /// the file range `units` (`None`: stored values are the file's) and
@@ -168,45 +228,9 @@ impl Transfer {
             }
             None => None,
         };
-        let mode = match (
-            d.mode.as_deref().unwrap_or("post"),
-            d.prefilter.as_deref().unwrap_or("none"),
-        ) {
-            ("post", "none") => TransferMode::Post,
-            ("post", _) => {
-                return Err(SceneError(format!(
-                    "{key}.prefilter: only used with mode = \"pre\""
-                )))
-            }
-            ("pre", f @ ("none" | "box")) => TransferMode::Pre {
-                box_filter: f == "box",
-            },
-            ("pre", f) => {
-                return Err(SceneError(format!(
-                    "{key}.prefilter: `{f}` is not none or box"
-                )))
-            }
-            (m, _) => return Err(SceneError(format!("{key}.mode: `{m}` is not post or pre"))),
-        };
-        // File units → stored units: s = (v − lo)/(hi − lo).
-        let (lo, hi) = units.unwrap_or((0.0, 1.0));
-        let (mut a, mut b) = if hi > lo {
-            (1.0 / (hi - lo), -lo / (hi - lo))
-        } else {
-            (1.0, -lo)
-        };
-        if d.rescale {
-            // The points' own range onto the data's (stored) range.
-            let (x0, x1) = point_range(&opacity, &color, emission.as_ref());
-            let (s0, s1) = stored_range;
-            let k = if x1 > x0 { (s1 - s0) / (x1 - x0) } else { 1.0 };
-            (a, b) = (k, s0 - k * x0);
-        }
-        if !(a > 0.0 && a.is_finite() && b.is_finite()) {
-            return Err(SceneError(format!(
-                "{key}: the value range cannot be mapped"
-            )));
-        }
+        let mode = transfer_mode(d, key)?;
+        let points = point_range(&opacity, &color, emission.as_ref());
+        let (a, b) = value_map(d.rescale, units, points, stored_range, key)?;
         Ok(Transfer {
             opacity: opacity.remapped(a, b),
             color: color.remapped(a, b),

@@ -135,27 +135,7 @@ impl Velocity {
             return Ok(Some(array_velocity(name, &key, placement)?));
         }
         let file = v.vdb.as_deref().unwrap_or_default();
-        let path = base.join(file);
-        let err = |e: fogbank_volume::VolumeError| SceneError(format!("{key}: {e}"));
-        let grids = vdb::read_vec3_grid(&path, v.grid.as_deref()).map_err(err)?;
-        let mut channels = Vec::with_capacity(3);
-        let mut xf = None;
-        let source = format!("{} ({})", path.display(), grids[0].name);
-        for g in grids {
-            let name = g.name.clone();
-            let (grid, gxf) = vdb_grid::to_brick_grid(g).map_err(err)?;
-            if xf.is_some_and(|x| x != gxf) {
-                return Err(SceneError(format!(
-                    "{key}: {}: the components of grid `{name}` are laid out differently",
-                    path.display(),
-                )));
-            }
-            xf = Some(gxf);
-            channels.push(DensityData::from_f32(grid, Precision::F32));
-        }
-        let file_xf = xf.unwrap_or(DAffine3::IDENTITY);
-        let field = Field::from_channels(channels, placement * file_xf, source)
-            .map_err(|SceneError(e)| SceneError(format!("{key}: {e}")))?;
+        let field = vdb_velocity(&base.join(file), v.grid.as_deref(), &key, placement)?;
         Ok(Some(Velocity::Grid {
             field,
             to_world: placement.matrix3.as_mat3(),
@@ -186,4 +166,34 @@ fn array_velocity(name: &str, key: &str, placement: DAffine3) -> Result<Velocity
         field,
         to_world: placement.matrix3.as_mat3(),
     })
+}
+
+/// The three components of vector grid `grid` (or the file's first) of the
+/// OpenVDB file `path` as one field placed by `placement`.
+fn vdb_velocity(
+    path: &Path,
+    grid: Option<&str>,
+    key: &str,
+    placement: DAffine3,
+) -> Result<Field, SceneError> {
+    let err = |e: fogbank_volume::VolumeError| SceneError(format!("{key}: {e}"));
+    let grids = vdb::read_vec3_grid(path, grid).map_err(err)?;
+    let mut channels = Vec::with_capacity(3);
+    let mut xf = None;
+    let source = format!("{} ({})", path.display(), grids[0].name);
+    for g in grids {
+        let name = g.name.clone();
+        let (grid, gxf) = vdb_grid::to_brick_grid(g).map_err(err)?;
+        if xf.is_some_and(|x| x != gxf) {
+            return Err(SceneError(format!(
+                "{key}: {}: the components of grid `{name}` are laid out differently",
+                path.display(),
+            )));
+        }
+        xf = Some(gxf);
+        channels.push(DensityData::from_f32(grid, Precision::F32));
+    }
+    let file_xf = xf.unwrap_or(DAffine3::IDENTITY);
+    Field::from_channels(channels, placement * file_xf, source)
+        .map_err(|SceneError(e)| SceneError(format!("{key}: {e}")))
 }

@@ -91,75 +91,87 @@ pub fn parse_header(path: &Path, b: &[u8]) -> Result<NiftiHeader> {
         }
     };
     let f = Fields { path, b, big };
-    let magic = |at: usize| b.get(at..at + 4).unwrap_or_default();
-    let h = if version == 1 {
-        let m = magic(344);
-        if m != b"n+1\0" && m != b"ni1\0" {
-            return Err(VolumeError::format(
-                path,
-                "NIfTI-1 magic at byte 344 is not `n+1` or `ni1`",
-            ));
-        }
-        let ndim = f.i16(40)?;
-        let dims = dims_of(path, ndim as i64, |i| Ok(f.i16(40 + 2 * i)? as i64))?;
-        let mut pixdim = [0.0; 8];
-        for (i, p) in pixdim.iter_mut().enumerate() {
-            *p = f.f32(76 + 4 * i)?;
-        }
-        let row = |at: usize| -> Result<[f64; 4]> {
-            Ok([f.f32(at)?, f.f32(at + 4)?, f.f32(at + 8)?, f.f32(at + 12)?])
-        };
-        NiftiHeader {
-            version,
-            big_endian: big,
-            dims,
-            datatype: f.i16(70)?,
-            pixdim,
-            vox_offset: f.f32(108)?,
-            scl_slope: f.f32(112)?,
-            scl_inter: f.f32(116)?,
-            qform_code: f.i16(252)? as i32,
-            sform_code: f.i16(254)? as i32,
-            quatern: [f.f32(256)?, f.f32(260)?, f.f32(264)?],
-            qoffset: [f.f32(268)?, f.f32(272)?, f.f32(276)?],
-            srow: [row(280)?, row(296)?, row(312)?],
-            single_file: m == b"n+1\0",
-        }
+    if version == 1 {
+        nifti1(&f)
     } else {
-        let m = magic(4);
-        if m != b"n+2\0" && m != b"ni2\0" {
-            return Err(VolumeError::format(
-                path,
-                "NIfTI-2 magic at byte 4 is not `n+2` or `ni2`",
-            ));
-        }
-        let ndim = f.i64(16)?;
-        let dims = dims_of(path, ndim, |i| f.i64(16 + 8 * i))?;
-        let mut pixdim = [0.0; 8];
-        for (i, p) in pixdim.iter_mut().enumerate() {
-            *p = f.f64(104 + 8 * i)?;
-        }
-        let row = |at: usize| -> Result<[f64; 4]> {
-            Ok([f.f64(at)?, f.f64(at + 8)?, f.f64(at + 16)?, f.f64(at + 24)?])
-        };
-        NiftiHeader {
-            version,
-            big_endian: big,
-            dims,
-            datatype: f.i16(12)?,
-            pixdim,
-            vox_offset: f.i64(168)? as f64,
-            scl_slope: f.f64(176)?,
-            scl_inter: f.f64(184)?,
-            qform_code: f.i32(344)?,
-            sform_code: f.i32(348)?,
-            quatern: [f.f64(352)?, f.f64(360)?, f.f64(368)?],
-            qoffset: [f.f64(376)?, f.f64(384)?, f.f64(392)?],
-            srow: [row(400)?, row(432)?, row(464)?],
-            single_file: m == b"n+2\0",
-        }
+        nifti2(&f)
+    }
+}
+
+/// The fields of a NIfTI-1 header (348 bytes; offsets from nifti1.h).
+fn nifti1(f: &Fields) -> Result<NiftiHeader> {
+    let (path, b, version, big) = (f.path, f.b, 1, f.big);
+    let magic = |at: usize| b.get(at..at + 4).unwrap_or_default();
+    let m = magic(344);
+    if m != b"n+1\0" && m != b"ni1\0" {
+        return Err(VolumeError::format(
+            path,
+            "NIfTI-1 magic at byte 344 is not `n+1` or `ni1`",
+        ));
+    }
+    let ndim = f.i16(40)?;
+    let dims = dims_of(path, ndim as i64, |i| Ok(f.i16(40 + 2 * i)? as i64))?;
+    let mut pixdim = [0.0; 8];
+    for (i, p) in pixdim.iter_mut().enumerate() {
+        *p = f.f32(76 + 4 * i)?;
+    }
+    let row = |at: usize| -> Result<[f64; 4]> {
+        Ok([f.f32(at)?, f.f32(at + 4)?, f.f32(at + 8)?, f.f32(at + 12)?])
     };
-    Ok(h)
+    Ok(NiftiHeader {
+        version,
+        big_endian: big,
+        dims,
+        datatype: f.i16(70)?,
+        pixdim,
+        vox_offset: f.f32(108)?,
+        scl_slope: f.f32(112)?,
+        scl_inter: f.f32(116)?,
+        qform_code: f.i16(252)? as i32,
+        sform_code: f.i16(254)? as i32,
+        quatern: [f.f32(256)?, f.f32(260)?, f.f32(264)?],
+        qoffset: [f.f32(268)?, f.f32(272)?, f.f32(276)?],
+        srow: [row(280)?, row(296)?, row(312)?],
+        single_file: m == b"n+1\0",
+    })
+}
+
+/// The fields of a NIfTI-2 header (540 bytes; offsets from nifti2.h).
+fn nifti2(f: &Fields) -> Result<NiftiHeader> {
+    let (path, b, version, big) = (f.path, f.b, 2, f.big);
+    let magic = |at: usize| b.get(at..at + 4).unwrap_or_default();
+    let m = magic(4);
+    if m != b"n+2\0" && m != b"ni2\0" {
+        return Err(VolumeError::format(
+            path,
+            "NIfTI-2 magic at byte 4 is not `n+2` or `ni2`",
+        ));
+    }
+    let ndim = f.i64(16)?;
+    let dims = dims_of(path, ndim, |i| f.i64(16 + 8 * i))?;
+    let mut pixdim = [0.0; 8];
+    for (i, p) in pixdim.iter_mut().enumerate() {
+        *p = f.f64(104 + 8 * i)?;
+    }
+    let row = |at: usize| -> Result<[f64; 4]> {
+        Ok([f.f64(at)?, f.f64(at + 8)?, f.f64(at + 16)?, f.f64(at + 24)?])
+    };
+    Ok(NiftiHeader {
+        version,
+        big_endian: big,
+        dims,
+        datatype: f.i16(12)?,
+        pixdim,
+        vox_offset: f.i64(168)? as f64,
+        scl_slope: f.f64(176)?,
+        scl_inter: f.f64(184)?,
+        qform_code: f.i32(344)?,
+        sform_code: f.i32(348)?,
+        quatern: [f.f64(352)?, f.f64(360)?, f.f64(368)?],
+        qoffset: [f.f64(376)?, f.f64(384)?, f.f64(392)?],
+        srow: [row(400)?, row(432)?, row(464)?],
+        single_file: m == b"n+2\0",
+    })
 }
 
 /// `dim[1..=ndim]`, each ≥ 1, `ndim` in 1..=7.

@@ -227,46 +227,9 @@ fn split_vectors(s: &str) -> Vec<String> {
     out
 }
 
-/// Decodes a NRRD whose header is in `header_bytes` and whose data is
-/// attached there or in `detached` (the data file's bytes, as read).
-pub fn parse(
-    path: &Path,
-    header_bytes: &[u8],
-    detached: Option<&[u8]>,
-    index: u32,
-) -> Result<ScalarVolume> {
-    let h = parse_header(path, header_bytes)?;
-    let ty = sample_type(path, h.get(path, "type")?)?;
-    let (sizes, dirs) = h.axes(path)?;
-    let spatial: Vec<usize> = (0..sizes.len()).filter(|&i| dirs[i].is_some()).collect();
-    let other: Vec<usize> = (0..sizes.len()).filter(|&i| dirs[i].is_none()).collect();
-    if spatial.len() != 3 || other.len() > 1 {
-        return Err(VolumeError::format(
-            path,
-            format!(
-                "fogbank reads 3 spatial axes and at most one other; this file has {} and {}",
-                spatial.len(),
-                other.len()
-            ),
-        ));
-    }
-    let count = other.first().map_or(1, |&a| sizes[a]);
-    if index as u64 >= count {
-        return Err(VolumeError::format(
-            path,
-            format!("index {index} out of range: the non-spatial axis has {count} entries"),
-        ));
-    }
-    let dims = [sizes[spatial[0]], sizes[spatial[1]], sizes[spatial[2]]];
-    let n = check_volume(path, dims)?;
-    // Saturating: `sizes` of a forged header may overflow the product.
-    let total = (n as u64).saturating_mul(count);
-    if total > MAX_VOXELS {
-        return Err(VolumeError::format(
-            path,
-            format!("{total} samples, more than the limit of {MAX_VOXELS}"),
-        ));
-    }
+/// Whether the samples are big-endian (`endian`, which multi-byte binary
+/// data must give).
+fn big_endian(path: &Path, h: &NrrdHeader, ty: SampleType) -> Result<bool> {
     let big = match h.fields.get("endian").map(String::as_str) {
         Some("big") => true,
         Some("little") | None => false,
@@ -286,10 +249,19 @@ pub fn parse(
             "multi-byte data needs an `endian` field",
         ));
     }
-    let file = match detached {
-        Some(d) => d,
-        None => &header_bytes[h.data_start..],
-    };
+    Ok(big)
+}
+
+/// The `total` samples of type `ty` in `file` after its `line skip` and
+/// `byte skip`, decoded from its `encoding` (raw, gzip or ascii).
+fn samples(
+    path: &Path,
+    h: &NrrdHeader,
+    file: &[u8],
+    total: u64,
+    ty: SampleType,
+    big: bool,
+) -> Result<Vec<f32>> {
     let line_skip = h.int(path, "line skip", 0)?.max(0) as usize;
     let mut file = file;
     for _ in 0..line_skip {
@@ -302,7 +274,7 @@ pub fn parse(
     let byte_skip = h.int(path, "byte skip", 0)?;
     let need = total * ty.bytes() as u64;
     let encoding = h.get(path, "encoding")?;
-    let all: Vec<f32> = match encoding {
+    Ok(match encoding {
         "raw" => {
             let start = if byte_skip == -1 {
                 file.len().checked_sub(need as usize).ok_or_else(|| {
@@ -345,7 +317,56 @@ pub fn parse(
                 format!("encoding `{e}` is not supported (raw, gzip, ascii)"),
             ))
         }
+    })
+}
+
+/// Decodes a NRRD whose header is in `header_bytes` and whose data is
+/// attached there or in `detached` (the data file's bytes, as read).
+pub fn parse(
+    path: &Path,
+    header_bytes: &[u8],
+    detached: Option<&[u8]>,
+    index: u32,
+) -> Result<ScalarVolume> {
+    let h = parse_header(path, header_bytes)?;
+    let ty = sample_type(path, h.get(path, "type")?)?;
+    let (sizes, dirs) = h.axes(path)?;
+    let spatial: Vec<usize> = (0..sizes.len()).filter(|&i| dirs[i].is_some()).collect();
+    let other: Vec<usize> = (0..sizes.len()).filter(|&i| dirs[i].is_none()).collect();
+    if spatial.len() != 3 || other.len() > 1 {
+        return Err(VolumeError::format(
+            path,
+            format!(
+                "fogbank reads 3 spatial axes and at most one other; this file has {} and {}",
+                spatial.len(),
+                other.len()
+            ),
+        ));
+    }
+    let count = other.first().map_or(1, |&a| sizes[a]);
+    if index as u64 >= count {
+        return Err(VolumeError::format(
+            path,
+            format!("index {index} out of range: the non-spatial axis has {count} entries"),
+        ));
+    }
+    let dims = [sizes[spatial[0]], sizes[spatial[1]], sizes[spatial[2]]];
+    let n = check_volume(path, dims)?;
+    // Saturating: `sizes` of a forged header may overflow the product.
+    let total = (n as u64).saturating_mul(count);
+    if total > MAX_VOXELS {
+        return Err(VolumeError::format(
+            path,
+            format!("{total} samples, more than the limit of {MAX_VOXELS}"),
+        ));
+    }
+    let big = big_endian(path, &h, ty)?;
+    let file = match detached {
+        Some(d) => d,
+        None => &header_bytes[h.data_start..],
     };
+    let encoding = h.get(path, "encoding")?;
+    let all = samples(path, &h, file, total, ty, big)?;
     let values = match other.first() {
         None => all,
         Some(&a) => extract(&sizes, a, index as u64, &all),

@@ -12,7 +12,7 @@ use super::primary::PrimaryT;
 use super::reservoir::Reservoir;
 use super::temporal::Previous;
 use crate::world::World;
-use fogbank_math::{SampleKey, Vec3};
+use fogbank_math::{Pcg32, SampleKey, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -109,39 +109,15 @@ impl<'r> Sequence<'r> {
         let mut lookups = 0u64;
 
         let clock = Instant::now();
-        let (mut res, l) = collect(n, |i, lk| {
+        let (res, l) = collect(n, |i, lk| {
             r.candidates(cur, Some(i), &ray(i), &mut rng(i, 0), lk)
         });
         lookups += l;
         // The tables serve every pass; their time is counted here.
         times.candidates = table_seconds + clock.elapsed().as_secs_f64();
 
-        let old_cam = &prev.world.camera;
-        let same_size = old_cam.width == cam.width && old_cam.height == cam.height;
-        if let (true, Some(old)) = (r.params.reuse.temporal, &self.prev) {
-            if same_size {
-                let clock = Instant::now();
-                let before = Previous {
-                    reservoirs: old,
-                    data: prev,
-                };
-                let (t, l) = collect(n, |i, lk| {
-                    r.temporal(cur, &before, pixel(i), res[i], &mut rng(i, 1), lk)
-                });
-                res = t;
-                lookups += l;
-                times.temporal = clock.elapsed().as_secs_f64();
-            }
-        }
-        if r.params.reuse.spatial {
-            let clock = Instant::now();
-            let (s, l) = collect(n, |i, lk| {
-                r.spatial(cur, &res, pixel(i), frame, &mut rng(i, 2), lk)
-            });
-            res = s;
-            lookups += l;
-            times.spatial = clock.elapsed().as_secs_f64();
-        }
+        let (res, l) = self.reuse(cur, prev, res, &rng, &mut times);
+        lookups += l;
 
         let clock = Instant::now();
         let (radiance, lk): (Vec<Vec3>, Vec<u32>) = (0..n)
@@ -165,6 +141,52 @@ impl<'r> Sequence<'r> {
             lookups,
             times,
         }
+    }
+
+    /// Temporal reuse (when the previous frame has the image's size) and
+    /// spatial reuse of the candidate reservoirs `res` (seed 002 §4.2–4.3);
+    /// `rng(pixel, pass)` gives each pass its stream.
+    fn reuse(
+        &self,
+        cur: &FrameData,
+        prev: &FrameData,
+        mut res: Vec<Reservoir<PathSample>>,
+        rng: &(impl Fn(usize, u32) -> Pcg32 + Sync),
+        times: &mut PassTimes,
+    ) -> (Vec<Reservoir<PathSample>>, u64) {
+        let r = self.restir;
+        let cam = &cur.world.camera;
+        let (w, n) = (cam.width, (cam.width * cam.height) as usize);
+        let pixel = |i: usize| ((i as u32) % w, (i as u32) / w);
+        let mut lookups = 0u64;
+        let old_cam = &prev.world.camera;
+        let same_size = old_cam.width == cam.width && old_cam.height == cam.height;
+        if let (true, Some(old)) = (r.params.reuse.temporal, &self.prev) {
+            if same_size {
+                let clock = Instant::now();
+                let before = Previous {
+                    reservoirs: old,
+                    data: prev,
+                };
+                let (t, l) = collect(n, |i, lk| {
+                    r.temporal(cur, &before, pixel(i), res[i], &mut rng(i, 1), lk)
+                });
+                res = t;
+                lookups += l;
+                times.temporal = clock.elapsed().as_secs_f64();
+            }
+        }
+        if r.params.reuse.spatial {
+            let clock = Instant::now();
+            let (s, l) = collect(n, |i, lk| {
+                r.spatial(cur, &res, pixel(i), self.frame, &mut rng(i, 2), lk)
+            });
+            res = s;
+            lookups += l;
+            times.spatial = clock.elapsed().as_secs_f64();
+        }
+
+        (res, lookups)
     }
 }
 

@@ -63,11 +63,7 @@ pub fn evaluate(
     let m = &world.media[0];
     let full = &m.medium;
     if y.end == PathEnd::Background {
-        let le = environment(world, ray0.d);
-        if le == Vec3::ZERO || !visible(world, ray0, f32::INFINITY) {
-            return Vec3::ZERO;
-        }
-        return le * tr.eval_primary(full, ray0, f32::INFINITY, lookups);
+        return background(world, ray0, tr, lookups);
     }
     let hg = m.phase;
     let k = y.k as usize;
@@ -78,9 +74,8 @@ pub fn evaluate(
     for i in 0..k {
         let last = i + 1 == k;
         // Segment i: from x_i along ω_i to x_{i+1}.
-        let (next_d, z, g) = match segment(y, i, x, d) {
-            Some(s) => s,
-            None => return Vec3::ZERO,
+        let Some((next_d, z, g)) = segment(y, i, x, d) else {
+            return Vec3::ZERO;
         };
         if i > 0 {
             f *= match &at {
@@ -134,23 +129,48 @@ pub fn evaluate(
         }
     }
     if y.end == PathEnd::Light {
-        let Some(l) = world.lights.get(y.light as usize) else {
-            return Vec3::ZERO;
-        };
-        let Some((wi, li, dist)) = light_towards(l, x, y.light_dir, y.light_point) else {
-            return Vec3::ZERO;
-        };
-        let scatter = match &at {
-            Some(v) => v.scatter(d, wi),
-            None => Vec3::splat(hg.pdf(-d, wi)),
-        };
-        let shadow = at.map_or(Ray::new(x, wi), |v| v.leave(wi));
-        if scatter == Vec3::ZERO || li == Vec3::ZERO || !visible(world, &shadow, dist) {
-            return Vec3::ZERO;
-        }
-        f *= li * scatter * tr.eval(full, &shadow, dist, lookups);
+        f *= light_end(world, y, (x, d, at.as_ref()), tr, lookups);
     }
     f
+}
+
+/// The environment behind the medium along a primary ray that escapes
+/// (Eq. 1, second term), attenuated by `tr`.
+fn background(world: &World, ray0: &Ray, tr: &mut SegmentT, lookups: &mut u32) -> Vec3 {
+    let full = &world.media[0].medium;
+    let le = environment(world, ray0.d);
+    if le == Vec3::ZERO || !visible(world, ray0, f32::INFINITY) {
+        return Vec3::ZERO;
+    }
+    le * tr.eval_primary(full, ray0, f32::INFINITY, lookups)
+}
+
+/// The light-sampled end of path `y` at its last vertex `x` (reached along
+/// `d`, on surface `at` or in the medium): L_i times the scatter function
+/// times the shadow segment's transmittance.
+fn light_end(
+    world: &World,
+    y: &PathSample,
+    (x, d, at): (Vec3, Vec3, Option<&SurfaceVertex>),
+    tr: &mut SegmentT,
+    lookups: &mut u32,
+) -> Vec3 {
+    let (hg, full) = (world.media[0].phase, &world.media[0].medium);
+    let Some(l) = world.lights.get(y.light as usize) else {
+        return Vec3::ZERO;
+    };
+    let Some((wi, li, dist)) = light_towards(l, x, y.light_dir, y.light_point) else {
+        return Vec3::ZERO;
+    };
+    let scatter = match at {
+        Some(v) => v.scatter(d, wi),
+        None => Vec3::splat(hg.pdf(-d, wi)),
+    };
+    let shadow = at.map_or(Ray::new(x, wi), |v| v.leave(wi));
+    if scatter == Vec3::ZERO || li == Vec3::ZERO || !visible(world, &shadow, dist) {
+        return Vec3::ZERO;
+    }
+    li * scatter * tr.eval(full, &shadow, dist, lookups)
 }
 
 /// Segment `i` of path `y` leaving `x` (reached along `d`): its direction,

@@ -43,53 +43,86 @@ fn read_u32(b: &[u8], at: usize) -> Option<u32> {
     Some(u32::from_le_bytes([s[0], s[1], s[2], s[3]]))
 }
 
+/// A Blosc frame's 16-byte header, checked against the frame's length and
+/// the payload size the caller expects.
+struct FrameHeader {
+    flags: u8,
+    typesize: usize,
+    nbytes: usize,
+    blocksize: usize,
+    cbytes: usize,
+}
+
+impl FrameHeader {
+    /// The header of `src`; `None` for an empty payload.
+    fn parse(src: &[u8], expected: usize) -> Result<Option<FrameHeader>, BloscError> {
+        if src.len() < HEADER_LEN {
+            return err(format!(
+                "Blosc frame of {} bytes is shorter than its 16-byte header",
+                src.len()
+            ));
+        }
+        let version = src[0];
+        let flags = src[2];
+        let typesize = src[3] as usize;
+        let nbytes = read_u32(src, 4).unwrap_or(0) as usize;
+        let blocksize = read_u32(src, 8).unwrap_or(0) as usize;
+        let cbytes = read_u32(src, 12).unwrap_or(0) as usize;
+
+        if nbytes != expected {
+            return err(format!(
+                "Blosc frame holds {nbytes} bytes, expected {expected}"
+            ));
+        }
+        if nbytes == 0 {
+            return Ok(None);
+        }
+        if version != 2 {
+            return err(format!(
+                "unsupported Blosc format version {version} (expected 2)"
+            ));
+        }
+        if flags & FLAG_RESERVED != 0 {
+            return err(format!("Blosc frame has unknown flags {flags:#04x}"));
+        }
+        if typesize == 0 {
+            return err("Blosc frame has type size 0");
+        }
+        if blocksize == 0 || blocksize > nbytes.max(1) || blocksize > i32::MAX as usize {
+            return err(format!(
+                "Blosc frame has invalid block size {blocksize} for {nbytes} bytes"
+            ));
+        }
+        if cbytes < HEADER_LEN || cbytes > src.len() {
+            return err(format!(
+                "Blosc frame claims {cbytes} compressed bytes but {} are available",
+                src.len()
+            ));
+        }
+        Ok(Some(FrameHeader {
+            flags,
+            typesize,
+            nbytes,
+            blocksize,
+            cbytes,
+        }))
+    }
+}
+
 /// Decompresses one frame whose payload must be exactly `expected` bytes;
 /// the caller knows the size a node needs, so a frame claiming any other
 /// size is rejected before anything is allocated from its header.
 pub fn decompress(src: &[u8], expected: usize) -> Result<Vec<u8>, BloscError> {
-    if src.len() < HEADER_LEN {
-        return err(format!(
-            "Blosc frame of {} bytes is shorter than its 16-byte header",
-            src.len()
-        ));
-    }
-    let version = src[0];
-    let flags = src[2];
-    let typesize = src[3] as usize;
-    let nbytes = read_u32(src, 4).unwrap_or(0) as usize;
-    let blocksize = read_u32(src, 8).unwrap_or(0) as usize;
-    let cbytes = read_u32(src, 12).unwrap_or(0) as usize;
-
-    if nbytes != expected {
-        return err(format!(
-            "Blosc frame holds {nbytes} bytes, expected {expected}"
-        ));
-    }
-    if nbytes == 0 {
+    let Some(FrameHeader {
+        flags,
+        typesize,
+        nbytes,
+        blocksize,
+        cbytes,
+    }) = FrameHeader::parse(src, expected)?
+    else {
         return Ok(Vec::new());
-    }
-    if version != 2 {
-        return err(format!(
-            "unsupported Blosc format version {version} (expected 2)"
-        ));
-    }
-    if flags & FLAG_RESERVED != 0 {
-        return err(format!("Blosc frame has unknown flags {flags:#04x}"));
-    }
-    if typesize == 0 {
-        return err("Blosc frame has type size 0");
-    }
-    if blocksize == 0 || blocksize > nbytes.max(1) || blocksize > i32::MAX as usize {
-        return err(format!(
-            "Blosc frame has invalid block size {blocksize} for {nbytes} bytes"
-        ));
-    }
-    if cbytes < HEADER_LEN || cbytes > src.len() {
-        return err(format!(
-            "Blosc frame claims {cbytes} compressed bytes but {} are available",
-            src.len()
-        ));
-    }
+    };
     let src = &src[..cbytes];
     let nblocks = nbytes.div_ceil(blocksize);
     let leftover = nbytes % blocksize;
@@ -124,7 +157,7 @@ pub fn decompress(src: &[u8], expected: usize) -> Result<Vec<u8>, BloscError> {
         let start = read_u32(src, HEADER_LEN + 4 * j).unwrap_or(u32::MAX) as usize;
         let dest = &mut out[j * blocksize..j * blocksize + bsize];
         decode_block(src, start, &format, is_leftover, dest, &mut tmp[..bsize])
-        .map_err(|e| BloscError(format!("Blosc block {j}: {e}")))?;
+            .map_err(|e| BloscError(format!("Blosc block {j}: {e}")))?;
     }
     Ok(out)
 }

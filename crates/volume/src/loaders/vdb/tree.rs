@@ -141,26 +141,7 @@ fn read_tree<const K: usize>(r: &mut Reader, compression: u32, half: bool) -> Re
         }
         read_internal(r, &codec, origin, 5, &mut tiles, &mut leaf_topos)?;
     }
-    // Buffers follow in the same depth-first order as the topology.
-    let mut leaves: [Vec<VdbLeaf>; K] = std::array::from_fn(|_| Vec::new());
-    let mut buf = vec![0.0f32; 512 * K];
-    for topo in leaf_topos {
-        // OpenVDB seeks over this copy of the mask and keeps the topology's.
-        r.take(64, "leaf value mask")?;
-        let what = format!("leaf buffer at {:?}", topo.origin);
-        read_compressed_values(r, &codec, &mut buf, &topo.mask, &what)?;
-        for (c, list) in leaves.iter_mut().enumerate() {
-            let mut values = Box::new([0.0f32; 512]);
-            for (v, &src) in values.iter_mut().zip(buf.iter().skip(c).step_by(K)) {
-                *v = src;
-            }
-            list.push(VdbLeaf {
-                origin: topo.origin,
-                values,
-                active: topo.mask,
-            });
-        }
-    }
+    let leaves = read_leaf_buffers(r, &codec, leaf_topos)?;
     let mut leaves = leaves.into_iter();
     Ok(std::array::from_fn(|c| Tree {
         background: background[c],
@@ -175,6 +156,35 @@ fn read_tree<const K: usize>(r: &mut Reader, compression: u32, half: bool) -> Re
             })
             .collect(),
     }))
+}
+
+/// The leaves' value buffers, which follow the topology in the same
+/// depth-first order, one leaf list per channel.
+fn read_leaf_buffers<const K: usize>(
+    r: &mut Reader,
+    codec: &Codec<K>,
+    leaf_topos: Vec<LeafTopo>,
+) -> Result<[Vec<VdbLeaf>; K]> {
+    let mut leaves: [Vec<VdbLeaf>; K] = std::array::from_fn(|_| Vec::new());
+    let mut buf = vec![0.0f32; 512 * K];
+    for topo in leaf_topos {
+        // OpenVDB seeks over this copy of the mask and keeps the topology's.
+        r.take(64, "leaf value mask")?;
+        let what = format!("leaf buffer at {:?}", topo.origin);
+        read_compressed_values(r, codec, &mut buf, &topo.mask, &what)?;
+        for (c, list) in leaves.iter_mut().enumerate() {
+            let mut values = Box::new([0.0f32; 512]);
+            for (v, &src) in values.iter_mut().zip(buf.iter().skip(c).step_by(K)) {
+                *v = src;
+            }
+            list.push(VdbLeaf {
+                origin: topo.origin,
+                values,
+                active: topo.mask,
+            });
+        }
+    }
+    Ok(leaves)
 }
 
 /// Reads the topology of a 32³ (`level` 5) or 16³ (`level` 4) internal node:
