@@ -180,7 +180,6 @@ fn image_of(a: &Bound<'_, PyAny>, what: &str) -> PyResult<Image> {
 /// pairs); see `fogbank.compare`. Returns {metric: JSON text}.
 #[pyfunction]
 #[pyo3(signature = (reference, test, metrics, flip_mode="auto", ppd=None, tonemapper="aces", alpha=None))]
-#[allow(clippy::too_many_arguments)]
 pub fn compare<'py>(
     py: Python<'py>,
     reference: &Bound<'py, PyAny>,

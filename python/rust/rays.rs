@@ -192,7 +192,6 @@ fn shaped<'py, T: numpy::Element>(
 /// `fogbank.transmittance`. Returns (estimates, lookups).
 #[pyfunction]
 #[pyo3(signature = (medium, origins, directions, t_max, estimator="jackknife", seed=0, per_ray=1, threads=None, **options))]
-#[allow(clippy::too_many_arguments)]
 pub fn transmittance<'py>(
     py: Python<'py>,
     medium: &Bound<'py, PyAny>,
@@ -220,7 +219,6 @@ pub fn transmittance<'py>(
 /// `fogbank.sample_distance`. Returns (t, weight, lookups).
 #[pyfunction]
 #[pyo3(signature = (medium, origins, directions, t_max, sampler="delta_tracking", seed=0, per_ray=1, threads=None, light=None, **options))]
-#[allow(clippy::too_many_arguments)]
 pub fn sample_distance<'py>(
     py: Python<'py>,
     medium: &Bound<'py, PyAny>,

@@ -106,7 +106,6 @@ impl Part {
 /// dict the Python `Image` is made from.
 #[pyfunction]
 #[pyo3(signature = (scene, spp=None, seed=None, device="cpu", threads=None, time_budget=None, progress=None, shard=None, shard_mode="samples"))]
-#[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
     scene: &Scene,
@@ -239,7 +238,6 @@ pub struct Frames {
 /// Frames of `scene`: `frames` a range, `"A..B"`, `"A..=B"` or a count.
 #[pyfunction]
 #[pyo3(signature = (scene, frames, spp=None, seed=None, device="cpu", threads=None, progress=None))]
-#[allow(clippy::too_many_arguments)]
 pub fn render_frames(
     py: Python<'_>,
     scene: &Scene,

@@ -24,7 +24,6 @@ fn image_f64<'py>(py: Python<'py>, v: &[[f64; 3]], w: u32, h: u32) -> PyResult<B
 /// see `fogbank.stats`.
 #[pyfunction]
 #[pyo3(signature = (scene, estimator=None, runs=1024, seed=1, reference_estimator=None, reference=None, device="cpu", threads=None, out=None))]
-#[allow(clippy::too_many_arguments)]
 pub fn stats<'py>(
     py: Python<'py>,
     scene: &Scene,
@@ -99,7 +98,6 @@ pub fn stats<'py>(
 /// Equal-time MSE-versus-time curves; see `fogbank.converge`.
 #[pyfunction]
 #[pyo3(signature = (scene, estimators, seconds=10.0, reference_estimator="analytic_trilinear", seed=1, device="cpu", threads=None, out=None))]
-#[allow(clippy::too_many_arguments)]
 pub fn converge<'py>(
     py: Python<'py>,
     scene: &Scene,

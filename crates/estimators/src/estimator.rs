@@ -61,9 +61,13 @@ pub struct EstimatorOptions {
     pub roulette: Option<f32>,
 }
 
+/// One estimator's entry in the registry: its name, whether it is biased,
+/// the option keys it takes (the single list `with_options` checks), their
+/// defaults for `fogbank estimators`, and what it computes.
 struct Info {
     name: &'static str,
     biased: bool,
+    keys: &'static [&'static str],
     options: &'static str,
     description: &'static str,
 }
@@ -72,30 +76,35 @@ const INFO: [Info; 11] = [
     Info {
         name: "regular_tracking",
         biased: false,
+        keys: &[],
         options: "",
         description: "exact optical depth of the nearest-filtered grid by voxel DDA",
     },
     Info {
         name: "analytic_trilinear",
         biased: false,
+        keys: &[],
         options: "",
         description: "exact optical depth of the trilinear interpolant (cubic per voxel)",
     },
     Info {
         name: "track_length",
         biased: false,
+        keys: &[],
         options: "",
         description: "delta tracking with super-voxel majorants, returns 0 or 1",
     },
     Info {
         name: "ratio_tracking",
         biased: false,
+        keys: &["roulette"],
         options: "roulette=0 (Russian roulette below this weight; 0: off)",
         description: "ratio tracking with super-voxel majorants (Novák et al. 2014)",
     },
     Info {
         name: "residual_ratio_tracking",
         biased: false,
+        keys: &["roulette"],
         options: "roulette=0 (Russian roulette below this weight; 0: off)",
         description:
             "ratio tracking of the residual over a per-super-voxel control (Novák et al. 2014)",
@@ -103,24 +112,28 @@ const INFO: [Info; 11] = [
     Info {
         name: "ray_marching",
         biased: true,
+        keys: &["samples", "clip"],
         options: "samples=10, clip=false",
         description: "exp(−X), N equidistant samples sharing one jitter",
     },
     Info {
         name: "biased_ray_marching",
         biased: true,
+        keys: &["doubled"],
         options: "doubled=false",
         description: "Kettunen et al. 2021: exp(−X), mean importance, N_CMF samples",
     },
     Info {
         name: "unbiased_ray_marching",
         biased: false,
+        keys: &["mult"],
         options: "mult=1",
         description: "Kettunen et al. 2021: power series, Russian roulette, U-statistics",
     },
     Info {
         name: "jackknife",
         biased: true,
+        keys: &["samples", "mode", "step", "jitter"],
         options: "samples=10, mode=fixed_count|fixed_step, step=1.0, jitter=stratified|uniform",
         description:
             "seed 000: cos(S)·exp(−X̄) from two interleaved estimates (Alg. 1, 2; Eq. 4, 5)",
@@ -128,12 +141,14 @@ const INFO: [Info; 11] = [
     Info {
         name: "jackknife_naive",
         biased: true,
+        keys: &["samples", "jitter"],
         options: "samples=10, jitter=stratified|uniform",
         description: "exp(−X) from one estimate of 2N samples, same machinery (Fig. 8c)",
     },
     Info {
         name: "jackknife_mean_importance",
         biased: true,
+        keys: &["samples", "jitter"],
         options: "samples=10, jitter=stratified|uniform",
         description: "jackknife with mean importance and no control variate (Fig. 9 ablation)",
     },
@@ -146,6 +161,27 @@ fn parse_roulette(r: Option<f32>) -> Result<f32, String> {
         return Err(format!("roulette: {r} is outside [0, 1)"));
     }
     Ok(r)
+}
+
+/// Jackknife's step mode: a fixed sample count, or a fixed step in optical
+/// depth (`step`, default 1).
+fn parse_mode(o: &EstimatorOptions) -> Result<StepMode, String> {
+    match o.mode.as_deref() {
+        None | Some("fixed_count") => {
+            if o.step.is_some() {
+                return Err("step: only used with mode = \"fixed_step\"".into());
+            }
+            Ok(StepMode::FixedCount)
+        }
+        Some("fixed_step") => {
+            let s = o.step.unwrap_or(1.0);
+            if !(s > 0.0 && s.is_finite()) {
+                return Err(format!("step: {s} must be a positive optical depth"));
+            }
+            Ok(StepMode::FixedStep(s))
+        }
+        Some(m) => Err(format!("mode: `{m}` is not fixed_count or fixed_step")),
+    }
 }
 
 fn parse_jitter(j: &Option<String>) -> Result<Jitter, String> {
@@ -206,16 +242,7 @@ impl Estimator {
 
     /// The option keys estimator `name` takes (`None`: no such estimator).
     pub fn option_keys(name: &str) -> Option<&'static [&'static str]> {
-        let keys: &'static [&'static str] = match name {
-            "ray_marching" => &["samples", "clip"],
-            "biased_ray_marching" => &["doubled"],
-            "unbiased_ray_marching" => &["mult"],
-            "jackknife" => &["samples", "mode", "step", "jitter"],
-            "jackknife_naive" | "jackknife_mean_importance" => &["samples", "jitter"],
-            "ratio_tracking" | "residual_ratio_tracking" => &["roulette"],
-            _ => &[],
-        };
-        INFO.iter().any(|i| i.name == name).then_some(keys)
+        INFO.iter().find(|i| i.name == name).map(|i| i.keys)
     }
 
     /// The options that give this estimator back through
@@ -338,29 +365,11 @@ impl Estimator {
                 }
                 Estimator::UnbiasedRayMarching { mult }
             }
-            "jackknife" => {
-                let mode = match o.mode.as_deref() {
-                    None | Some("fixed_count") => {
-                        if o.step.is_some() {
-                            return Err("step: only used with mode = \"fixed_step\"".into());
-                        }
-                        StepMode::FixedCount
-                    }
-                    Some("fixed_step") => {
-                        let s = o.step.unwrap_or(1.0);
-                        if !(s > 0.0 && s.is_finite()) {
-                            return Err(format!("step: {s} must be a positive optical depth"));
-                        }
-                        StepMode::FixedStep(s)
-                    }
-                    Some(m) => return Err(format!("mode: `{m}` is not fixed_count or fixed_step")),
-                };
-                Estimator::Jackknife {
-                    samples,
-                    mode,
-                    jitter: parse_jitter(&o.jitter)?,
-                }
-            }
+            "jackknife" => Estimator::Jackknife {
+                samples,
+                mode: parse_mode(o)?,
+                jitter: parse_jitter(&o.jitter)?,
+            },
             "jackknife_naive" => Estimator::JackknifeNaive {
                 samples,
                 jitter: parse_jitter(&o.jitter)?,
@@ -436,16 +445,22 @@ pub fn transmittance(
             samples,
             mode,
             jitter,
-        } => with_view!(view, v => jackknife::transmittance(
-            &v, &r, t0, t1, samples, mode, Importance::VarianceAware, jitter, rng
-        )),
+        } => {
+            let sampling = jackknife::Sampling {
+                mode,
+                ..jackknife::Sampling::fixed_count(samples, jitter)
+            };
+            with_view!(view, v => jackknife::transmittance(&v, &r, t0, t1, sampling, rng))
+        }
         Estimator::JackknifeNaive { samples, jitter } => {
             with_view!(view, v => jackknife::naive_transmittance(&v, &r, t0, t1, samples, jitter, rng))
         }
         Estimator::JackknifeMeanImportance { samples, jitter } => {
-            with_view!(view, v => jackknife::transmittance(
-                &v, &r, t0, t1, samples, StepMode::FixedCount, Importance::Mean, jitter, rng
-            ))
+            let sampling = jackknife::Sampling {
+                importance: Importance::Mean,
+                ..jackknife::Sampling::fixed_count(samples, jitter)
+            };
+            with_view!(view, v => jackknife::transmittance(&v, &r, t0, t1, sampling, rng))
         }
     }
 }

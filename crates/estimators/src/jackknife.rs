@@ -32,23 +32,49 @@ fn f_delta(total: f64, samples: u32, mode: StepMode) -> f64 {
     }
 }
 
-/// `out.len()` interleaved optical-depth estimates of the segment, each of
-/// `samples` lookups (all 0 when F = 0, the segment meets no medium).
-#[allow(clippy::too_many_arguments)]
+/// How each optical-depth estimate samples its segment (seed 000 Alg. 1,
+/// Alg. 2): `samples` lookups or a fixed CDF step (§4.3), the importance
+/// density (Eq. 5, or the mean of the Fig. 9 ablation) and the jitter
+/// pattern (§4.1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sampling {
+    pub samples: u32,
+    pub mode: StepMode,
+    pub importance: Importance,
+    pub jitter: Jitter,
+}
+
+impl Sampling {
+    /// The jackknife's own: N lookups per estimate, variance-aware
+    /// importance (Eq. 5).
+    pub fn fixed_count(samples: u32, jitter: Jitter) -> Sampling {
+        Sampling {
+            samples,
+            mode: StepMode::FixedCount,
+            importance: Importance::VarianceAware,
+            jitter,
+        }
+    }
+}
+
+/// `out.len()` interleaved optical-depth estimates of the segment
+/// `[t0, t1]` of `ray` (all 0 when F = 0, the segment meets no medium).
 pub fn optical_depths<V: VolumeAccess>(
     v: &V,
     ray: &Ray,
-    t0: f32,
-    t1: f32,
-    samples: u32,
-    mode: StepMode,
-    importance: Importance,
-    jitter: Jitter,
+    (t0, t1): (f32, f32),
+    sampling: Sampling,
     rng: &mut Pcg32,
     lookups: &mut u32,
     out: &mut [f64],
 ) {
     out.iter_mut().for_each(|x| *x = 0.0);
+    let Sampling {
+        samples,
+        mode,
+        importance,
+        jitter,
+    } = sampling;
     let prep = prepare(v, ray, t0, t1, importance);
     if prep.total > 0.0 {
         let f_delta = f_delta(prep.total, samples, mode);
@@ -60,32 +86,16 @@ pub fn optical_depths<V: VolumeAccess>(
 
 /// `jackknife` (and, with `Importance::Mean`, `jackknife_mean_importance`,
 /// the ablation of seed 000 Fig. 9).
-#[allow(clippy::too_many_arguments)]
 pub fn transmittance<V: VolumeAccess>(
     v: &V,
     ray: &Ray,
     t0: f32,
     t1: f32,
-    samples: u32,
-    mode: StepMode,
-    importance: Importance,
-    jitter: Jitter,
+    sampling: Sampling,
     rng: &mut Pcg32,
 ) -> Estimate {
     let (mut lookups, mut x) = (0, [0.0; 2]);
-    optical_depths(
-        v,
-        ray,
-        t0,
-        t1,
-        samples,
-        mode,
-        importance,
-        jitter,
-        rng,
-        &mut lookups,
-        &mut x,
-    );
+    optical_depths(v, ray, (t0, t1), sampling, rng, &mut lookups, &mut x);
     Estimate {
         transmittance: jackknife_transmittance(x[0], x[1]) as f32,
         lookups,
@@ -104,21 +114,8 @@ pub fn naive_transmittance<V: VolumeAccess>(
     rng: &mut Pcg32,
 ) -> Estimate {
     let (mut lookups, mut x) = (0, [0.0; 1]);
-    let n = 2 * samples.max(1);
-    let importance = Importance::VarianceAware;
-    optical_depths(
-        v,
-        ray,
-        t0,
-        t1,
-        n,
-        StepMode::FixedCount,
-        importance,
-        jitter,
-        rng,
-        &mut lookups,
-        &mut x,
-    );
+    let sampling = Sampling::fixed_count(2 * samples.max(1), jitter);
+    optical_depths(v, ray, (t0, t1), sampling, rng, &mut lookups, &mut x);
     Estimate {
         transmittance: (-x[0]).exp() as f32,
         lookups,

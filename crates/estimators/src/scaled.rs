@@ -13,8 +13,7 @@
 //! and the jackknife at a fixed step return `None` (the caller walks each
 //! channel).
 
-use crate::jackknife::{jackknife_transmittance, optical_depths, StepMode};
-use crate::optical_depth::Importance;
+use crate::jackknife::{jackknife_transmittance, optical_depths, Sampling, StepMode};
 use crate::{analytic_trilinear, ratio_tracking, ray_marching, regular_tracking};
 use crate::{residual_ratio_tracking, Estimator};
 use fogbank_math::{Pcg32, Ray};
@@ -64,9 +63,9 @@ pub fn transmittance_scaled(
             jitter,
         } => {
             let (mut lookups, mut x) = (0, [0.0; 2]);
-            let (mode, importance) = (StepMode::FixedCount, Importance::VarianceAware);
+            let sampling = Sampling::fixed_count(samples, jitter);
             with_view!(view, v => optical_depths(
-                &v, &r, t0, t1, samples, mode, importance, jitter, rng, &mut lookups, &mut x
+                &v, &r, (t0, t1), sampling, rng, &mut lookups, &mut x
             ));
             (Depths::Jackknife(x), lookups)
         }

@@ -19,6 +19,9 @@ use fogbank_render::{parse_scene, Film, Progress, RenderOptions, Scene};
 use std::mem::{offset_of, size_of};
 use std::path::Path;
 
+// Long because: one `check_layout` table per struct the Rust side shares
+// with WGSL, all read against the same compiled kernel; split, the list of
+// shared structs would live in several places.
 #[test]
 fn wgsl_structs_have_the_layout_of_the_rust_structs() {
     let scatter = shaders::scatter_kernel();

@@ -41,6 +41,26 @@ pub(crate) enum KernelSource {
 }
 
 impl Kernel {
+    /// A kernel of `source` with estimator `est`: one scattering vertex, no
+    /// roulette, no distance sampler, no flags.
+    fn base(source: KernelSource, est: GpuEstimator) -> Kernel {
+        Kernel {
+            source,
+            scatter: source != KernelSource::Transmittance,
+            est,
+            background: glam::Vec3::ZERO,
+            max_depth: 1,
+            rr_depth: u32::MAX,
+            sampler: 0,
+            mis_samples: 0,
+            flags: 0,
+            pins: PinParams::default(),
+            light_bvh: false,
+        }
+    }
+
+    /// The kernel `scene`'s integrator runs (one description per
+    /// integrator; ReSTIR runs its own passes).
     pub(crate) fn of(scene: &Scene) -> Result<Kernel, GpuError> {
         if let IntegratorKind::Restir(_) = scene.integrator {
             return Err(no_restir());
@@ -52,20 +72,8 @@ impl Kernel {
                 estimator.name()
             ))
         })?;
+        check_chromatic(scene)?;
         let chromatic = scene.media.iter().any(|m| m.chroma.is_some());
-        if !matches!(
-            scene.integrator,
-            IntegratorKind::Direct(_)
-                | IntegratorKind::VolPath(_)
-                | IntegratorKind::Transmittance { .. }
-        ) {
-            if let Some(i) = scene.media.iter().position(|m| m.chroma.is_some()) {
-                return Err(GpuError(format!(
-                    "media.{i}: the GPU backend renders chromatic extinction (sigma_t_scale = [r, g, b]) with volpath, direct and transmittance only, not {}: render it with --device cpu",
-                    scene.integrator.name()
-                )));
-            }
-        }
         // point_mis, visopt and ament see shapes as opaque occluders
         // (occluders.wgsl; the CPU refused every other kind of shape).
         let surfaces = if scene.world.surfaces.is_some() {
@@ -73,94 +81,52 @@ impl Kernel {
         } else {
             0
         };
+        let base = |source| Kernel::base(source, est);
         let k = match &scene.integrator {
             // With surfaces or chromatic media: the scatter kernel's shadow
             // walk, as the CPU's `transmittance::sample` takes its shadow
             // transmittance.
             IntegratorKind::Transmittance { background, .. } if surfaces != 0 || chromatic => {
                 Kernel {
-                    source: KernelSource::Scatter,
-                    mis_samples: 0,
                     flags: crate::contract::INTEGRATOR_TRANSMITTANCE | surfaces,
-                    scatter: true,
-                    est,
                     background: *background,
                     max_depth: 0,
-                    rr_depth: u32::MAX,
-                    sampler: 0,
-                    pins: PinParams::default(),
-                    light_bvh: false,
+                    ..base(KernelSource::Scatter)
                 }
             }
             IntegratorKind::Transmittance { background, .. } => Kernel {
-                source: KernelSource::Transmittance,
-                mis_samples: 0,
-                flags: 0,
-                scatter: false,
-                est,
                 background: *background,
                 max_depth: 0,
                 rr_depth: 0,
-                sampler: 0,
-                pins: PinParams::default(),
-                light_bvh: false,
+                ..base(KernelSource::Transmittance)
             },
             IntegratorKind::Direct(d) => Kernel {
-                source: KernelSource::Scatter,
-                mis_samples: 0,
                 flags: surfaces,
-                scatter: true,
-                est,
-                background: glam::Vec3::ZERO,
-                max_depth: 1,
-                rr_depth: u32::MAX,
                 sampler: sampler_id(d.distance),
-                pins: PinParams::default(),
-                light_bvh: false,
+                ..base(KernelSource::Scatter)
             },
             IntegratorKind::VolPath(v) => Kernel {
-                source: KernelSource::Scatter,
-                mis_samples: 0,
                 flags: volpath_flags(v) | surfaces,
-                scatter: true,
-                est,
-                background: glam::Vec3::ZERO,
                 max_depth: v.max_depth,
                 rr_depth: v.rr_depth,
                 sampler: sampler_id(v.distance),
                 pins: v.pins.clone(),
-                light_bvh: false,
+                ..base(KernelSource::Scatter)
             },
             IntegratorKind::PointMis(p) => Kernel {
-                source: KernelSource::PointMis,
-                scatter: true,
-                est,
-                background: glam::Vec3::ZERO,
-                max_depth: 1,
-                rr_depth: u32::MAX,
                 sampler: strategy_id(p.strategy),
                 mis_samples: p.mis_samples,
                 flags: surfaces,
-                pins: PinParams::default(),
-                light_bvh: false,
+                ..base(KernelSource::PointMis)
             },
             IntegratorKind::Restir(_) => return Err(no_restir()),
-            IntegratorKind::VisOpt(_) | IntegratorKind::Ament(_) => Kernel {
-                source: if let IntegratorKind::Ament(_) = scene.integrator {
-                    KernelSource::Ament
-                } else {
-                    KernelSource::VisOpt
-                },
-                scatter: true,
-                est,
-                background: glam::Vec3::ZERO,
-                max_depth: 1,
-                rr_depth: u32::MAX,
-                sampler: 0,
-                mis_samples: 0,
+            IntegratorKind::VisOpt(_) => Kernel {
                 flags: surfaces,
-                pins: PinParams::default(),
-                light_bvh: false,
+                ..base(KernelSource::VisOpt)
+            },
+            IntegratorKind::Ament(_) => Kernel {
+                flags: surfaces,
+                ..base(KernelSource::Ament)
             },
         };
         let chromatic_flag = if chromatic {
@@ -173,6 +139,26 @@ impl Kernel {
             light_bvh: crate::lights::has_light_bvh(scene),
             ..k
         })
+    }
+}
+
+/// The GPU's kernels track chromatic extinction in `volpath`, `direct` and
+/// `transmittance` only.
+fn check_chromatic(scene: &Scene) -> Result<(), GpuError> {
+    if matches!(
+        scene.integrator,
+        IntegratorKind::Direct(_)
+            | IntegratorKind::VolPath(_)
+            | IntegratorKind::Transmittance { .. }
+    ) {
+        return Ok(());
+    }
+    match scene.media.iter().position(|m| m.chroma.is_some()) {
+        Some(i) => Err(GpuError(format!(
+            "media.{i}: the GPU backend renders chromatic extinction (sigma_t_scale = [r, g, b]) with volpath, direct and transmittance only, not {}: render it with --device cpu",
+            scene.integrator.name()
+        ))),
+        None => Ok(()),
     }
 }
 

@@ -239,21 +239,7 @@ impl Partial {
                 body.len()
             ));
         }
-        let mut film = Film::new(id.width, id.height);
-        for i in 0..pixels as usize {
-            let n = r.u32("sample count")?;
-            film.count[i] = n;
-            if n > 0 {
-                let raw = r.take(SUMS_BYTES, "pixel sums")?;
-                let v: [ExactSum; 6] = std::array::from_fn(|k| {
-                    ExactSum::from_le_bytes(raw[32 * k..32 * k + 32].try_into().unwrap())
-                });
-                film.sums[i] = PixelSums {
-                    sum: [v[0], v[1], v[2]],
-                    sum_sq: [v[3], v[4], v[5]],
-                };
-            }
-        }
+        let mut film = read_sums(&mut r, id.width, id.height)?;
         film.lookups = header.lookups;
         film.nan_samples = header.nan_samples;
         film.inf_samples = header.inf_samples;
@@ -280,6 +266,28 @@ impl Partial {
             covered,
         })
     }
+}
+
+/// The per-pixel sample counts and exact sums of a `width` × `height`
+/// film (a pixel without samples stores only its count).
+fn read_sums(r: &mut Reader, width: u32, height: u32) -> Result<Film, String> {
+    let mut film = Film::new(width, height);
+    let pixels = width as usize * height as usize;
+    for i in 0..pixels {
+        let n = r.u32("sample count")?;
+        film.count[i] = n;
+        if n > 0 {
+            let raw = r.take(SUMS_BYTES, "pixel sums")?;
+            let v: [ExactSum; 6] = std::array::from_fn(|k| {
+                ExactSum::from_le_bytes(raw[32 * k..32 * k + 32].try_into().unwrap())
+            });
+            film.sums[i] = PixelSums {
+                sum: [v[0], v[1], v[2]],
+                sum_sq: [v[3], v[4], v[5]],
+            };
+        }
+    }
+    Ok(film)
 }
 
 struct Reader<'a> {

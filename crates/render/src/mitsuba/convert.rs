@@ -95,20 +95,8 @@ pub fn scene_table(doc: &Document) -> Result<Table, SceneError> {
             }
             "emitter" => lights.push(Value::Table(light(c, &ids, doc)?)),
             "shape" => {
-                let s = shape(c, &ids, doc)?;
-                let mut table = s.table;
-                let bounds = shape_bounds(&table, shapes.len()).map_err(|e| c.error(e.0))?;
-                scene_box = union(scene_box, bounds);
-                if let Some(m) = s.interior.filter(|_| !no_media) {
-                    let i = media.index(m);
-                    media.interior_box[i] = union(media.interior_box[i], bounds);
-                    table.insert("interior".into(), (i as i64).into());
-                }
-                if let Some(m) = s.exterior.filter(|_| !no_media) {
-                    let i = media.index(m);
-                    media.open[i] = true;
-                    table.insert("exterior".into(), (i as i64).into());
-                }
+                let (i, bounds) = (shapes.len(), &mut scene_box);
+                let table = shape_table(c, (&ids, doc), i, no_media, &mut media, bounds)?;
                 shapes.push(Value::Table(table));
             }
             // Named objects are converted where they are referenced.
@@ -123,16 +111,8 @@ pub fn scene_table(doc: &Document) -> Result<Table, SceneError> {
         let i = media.index(m);
         media.open[i] = true;
     }
-    if let Some(Value::Table(cam)) = out.get("camera") {
-        if let Some(Value::Array(o)) = cam.get("from") {
-            let p: Vec<f32> = o
-                .iter()
-                .filter_map(|v| v.as_float())
-                .map(|x| x as f32)
-                .collect();
-            let p = Vec3::new(p[0], p[1], p[2]);
-            scene_box = union(scene_box, Aabb::new(p, p));
-        }
+    if let Some(p) = camera_position(&out) {
+        scene_box = union(scene_box, Aabb::new(p, p));
     }
     // An unbounded medium fills the scene's box, a little enlarged.
     let pad = 0.01 * (scene_box.max - scene_box.min).max_element().max(1e-3);
@@ -150,6 +130,51 @@ pub fn scene_table(doc: &Document) -> Result<Table, SceneError> {
     out.insert("lights".into(), Value::Array(lights));
     out.insert("shapes".into(), Value::Array(shapes));
     Ok(out)
+}
+
+/// A top-level `<shape>` (the `index`-th) as a `[[shapes]]` table, its bounds added to
+/// `scene_box` and its interior and exterior media recorded in `media`
+/// (unless the integrator ignores media).
+fn shape_table<'a>(
+    c: &'a Element,
+    (ids, doc): (&'a Ids<'a>, &'a Document),
+    index: usize,
+    no_media: bool,
+    media: &mut MediaUse<'a>,
+    scene_box: &mut Aabb,
+) -> Result<Table, SceneError> {
+    let s = shape(c, ids, doc)?;
+    let mut table = s.table;
+    let bounds = shape_bounds(&table, index).map_err(|e| c.error(e.0))?;
+    *scene_box = union(*scene_box, bounds);
+    if let Some(m) = s.interior.filter(|_| !no_media) {
+        let i = media.index(m);
+        media.interior_box[i] = union(media.interior_box[i], bounds);
+        table.insert("interior".into(), (i as i64).into());
+    }
+    if let Some(m) = s.exterior.filter(|_| !no_media) {
+        let i = media.index(m);
+        media.open[i] = true;
+        table.insert("exterior".into(), (i as i64).into());
+    }
+    Ok(table)
+}
+
+/// The converted camera's position (`camera.from`), which the box of
+/// unbounded media must hold.
+fn camera_position(out: &Table) -> Option<Vec3> {
+    let Some(Value::Table(cam)) = out.get("camera") else {
+        return None;
+    };
+    let Some(Value::Array(o)) = cam.get("from") else {
+        return None;
+    };
+    let p: Vec<f32> = o
+        .iter()
+        .filter_map(|v| v.as_float())
+        .map(|x| x as f32)
+        .collect();
+    Some(Vec3::new(p[0], p[1], p[2]))
 }
 
 fn shape_bounds(t: &Table, i: usize) -> Result<Aabb, SceneError> {

@@ -35,18 +35,7 @@ pub fn light(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError
                 t.insert("scale".into(), s.into());
             }
             if let Some(m) = to_world {
-                let r = DMat3::from_mat4(m);
-                if !(r.transpose() * r).abs_diff_eq(DMat3::IDENTITY, 1e-5) || r.determinant() < 0.0
-                {
-                    return Err(p.error("an envmap's to_world must be a rotation"));
-                }
-                let (axis, angle) = DQuat::from_mat3(&r).to_axis_angle();
-                let mut rot = axis.to_array().to_vec();
-                rot.push(angle.to_degrees());
-                t.insert(
-                    "rotate".into(),
-                    Value::Array(rot.into_iter().map(Value::Float).collect()),
-                );
+                t.insert("rotate".into(), envmap_rotation(&p, m)?);
             }
         }
         "point" => {
@@ -75,27 +64,7 @@ pub fn light(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError
             t.insert("direction".into(), vec3(dir));
             t.insert("irradiance".into(), rgb_value(rgb("irradiance")?));
         }
-        "spot" => {
-            // Mitsuba's spot sits at the origin of its to_world and shines
-            // along its +z axis, linear in the angle from `beam_width` to
-            // `cutoff_angle` (degrees).
-            let m = to_world.unwrap_or(glam::DMat4::IDENTITY);
-            let cutoff = p.float("cutoff_angle")?.unwrap_or(20.0);
-            let beam = p.float("beam_width")?.unwrap_or(cutoff * 0.75);
-            if !(cutoff > 0.0 && cutoff <= 180.0 && beam >= 0.0 && beam <= cutoff) {
-                return Err(p.error("needs 0 ≤ beam_width ≤ cutoff_angle ≤ 180, cutoff_angle > 0"));
-            }
-            t.insert("type".into(), "spot".into());
-            t.insert("position".into(), vec3(m.transform_point3(DVec3::ZERO)));
-            t.insert("direction".into(), vec3(m.transform_vector3(DVec3::Z)));
-            let intensity = p
-                .rgb("intensity", SpectrumUse::Emitter)?
-                .unwrap_or([1.0; 3]);
-            t.insert("intensity".into(), rgb_value(intensity));
-            t.insert("cone_angle".into(), cutoff.into());
-            t.insert("falloff_start".into(), beam.into());
-            t.insert("curve".into(), "linear".into());
-        }
+        "spot" => spot(&p, to_world, &mut t)?,
         "area" => return Err(p.error("an area emitter belongs inside a <shape>")),
         other => {
             return Err(p.error(format!(
@@ -106,6 +75,43 @@ pub fn light(e: &Element, ids: &Ids, doc: &Document) -> Result<Table, SceneError
     }
     p.finish()?;
     Ok(t)
+}
+
+/// An envmap's `to_world`, which must be a rotation, as `rotate` (axis and
+/// degrees).
+fn envmap_rotation(p: &Plugin, m: glam::DMat4) -> Result<Value, SceneError> {
+    let r = DMat3::from_mat4(m);
+    if !(r.transpose() * r).abs_diff_eq(DMat3::IDENTITY, 1e-5) || r.determinant() < 0.0 {
+        return Err(p.error("an envmap's to_world must be a rotation"));
+    }
+    let (axis, angle) = DQuat::from_mat3(&r).to_axis_angle();
+    let mut rot = axis.to_array().to_vec();
+    rot.push(angle.to_degrees());
+    Ok(Value::Array(rot.into_iter().map(Value::Float).collect()))
+}
+
+/// A `spot` emitter's keys.
+fn spot(p: &Plugin, to_world: Option<glam::DMat4>, t: &mut Table) -> Result<(), SceneError> {
+    // Mitsuba's spot sits at the origin of its to_world and shines
+    // along its +z axis, linear in the angle from `beam_width` to
+    // `cutoff_angle` (degrees).
+    let m = to_world.unwrap_or(glam::DMat4::IDENTITY);
+    let cutoff = p.float("cutoff_angle")?.unwrap_or(20.0);
+    let beam = p.float("beam_width")?.unwrap_or(cutoff * 0.75);
+    if !(cutoff > 0.0 && cutoff <= 180.0 && beam >= 0.0 && beam <= cutoff) {
+        return Err(p.error("needs 0 ≤ beam_width ≤ cutoff_angle ≤ 180, cutoff_angle > 0"));
+    }
+    t.insert("type".into(), "spot".into());
+    t.insert("position".into(), vec3(m.transform_point3(DVec3::ZERO)));
+    t.insert("direction".into(), vec3(m.transform_vector3(DVec3::Z)));
+    let intensity = p
+        .rgb("intensity", SpectrumUse::Emitter)?
+        .unwrap_or([1.0; 3]);
+    t.insert("intensity".into(), rgb_value(intensity));
+    t.insert("cone_angle".into(), cutoff.into());
+    t.insert("falloff_start".into(), beam.into());
+    t.insert("curve".into(), "linear".into());
+    Ok(())
 }
 
 /// A shape's `area` emitter: `{ radiance }`.

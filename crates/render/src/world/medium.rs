@@ -2,14 +2,15 @@
 //! scattering properties (albedo, emission, phase) integrators use.
 
 use super::chroma::{rgb_density, Chroma};
+use super::classified::classify;
 use super::emission::{Emission, EmissionDesc};
 use super::field::{field_data, Field, FieldData, FieldDesc};
 use super::importance::{Importance, ImportanceInputs, ImportancePreDesc, ImportanceRuleDesc};
 use super::phase::{HenyeyGreenstein, PhaseDesc};
-use super::transfer::{Transfer, TransferDesc, TransferLookup, TransferMode};
+use super::transfer::{TransferDesc, TransferLookup};
 use super::velocity::{Velocity, VelocityDesc};
 use crate::error::SceneError;
-use fogbank_math::{DAffine3, DVec3, PiecewiseLinear, Vec3};
+use fogbank_math::{DAffine3, DVec3, Vec3};
 use fogbank_volume::{DensityData, Filter, Medium, Precision};
 use glam::DQuat;
 use serde::{Deserialize, Serialize};
@@ -537,64 +538,6 @@ impl SceneMedium {
         self.importance = self.importance.preclassified(dims, xf, inputs, pre, pkey)?;
         Ok(())
     }
-}
-
-/// A medium's data after its transfer function: post-interpolative keeps
-/// the scalar and classifies per lookup; pre-interpolative replaces it with
-/// classified grids (extinction, albedo and emission fields).
-struct ClassifiedMedium {
-    data: DensityData,
-    opacity: Option<PiecewiseLinear<1>>,
-    lookup: Option<TransferLookup>,
-    albedo_grid: Option<Field>,
-    emission: Option<Emission>,
-}
-
-fn classify(
-    t: &TransferDesc,
-    key: &str,
-    base: &Path,
-    units: Option<(f32, f32)>,
-    data: DensityData,
-    precision: Precision,
-    xf: DAffine3,
-) -> Result<ClassifiedMedium, SceneError> {
-    let tkey = format!("{key}.transfer");
-    if matches!(data, DensityData::Analytic(_)) {
-        return Err(SceneError(format!(
-            "{tkey}: transfer functions classify voxel grids; `{key}.density` is analytic"
-        )));
-    }
-    let tf = Transfer::build(t, &tkey, base, units, data.value_range())?;
-    if tf.mode == TransferMode::Post {
-        return Ok(ClassifiedMedium {
-            data,
-            opacity: Some(tf.opacity.clone()),
-            lookup: Some(tf.lookup()),
-            albedo_grid: None,
-            emission: None,
-        });
-    }
-    let c = tf
-        .classify(&data, precision)
-        .map_err(|e| SceneError(format!("{tkey}: {e}")))?;
-    let source = format!("{tkey} (pre-interpolative)");
-    let albedo_grid = Field::from_channels(c.color.into(), xf, source.clone())?;
-    let emission = c
-        .emission
-        .map(|e| Field::from_channels(e.into(), xf, source.clone()))
-        .transpose()?
-        .map(|grid| Emission::Color {
-            radiance: Vec3::ONE,
-            grid: Some(grid),
-        });
-    Ok(ClassifiedMedium {
-        data: c.sigma,
-        opacity: None,
-        lookup: None,
-        albedo_grid: Some(albedo_grid),
-        emission,
-    })
 }
 
 pub fn transform(t: &TransformDesc) -> DAffine3 {

@@ -7,6 +7,7 @@ pub mod blackbody;
 pub mod bsdf;
 pub mod camera;
 pub mod chroma;
+mod classified;
 pub mod emission;
 pub mod field;
 pub mod film;

@@ -13,10 +13,10 @@ use crate::world::phase::HenyeyGreenstein;
 use crate::world::surfaces::Surfaces;
 use crate::world::World;
 use fogbank_estimators::distance::{delta_tracking_ratio, equiangular};
-use fogbank_estimators::jackknife::{optical_depths, StepMode};
+use fogbank_estimators::jackknife::{optical_depths, Sampling};
 use fogbank_estimators::jackknife_function::mis_weight;
 use fogbank_estimators::lookup::sigma_t_at;
-use fogbank_estimators::optical_depth::{Importance, Jitter};
+use fogbank_estimators::optical_depth::Jitter;
 use fogbank_estimators::{ratio_tracking, transmittance, Estimator};
 use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
 use fogbank_volume::{MediumView, VolumeAccess};
@@ -394,19 +394,8 @@ pub(super) fn depths_n<V: VolumeAccess>(
     } else {
         (mis_samples, &mut x[..])
     };
-    optical_depths(
-        v,
-        &s.index,
-        s.a,
-        t,
-        n,
-        StepMode::FixedCount,
-        Importance::VarianceAware,
-        Jitter::Stratified,
-        rng,
-        lookups,
-        out,
-    );
+    let sampling = Sampling::fixed_count(n, Jitter::Stratified);
+    optical_depths(v, &s.index, (s.a, t), sampling, rng, lookups, out);
     if naive {
         (x[0], x[0])
     } else {

@@ -243,25 +243,7 @@ impl IntegratorParams for RestirParams {
         let d = RestirParams::default();
         let max_depth = r.take("max_depth")?.unwrap_or(d.max_depth);
         let candidates = r.take("candidates")?.unwrap_or(d.candidates);
-        let reuse = match r.take::<String>("reuse")? {
-            None => d.reuse,
-            Some(s) => Reuse::parse(&s).ok_or_else(|| {
-                SceneError(format!(
-                    "{}: `{s}` is not none, spatial, temporal or spatiotemporal",
-                    r.key_path("reuse")
-                ))
-            })?,
-        };
-        let mis = match r.take::<String>("mis")? {
-            None => d.mis,
-            Some(s) => ReuseMis::parse(&s).ok_or_else(|| {
-                SceneError(format!(
-                    "{}: `{s}` is not {}",
-                    r.key_path("mis"),
-                    ReuseMis::NAMES
-                ))
-            })?,
-        };
+        let (reuse, mis) = read_reuse(r, &d)?;
         let temporal_cap: Option<f32> = r.take("temporal_cap")?;
         let neighbours = r.take("neighbours")?.unwrap_or(d.neighbours);
         let radius: f32 = r.take("radius")?.unwrap_or(d.radius);
@@ -274,18 +256,7 @@ impl IntegratorParams for RestirParams {
         }
         let nee_transmittance = r.take("nee_transmittance")?.unwrap_or(d.nee_transmittance);
         let reuse_step: f32 = r.take("reuse_step")?.unwrap_or(d.reuse_step);
-        let estimator = if r.has("estimator") {
-            take_estimator(r)?
-        } else {
-            d.estimator
-        };
-        if estimator.biased() || estimator == Estimator::RegularTracking {
-            return Err(SceneError(format!(
-                "{}: `{}` is not an unbiased transmittance of the trilinear field, which final shading needs",
-                r.key_path("estimator"),
-                estimator.name()
-            )));
-        }
+        let estimator = read_estimator(r, &d)?;
         let rr_depth = r.take("rr_depth")?.unwrap_or(d.rr_depth);
         let reuse_bc4 = r.take("reuse_bc4")?.unwrap_or(d.reuse_bc4);
         let primary_table = r.take("primary_table")?.unwrap_or(d.primary_table);
@@ -293,17 +264,7 @@ impl IntegratorParams for RestirParams {
         let velocity_resampling = r
             .take("velocity_resampling")?
             .unwrap_or(d.velocity_resampling);
-        let vertex_reuse = match r.take::<String>("shift")?.as_deref() {
-            None => d.vertex_reuse,
-            Some("direction") => false,
-            Some("vertex") => true,
-            Some(other) => {
-                return Err(SceneError(format!(
-                    "{}: `{other}` is not direction or vertex",
-                    r.key_path("shift")
-                )))
-            }
-        };
+        let vertex_reuse = read_shift(r, &d)?;
         Ok(RestirParams {
             max_depth: in_range(r, "max_depth", max_depth, 1, MAX_K as u32)?,
             candidates: in_range(r, "candidates", candidates, 1, 1024)?,
@@ -409,4 +370,61 @@ impl ReuseMis {
             ReuseMis::Pairwise => "pairwise",
         }
     }
+}
+
+/// `reuse` (which passes) and `mis` (how reuse weights its inputs).
+fn read_reuse(r: &mut ParamReader, d: &RestirParams) -> Result<(Reuse, ReuseMis), SceneError> {
+    let reuse = match r.take::<String>("reuse")? {
+        None => d.reuse,
+        Some(s) => Reuse::parse(&s).ok_or_else(|| {
+            SceneError(format!(
+                "{}: `{s}` is not none, spatial, temporal or spatiotemporal",
+                r.key_path("reuse")
+            ))
+        })?,
+    };
+    let mis = match r.take::<String>("mis")? {
+        None => d.mis,
+        Some(s) => ReuseMis::parse(&s).ok_or_else(|| {
+            SceneError(format!(
+                "{}: `{s}` is not {}",
+                r.key_path("mis"),
+                ReuseMis::NAMES
+            ))
+        })?,
+    };
+    Ok((reuse, mis))
+}
+
+/// Final shading's transmittance estimator, which must be an unbiased
+/// estimate of the trilinear field's.
+fn read_estimator(r: &mut ParamReader, d: &RestirParams) -> Result<Estimator, SceneError> {
+    let estimator = if r.has("estimator") {
+        take_estimator(r)?
+    } else {
+        d.estimator
+    };
+    if estimator.biased() || estimator == Estimator::RegularTracking {
+        return Err(SceneError(format!(
+            "{}: `{}` is not an unbiased transmittance of the trilinear field, which final shading needs",
+            r.key_path("estimator"),
+            estimator.name()
+        )));
+    }
+    Ok(estimator)
+}
+
+/// `shift`: direction reuse (false) or vertex reuse (true), seed 002 §4.2.
+fn read_shift(r: &mut ParamReader, d: &RestirParams) -> Result<bool, SceneError> {
+    Ok(match r.take::<String>("shift")?.as_deref() {
+        None => d.vertex_reuse,
+        Some("direction") => false,
+        Some("vertex") => true,
+        Some(other) => {
+            return Err(SceneError(format!(
+                "{}: `{other}` is not direction or vertex",
+                r.key_path("shift")
+            )))
+        }
+    })
 }

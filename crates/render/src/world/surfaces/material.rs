@@ -164,6 +164,8 @@ impl BsdfDesc {
         })
     }
 
+    // Long because: one arm per Mitsuba BSDF plugin, each a few lines over
+    // `SideContext`; the arms' field lists are most of the length.
     fn side(&self, key: &str, files: &BitmapFiles) -> Result<Side, SceneError> {
         let c = SideContext { key, files };
         let plain = |bsdf| Side {
