@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Every GPU timing of issue 21 in one call, as markdown tables on stdout:
+# Every GPU timing of docs/results/gpu.md in one call, as markdown tables on stdout:
 #
 #   peer     the peer scenes of tools/mitsuba_bench.py at 128x128, 1024 spp
 #            (GPU and the CPU on every core, with the GPU's submissions);

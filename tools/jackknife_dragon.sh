@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 15 item 2's ratio on a real smoke plume: primary-ray transmittance
+# Jackknife's cost ratio on a real smoke plume: primary-ray transmittance
 # of data/dragon.vdb (scenes/smoke.toml's view, 480×300, f16
 # voxels, trilinear) per estimator and σ_t scale, render seconds and lookups
 # per pixel sample, all in one run on this machine.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Equal-RMSE benchmark: fogbank `volpath` versus Mitsuba 3 `volpath` (issue 5, item 5).
+"""Equal-RMSE benchmark: fogbank `volpath` versus Mitsuba 3 `volpath`.
 
 Same scenes as tools/mitsuba_peer.py (conventions in tools/mitsuba_common.py).
 For each scene:
@@ -16,7 +16,7 @@ For each scene:
                          residual ratio tracking)
      mitsuba volpath     each of --variants (default scalar_rgb; e.g.
                          scalar_rgb,llvm_ad_rgb: all timed in this run)
-   and, with --best (issue 15 item 3), fogbank's configuration space: NEE
+   and, with --best, fogbank's configuration space: NEE
    estimator (ratio / residual ratio tracking, jackknife) x free-flight
    sampler (delta / decomposition tracking) x super-voxel edge (4, 8, 16);
    the best per scene (least time to the target) is reported against every
@@ -35,7 +35,7 @@ For each scene:
    interpolated log-log between its sweep points (MSE ~ 1/time beyond
    them), and Mitsuba's MSE over it.
 
-GPU (issue 21 item 3): --device gpu renders fogbank on the GPU and times it
+GPU: --device gpu renders fogbank on the GPU and times it
 by the render loop's wall time (`render_seconds` of --stats: after upload
 and pipeline compilation, as Mitsuba's time is after a warm-up render that
 compiles its kernels); with --variant cuda_ad_rgb Mitsuba runs on the same
@@ -76,7 +76,7 @@ FOGBANK_CONFIGS = {
     "fogbank baseline": dict(estimator="ratio_tracking", preset="baseline"),
 }
 
-# --best (issue 15 item 3): fogbank's configuration space searched for its
+# --best: fogbank's configuration space searched for its
 # best time to equal RMSE: NEE estimator x distance sampler x super-voxel edge.
 BEST_ESTIMATORS = {"rt": "ratio_tracking", "rrt": "residual_ratio_tracking", "jk": "jackknife"}
 BEST_SAMPLERS = {"delta": "delta_tracking", "decomp": "decomposition_tracking"}

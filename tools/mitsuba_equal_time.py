@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Equal-time MSE: fogbank versus Mitsuba 3 `scalar_rgb` and `llvm_ad_rgb`
-on the Mitsuba XML scenes of scenes/mitsuba/ (issue 23, acceptance item 3),
+on the Mitsuba XML scenes of scenes/mitsuba/,
 and fogbank's GPU backend (`fogbank_gpu`) versus `cuda_ad_rgb`.
 
 Reference: the high-sample Mitsuba references scenes/mitsuba/refs/<name>.exr

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Peer check of fogbank `volpath` against Mitsuba 3 `volpath` (issue 5, item 4).
+"""Peer check of fogbank `volpath` against Mitsuba 3 `volpath`.
 
 Renders two scenes with both renderers and compares them with fogbank's
 per-pixel z-test (`fogbank compare --metric ztest`, Sidak-corrected,

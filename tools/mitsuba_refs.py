@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Mitsuba 3 reference images for the scenes in scenes/mitsuba/ (issue 23, item 1).
+"""Mitsuba 3 reference images for the scenes in scenes/mitsuba/.
 
 Renders each scene XML with Mitsuba 3's `scalar_rgb` variant on one thread and
 writes `scenes/mitsuba/refs/<name>.exr` with channels

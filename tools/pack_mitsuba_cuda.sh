@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Packs Mitsuba 3's cuda_ad_rgb variant for a GPU machine that cannot reach
-# a package index (issue 21 item 3): the cp312 manylinux wheels of mitsuba
+# a package index: the cp312 manylinux wheels of mitsuba
 # and drjit, less the other variants, include/, the spectral data and every
 # plugin neither the peer scenes nor scenes/mitsuba/ load (the full wheel is over a 64 MiB
 # carry limit; this is about 16 MB).

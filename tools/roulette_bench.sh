@@ -1,5 +1,5 @@
 #!/bin/bash
-# Issue 15 item 1: cost of ratio and residual ratio tracking with and
+# Cost of ratio and residual ratio tracking with and
 # without Russian roulette against density (docs/results/roulette/README.md).
 cd "$(dirname "$0")/.."
 E=track_length,ratio_tracking,ratio_tracking:roulette=0.1,residual_ratio_tracking,residual_ratio_tracking:roulette=0.1

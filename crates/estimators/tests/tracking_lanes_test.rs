@@ -1,5 +1,5 @@
 //! The tracking walk reads its tentative collisions ahead in SIMD lanes
-//! (`null_collisions::walk`, issue 15); this holds it to the sequential
+//! (`null_collisions::walk`); this holds it to the sequential
 //! walk bit for bit: the same collisions and σ_t seen in the same order,
 //! the same random stream and lookup count after, the same outcome — also
 //! when `collide` draws random numbers (Russian roulette) or stops.

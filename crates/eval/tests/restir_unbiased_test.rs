@@ -1,4 +1,4 @@
-//! Seed 002's claim, tested as issue 18 asks: volumetric ReSTIR with Talbot
+//! Seed 002's claim: volumetric ReSTIR with Talbot
 //! MIS is unbiased for a static scene. The mean of the last frame of
 //! independent sequences (each pass of `fogbank render` is one sequence of
 //! `frames` frames) agrees per pixel with `volpath` at the same depth under
@@ -36,7 +36,7 @@ fn scene_text(lights: &str, medium_extra: &str) -> String {
     )
 }
 
-/// Independent sequences per test image: ≥ 64 as issue 18 asks, and enough
+/// Independent sequences per test image: at least 64, and enough
 /// that a pixel whose walks all escape a faint fringe (a rare, large
 /// weight) is unlikely to look exact.
 const SEQUENCES: u32 = 256;
@@ -145,7 +145,7 @@ fn restir_emissive_explosion_is_unbiased() {
     }
 }
 
-/// Surfaces as path vertices (issue 24, seed 002 §4.2): a diffuse card
+/// Surfaces as path vertices (seed 002 §4.2): a diffuse card
 /// hides part of the slab, a rough plastic sheet cuts through it, a rough
 /// conductor sphere sits beside it, and an emitting rectangle above and an
 /// emitting sphere in view light the scene besides the sky. Walks scatter

@@ -1,4 +1,4 @@
-//! Mitsuba 3 XML scenes on the GPU (issue 23 item 8): the wgpu backend
+//! Mitsuba 3 XML scenes on the GPU: the wgpu backend
 //! renders `scenes/mitsuba/*.xml` as they are. In CI (lavapipe) four scenes
 //! are z-tested against the CPU at equal samples (the CPU itself is held to
 //! the Mitsuba references in crates/render/tests/mitsuba_test.rs); the

@@ -214,7 +214,7 @@ fn pins_match_the_cpu_in_every_mode() {
     );
 }
 
-/// PinMS with surfaces (issue 24 item 2): a cloud over a diffuse ground
+/// PinMS with surfaces: a cloud over a diffuse ground
 /// lit by an area light and the sky — ray-marched NEE at the first vertex,
 /// surface or medium, pins from vertex 2 on, surface shadows through the
 /// pinned medium — agrees with the CPU.

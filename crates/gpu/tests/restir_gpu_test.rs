@@ -1,4 +1,4 @@
-//! GPU `restir` against the CPU (seed 002; issue 18, item 4): the mean of
+//! GPU `restir` against the CPU (seed 002): the mean of
 //! the last frame of independent sequences agrees per pixel (z-test) with
 //! the CPU's for the configurations of the CPU's unbiasedness test
 //! (`eval/tests/restir_unbiased_test.rs`): the environment-lit and the
@@ -133,7 +133,7 @@ fn restir_gpu_matches_the_cpu_on_lit_clouds() {
     }
 }
 
-/// Surfaces as path vertices (issue 24; restir/surface.wgsl): a diffuse
+/// Surfaces as path vertices (restir/surface.wgsl): a diffuse
 /// card, a rough plastic sheet through the slab, a rough conductor sphere,
 /// an emitting rectangle above and an emitting sphere in view — the CPU
 /// unbiasedness test's scene (eval/tests/restir_unbiased_test.rs), which

@@ -1,4 +1,4 @@
-//! Post-interpolative transfer functions on the GPU (issue 20 item 2):
+//! Post-interpolative transfer functions on the GPU:
 //! extinction classified after interpolation, colour → albedo and emission
 //! at the interpolated scalar, for every place the CPU classifies (filtered
 //! lookups, regular tracking's voxels) — per-pixel z-test against the CPU

@@ -196,7 +196,7 @@ fn unsupported_work_is_a_clear_error() {
     assert!(e.0.contains("analytic"), "{e}");
 }
 
-/// Issue 21: with the stochastic filter the GPU hashed a lookup count
+/// A regression: with the stochastic filter the GPU once hashed a lookup count
 /// carried over from earlier samples and media into its jitter, so only
 /// sample 0 of each pixel shared the CPU's stream, and the heavy tail of
 /// `unbiased_ray_marching` came out differently on the two sides. Now every
@@ -245,7 +245,7 @@ fn unbiased_ray_marching_matches_the_cpu_sample_for_sample() {
     );
 }
 
-/// Issue 21: the GPU film's moments were f32 Σx and Σx², so a constant
+/// A regression: the GPU film's moments were once f32 Σx and Σx², so a constant
 /// pixel's variance came out as 3e-4² after a few thousand samples. With
 /// running means and M2 a deterministic estimator's variance stays 0 up to
 /// the f64 conversion.

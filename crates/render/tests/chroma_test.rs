@@ -1,4 +1,4 @@
-//! Chromatic extinction (issue 23 item 5): a medium with
+//! Chromatic extinction: a medium with
 //! `sigma_t_scale = [s_r, s_g, s_b]` must show, in channel c, what the same
 //! medium with the single scale s_c shows — per pixel, under the z-test,
 //! for `volpath` (spectral tracking), `direct` and `transmittance` with

@@ -1,6 +1,6 @@
 //! Integrators without surface rules yet (`point_mis`, `visopt`, `ament`;
 //! `restir` in eval/tests/restir_unbiased_test.rs) see shapes as opaque
-//! black occluders (issue 23 item 6, `shared/occluders.rs`): their images
+//! black occluders (`shared/occluders.rs`): their images
 //! agree per pixel with `direct`'s of the same scene, whose black BSDFs
 //! reflect nothing, and scenes whose shapes pass light are refused.
 

@@ -103,7 +103,7 @@ fn restir_refuses_scenes_it_cannot_render() {
     );
     let e = build(&analytic, &[]).err().unwrap();
     assert!(e.contains("needs a voxel grid"), "{e}");
-    // Shapes of every kind, emitting or not, join paths (issue 24); BSDFs
+    // Shapes of every kind, emitting or not, join paths; BSDFs
     // with a delta lobe cannot (light sampling alone ends the paths), nor
     // can the vertex shift keep a vertex on a surface.
     for shape in ["rectangle", "sphere", "disk"] {

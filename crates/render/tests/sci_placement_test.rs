@@ -1,4 +1,4 @@
-//! Issue 20, acceptance 4 (first half): a NIfTI and a NRRD file written by
+//! Scientific volumes placed as their files say: a NIfTI and a NRRD file written by
 //! nibabel/pynrrd with non-trivial affines (oblique, flipped axes, LPS)
 //! render at the same world place as the same voxels in a Mitsuba `.vol`
 //! placed by the equivalent `to_world` (computed by the reference tools in

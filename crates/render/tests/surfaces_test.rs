@@ -1,4 +1,4 @@
-//! `volpath` with surfaces (issue 23) against analytic answers: a lit
+//! `volpath` with surfaces against analytic answers: a lit
 //! diffuse plane, a convex object under a uniform sky, irradiance from a
 //! rectangular area light, and emitting furnaces (closed boxes and
 //! spheres, with and without a medium inside) whose radiance is

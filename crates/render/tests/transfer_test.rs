@@ -1,4 +1,4 @@
-//! Transfer functions (issue 20 item 2): post-interpolative classification
+//! Transfer functions (seed 003 §3): post-interpolative classification
 //! keeps tracking unbiased (its super-voxel majorants bound α over each
 //! cell's value range, also where α peaks between voxel values), colour and
 //! emission follow the interpolated scalar, pre- and post-interpolative
