@@ -5,6 +5,7 @@
 
 use super::integrator::{depths_n, eq10_distances, PointMis, Segment};
 use super::strategy::Strategy;
+use crate::integrators::shared::context::PathContext;
 use crate::integrators::shared::{balance, estimator_rng};
 use crate::lights::sample::LightSampler;
 use crate::world::medium::SceneMedium;
@@ -52,10 +53,11 @@ impl PointMis {
         let Some((seg, pmf)) = self.begin(world, x, y, key, &mut rng) else {
             return Some(Vec3::ZERO);
         };
+        let cx = &mut PathContext::new(world, &mut rng);
         let l = match view {
-            MediumView::F16(v) => self.eq10_errors_in(&v, &seg, mis_samples, errors, &mut rng),
-            MediumView::F32(v) => self.eq10_errors_in(&v, &seg, mis_samples, errors, &mut rng),
-            MediumView::Analytic(v) => self.eq10_errors_in(&v, &seg, mis_samples, errors, &mut rng),
+            MediumView::F16(v) => self.eq10_errors_in(&v, &seg, mis_samples, errors, cx),
+            MediumView::F32(v) => self.eq10_errors_in(&v, &seg, mis_samples, errors, cx),
+            MediumView::Analytic(v) => self.eq10_errors_in(&v, &seg, mis_samples, errors, cx),
         };
         errors
             .iter_mut()
@@ -69,27 +71,26 @@ impl PointMis {
         s: &Segment,
         mis_samples: &[u32],
         errors: &mut [[Vec3; 2]],
-        rng: &mut Pcg32,
+        cx: &mut PathContext,
     ) -> Vec3 {
-        let mut lookups = 0u32;
         // The same draws, in the same order, as the Eq. 10 strategies.
-        let ts = eq10_distances(v, s, rng, &mut 0);
+        let ts = eq10_distances(v, s, cx.rng, &mut 0);
         let mut total = Vec3::ZERO;
         for (t, p, known_mu) in ts.into_iter().flatten() {
             let sigma_t = match known_mu {
                 Some(m) if !v.needs_jitter() => m,
-                _ => Self::segment_sigma_t(v, s, t, rng, &mut lookups),
+                _ => Self::segment_sigma_t(v, s, t, cx.rng, &mut cx.lookups),
             };
             if sigma_t <= 0.0 {
                 continue;
             }
-            let ls = self.in_scattered(s, t, rng, &mut lookups);
+            let ls = self.in_scattered(s, t, cx);
             let tr = transmittance(
                 Estimator::RegularTracking,
                 &s.medium.medium,
                 &s.world,
                 t,
-                rng,
+                cx.rng,
             )
             .transmittance as f64;
             let (m, p) = (sigma_t as f64, p as f64);
@@ -97,7 +98,7 @@ impl PointMis {
             total += ls * g as f32;
             for (&n, e) in mis_samples.iter().zip(errors.iter_mut()) {
                 for (k, naive) in [(0, true), (1, false)] {
-                    let (x0, x1) = depths_n(v, s, t, n, naive, rng, &mut lookups);
+                    let (x0, x1) = depths_n(v, s, t, n, naive, cx.rng, &mut cx.lookups);
                     let gk = mis_weight(m, 0.0, m, p, x0, x1);
                     if gk.is_finite() {
                         e[k] += ls * (gk - g) as f32;

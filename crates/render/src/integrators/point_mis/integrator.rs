@@ -5,6 +5,7 @@
 use super::params::PointMisParams;
 use super::strategy::Strategy;
 use crate::error::SceneError;
+use crate::integrators::shared::context::PathContext;
 use crate::integrators::shared::{balance, estimator_rng, occluders, primary_ray, PixelSample};
 use crate::lights::sample::{LightSampler, Vertex};
 use crate::lights::Light;
@@ -87,19 +88,19 @@ pub(super) struct Segment<'a> {
 impl PointMis {
     pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
         let mut rng = estimator_rng(key);
-        let mut lookups = 0u32;
         let Some((seg, pmf)) = self.begin(world, x, y, key, &mut rng) else {
             return PixelSample::default();
         };
+        let cx = &mut PathContext::new(world, &mut rng);
         let medium = seg.medium;
         let l = match medium.medium.view() {
-            MediumView::F16(v) => self.radiance(&v, &seg, &mut rng, &mut lookups),
-            MediumView::F32(v) => self.radiance(&v, &seg, &mut rng, &mut lookups),
-            MediumView::Analytic(v) => self.radiance(&v, &seg, &mut rng, &mut lookups),
+            MediumView::F16(v) => self.radiance(&v, &seg, cx),
+            MediumView::F32(v) => self.radiance(&v, &seg, cx),
+            MediumView::Analytic(v) => self.radiance(&v, &seg, cx),
         };
         PixelSample {
             radiance: l / pmf,
-            lookups,
+            lookups: cx.lookups,
         }
     }
 
@@ -148,13 +149,7 @@ impl PointMis {
     /// L_s(t): single-scattered radiance towards the camera at parameter `t`
     /// from the chosen light (albedo · phase · I/d² · T_l), with the light
     /// ray's transmittance T_l estimated by `self.nee`.
-    pub(super) fn in_scattered(
-        &self,
-        s: &Segment,
-        t: f32,
-        rng: &mut Pcg32,
-        lookups: &mut u32,
-    ) -> Vec3 {
+    pub(super) fn in_scattered(&self, s: &Segment, t: f32, cx: &mut PathContext) -> Vec3 {
         let p = s.world.at(t);
         let to_light = s.light - p;
         let dist2 = to_light.length_squared();
@@ -168,8 +163,8 @@ impl PointMis {
         if f <= 0.0 || !occluders::unblocked(s.surfaces, &light_ray, dist) {
             return Vec3::ZERO;
         }
-        let e = transmittance(self.nee, &s.medium.medium, &light_ray, dist, rng);
-        *lookups += e.lookups;
+        let e = transmittance(self.nee, &s.medium.medium, &light_ray, dist, cx.rng);
+        cx.lookups += e.lookups;
         s.medium.albedo_at(p) * s.intensity * (f * e.transmittance / dist2)
     }
 
@@ -200,55 +195,37 @@ impl PointMis {
         sigma_t_at(v, s.index.at(t), rng, lookups)
     }
 
-    fn radiance<V: VolumeAccess>(
-        &self,
-        v: &V,
-        s: &Segment,
-        rng: &mut Pcg32,
-        lookups: &mut u32,
-    ) -> Vec3 {
+    fn radiance<V: VolumeAccess>(&self, v: &V, s: &Segment, cx: &mut PathContext) -> Vec3 {
         match self.strategy {
-            Strategy::FreeFlight => self.free_flight(v, s, rng, lookups),
-            Strategy::Equiangular => self.equiangular(v, s, rng, lookups),
-            Strategy::MisMiller => self.mis_miller(v, s, rng, lookups),
-            Strategy::MisJackknife => self.mis_jackknife(v, s, rng, lookups),
-            Strategy::MisNaive | Strategy::MisJackknifeBiased => self.mis_eq10(v, s, rng, lookups),
+            Strategy::FreeFlight => self.free_flight(v, s, cx),
+            Strategy::Equiangular => self.equiangular(v, s, cx),
+            Strategy::MisMiller => self.mis_miller(v, s, cx),
+            Strategy::MisJackknife => self.mis_jackknife(v, s, cx),
+            Strategy::MisNaive | Strategy::MisJackknifeBiased => self.mis_eq10(v, s, cx),
         }
     }
 
     /// Free-flight sampling of the scattering distance.
-    fn free_flight<V: VolumeAccess>(
-        &self,
-        v: &V,
-        s: &Segment,
-        rng: &mut Pcg32,
-        lookups: &mut u32,
-    ) -> Vec3 {
+    fn free_flight<V: VolumeAccess>(&self, v: &V, s: &Segment, cx: &mut PathContext) -> Vec3 {
         let mut total = Vec3::ZERO;
-        let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
-        *lookups += f.lookups;
+        let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, cx.rng);
+        cx.lookups += f.lookups;
         if let Some(t1) = f.t {
-            total += self.in_scattered(s, t1, rng, lookups);
+            total += self.in_scattered(s, t1, cx);
         }
         total
     }
 
     /// Equiangular sampling toward the point light.
-    fn equiangular<V: VolumeAccess>(
-        &self,
-        v: &V,
-        s: &Segment,
-        rng: &mut Pcg32,
-        lookups: &mut u32,
-    ) -> Vec3 {
+    fn equiangular<V: VolumeAccess>(&self, v: &V, s: &Segment, cx: &mut PathContext) -> Vec3 {
         let mut total = Vec3::ZERO;
-        let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
+        let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, cx.next_f32());
         if pdf0 > 0.0 && pdf0.is_finite() {
-            let sigma_t = Self::segment_sigma_t(v, s, t0, rng, lookups);
+            let sigma_t = Self::segment_sigma_t(v, s, t0, cx.rng, &mut cx.lookups);
             if sigma_t > 0.0 {
-                let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng, 0.0);
-                *lookups += tr.lookups;
-                let l = self.in_scattered(s, t0, rng, lookups);
+                let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, cx.rng, 0.0);
+                cx.lookups += tr.lookups;
+                let l = self.in_scattered(s, t0, cx);
                 total += l * (tr.transmittance * sigma_t / pdf0);
             }
         }
@@ -256,36 +233,30 @@ impl PointMis {
     }
 
     /// Both samples MIS-combined with weights from ratio-tracked transmittance (Miller et al. 2019).
-    fn mis_miller<V: VolumeAccess>(
-        &self,
-        v: &V,
-        s: &Segment,
-        rng: &mut Pcg32,
-        lookups: &mut u32,
-    ) -> Vec3 {
+    fn mis_miller<V: VolumeAccess>(&self, v: &V, s: &Segment, cx: &mut PathContext) -> Vec3 {
         let p0 = |t: f32| equiangular::pdf(&s.world, s.light, s.a, s.b, t);
         let mut total = Vec3::ZERO;
         // Free-flight sample: w1 = μ T_rt / (p0 + μ T_rt) with T_rt from
         // delta tracking's null collisions before t1 (seed 000 §6.2).
-        let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
-        *lookups += f.lookups;
+        let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, cx.rng);
+        cx.lookups += f.lookups;
         if let Some(t1) = f.t {
             let w1 = balance(f.sigma_t * f.ratio, p0(t1));
             if w1 > 0.0 {
-                total += self.in_scattered(s, t1, rng, lookups) * w1;
+                total += self.in_scattered(s, t1, cx) * w1;
             }
         }
         // Equiangular sample: one ratio-tracking walk over [a, t0]
         // gives both T(t0) and the weight; w0 T μ / p0 = q/(p0 + q).
-        let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
+        let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, cx.next_f32());
         if pdf0 > 0.0 && pdf0.is_finite() {
-            let sigma_t = Self::segment_sigma_t(v, s, t0, rng, lookups);
+            let sigma_t = Self::segment_sigma_t(v, s, t0, cx.rng, &mut cx.lookups);
             if sigma_t > 0.0 {
-                let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng, 0.0);
-                *lookups += tr.lookups;
+                let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, cx.rng, 0.0);
+                cx.lookups += tr.lookups;
                 let c = balance(sigma_t * tr.transmittance, pdf0);
                 if c != 0.0 {
-                    total += self.in_scattered(s, t0, rng, lookups) * c;
+                    total += self.in_scattered(s, t0, cx) * c;
                 }
             }
         }
@@ -293,52 +264,46 @@ impl PointMis {
     }
 
     /// Both samples MIS-combined with jackknife weight estimates (seed 000, Eq. 9).
-    fn mis_jackknife<V: VolumeAccess>(
-        &self,
-        v: &V,
-        s: &Segment,
-        rng: &mut Pcg32,
-        lookups: &mut u32,
-    ) -> Vec3 {
+    fn mis_jackknife<V: VolumeAccess>(&self, v: &V, s: &Segment, cx: &mut PathContext) -> Vec3 {
         let p0 = |t: f32| equiangular::pdf(&s.world, s.light, s.a, s.b, t);
         let mut total = Vec3::ZERO;
         // Seed 000, Eq. 9. Every weight uses its own optical-depth
         // estimates and σ_t lookup, independent of the distance
         // sample and of T̃(t0), as App. D's proof needs.
-        let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
-        *lookups += f.lookups;
+        let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, cx.rng);
+        cx.lookups += f.lookups;
         if let Some(t1) = f.t {
             // The value read by delta tracking is correlated with the
             // acceptance under stochastic filtering; read afresh.
             let sigma_t = if v.needs_jitter() {
-                Self::segment_sigma_t(v, s, t1, rng, lookups)
+                Self::segment_sigma_t(v, s, t1, cx.rng, &mut cx.lookups)
             } else {
                 f.sigma_t
             };
-            let (x0, x1) = self.depths(v, s, t1, false, rng, lookups);
+            let (x0, x1) = self.depths(v, s, t1, false, cx.rng, &mut cx.lookups);
             let (sigma_t, p) = (sigma_t as f64, p0(t1) as f64);
             let w1 = mis_weight(sigma_t, 0.0, sigma_t, p, x0, x1) as f32;
             if w1 != 0.0 && w1.is_finite() {
-                total += self.in_scattered(s, t1, rng, lookups) * w1;
+                total += self.in_scattered(s, t1, cx) * w1;
             }
         }
-        let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
+        let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, cx.next_f32());
         if pdf0 > 0.0 && pdf0.is_finite() {
-            let sigma_t_w = Self::segment_sigma_t(v, s, t0, rng, lookups);
+            let sigma_t_w = Self::segment_sigma_t(v, s, t0, cx.rng, &mut cx.lookups);
             let sigma_t = if v.needs_jitter() {
-                Self::segment_sigma_t(v, s, t0, rng, lookups)
+                Self::segment_sigma_t(v, s, t0, cx.rng, &mut cx.lookups)
             } else {
                 sigma_t_w
             };
             if sigma_t > 0.0 {
-                let (x0, x1) = self.depths(v, s, t0, false, rng, lookups);
+                let (x0, x1) = self.depths(v, s, t0, false, cx.rng, &mut cx.lookups);
                 let (mw, p) = (sigma_t_w as f64, pdf0 as f64);
                 let w0 = mis_weight(0.0, p, mw, p, x0, x1) as f32;
-                let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, rng, 0.0);
-                *lookups += tr.lookups;
+                let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, cx.rng, 0.0);
+                cx.lookups += tr.lookups;
                 let c = w0 * tr.transmittance * sigma_t / pdf0;
                 if c != 0.0 && c.is_finite() {
-                    total += self.in_scattered(s, t0, rng, lookups) * c;
+                    total += self.in_scattered(s, t0, cx) * c;
                 }
             }
         }
@@ -346,32 +311,26 @@ impl PointMis {
     }
 
     /// Seed 000, Eq. 10: the weighting function estimated at both samples.
-    fn mis_eq10<V: VolumeAccess>(
-        &self,
-        v: &V,
-        s: &Segment,
-        rng: &mut Pcg32,
-        lookups: &mut u32,
-    ) -> Vec3 {
+    fn mis_eq10<V: VolumeAccess>(&self, v: &V, s: &Segment, cx: &mut PathContext) -> Vec3 {
         let mut total = Vec3::ZERO;
         // Seed 000, Eq. 10: both samples contribute g̃(τ(t_j)) L_s(t_j)
         // with g(τ) = μ e^{−τ}/(p0 + μ e^{−τ}) (Eq. 11), estimated by
         // Eq. 12 (jackknife) or g(X) (naive, m = 1).
         let naive = self.strategy == Strategy::MisNaive;
-        let ts = eq10_distances(v, s, rng, lookups);
+        let ts = eq10_distances(v, s, cx.rng, &mut cx.lookups);
         for (t, p, known_mu) in ts.into_iter().flatten() {
             let sigma_t = match known_mu {
                 Some(m) if !v.needs_jitter() => m,
-                _ => Self::segment_sigma_t(v, s, t, rng, lookups),
+                _ => Self::segment_sigma_t(v, s, t, cx.rng, &mut cx.lookups),
             };
             if sigma_t <= 0.0 {
                 continue;
             }
-            let (x0, x1) = self.depths(v, s, t, naive, rng, lookups);
+            let (x0, x1) = self.depths(v, s, t, naive, cx.rng, &mut cx.lookups);
             let m = sigma_t as f64;
             let g = mis_weight(m, 0.0, m, p as f64, x0, x1) as f32;
             if g != 0.0 && g.is_finite() {
-                total += self.in_scattered(s, t, rng, lookups) * g;
+                total += self.in_scattered(s, t, cx) * g;
             }
         }
         total
