@@ -5,8 +5,9 @@
 //! integrator, frames raced within a time budget; MSE of every frame and
 //! of the running mean, with the reference's own variance subtracted.
 
+use fogbank_image::Image;
 use fogbank_render::integrators::restir::frame::PassTimes;
-use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
+use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, RenderResult, Scene};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -22,6 +23,40 @@ pub fn build(text: &str, set: &[String]) -> Result<Scene, String> {
     let scene = Scene::build(desc, &scenes_dir()).map_err(|e| e.0)?;
     scene.integrator.prepare(&scene.world);
     Ok(scene)
+}
+
+/// Override strings for [`build`] (`--set` pairs such as
+/// `integrator.type=volpath`).
+pub fn set(kv: &[&str]) -> Vec<String> {
+    kv.iter().map(|s| s.to_string()).collect()
+}
+
+/// The pixel samples `--trials` asks for (`default` without it), at most
+/// 2²⁰.
+pub fn spp(trials: Option<u64>, default: u64) -> u32 {
+    trials.unwrap_or(default).min(1 << 20) as u32
+}
+
+/// `scene` rendered at `spp` samples per pixel with `seed`, no time budget.
+pub fn render_at(scene: &Scene, spp: u32, seed: u32) -> RenderResult {
+    let opts = RenderOptions {
+        spp,
+        seed,
+        time_budget: None,
+    };
+    render(scene, &opts, &Progress::default())
+}
+
+/// A film's per-pixel means with the variance of each mean: the image
+/// [`fogbank_image::metrics::ztest`] compares with another.
+pub fn film_image(film: &Film) -> Image {
+    Image {
+        width: film.width as usize,
+        height: film.height as usize,
+        rgb: film.mean(),
+        variance: Some(film.variance_of_mean()),
+        is_srgb8: false,
+    }
 }
 
 /// Luminance (Rec. 709) of an RGB pixel.
@@ -64,12 +99,7 @@ pub struct Reference {
 
 impl Reference {
     pub fn render(scene: &Scene, spp: u32, seed: u32) -> Reference {
-        let opts = RenderOptions {
-            spp,
-            seed,
-            time_budget: None,
-        };
-        let film = render(scene, &opts, &Progress::default()).film;
+        let film = render_at(scene, spp, seed).film;
         let rgb = film.mean();
         let var = film.variance_of_mean();
         let floor = var
@@ -215,13 +245,8 @@ pub fn independent_frames(
     let mut acc = Accumulator::new(reference);
     let mut last = Vec::new();
     for f in 0..frames {
-        let opts = RenderOptions {
-            spp,
-            seed: seed.wrapping_add(f),
-            time_budget: None,
-        };
         let clock = Instant::now();
-        let film = render(scene, &opts, &Progress::default()).film;
+        let film = render_at(scene, spp, seed.wrapping_add(f)).film;
         let seconds = clock.elapsed().as_secs_f64();
         last = film.mean();
         acc.add(&last, seconds);
@@ -271,13 +296,8 @@ impl<'a> BudgetRun<'a> {
         if self.acc.seconds >= self.budget {
             return false;
         }
-        let opts = RenderOptions {
-            spp: self.spp,
-            seed: self.seed.wrapping_add(self.acc.n),
-            time_budget: None,
-        };
         let clock = Instant::now();
-        let film = render(self.scene, &opts, &Progress::default()).film;
+        let film = render_at(self.scene, self.spp, self.seed.wrapping_add(self.acc.n)).film;
         let seconds = clock.elapsed().as_secs_f64();
         self.last = film.mean();
         self.acc.add(&self.last, seconds);

@@ -12,9 +12,10 @@
 //! 4 × `trials` spp. Bias is the mean signed difference over the pixels the
 //! cloud covers, with its standard error from both renders' variances.
 
+use crate::experiments::harness::protocol::{render_at, spp};
 use crate::experiments::harness::Writer;
 use fogbank_estimators::Estimator;
-use fogbank_render::{load_scene, render, Film, Progress, RenderOptions, Scene};
+use fogbank_render::{load_scene, Film, Scene};
 use std::path::Path;
 
 pub const SCENE_FILE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/fig1.toml");
@@ -47,12 +48,7 @@ fn with_estimator(scene: &Scene, name: &str) -> Result<Scene, String> {
 }
 
 fn run_film(scene: &Scene, spp: u32, seed: u32) -> (Film, f64) {
-    let opts = RenderOptions {
-        spp,
-        seed,
-        time_budget: None,
-    };
-    let r = render(scene, &opts, &Progress::default());
+    let r = render_at(scene, spp, seed);
     (r.film, r.seconds)
 }
 
@@ -70,7 +66,17 @@ pub struct Row {
 }
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
-    let trials = trials.unwrap_or(DEFAULT_TRIALS).min(1 << 20) as u32;
+    let trials = spp(trials, DEFAULT_TRIALS);
+    let (rows, radiance) = measure(w, trials)?;
+    let table = write_table(w, &rows, radiance)?;
+    Ok(summary(&rows, radiance, trials, &table))
+}
+
+/// The reference (ratio tracking at 4 × `trials` spp), then per estimator
+/// its statistics at 160×100 and its 32-spp image at 640×400
+/// (`<estimator>_32spp.png`); returns the rows and the mean radiance of
+/// the covered pixels.
+fn measure(w: &mut Writer, trials: u32) -> Result<(Vec<Row>, f64), String> {
     let full = scene(640, 400)?;
     let full_pixels = 640.0 * 400.0;
     let base = scene(160, 100)?;
@@ -115,11 +121,16 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         let (img, _) = run_film(&with_estimator(&full, name)?, SPP as u32, 99);
         save_png(w, &format!("{name}_32spp.png"), &img)?;
     }
+    Ok((rows, radiance))
+}
+
+/// Writes `fig1.csv` and returns the same rows as a Markdown table.
+fn write_table(w: &mut Writer, rows: &[Row], radiance: f64) -> Result<String, String> {
     let mut table = String::from(
         "| estimator | ms / 32-spp frame (640×400) | lookups / sample | mean bias (± SE) | relative bias | mean std @32 spp | max std @32 spp |\n|---|---:|---:|---:|---:|---:|---:|\n",
     );
     let mut csv = Vec::new();
-    for r in &rows {
+    for r in rows {
         table += &format!(
             "| {} | {:.0} | {:.1} | {:+.5} (± {:.5}) | {:+.2} % | {:.4} | {:.3} |\n",
             r.estimator,
@@ -154,6 +165,12 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         ],
         &csv,
     )?;
+    Ok(table)
+}
+
+/// The finding: the jackknife's bias, noise, fireflies and time against
+/// the other estimators.
+fn summary(rows: &[Row], radiance: f64, trials: u32, table: &str) -> String {
     let find = |n: &str| rows.iter().find(|r| r.estimator == n).expect("row");
     let (jk, brm, urm, tl, rt) = (
         find("jackknife"),
@@ -162,7 +179,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         find("track_length"),
         find("ratio_tracking"),
     );
-    Ok(format!(
+    format!(
         "Direct illumination of `scenes/fig1.toml` under its light probe, `direct` integrator, \
          statistics at 160×100 from {trials} spp per estimator against ratio tracking at {} spp \
          (mean radiance of covered pixels {radiance:.4}); images `*_32spp.png` at 640×400, 32 spp.\n\n\
@@ -178,7 +195,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         jk.max_std_32 / urm.max_std_32.max(1e-12),
         jk.ms_per_frame / tl.ms_per_frame,
         jk.ms_per_frame / rt.ms_per_frame,
-    ))
+    )
 }
 
 fn save_png(w: &mut Writer, file: &str, film: &Film) -> Result<(), String> {

@@ -15,6 +15,7 @@
 //! The Disney cloud is not redistributable here; fogbank's procedural cloud
 //! (`procedural::cloud_grid`) stands in for it.
 
+use crate::experiments::harness::protocol::spp;
 use crate::experiments::harness::Writer;
 use crate::image_io::Image;
 use crate::metrics::smape::smape;
@@ -180,8 +181,18 @@ pub fn compute(reference_spp: u32, bias_spp: u32) -> Result<(Film, Vec<Row>), St
 }
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
-    let reference_spp = trials.unwrap_or(DEFAULT_REFERENCE_SPP).min(1 << 20) as u32;
+    let reference_spp = spp(trials, DEFAULT_REFERENCE_SPP);
     let (reference, rows) = compute(reference_spp, BIAS_SPP)?;
+    write_images(w, &reference, &rows)?;
+    let image_mean = reference.image_mean().iter().sum::<f64>() / 3.0;
+    write_csv(w, &rows, image_mean)?;
+    let (width, height) = (reference.width, reference.height);
+    Ok(summary(&rows, width, height, reference_spp, image_mean))
+}
+
+/// `reference.png` and `<strategy>_16spp.png`, all at the exposure that
+/// maps the reference's 99th-percentile mean RGB value to 1.
+fn write_images(w: &mut Writer, reference: &Film, rows: &[Row]) -> Result<(), String> {
     let (width, height) = (reference.width, reference.height);
     let ref_mean = reference.mean();
     // Exposure: the reference's 99th-percentile mean RGB value maps to 1.
@@ -193,11 +204,15 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let p99 = lum[(lum.len() as f64 * 0.99) as usize].max(1e-6);
     let exposure = (1.0 / p99).log2();
     w.png("reference.png", width, height, &ref_mean, exposure)?;
-    for r in &rows {
+    for r in rows {
         let name = format!("{}_{SPP}spp.png", r.strategy.name());
         w.png(&name, width, height, &r.image, exposure)?;
     }
-    let image_mean = reference.image_mean().iter().sum::<f64>() / 3.0;
+    Ok(())
+}
+
+/// `fig12.csv`: SMAPE, time, lookups and bias per strategy.
+fn write_csv(w: &mut Writer, rows: &[Row], image_mean: f64) -> Result<(), String> {
     let csv: Vec<Vec<String>> = rows
         .iter()
         .map(|r| {
@@ -226,7 +241,12 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             "relative_bias",
         ],
         &csv,
-    )?;
+    )
+}
+
+/// The finding: which MIS variants beat the better single strategy, and
+/// Eq. 10's bias with naive and jackknife weights.
+fn summary(rows: &[Row], width: u32, height: u32, reference_spp: u32, image_mean: f64) -> String {
     let best_single = rows
         .iter()
         .filter(|r| r.strategy.distance_samples() == 1)
@@ -242,7 +262,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
          | strategy | distance samples / spp | SMAPE @ {SPP} spp | time @ {SPP} spp | lookups / sample | bias @ {BIAS_SPP} spp | bias / SE | relative bias |\n\
          |---|---|---|---|---|---|---|---|\n"
     );
-    for r in &rows {
+    for r in rows {
         md.push_str(&format!(
             "| `{}` | {} | {:.4} | {:.2} s | {:.0} | {:+.6} ± {:.6} | {:+.1} | {:+.2} % |\n",
             r.strategy.name(),
@@ -281,5 +301,5 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         100.0 * jk.bias / image_mean,
         jk.bias / jk.bias_se,
     ));
-    Ok(md)
+    md
 }

@@ -29,12 +29,13 @@
 //! difference of means).
 
 use super::fig12::rgb_mean_and_var;
+use crate::experiments::harness::protocol::render_at;
 use crate::experiments::harness::Writer;
 use crate::image_io::linear_to_srgb;
 use fogbank_math::{SampleKey, Vec3};
 use fogbank_render::integrators::point_mis::PointMis;
 use fogbank_render::integrators::IntegratorKind;
-use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
+use fogbank_render::{parse_scene, Scene};
 use rayon::prelude::*;
 use std::path::Path;
 use std::time::Instant;
@@ -254,42 +255,7 @@ pub fn compute(spp: u32, direct_spp: u32) -> Result<Results, String> {
             }
         })
         .collect();
-    let mut direct = Vec::new();
-    if direct_spp > 1 {
-        for strategy in ["mis_naive", "mis_jackknife_biased"] {
-            for n_mis in DIRECT_MIS_SAMPLES {
-                let s = scene(&[
-                    format!("integrator.strategy={strategy}"),
-                    format!("integrator.mis_samples={n_mis}"),
-                ])?;
-                let t = Instant::now();
-                let f = render(
-                    &s,
-                    &RenderOptions {
-                        spp: direct_spp,
-                        seed: DIRECT_SEED,
-                        time_budget: None,
-                    },
-                    &Progress::default(),
-                )
-                .film;
-                let secs = t.elapsed().as_secs_f64();
-                if f.nan_samples + f.inf_samples > 0 {
-                    return Err(format!("fig13: {strategy}: non-finite samples"));
-                }
-                // Conservative across channels, as in fig12.
-                let (m, v) = rgb_mean_and_var(&f);
-                let d: Vec<f64> = m.iter().zip(&ref_means).map(|(a, b)| a - b).collect();
-                let var: Vec<f64> = v.iter().zip(&ref_vars).map(|(a, b)| a + b).collect();
-                direct.push(DirectRow {
-                    strategy,
-                    mis_samples: n_mis,
-                    bias: summarise(&d, &var),
-                    seconds: secs,
-                });
-            }
-        }
-    }
+    let direct = direct_renders(direct_spp, &ref_means, &ref_vars)?;
     Ok(Results {
         width,
         height,
@@ -300,6 +266,44 @@ pub fn compute(spp: u32, direct_spp: u32) -> Result<Results, String> {
         rows,
         direct,
     })
+}
+
+/// The integrator itself: `mis_naive` and `mis_jackknife_biased` rendered
+/// at `direct_spp` for each of [`DIRECT_MIS_SAMPLES`], their bias against
+/// the shortcut's reference (none when `direct_spp` ≤ 1).
+fn direct_renders(
+    direct_spp: u32,
+    ref_means: &[f64],
+    ref_vars: &[f64],
+) -> Result<Vec<DirectRow>, String> {
+    let mut direct = Vec::new();
+    if direct_spp > 1 {
+        for strategy in ["mis_naive", "mis_jackknife_biased"] {
+            for n_mis in DIRECT_MIS_SAMPLES {
+                let s = scene(&[
+                    format!("integrator.strategy={strategy}"),
+                    format!("integrator.mis_samples={n_mis}"),
+                ])?;
+                let t = Instant::now();
+                let f = render_at(&s, direct_spp, DIRECT_SEED).film;
+                let secs = t.elapsed().as_secs_f64();
+                if f.nan_samples + f.inf_samples > 0 {
+                    return Err(format!("fig13: {strategy}: non-finite samples"));
+                }
+                // Conservative across channels, as in fig12.
+                let (m, v) = rgb_mean_and_var(&f);
+                let d: Vec<f64> = m.iter().zip(ref_means).map(|(a, b)| a - b).collect();
+                let var: Vec<f64> = v.iter().zip(ref_vars).map(|(a, b)| a + b).collect();
+                direct.push(DirectRow {
+                    strategy,
+                    mis_samples: n_mis,
+                    bias: summarise(&d, &var),
+                    seconds: secs,
+                });
+            }
+        }
+    }
+    Ok(direct)
 }
 
 fn save_png(
@@ -338,6 +342,15 @@ fn bias_colour(v: f64, scale: f64) -> [f32; 3] {
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let spp = trials.unwrap_or(DEFAULT_SPP).clamp(2, 1 << 22) as u32;
     let r = compute(spp, DIRECT_SPP)?;
+    let scale = write_images(w, &r)?;
+    write_csv(w, &r)?;
+    Ok(summary(&r, scale))
+}
+
+/// `reference.png` (99th-percentile mean RGB maps to white) and the bias
+/// maps `bias_<variant>_N<N>.png`, on one colour scale for all: 10 % of the
+/// image mean, which it returns.
+fn write_images(w: &mut Writer, r: &Results) -> Result<f64, String> {
     let (width, height) = (r.width, r.height);
     let image_mean = r.reference.mean;
     // Reference: 99th-percentile mean RGB maps to white.
@@ -367,6 +380,13 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             )?;
         }
     }
+    Ok(scale)
+}
+
+/// `fig13.csv`: every bias, of the shortcut's weight errors and of the
+/// direct renders.
+fn write_csv(w: &mut Writer, r: &Results) -> Result<(), String> {
+    let image_mean = r.reference.mean;
     let fmt_row = |variant: &str, n: u32, b: &Bias| -> Vec<String> {
         vec![
             variant.to_string(),
@@ -413,7 +433,14 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             "median_pixel_std_error",
         ],
         &csv,
-    )?;
+    )
+}
+
+/// The finding: the table of biases with their z scores, per N and per
+/// direct render.
+fn summary(r: &Results, scale: f64) -> String {
+    let (width, height, spp) = (r.width, r.height, r.spp);
+    let image_mean = r.reference.mean;
     let pct = |x: f64| 100.0 * x / image_mean;
     let mut md = format!(
         "Inset of the fig12 scene (6° view centred on the warm point light inside the cloud), \
@@ -467,5 +494,5 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         "\nBias maps `bias_<variant>_N<N>.png`: red = too bright, blue = too dark, full colour \
          at ±10 % of the image mean ({scale:.2e}).\n"
     ));
-    Ok(md)
+    md
 }

@@ -132,85 +132,98 @@ pub fn compute(trials: u64, sizes: &[u32]) -> Vec<Row> {
     let exact = (-tau).exp();
     sizes
         .iter()
-        .map(|&size| {
-            let svg = SuperVoxelGrid::build(DIMS, size, Filter::Nearest.apron(), |i, j, k| {
-                grid.fetch(i, j, k)
-            });
-            let view = || GridView {
-                grid: &grid,
-                filter: Filter::Nearest,
-                scale: 1.0,
-                supervoxels: &svg,
-                opacity: None,
-            };
-            let v0 = view();
-            let prep = prepare(&v0, &ray, 0.0, DIMS[0] as f32, Importance::VarianceAware);
-            let nonempty = (0..svg.dims[0] as i32)
-                .filter(|&c| svg.get([c, (ROW / size) as i32, 0]).importance > 0.0)
-                .count();
-            let (jk, nv, zero, total) = run_chunked(
-                trials,
-                SEED,
-                size,
-                || (Moments::default(), Moments::default(), 0u64, 0u64),
-                |rng, acc, count| {
-                    let c = Counting {
-                        view: view(),
-                        zero: AtomicU64::new(0),
-                        total: AtomicU64::new(0),
-                    };
-                    let (mut x, mut x1, mut lookups) = ([0.0f64; 2], [0.0f64], 0u32);
-                    for _ in 0..count {
-                        estimates(
-                            &c,
-                            &ray,
-                            &prep,
-                            prep.total / SAMPLES as f64,
-                            Importance::VarianceAware,
-                            Jitter::Stratified,
-                            rng,
-                            &mut lookups,
-                            &mut x,
-                        );
-                        acc.0.push(jackknife_transmittance(x[0], x[1]));
-                        estimates(
-                            &v0,
-                            &ray,
-                            &prep,
-                            prep.total / (2 * SAMPLES) as f64,
-                            Importance::VarianceAware,
-                            Jitter::Stratified,
-                            rng,
-                            &mut lookups,
-                            &mut x1,
-                        );
-                        acc.1.push((-x1[0]).exp());
-                    }
-                    acc.2 += c.zero.load(Ordering::Relaxed);
-                    acc.3 += c.total.load(Ordering::Relaxed);
-                },
-                |a, b| {
-                    a.0.merge(b.0);
-                    a.1.merge(b.1);
-                    a.2 += b.2;
-                    a.3 += b.3;
-                },
-            );
-            Row {
-                size,
-                zero_fraction: zero as f64 / total.max(1) as f64,
-                nonempty,
-                jackknife: jk,
-                naive: nv,
-                exact,
-            }
-        })
+        .map(|&size| size_row(&grid, &ray, size, trials, exact))
         .collect()
+}
+
+/// `trials` estimates along `ray` with super-voxels of `size` voxels:
+/// the jackknife from two estimates of N samples and the naive e^{−X}
+/// from one of 2N, with the fraction of samples that contribute nothing.
+fn size_row(grid: &BrickGrid<f32>, ray: &Ray, size: u32, trials: u64, exact: f64) -> Row {
+    let svg = SuperVoxelGrid::build(DIMS, size, Filter::Nearest.apron(), |i, j, k| {
+        grid.fetch(i, j, k)
+    });
+    let view = || GridView {
+        grid,
+        filter: Filter::Nearest,
+        scale: 1.0,
+        supervoxels: &svg,
+        opacity: None,
+    };
+    let v0 = view();
+    let prep = prepare(&v0, ray, 0.0, DIMS[0] as f32, Importance::VarianceAware);
+    let nonempty = (0..svg.dims[0] as i32)
+        .filter(|&c| svg.get([c, (ROW / size) as i32, 0]).importance > 0.0)
+        .count();
+    let (jk, nv, zero, total) = run_chunked(
+        trials,
+        SEED,
+        size,
+        || (Moments::default(), Moments::default(), 0u64, 0u64),
+        |rng, acc, count| {
+            let c = Counting {
+                view: view(),
+                zero: AtomicU64::new(0),
+                total: AtomicU64::new(0),
+            };
+            let (mut x, mut x1, mut lookups) = ([0.0f64; 2], [0.0f64], 0u32);
+            for _ in 0..count {
+                estimates(
+                    &c,
+                    ray,
+                    &prep,
+                    prep.total / SAMPLES as f64,
+                    Importance::VarianceAware,
+                    Jitter::Stratified,
+                    rng,
+                    &mut lookups,
+                    &mut x,
+                );
+                acc.0.push(jackknife_transmittance(x[0], x[1]));
+                estimates(
+                    &v0,
+                    ray,
+                    &prep,
+                    prep.total / (2 * SAMPLES) as f64,
+                    Importance::VarianceAware,
+                    Jitter::Stratified,
+                    rng,
+                    &mut lookups,
+                    &mut x1,
+                );
+                acc.1.push((-x1[0]).exp());
+            }
+            acc.2 += c.zero.load(Ordering::Relaxed);
+            acc.3 += c.total.load(Ordering::Relaxed);
+        },
+        |a, b| {
+            a.0.merge(b.0);
+            a.1.merge(b.1);
+            a.2 += b.2;
+            a.3 += b.3;
+        },
+    );
+    Row {
+        size,
+        zero_fraction: zero as f64 / total.max(1) as f64,
+        nonempty,
+        jackknife: jk,
+        naive: nv,
+        exact,
+    }
 }
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let trials = trials.unwrap_or(DEFAULT_TRIALS);
     let rows = compute(trials, &SUPERVOXEL_SIZES);
+    write_csv(w, &rows)?;
+    w.figure("fig14", &figure(&rows, trials))?;
+    Ok(summary(&rows))
+}
+
+/// `fig14.csv`: per super-voxel size, the zero-contribution fraction and
+/// both estimates' bias and std.
+fn write_csv(w: &mut Writer, rows: &[Row]) -> Result<(), String> {
     let csv: Vec<Vec<String>> = rows
         .iter()
         .map(|r| {
@@ -243,7 +256,66 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             "naive_std",
         ],
         &csv,
-    )?;
+    )
+}
+
+/// The field with the ray and the 16-voxel super-voxels drawn over it,
+/// the zero-contribution fraction and the bias against super-voxel size.
+fn figure(rows: &[Row], trials: u64) -> Figure {
+    let sizes: Vec<f64> = rows.iter().map(|r| r.size as f64).collect();
+    Figure::new(3)
+        .panel_size(620, 420)
+        .title(format!(
+            "Seed 000 Fig. 14 analogue: sparse field, N = {SAMPLES}, {trials} trials per size"
+        ))
+        .with(field_panel())
+        .with(
+            LinePlot::new(
+                "samples contributing nothing",
+                "super-voxel size",
+                "fraction",
+            )
+            .y_range(0.0, 1.0)
+            .with(Series::new(
+                "zero-contribution fraction",
+                sizes
+                    .iter()
+                    .zip(rows)
+                    .map(|(&s, r)| (s, r.zero_fraction))
+                    .collect(),
+                palette(0),
+                Mark::LinePoints,
+            )),
+        )
+        .with(
+            LinePlot::new("transmittance bias", "super-voxel size", "mean - T")
+                .with(Series::new(
+                    "jackknife (m = 2, N = 10)",
+                    sizes
+                        .iter()
+                        .zip(rows)
+                        .map(|(&s, r)| (s, r.jackknife.mean() - r.exact))
+                        .collect(),
+                    palette(0),
+                    Mark::LinePoints,
+                ))
+                .with(Series::new(
+                    "naive e^-X (2N samples)",
+                    sizes
+                        .iter()
+                        .zip(rows)
+                        .map(|(&s, r)| (s, r.naive.mean() - r.exact))
+                        .collect(),
+                    palette(1),
+                    Mark::LinePoints,
+                ))
+                .with(Series::dashed("", vec![(8.0, 0.0), (16.0, 0.0)], Rgb::GREY)),
+        )
+}
+
+/// The extinction field as a heat map with the ray and the 16-voxel
+/// super-voxels along it drawn over it.
+fn field_panel() -> HeatMap {
     let grid = field();
     let values: Vec<f64> = (0..DIMS[1])
         .flat_map(|j| (0..DIMS[0]).map(move |i| (i, j)))
@@ -267,69 +339,25 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         vec![(0.0, 32.0), (DIMS[0] as f64, 32.0)],
         Rgb(255, 255, 255),
     ));
-    let sizes: Vec<f64> = rows.iter().map(|r| r.size as f64).collect();
-    let fig = Figure::new(3)
-        .panel_size(620, 420)
-        .title(format!(
-            "Seed 000 Fig. 14 analogue: sparse field, N = {SAMPLES}, {trials} trials per size"
-        ))
-        .with(HeatMap {
-            title: "extinction (x: ray direction)".into(),
-            x_label: "x (voxels)".into(),
-            y_label: "y (voxels)".into(),
-            x_range: (0.0, DIMS[0] as f64),
-            y_range: (0.0, DIMS[1] as f64),
-            nx: DIMS[0] as usize,
-            ny: DIMS[1] as usize,
-            values,
-            map: ColourMap::Sequential,
-            limits: (0.0, vmax),
-            bar_label: "mu".into(),
-            overlays,
-        })
-        .with(
-            LinePlot::new(
-                "samples contributing nothing",
-                "super-voxel size",
-                "fraction",
-            )
-            .y_range(0.0, 1.0)
-            .with(Series::new(
-                "zero-contribution fraction",
-                sizes
-                    .iter()
-                    .zip(&rows)
-                    .map(|(&s, r)| (s, r.zero_fraction))
-                    .collect(),
-                palette(0),
-                Mark::LinePoints,
-            )),
-        )
-        .with(
-            LinePlot::new("transmittance bias", "super-voxel size", "mean - T")
-                .with(Series::new(
-                    "jackknife (m = 2, N = 10)",
-                    sizes
-                        .iter()
-                        .zip(&rows)
-                        .map(|(&s, r)| (s, r.jackknife.mean() - r.exact))
-                        .collect(),
-                    palette(0),
-                    Mark::LinePoints,
-                ))
-                .with(Series::new(
-                    "naive e^-X (2N samples)",
-                    sizes
-                        .iter()
-                        .zip(&rows)
-                        .map(|(&s, r)| (s, r.naive.mean() - r.exact))
-                        .collect(),
-                    palette(1),
-                    Mark::LinePoints,
-                ))
-                .with(Series::dashed("", vec![(8.0, 0.0), (16.0, 0.0)], Rgb::GREY)),
-        );
-    w.figure("fig14", &fig)?;
+    HeatMap {
+        title: "extinction (x: ray direction)".into(),
+        x_label: "x (voxels)".into(),
+        y_label: "y (voxels)".into(),
+        x_range: (0.0, DIMS[0] as f64),
+        y_range: (0.0, DIMS[1] as f64),
+        nx: DIMS[0] as usize,
+        ny: DIMS[1] as usize,
+        values,
+        map: ColourMap::Sequential,
+        limits: (0.0, vmax),
+        bar_label: "mu".into(),
+        overlays,
+    }
+}
+
+/// The finding: the zero-contribution fraction and the bias at the
+/// largest and the smallest super-voxels, and a table of all.
+fn summary(rows: &[Row]) -> String {
     let lines: Vec<String> = rows
         .iter()
         .map(|r| {
@@ -346,7 +374,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         })
         .collect();
     let (a, b) = (rows[0], rows[rows.len() - 1]);
-    Ok(format!(
+    format!(
         "A ray along x at row {ROW} of a {}×{} field whose dense puffs lie mostly beside the ray (exact T = {:.5} along \
 the ray). With super-voxels of {} voxels {:.0}% of the N = {SAMPLES} samples per estimate return μ = μ_min and \
 contribute nothing (paper: 86% at 16); the jackknife bias is {:+.5}. Shrinking the super-voxels to {} voxels cuts \
@@ -362,5 +390,5 @@ predicts.\n\n| super-voxel size | non-empty super-voxels on the ray | zero-contr
         100.0 * b.zero_fraction,
         b.jackknife.mean() - b.exact,
         lines.join("\n")
-    ))
+    )
 }
