@@ -10,14 +10,67 @@
 //! 0.8) and compare at equal time with the baseline and the null-scattering
 //! tracer (`volpath` with NEE/phase MIS and residual ratio tracking).
 //! The supplementary study compares direction and vertex reuse. The
-//! dynamic-scene figures (8, 9, 13) are not here yet.
+//! dynamic-scene figures (8, 9, 13) are in `dynamic` and `bias`.
 
 use super::race::{equal_time_race, restir_frames, Rival};
-use crate::experiments::harness::protocol::{build, Frames, Reference};
+use crate::experiments::harness::protocol::{build, set, spp, Frames, Reference};
 use crate::experiments::harness::Writer;
 
 const WARM_UP: u32 = 8;
 const FRAMES: u32 = 16;
+
+/// (figure, configuration, overrides): each row changes one parameter of
+/// the default configuration.
+const CONFIGS: &[(&str, &str, &[&str])] = &[
+    ("default", "spatiotemporal, Talbot, radius 2 px", &[]),
+    ("4", "no reuse", &["integrator.reuse=none"]),
+    ("4", "spatial only", &["integrator.reuse=spatial"]),
+    ("4", "temporal only", &["integrator.reuse=temporal"]),
+    (
+        "7",
+        "stochastic MIS (Eq. 10)",
+        &["integrator.mis=stochastic"],
+    ),
+    ("suppl.", "vertex reuse", &["integrator.shift=vertex"]),
+    (
+        "beyond",
+        "pairwise MIS (2N target evaluations)",
+        &["integrator.mis=pairwise"],
+    ),
+    ("10", "reuse T̃ full resolution", &["integrator.reuse_mip=0"]),
+    ("10", "reuse T̃ mip 3", &["integrator.reuse_mip=3"]),
+    ("10", "reuse T̃ mip 1, BC4", &["integrator.reuse_bc4=true"]),
+    (
+        "11",
+        "candidate NEE T̃ full resolution",
+        &["integrator.nee_mip=0"],
+    ),
+    (
+        "11",
+        "no candidate NEE T̃",
+        &["integrator.nee_transmittance=false"],
+    ),
+    (
+        "12",
+        "candidates exact trilinear, full res",
+        &["integrator.primary_mip=0", "integrator.indirect_mip=0"],
+    ),
+    (
+        "12",
+        "candidates mip 3",
+        &["integrator.primary_mip=3", "integrator.indirect_mip=3"],
+    ),
+    ("14", "Q = 1", &["integrator.temporal_cap=1"]),
+    ("14", "Q = 20", &["integrator.temporal_cap=20"]),
+    (
+        "15",
+        "radius 10 px (the paper's, in pixels)",
+        &["integrator.radius=10"],
+    ),
+    ("15", "radius 5 px", &["integrator.radius=5"]),
+    ("15", "radius 20 px", &["integrator.radius=20"]),
+    ("15", "radius 40 px", &["integrator.radius=40"]),
+];
 
 fn scene(scale: f32, g: f32) -> String {
     format!(
@@ -72,74 +125,56 @@ fn row(figure: &str, config: &str, f: &Frames, reference: &Reference) -> Vec<Str
 }
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
-    let reference_spp = trials.unwrap_or(256).min(1 << 20) as u32;
+    let reference_spp = spp(trials, 256);
     let threads = rayon::current_num_threads();
-    let s = |v: &[&str]| -> Vec<String> { v.iter().map(|x| x.to_string()).collect() };
     let mut rows = Vec::new();
     let base = scene(40.0, 0.5);
     let reference = Reference::render(
-        &build(&base, &s(&["integrator.type=volpath"]))?,
+        &build(&base, &set(&["integrator.type=volpath"]))?,
         reference_spp,
         0x5EED_0004,
     );
-    let configs: &[(&str, &str, &[&str])] = &[
-        ("default", "spatiotemporal, Talbot, radius 2 px", &[]),
-        ("4", "no reuse", &["integrator.reuse=none"]),
-        ("4", "spatial only", &["integrator.reuse=spatial"]),
-        ("4", "temporal only", &["integrator.reuse=temporal"]),
-        (
-            "7",
-            "stochastic MIS (Eq. 10)",
-            &["integrator.mis=stochastic"],
-        ),
-        ("suppl.", "vertex reuse", &["integrator.shift=vertex"]),
-        (
-            "beyond",
-            "pairwise MIS (2N target evaluations)",
-            &["integrator.mis=pairwise"],
-        ),
-        ("10", "reuse T̃ full resolution", &["integrator.reuse_mip=0"]),
-        ("10", "reuse T̃ mip 3", &["integrator.reuse_mip=3"]),
-        ("10", "reuse T̃ mip 1, BC4", &["integrator.reuse_bc4=true"]),
-        (
-            "11",
-            "candidate NEE T̃ full resolution",
-            &["integrator.nee_mip=0"],
-        ),
-        (
-            "11",
-            "no candidate NEE T̃",
-            &["integrator.nee_transmittance=false"],
-        ),
-        (
-            "12",
-            "candidates exact trilinear, full res",
-            &["integrator.primary_mip=0", "integrator.indirect_mip=0"],
-        ),
-        (
-            "12",
-            "candidates mip 3",
-            &["integrator.primary_mip=3", "integrator.indirect_mip=3"],
-        ),
-        ("14", "Q = 1", &["integrator.temporal_cap=1"]),
-        ("14", "Q = 20", &["integrator.temporal_cap=20"]),
-        (
-            "15",
-            "radius 10 px (the paper's, in pixels)",
-            &["integrator.radius=10"],
-        ),
-        ("15", "radius 5 px", &["integrator.radius=5"]),
-        ("15", "radius 20 px", &["integrator.radius=20"]),
-        ("15", "radius 40 px", &["integrator.radius=40"]),
-    ];
-    for (fig, label, set) in configs {
-        let scene = build(&base, &s(set))?;
+    for (fig, label, overrides) in CONFIGS {
+        let scene = build(&base, &set(overrides))?;
         let f = restir_frames(&scene, &reference, WARM_UP, FRAMES, 0x5EED_0005);
         rows.push(row(fig, label, &f, &reference));
     }
-    // Fig. 19 (density) and Fig. 21 (phase): new scenes, each with its own
-    // reference, ReSTIR against the baseline (and the null-scattering
-    // tracer) at equal time (the 1-spp MSE scaled to ReSTIR's frame time).
+    let equal_time = equal_time_rows(&mut rows, reference_spp)?;
+    let header = [
+        "figure",
+        "configuration",
+        "ms_per_frame",
+        "candidates_ms",
+        "temporal_ms",
+        "spatial_ms",
+        "shading_ms",
+        "mse",
+        "mono_mse",
+        "error_autocorrelation_last_frame",
+    ];
+    w.csv("ablation.csv", &header, &rows)?;
+    let table: Vec<String> = rows
+        .iter()
+        .map(|r| format!("| {} |", r.join(" | ")))
+        .collect();
+    Ok(format!(
+        "Seed 002 ablations on fogbank's CPU backend ({threads} threads): procedural cloud under the sky probe, \
+         K = 3, 128×96, spatial radius 2 px unless stated, {WARM_UP} warm-up + {FRAMES} measured frames, reference `volpath` at {reference_spp} spp \
+         (its variance subtracted). Times are wall-clock per frame and per pass (ms).\n\n\
+         | fig. | configuration | ms/frame | candidates | temporal | spatial | shading | MSE | mono MSE | error autocorrelation (last frame) |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n{}\n\n\
+         Equal time against the paper's baseline and the null-scattering tracer (frames timed in turn with ReSTIR's, their MSE at the matched spp scaled to ReSTIR's frame time):\n\n\
+         | fig. | scene | ReSTIR ms/frame | ReSTIR MSE | baseline MSE (ratio) | null-scattering MSE (ratio) |\n|---|---|---|---|---|---|\n{}\n",
+        table.join("\n"),
+        equal_time.join("\n")
+    ))
+}
+
+/// Fig. 19 (density) and Fig. 21 (phase): new scenes, each with its own
+/// reference, ReSTIR against the baseline (and the null-scattering tracer)
+/// at equal time (the 1-spp MSE scaled to ReSTIR's frame time). ReSTIR's
+/// rows join `rows`; returns the Markdown lines of the equal-time table.
+fn equal_time_rows(rows: &mut Vec<Vec<String>>, reference_spp: u32) -> Result<Vec<String>, String> {
     let mut equal_time = Vec::new();
     for (fig, label, scale, g) in [
         ("19", "density ×0.2", 8.0, 0.5),
@@ -150,14 +185,14 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     ] {
         let text = scene(scale, g);
         let reference = Reference::render(
-            &build(&text, &s(&["integrator.type=volpath"]))?,
+            &build(&text, &set(&["integrator.type=volpath"]))?,
             reference_spp,
             0x5EED_0006,
         );
         let rival = |preset: &str| {
             build(
                 &text,
-                &s(&[
+                &set(&[
                     "integrator.type=volpath",
                     "integrator.max_depth=3",
                     preset,
@@ -189,32 +224,5 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             null / f.mse
         ));
     }
-    let header = [
-        "figure",
-        "configuration",
-        "ms_per_frame",
-        "candidates_ms",
-        "temporal_ms",
-        "spatial_ms",
-        "shading_ms",
-        "mse",
-        "mono_mse",
-        "error_autocorrelation_last_frame",
-    ];
-    w.csv("ablation.csv", &header, &rows)?;
-    let table: Vec<String> = rows
-        .iter()
-        .map(|r| format!("| {} |", r.join(" | ")))
-        .collect();
-    Ok(format!(
-        "Seed 002 ablations on fogbank's CPU backend ({threads} threads): procedural cloud under the sky probe, \
-         K = 3, 128×96, spatial radius 2 px unless stated, {WARM_UP} warm-up + {FRAMES} measured frames, reference `volpath` at {reference_spp} spp \
-         (its variance subtracted). Times are wall-clock per frame and per pass (ms).\n\n\
-         | fig. | configuration | ms/frame | candidates | temporal | spatial | shading | MSE | mono MSE | error autocorrelation (last frame) |\n\
-         |---|---|---|---|---|---|---|---|---|---|\n{}\n\n\
-         Equal time against the paper's baseline and the null-scattering tracer (frames timed in turn with ReSTIR's, their MSE at the matched spp scaled to ReSTIR's frame time):\n\n\
-         | fig. | scene | ReSTIR ms/frame | ReSTIR MSE | baseline MSE (ratio) | null-scattering MSE (ratio) |\n|---|---|---|---|---|---|\n{}\n",
-        table.join("\n"),
-        equal_time.join("\n")
-    ))
+    Ok(equal_time)
 }

@@ -15,9 +15,10 @@
 
 use super::scenes::{Motion, Shot};
 use super::sequence::{build_frames, frame_references, restir_sequence, rgb};
-use crate::experiments::harness::protocol::{build, independent_frames, lum, mono_mse, Reference};
+use crate::experiments::harness::protocol::{
+    build, independent_frames, lum, mono_mse, set, spp, Reference,
+};
 use crate::experiments::harness::Writer;
-use fogbank_image::image_io::write_png;
 use fogbank_render::integrators::restir::path::PathSample;
 use fogbank_render::integrators::restir::reservoir::Reservoir;
 use fogbank_render::integrators::restir::volume::SegmentT;
@@ -43,6 +44,44 @@ const MOTION_CONFIGS: &[(&str, &[&str])] = &[
 ];
 
 type Study<'a> = (&'a str, &'a str, Motion, &'a [(&'a str, &'a [&'a str])]);
+
+/// The studies of moving scenes: Figs. 8 and 13 under an orbit, the
+/// deforming plume and a drift; Fig. 14 under a sweeping sun.
+const STUDIES: &[Study] = &[
+    (
+        "8, 13",
+        "orbit",
+        Motion::Orbit {
+            degrees: 2.0,
+            stop: u32::MAX,
+        },
+        MOTION_CONFIGS,
+    ),
+    ("8, 13", "plume", Motion::Plume { fps: 8.0 }, MOTION_CONFIGS),
+    (
+        "8",
+        "drift",
+        Motion::Drift { step: 0.02 },
+        &[
+            ("spatial only", &["integrator.reuse=spatial"]),
+            (
+                "temporal without reprojection",
+                &["integrator.reprojection=false"],
+            ),
+            ("reprojection + velocity resampling", &[]),
+        ],
+    ),
+    (
+        "14",
+        "sun sweep 30°/frame",
+        Motion::SunSweep { degrees: 30.0 },
+        &[
+            ("Q = 1", &["integrator.temporal_cap=1"]),
+            ("Q = 4", &[]),
+            ("Q = 20", &["integrator.temporal_cap=20"]),
+        ],
+    ),
+];
 
 /// Background pixels (primary transmittance ≥ 0.9) within 2 px of a
 /// medium pixel: where a silhouette halo shows.
@@ -124,19 +163,6 @@ fn measure(frames: &[Scene], refs: &[Reference]) -> Run {
     }
 }
 
-fn png(
-    w: &mut Writer,
-    file: &str,
-    width: u32,
-    height: u32,
-    img: &[[f32; 3]],
-) -> Result<(), String> {
-    let path = w.path(file);
-    write_png(&path, width, height, img, &Default::default()).map_err(|e| e.to_string())?;
-    w.record(path);
-    Ok(())
-}
-
 fn shot(motion: Motion) -> Shot {
     Shot {
         motion,
@@ -148,79 +174,12 @@ fn shot(motion: Motion) -> Shot {
 }
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
-    let reference_spp = trials.unwrap_or(64).min(1 << 20) as u32;
+    let reference_spp = spp(trials, 64);
     let threads = rayon::current_num_threads();
-    let s = |v: &[&str]| -> Vec<String> { v.iter().map(|x| x.to_string()).collect() };
     let mut rows = Vec::new();
     let mut table = Vec::new();
-    let studies: &[Study] = &[
-        (
-            "8, 13",
-            "orbit",
-            Motion::Orbit {
-                degrees: 2.0,
-                stop: u32::MAX,
-            },
-            MOTION_CONFIGS,
-        ),
-        ("8, 13", "plume", Motion::Plume { fps: 8.0 }, MOTION_CONFIGS),
-        (
-            "8",
-            "drift",
-            Motion::Drift { step: 0.02 },
-            &[
-                ("spatial only", &["integrator.reuse=spatial"]),
-                (
-                    "temporal without reprojection",
-                    &["integrator.reprojection=false"],
-                ),
-                ("reprojection + velocity resampling", &[]),
-            ],
-        ),
-        (
-            "14",
-            "sun sweep 30°/frame",
-            Motion::SunSweep { degrees: 30.0 },
-            &[
-                ("Q = 1", &["integrator.temporal_cap=1"]),
-                ("Q = 4", &[]),
-                ("Q = 20", &["integrator.temporal_cap=20"]),
-            ],
-        ),
-    ];
-    for (fig, name, motion, configs) in studies {
-        let sh = shot(*motion);
-        let text = sh.text();
-        let refs = frame_references(&text, &[], WARM_UP..sh.frames, reference_spp, 0x5EED_0021)?;
-        let stem = name.split(' ').next().unwrap_or("scene");
-        png(
-            w,
-            &format!("{stem}_reference.png"),
-            sh.width,
-            sh.height,
-            &refs[refs.len() - 1].rgb,
-        )?;
-        for (i, (label, set)) in configs.iter().enumerate() {
-            let frames = build_frames(&text, &s(set), sh.frames)?;
-            let r = measure(&frames, &refs);
-            png(w, &format!("{stem}_{i}.png"), sh.width, sh.height, &r.last)?;
-            table.push(format!(
-                "| {fig} | {name} | {label} | {:.1} | {:.3e} | {:+.2} % | {:.2} |",
-                r.ms,
-                r.mse,
-                100.0 * r.halo,
-                r.fireflies
-            ));
-            rows.push(vec![
-                fig.to_string(),
-                name.to_string(),
-                label.to_string(),
-                format!("{:.2}", r.ms),
-                format!("{:.5e}", r.mse),
-                format!("{:.5}", r.halo),
-                format!("{:.3}", r.fireflies),
-            ]);
-        }
+    for study in STUDIES {
+        measure_study(w, study, reference_spp, &mut rows, &mut table)?;
     }
     w.csv(
         "dynamic.csv",
@@ -252,14 +211,65 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     ))
 }
 
+/// One study: per-frame references from `reference_spp` spp (the last
+/// written as `<scene>_reference.png`), then each configuration's frames
+/// (its last as `<scene>_<row>.png`), its CSV row into `rows` and its
+/// Markdown line into `table`.
+fn measure_study(
+    w: &mut Writer,
+    (fig, name, motion, configs): &Study,
+    reference_spp: u32,
+    rows: &mut Vec<Vec<String>>,
+    table: &mut Vec<String>,
+) -> Result<(), String> {
+    let sh = shot(*motion);
+    let text = sh.text();
+    let refs = frame_references(&text, &[], WARM_UP..sh.frames, reference_spp, 0x5EED_0021)?;
+    let stem = name.split(' ').next().unwrap_or("scene");
+    w.png(
+        &format!("{stem}_reference.png"),
+        sh.width,
+        sh.height,
+        &refs[refs.len() - 1].rgb,
+        0.0,
+    )?;
+    for (i, (label, overrides)) in configs.iter().enumerate() {
+        let frames = build_frames(&text, &set(overrides), sh.frames)?;
+        let r = measure(&frames, &refs);
+        w.png(
+            &format!("{stem}_{i}.png"),
+            sh.width,
+            sh.height,
+            &r.last,
+            0.0,
+        )?;
+        table.push(format!(
+            "| {fig} | {name} | {label} | {:.1} | {:.3e} | {:+.2} % | {:.2} |",
+            r.ms,
+            r.mse,
+            100.0 * r.halo,
+            r.fireflies
+        ));
+        rows.push(vec![
+            fig.to_string(),
+            name.to_string(),
+            label.to_string(),
+            format!("{:.2}", r.ms),
+            format!("{:.5e}", r.mse),
+            format!("{:.5}", r.halo),
+            format!("{:.3}", r.fireflies),
+        ]);
+    }
+    Ok(())
+}
+
 /// Fig. 20: the mean of N frames of one sequence of the static cloud, with
 /// its colour, monochrome and chroma error, beside the baseline's.
 fn accumulation(w: &mut Writer, reference_spp: u32) -> Result<String, String> {
     let sh = shot(Motion::Still);
     let text = sh.text();
-    let s = |v: &[&str]| -> Vec<String> { v.iter().map(|x| x.to_string()).collect() };
     let reference = Reference::render(
-        &build(&text, &s(&["integrator.type=volpath"]))?,
+        &build(&text, &set(&["integrator.type=volpath"]))?,
         reference_spp,
         0x5EED_0022,
     );
@@ -304,7 +314,7 @@ fn accumulation(w: &mut Writer, reference_spp: u32) -> Result<String, String> {
     )?;
     let baseline = build(
         &text,
-        &s(&[
+        &set(&[
             "integrator.type=volpath",
             "integrator.max_depth=3",
             "integrator.preset=restir_baseline",

@@ -25,13 +25,15 @@
 use super::race::{equal_time_race, Rival};
 use super::scenes::{Motion, Shot};
 use super::sequence::{build_frames, frame_references, rgb};
-use crate::experiments::harness::protocol::{build, scenes_dir, Frames, Reference};
+use crate::experiments::harness::protocol::{
+    build, render_at, scenes_dir, set, spp, Frames, Reference,
+};
 use crate::experiments::harness::SceneText;
 use crate::experiments::harness::Writer;
 use crate::plot::{palette, Corner, Figure, LinePlot, Mark, Series};
 use fogbank_render::integrators::restir::frame::{PassTimes, Sequence};
 use fogbank_render::integrators::IntegratorKind;
-use fogbank_render::{render, Progress, RenderOptions, Scene};
+use fogbank_render::Scene;
 use std::time::Instant;
 
 /// Reference pixel samples (`--trials` overrides).
@@ -71,20 +73,18 @@ fn cloud(lights: &str, seed: u32, scale: f32) -> String {
 }
 
 fn cases() -> Result<Vec<Case>, String> {
+    let mut v = paper_cases()?;
+    let pairwise = pairwise_cases(&v);
+    v.extend(pairwise);
+    Ok(v)
+}
+
+/// The stand-ins of the paper's equal-time cases (Figs. 16 and 17).
+fn paper_cases() -> Result<Vec<Case>, String> {
     let probe = "[[lights]]\ntype = \"envmap\"\nfile = \"probes/sky.hdr\"\n";
     let sun = "[[lights]]\ntype = \"directional\"\ndirection = [-0.4, -0.8, -0.3]\nirradiance = [3.0, 2.9, 2.7]\n\
                [[lights]]\ntype = \"constant\"\nradiance = [0.2, 0.25, 0.35]\n";
-    let dragon = "[camera]\nfrom = [3.0, 4.5, 13.0]\nto = [5.0, 2.5, 5.0]\nfov = 40.0\nwidth = 128\nheight = 96\n\
-        [[media]]\ndensity = { vdb = \"../data/dragon.vdb\", grid = \"density\" }\n\
-        sigma_t_scale = 8.0\nalbedo = [0.9, 0.9, 0.9]\n\
-        [[lights]]\ntype = \"envmap\"\nfile = \"probes/sky.hdr\"\n[render]\npixel_jitter = false\n"
-        .to_string();
-    let explosion = SceneText::read(&scenes_dir().join("explosion.toml"))?
-        .replace("width = 480", "width = 128")?
-        .replace("height = 400", "height = 96")?
-        .replace("[render]\nspp = 128", "[render]\npixel_jitter = false")?
-        .replace("[integrator]\ntype = \"volpath\"\nmax_depth = 8\n", "")?
-        .text();
+    let explosion = explosion()?;
     let mut v = Vec::new();
     for k in [1, 3, 7] {
         v.push(Case {
@@ -102,30 +102,11 @@ fn cases() -> Result<Vec<Case>, String> {
     });
     v.push(Case {
         name: "dragon smoke",
-        scene: dragon,
+        scene: dragon(),
         k: 3,
         restir: &[],
     });
-    // The paper's equal-time Plume (Fig. 17, K up to 7) under its protocol
-    // ("scenes are static unless noted"): frame 0 of fogbank's procedural
-    // plume, held still.
-    let still = Shot {
-        motion: Motion::Plume { fps: 24.0 },
-        frames: 1,
-        k: 3,
-        width: 128,
-        height: 96,
-    }
-    .text();
-    let still = SceneText::new(
-        &still[..still.find("[animation]").unwrap_or(still.len())],
-        "the still plume",
-    )
-    .replace(
-        "[integrator]\ntype = \"restir\"\nmax_depth = 3\nradius = 2.0\n",
-        "",
-    )?
-    .text();
+    let still = still_plume()?;
     for k in [3, 7] {
         v.push(Case {
             name: "plume, still",
@@ -134,23 +115,9 @@ fn cases() -> Result<Vec<Case>, String> {
             restir: &[],
         });
     }
-    // The plume animated too (Fig. 4's Plume is dynamic): 24 fps, as
-    // `restir-dynamic` renders it.
-    let plume = Shot {
-        motion: Motion::Plume { fps: 24.0 },
-        frames: WARM_UP + FRAMES,
-        k: 3,
-        width: 128,
-        height: 96,
-    };
     v.push(Case {
         name: "animated plume",
-        scene: SceneText::new(plume.text(), "the animated plume")
-            .replace(
-                "[integrator]\ntype = \"restir\"\nmax_depth = 3\nradius = 2.0\n",
-                "",
-            )?
-            .text(),
+        scene: animated_plume()?,
         k: 3,
         restir: &[],
     });
@@ -162,12 +129,77 @@ fn cases() -> Result<Vec<Case>, String> {
             restir: &[],
         });
     }
-    // Beyond the paper: pairwise MIS in the reuse passes (2N instead of
-    // N(N + 1) target evaluations), on the cases above where ReSTIR is
-    // closest to or behind the baseline.
+    Ok(v)
+}
+
+/// The Houdini dragon of `data/` (a real smoke simulation, standing in for
+/// the plume) under the sky probe.
+fn dragon() -> String {
+    "[camera]\nfrom = [3.0, 4.5, 13.0]\nto = [5.0, 2.5, 5.0]\nfov = 40.0\nwidth = 128\nheight = 96\n\
+        [[media]]\ndensity = { vdb = \"../data/dragon.vdb\", grid = \"density\" }\n\
+        sigma_t_scale = 8.0\nalbedo = [0.9, 0.9, 0.9]\n\
+        [[lights]]\ntype = \"envmap\"\nfile = \"probes/sky.hdr\"\n[render]\npixel_jitter = false\n"
+        .to_string()
+}
+
+/// The shipped `scenes/explosion.toml` at 128×96 with pixel-centre rays and
+/// no integrator of its own.
+fn explosion() -> Result<String, String> {
+    Ok(SceneText::read(&scenes_dir().join("explosion.toml"))?
+        .replace("width = 480", "width = 128")?
+        .replace("height = 400", "height = 96")?
+        .replace("[render]\nspp = 128", "[render]\npixel_jitter = false")?
+        .replace("[integrator]\ntype = \"volpath\"\nmax_depth = 8\n", "")?
+        .text())
+}
+
+/// The paper's equal-time Plume (Fig. 17, K up to 7) under its protocol
+/// ("scenes are static unless noted"): frame 0 of fogbank's procedural
+/// plume, held still.
+fn still_plume() -> Result<String, String> {
+    let still = Shot {
+        motion: Motion::Plume { fps: 24.0 },
+        frames: 1,
+        k: 3,
+        width: 128,
+        height: 96,
+    }
+    .text();
+    Ok(SceneText::new(
+        &still[..still.find("[animation]").unwrap_or(still.len())],
+        "the still plume",
+    )
+    .replace(
+        "[integrator]\ntype = \"restir\"\nmax_depth = 3\nradius = 2.0\n",
+        "",
+    )?
+    .text())
+}
+
+/// The plume animated too (Fig. 4's Plume is dynamic): 24 fps, as
+/// `restir-dynamic` renders it.
+fn animated_plume() -> Result<String, String> {
+    let plume = Shot {
+        motion: Motion::Plume { fps: 24.0 },
+        frames: WARM_UP + FRAMES,
+        k: 3,
+        width: 128,
+        height: 96,
+    };
+    Ok(SceneText::new(plume.text(), "the animated plume")
+        .replace(
+            "[integrator]\ntype = \"restir\"\nmax_depth = 3\nradius = 2.0\n",
+            "",
+        )?
+        .text())
+}
+
+/// Beyond the paper: pairwise MIS in the reuse passes (2N instead of
+/// N(N + 1) target evaluations), on the cases of `v` where ReSTIR is
+/// closest to or behind the baseline.
+fn pairwise_cases(v: &[Case]) -> Vec<Case> {
     const PAIRWISE: &[&str] = &["integrator.mis=pairwise"];
-    let pairwise: Vec<Case> = v
-        .iter()
+    v.iter()
         .filter(|c| {
             (c.name == "probe cloud" && c.k < 7)
                 || c.name == "dragon smoke"
@@ -183,9 +215,7 @@ fn cases() -> Result<Vec<Case>, String> {
             k: c.k,
             restir: PAIRWISE,
         })
-        .collect();
-    v.extend(pairwise);
-    Ok(v)
+        .collect()
 }
 
 struct Measured {
@@ -202,11 +232,14 @@ struct Measured {
 fn overrides(c: &Case) -> [Vec<String>; 3] {
     let depth = format!("integrator.max_depth={}", c.k);
     let radius = format!("integrator.radius={RADIUS}");
-    let s = |v: &[&str]| -> Vec<String> { v.iter().map(|x| x.to_string()).collect() };
     [
-        s(&["integrator.type=volpath", &depth]),
-        [s(&["integrator.type=restir", &depth, &radius]), s(c.restir)].concat(),
-        s(&[
+        set(&["integrator.type=volpath", &depth]),
+        [
+            set(&["integrator.type=restir", &depth, &radius]),
+            set(c.restir),
+        ]
+        .concat(),
+        set(&[
             "integrator.type=volpath",
             "integrator.preset=restir_baseline",
             "media.0.supervoxel=8",
@@ -295,15 +328,8 @@ fn race_frames(
         (clock.elapsed().as_secs_f64(), rgb(&out), out.times)
     };
     let baseline_frame = |f: usize, spp: u32, seed: u32| {
-        let opts = RenderOptions {
-            spp,
-            seed,
-            time_budget: None,
-        };
         let clock = Instant::now();
-        let img = render(&baseline[f], &opts, &Progress::default())
-            .film
-            .mean();
+        let img = render_at(&baseline[f], spp, seed).film.mean();
         (clock.elapsed().as_secs_f64(), img)
     };
     let (mut r, mut one, mut b) = (Tally::default(), Tally::default(), Tally::default());
@@ -371,7 +397,7 @@ impl Tally {
 }
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
-    let reference_spp = trials.unwrap_or(DEFAULT_REFERENCE_SPP).min(1 << 20) as u32;
+    let reference_spp = spp(trials, DEFAULT_REFERENCE_SPP);
     let threads = rayon::current_num_threads();
     let table = compare(
         w,
@@ -415,29 +441,10 @@ pub fn compare(
     .legend(Corner::LowerLeft);
     for (i, c) in cases.iter().enumerate() {
         let m = measure(c, reference_spp).map_err(|e| format!("{} K={}: {e}", c.name, c.k))?;
-        let (r, b, b1) = (&m.restir, &m.baseline.frames, &m.baseline.one_spp);
-        let matched = b.mse / r.mse;
-        let (extrapolated, mono) = m.baseline.ratios(r);
-        rows.push(vec![
-            c.name.to_string(),
-            c.k.to_string(),
-            format!("{:.2}", r.ms),
-            format!("{:.4e}", r.mse),
-            m.baseline.spp.to_string(),
-            format!("{:.2}", b.ms),
-            format!("{:.4e}", b.mse),
-            format!("{matched:.2}"),
-            format!("{:.2}", b1.ms),
-            format!("{:.4e}", b1.mse),
-            format!("{extrapolated:.2}"),
-            format!("{:.4e}", r.mono_mse),
-            format!("{:.4e}", b.mono_mse),
-            format!("{mono:.2}"),
-        ]);
-        lines.push(format!(
-            "| {} | {} | {:.1} | {:.3e} | {} ({:.1} ms) | {:.3e} | {matched:.2}× | {extrapolated:.2}× | {:.3e} | {mono:.2}× |",
-            c.name, c.k, r.ms, r.mse, m.baseline.spp, b.ms, b.mse, r.mono_mse
-        ));
+        let (row, line) = case_row(c, &m);
+        rows.push(row);
+        lines.push(line);
+        let (r, b) = (&m.restir, &m.baseline.frames);
         let label = format!("{} K={}", c.name, c.k);
         // One frame of each at equal time beside the reference.
         let file = format!("frames_{i}.png");
@@ -462,26 +469,7 @@ pub fn compare(
                 Mark::Dashed,
             ));
     }
-    w.csv(
-        "equal_time.csv",
-        &[
-            "case",
-            "K",
-            "restir_ms",
-            "restir_mse",
-            "baseline_spp",
-            "baseline_ms",
-            "baseline_mse",
-            "mse_ratio_matched",
-            "baseline_1spp_ms",
-            "baseline_1spp_mse",
-            "mse_ratio_equal_time",
-            "restir_mono_mse",
-            "baseline_mono_mse",
-            "mono_mse_ratio_equal_time",
-        ],
-        &rows,
-    )?;
+    w.csv("equal_time.csv", &HEADER, &rows)?;
     w.figure(
         "mse_vs_time",
         &Figure::new(1)
@@ -489,7 +477,13 @@ pub fn compare(
             .title(figure_title)
             .with(plot),
     )?;
-    Ok(format!(
+    Ok(note(&lines, &images))
+}
+
+/// The Markdown table of `compare` with its note on the protocol and the
+/// images.
+fn note(lines: &[String], images: &[String]) -> String {
+    format!(
         "| case | K | ReSTIR ms/frame | ReSTIR MSE | baseline spp (ms/frame) | baseline MSE | ratio at matched spp | ratio at equal time | ReSTIR mono MSE | mono ratio at equal time |\n\
          |---|---|---|---|---|---|---|---|---|---|\n{}\n\n\
          Each ReSTIR frame is timed in turn with a baseline frame. \"matched\": the baseline's MSE at the spp its 1-spp frames \
@@ -500,7 +494,53 @@ pub fn compare(
          One frame of ReSTIR, one of the baseline at the matched spp, and the reference, left to right: {}.",
         lines.join("\n"),
         images.join("; ")
-    ))
+    )
+}
+
+/// The columns of `equal_time.csv`.
+const HEADER: [&str; 14] = [
+    "case",
+    "K",
+    "restir_ms",
+    "restir_mse",
+    "baseline_spp",
+    "baseline_ms",
+    "baseline_mse",
+    "mse_ratio_matched",
+    "baseline_1spp_ms",
+    "baseline_1spp_mse",
+    "mse_ratio_equal_time",
+    "restir_mono_mse",
+    "baseline_mono_mse",
+    "mono_mse_ratio_equal_time",
+];
+
+/// Case `c`'s CSV row and Markdown table line.
+fn case_row(c: &Case, m: &Measured) -> (Vec<String>, String) {
+    let (r, b, b1) = (&m.restir, &m.baseline.frames, &m.baseline.one_spp);
+    let matched = b.mse / r.mse;
+    let (extrapolated, mono) = m.baseline.ratios(r);
+    let row = vec![
+        c.name.to_string(),
+        c.k.to_string(),
+        format!("{:.2}", r.ms),
+        format!("{:.4e}", r.mse),
+        m.baseline.spp.to_string(),
+        format!("{:.2}", b.ms),
+        format!("{:.4e}", b.mse),
+        format!("{matched:.2}"),
+        format!("{:.2}", b1.ms),
+        format!("{:.4e}", b1.mse),
+        format!("{extrapolated:.2}"),
+        format!("{:.4e}", r.mono_mse),
+        format!("{:.4e}", b.mono_mse),
+        format!("{mono:.2}"),
+    ];
+    let line = format!(
+        "| {} | {} | {:.1} | {:.3e} | {} ({:.1} ms) | {:.3e} | {matched:.2}× | {extrapolated:.2}× | {:.3e} | {mono:.2}× |",
+        c.name, c.k, r.ms, r.mse, m.baseline.spp, b.ms, b.mse, r.mono_mse
+    );
+    (row, line)
 }
 
 #[cfg(test)]

@@ -184,7 +184,7 @@ pub fn restir_frames(
 #[cfg(test)]
 mod tests {
     use super::{equal_time_race, restir_frames};
-    use crate::experiments::harness::protocol::{build, Reference};
+    use crate::experiments::harness::protocol::{build, set, Reference};
 
     const SCENE: &str = "[camera]\nfrom = [0.0, 0.1, 2.0]\nto = [0.0, 0.0, 0.0]\nfov = 40.0\n\
         width = 12\nheight = 8\n\
@@ -199,7 +199,6 @@ mod tests {
     /// checked.)
     #[test]
     fn race_renders_what_restir_frames_renders() {
-        let set = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
         let reference = Reference::render(
             &build(SCENE, &set(&["integrator.type=volpath"])).unwrap(),
             16,

@@ -15,7 +15,7 @@
 //!   K = 1: volume single scattering plus direct light on the road.
 
 use super::equal_time::{compare, Case, DEFAULT_REFERENCE_SPP, FRAMES, RADIUS, WARM_UP};
-use crate::experiments::harness::protocol::scenes_dir;
+use crate::experiments::harness::protocol::{scenes_dir, spp};
 use crate::experiments::harness::SceneText;
 use crate::experiments::harness::Writer;
 
@@ -70,7 +70,7 @@ fn cases() -> Result<Vec<Case>, String> {
 }
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
-    let reference_spp = trials.unwrap_or(DEFAULT_REFERENCE_SPP).min(1 << 20) as u32;
+    let reference_spp = spp(trials, DEFAULT_REFERENCE_SPP);
     let threads = rayon::current_num_threads();
     let table = compare(
         w,
