@@ -9,7 +9,7 @@
 //! 10 s; here on the CPU at 64×48, so the budgets buy far fewer samples per
 //! pixel than the thesis's GPU at 512²) with the images.
 
-use super::runtime::{scene, CASES};
+use super::runtime::{scene, Case, CASES};
 use crate::experiments::harness::protocol::{build, race, Reference};
 use crate::experiments::harness::Writer;
 use crate::plot::{palette, Corner, Figure, LinePlot, Series};
@@ -52,67 +52,8 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let mut fig = Figure::new(2).title("Seed 004 Figs. 4.12-4.24: MSE over render time (CPU)");
     let (mut rows, mut lines) = (Vec::new(), Vec::new());
     for &row in &ROWS {
-        let case = &CASES[row];
-        let text = scene(case, WIDTH, HEIGHT)?;
-        let reference = Reference::render(&build(&text, &[])?, reference_spp, 0x0412);
-        let stem = case.name.to_lowercase().replace(' ', "_");
-        w.png(
-            &format!("{stem}_reference.png"),
-            WIDTH,
-            HEIGHT,
-            &reference.rgb,
-            0.0,
-        )?;
-        let mut plot = LinePlot::new(case.name, "seconds", "MSE")
-            .log_x()
-            .log_y()
-            .legend(Corner::UpperRight);
-        let mut cells = Vec::new();
-        let methods = methods(case.steps[1]);
-        let sets: Vec<Vec<String>> = methods.iter().map(|(_, set)| set.clone()).collect();
-        let runs = race(&text, &sets, &reference, budget, &BUDGETS, 0x0412)?;
-        for (i, ((frames, shots), (label, _))) in runs.into_iter().zip(&methods).enumerate() {
-            let spp = frames.curve.len();
-            let mse_at = |t: f64| {
-                frames
-                    .curve
-                    .iter()
-                    .find(|p| p.0 >= t)
-                    .or(frames.curve.last())
-                    .map_or(f64::NAN, |p| p.1)
-            };
-            let mut flips = Vec::new();
-            for (b, shot) in BUDGETS.iter().zip(&shots) {
-                let f = flip(&image(&reference.rgb), &image(shot))?;
-                let name = format!("{stem}_{}_{b}s.png", label.replace(' ', "_"));
-                w.png(&name, WIDTH, HEIGHT, shot, 0.0)?;
-                flips.push(f.mean);
-            }
-            rows.push(vec![
-                case.name.to_string(),
-                label.to_string(),
-                case.steps[1].to_string(),
-                spp.to_string(),
-                format!("{:.4e}", mse_at(BUDGETS[0])),
-                format!("{:.4e}", mse_at(BUDGETS[1])),
-                format!("{:.4}", flips[0]),
-                format!("{:.4}", flips[1]),
-            ]);
-            cells.push(format!(
-                "{label}: {spp} spp, MSE {:.1e} → {:.1e}, FLIP {:.3} → {:.3}",
-                mse_at(BUDGETS[0]),
-                mse_at(BUDGETS[1]),
-                flips[0],
-                flips[1]
-            ));
-            plot = plot.with(Series::line(*label, frames.log_curve(), palette(i)));
-        }
-        lines.push(format!(
-            "| {} (step {}) | {} |",
-            case.name,
-            case.steps[1],
-            cells.join(" · ")
-        ));
+        let (line, plot) = measure_case(w, &CASES[row], reference_spp, &mut rows)?;
+        lines.push(line);
         fig = fig.with(plot);
     }
     w.figure("mse_over_time", &fig)?;
@@ -138,6 +79,79 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         rayon::current_num_threads(),
         lines.join("\n")
     ))
+}
+
+/// One scene: its reference (`<scene>_reference.png`), then the three
+/// methods raced for the larger budget, their running means at both
+/// budgets (`<scene>_<method>_<budget>s.png`); the CSV rows join `rows`,
+/// returns the Markdown line and the MSE-over-time panel.
+fn measure_case(
+    w: &mut Writer,
+    case: &Case,
+    reference_spp: u32,
+    rows: &mut Vec<Vec<String>>,
+) -> Result<(String, LinePlot), String> {
+    let text = scene(case, WIDTH, HEIGHT)?;
+    let reference = Reference::render(&build(&text, &[])?, reference_spp, 0x0412);
+    let stem = case.name.to_lowercase().replace(' ', "_");
+    w.png(
+        &format!("{stem}_reference.png"),
+        WIDTH,
+        HEIGHT,
+        &reference.rgb,
+        0.0,
+    )?;
+    let mut plot = LinePlot::new(case.name, "seconds", "MSE")
+        .log_x()
+        .log_y()
+        .legend(Corner::UpperRight);
+    let mut cells = Vec::new();
+    let methods = methods(case.steps[1]);
+    let sets: Vec<Vec<String>> = methods.iter().map(|(_, set)| set.clone()).collect();
+    let runs = race(&text, &sets, &reference, BUDGETS[1], &BUDGETS, 0x0412)?;
+    for (i, ((frames, shots), (label, _))) in runs.into_iter().zip(&methods).enumerate() {
+        let spp = frames.curve.len();
+        let mse_at = |t: f64| {
+            frames
+                .curve
+                .iter()
+                .find(|p| p.0 >= t)
+                .or(frames.curve.last())
+                .map_or(f64::NAN, |p| p.1)
+        };
+        let mut flips = Vec::new();
+        for (b, shot) in BUDGETS.iter().zip(&shots) {
+            let f = flip(&image(&reference.rgb), &image(shot))?;
+            let name = format!("{stem}_{}_{b}s.png", label.replace(' ', "_"));
+            w.png(&name, WIDTH, HEIGHT, shot, 0.0)?;
+            flips.push(f.mean);
+        }
+        rows.push(vec![
+            case.name.to_string(),
+            label.to_string(),
+            case.steps[1].to_string(),
+            spp.to_string(),
+            format!("{:.4e}", mse_at(BUDGETS[0])),
+            format!("{:.4e}", mse_at(BUDGETS[1])),
+            format!("{:.4}", flips[0]),
+            format!("{:.4}", flips[1]),
+        ]);
+        cells.push(format!(
+            "{label}: {spp} spp, MSE {:.1e} → {:.1e}, FLIP {:.3} → {:.3}",
+            mse_at(BUDGETS[0]),
+            mse_at(BUDGETS[1]),
+            flips[0],
+            flips[1]
+        ));
+        plot = plot.with(Series::line(*label, frames.log_curve(), palette(i)));
+    }
+    let line = format!(
+        "| {} (step {}) | {} |",
+        case.name,
+        case.steps[1],
+        cells.join(" · ")
+    );
+    Ok((line, plot))
 }
 
 #[cfg(test)]

@@ -10,7 +10,7 @@
 //! RM 1.93 / 25.57 / 136.2 ms, PinMS 1.83 / 20.16 / 87.41 ms → 1.05 /
 //! 1.27 / 1.56×.
 
-use crate::experiments::harness::protocol::{build, independent_frames, Reference};
+use crate::experiments::harness::protocol::{build, independent_frames, set, Reference};
 use crate::experiments::harness::Writer;
 use fogbank_math::Pcg32;
 use std::time::Instant;
@@ -68,11 +68,10 @@ pub struct Row {
 
 pub fn measure(n: u32, width: u32, height: u32, reference_spp: u32) -> Result<Row, String> {
     let text = scene(n, width, height);
-    let s = |v: &[&str]| -> Vec<String> { v.iter().map(|x| x.to_string()).collect() };
     let reference = Reference::render(&build(&text, &[])?, reference_spp, 0x0410);
-    let rm = build(&text, &s(&["integrator.tracking=ray_marching"]))?;
+    let rm = build(&text, &set(&["integrator.tracking=ray_marching"]))?;
     let clock = Instant::now();
-    let pin = build(&text, &s(&["integrator.pins=ms"]))?;
+    let pin = build(&text, &set(&["integrator.pins=ms"]))?;
     let build_s = clock.elapsed().as_secs_f64();
     let (mut rm_ms, mut pin_ms, mut rm_mse, mut pin_mse) = (0.0, 0.0, 0.0, 0.0);
     // Interleaved, so drift of the machine's speed hits both alike.

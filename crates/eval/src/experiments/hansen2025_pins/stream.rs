@@ -13,13 +13,13 @@
 //! shadow region against unbiased `volpath`.
 
 use super::surfaces::{region_mse, scene, shadow_region, HEIGHT, WIDTH};
-use crate::experiments::harness::protocol::{build, Accumulator, Reference};
+use crate::experiments::harness::protocol::{build, render_at, Accumulator, Reference};
 use crate::experiments::harness::Writer;
 use fogbank_render::integrators::restir::frame::PassTimes;
 use fogbank_render::integrators::shared::pin_stream::{stream, STREAM_SPACING};
 use fogbank_render::integrators::shared::tracking::PinSet;
 use fogbank_render::integrators::IntegratorKind;
-use fogbank_render::{render, Progress, RenderOptions, Scene};
+use fogbank_render::Scene;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -73,12 +73,9 @@ impl Run<'_> {
                 self.set = Some(next);
             }
         }
-        let opts = RenderOptions {
-            spp: 1,
-            seed: self.seed + self.frame,
-            time_budget: None,
-        };
-        self.last = render(&self.scene, &opts, &Progress::default()).film.mean();
+        self.last = render_at(&self.scene, 1, self.seed + self.frame)
+            .film
+            .mean();
         self.acc.add(&self.last, clock.elapsed().as_secs_f64());
         self.frame += 1;
         true

@@ -90,6 +90,11 @@ pub fn region_mse(img: &[[f32; 3]], r: &Reference, region: &[bool]) -> f64 {
     ((sum - floor) / n as f64).max(0.0)
 }
 
+/// Seconds of frames per method in the error-over-time race (Fig. 4.13)
+/// and per step in the bias race (Fig. 4.12).
+const BUDGET: f64 = 10.0;
+const SHORT: f64 = 3.0;
+
 fn methods(step: f32) -> [(&'static str, Vec<String>); 3] {
     super::convergence::methods(step)
 }
@@ -109,12 +114,48 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         .collect();
     w.png("shadow_region.png", WIDTH, HEIGHT, &mask, 0.0)?;
 
-    // Fig. 4.13: error over time at the thesis's step.
     let step = CASES[0].steps[1];
-    let budget = 10.0;
+    let mut rows = Vec::new();
+    let lines = over_time(w, &text, &reference, &region, &mut rows)?;
+    let steps = bias_per_step(&text, &reference, &region, &mut rows)?;
+    w.csv(
+        "pins_surfaces.csv",
+        &["method", "step", "spp_in_budget", "mse", "shadow_mse"],
+        &rows,
+    )?;
+    Ok(format!(
+        "Seed 004 Figs. 4.12–4.13 with surfaces on fogbank's CPU ({} threads), {WIDTH}×{HEIGHT}, 8 bounces: the Teapot \
+         stand-in (sphere.vdb fog, σ_t 40) on a diffuse ground, an emitting rectangle to the left, a dim sky. \
+         Reference: unbiased `volpath` at {reference_spp} spp (its variance subtracted from every MSE). \
+         Shadow region: {shadow_pixels} ground pixels whose segment to the light crosses the medium's box \
+         (`shadow_region.png`).\n\n\
+         Error after {budget} s of 1-spp frames at the thesis's step {step} (`mse_over_time.png`, images \
+         `<method>_{budget}s.png`):\n\n| method | spp in budget | MSE | shadow-region MSE |\n|---|---|---|---|\n{}\n\n\
+         Bias at each of the thesis's steps ({short} s each):\n\n\
+         | step | RM MSE | PinMS MSE | PinMS/RM | RM shadow MSE | PinMS shadow MSE |\n|---|---|---|---|---|---|\n{}\n",
+        rayon::current_num_threads(),
+        lines.join("\n"),
+        steps.join("\n"),
+        budget = BUDGET,
+        short = SHORT,
+    ))
+}
+
+/// Fig. 4.13: error over time at the thesis's step, [`BUDGET`] seconds of
+/// 1-spp frames per method taking turns (`mse_over_time`, the final images
+/// `<method>_10s.png`); the rows join `rows`, returns the Markdown lines.
+fn over_time(
+    w: &mut Writer,
+    text: &str,
+    reference: &Reference,
+    region: &[bool],
+    rows: &mut Vec<Vec<String>>,
+) -> Result<Vec<String>, String> {
+    let step = CASES[0].steps[1];
+    let budget = BUDGET;
     let methods = methods(step);
     let sets: Vec<Vec<String>> = methods.iter().map(|(_, set)| set.clone()).collect();
-    let runs = race(&text, &sets, &reference, budget, &[budget], 0x0412)?;
+    let runs = race(text, &sets, reference, budget, &[budget], 0x0412)?;
     let mut plot = LinePlot::new(
         "Teapot stand-in, area light from the left",
         "seconds",
@@ -123,12 +164,12 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     .log_x()
     .log_y()
     .legend(Corner::UpperRight);
-    let (mut rows, mut lines) = (Vec::new(), Vec::new());
+    let mut lines = Vec::new();
     for (i, ((frames, shots), (label, _))) in runs.into_iter().zip(&methods).enumerate() {
         let last = shots.last().cloned().unwrap_or_default();
         let stem = label.replace(' ', "_");
         w.png(&format!("{stem}_{budget}s.png"), WIDTH, HEIGHT, &last, 0.0)?;
-        let (mse, shadow) = (reference.mse(&last), region_mse(&last, &reference, &region));
+        let (mse, shadow) = (reference.mse(&last), region_mse(&last, reference, region));
         rows.push(vec![
             label.to_string(),
             step.to_string(),
@@ -148,16 +189,25 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             .title("Seed 004 Fig. 4.13 with surfaces: MSE over render time (CPU)")
             .with(plot),
     )?;
+    Ok(lines)
+}
 
-    // Fig. 4.12's bias at each step: equal time, ray marching vs PinMS.
-    let short = 3.0;
+/// Fig. 4.12's bias at each step: [`SHORT`] seconds each, ray marching vs
+/// PinMS at equal time; the rows join `rows`, returns the Markdown lines.
+fn bias_per_step(
+    text: &str,
+    reference: &Reference,
+    region: &[bool],
+    rows: &mut Vec<Vec<String>>,
+) -> Result<Vec<String>, String> {
+    let short = SHORT;
     let mut steps = Vec::new();
     for s in CASES[0].steps {
-        let runs = race(&text, &methods_at(s), &reference, short, &[short], 0x0512)?;
+        let runs = race(text, &methods_at(s), reference, short, &[short], 0x0512)?;
         let mut cells = Vec::new();
         for (_, shots) in runs {
             let last = shots.last().cloned().unwrap_or_default();
-            cells.push((reference.mse(&last), region_mse(&last, &reference, &region)));
+            cells.push((reference.mse(&last), region_mse(&last, reference, region)));
         }
         rows.push(vec![
             "ray marching vs PinMS".into(),
@@ -175,25 +225,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             cells[1].1
         ));
     }
-    w.csv(
-        "pins_surfaces.csv",
-        &["method", "step", "spp_in_budget", "mse", "shadow_mse"],
-        &rows,
-    )?;
-    Ok(format!(
-        "Seed 004 Figs. 4.12–4.13 with surfaces on fogbank's CPU ({} threads), {WIDTH}×{HEIGHT}, 8 bounces: the Teapot \
-         stand-in (sphere.vdb fog, σ_t 40) on a diffuse ground, an emitting rectangle to the left, a dim sky. \
-         Reference: unbiased `volpath` at {reference_spp} spp (its variance subtracted from every MSE). \
-         Shadow region: {shadow_pixels} ground pixels whose segment to the light crosses the medium's box \
-         (`shadow_region.png`).\n\n\
-         Error after {budget} s of 1-spp frames at the thesis's step {step} (`mse_over_time.png`, images \
-         `<method>_{budget}s.png`):\n\n| method | spp in budget | MSE | shadow-region MSE |\n|---|---|---|---|\n{}\n\n\
-         Bias at each of the thesis's steps ({short} s each):\n\n\
-         | step | RM MSE | PinMS MSE | PinMS/RM | RM shadow MSE | PinMS shadow MSE |\n|---|---|---|---|---|---|\n{}\n",
-        rayon::current_num_threads(),
-        lines.join("\n"),
-        steps.join("\n")
-    ))
+    Ok(steps)
 }
 
 /// Ray marching and PinMS at `step`.
