@@ -321,6 +321,7 @@ pub fn run_gpu_on(
 #[cfg(test)]
 mod smoke_test {
     use super::*;
+    use crate::experiments::harness::timing::timestamp_test_gpu;
     use crate::experiments::harness::Writer;
     use fogbank_math::testdata::skip_unless_required;
 
@@ -342,23 +343,14 @@ mod smoke_test {
                 assert!(!s.media.is_empty(), "{}", case.name);
             }
         }
-        let Some(gpu) = fogbank_gpu::test_gpu() else {
+        let Some(gpu) = timestamp_test_gpu() else {
             return;
         };
-        if !gpu.timestamps {
-            eprintln!("SKIPPED (no timestamp queries on {})", gpu.describe());
-            return;
-        }
-        let out = std::env::temp_dir().join(format!("fogbank-pins-gpu-{}", std::process::id()));
-        let mut w = Writer {
-            out: out.clone(),
-            files: Vec::new(),
-        };
-        std::fs::create_dir_all(&out).unwrap();
+        let mut w = Writer::temp("fogbank-pins-gpu");
         let summary = run_gpu_on(&gpu, &mut w, Some(1), 8, &CASES[2..3], &[10]).unwrap();
-        let csv = std::fs::read_to_string(out.join("gpu_runtime.csv")).unwrap();
+        let csv = std::fs::read_to_string(w.path("gpu_runtime.csv")).unwrap();
         assert_eq!(csv.lines().count(), 1 + 3 + 1, "{csv}");
         assert!(summary.contains("10 instances") || summary.contains("| 10 |"));
-        let _ = std::fs::remove_dir_all(&out);
+        let _ = std::fs::remove_dir_all(&w.out);
     }
 }

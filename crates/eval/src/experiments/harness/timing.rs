@@ -68,3 +68,16 @@ pub fn median(mut values: Vec<f64>) -> f64 {
         _ => 0.5 * (values[n / 2 - 1] + values[n / 2]),
     }
 }
+
+/// The test device (lavapipe in CI) if it has timestamp queries; `None`,
+/// saying why, when there is none or it has no timestamps, and the GPU
+/// smoke tests skip.
+#[cfg(test)]
+pub(crate) fn timestamp_test_gpu() -> Option<fogbank_gpu::Gpu> {
+    let gpu = fogbank_gpu::test_gpu()?;
+    if !gpu.timestamps {
+        eprintln!("SKIPPED (no timestamp queries on {})", gpu.describe());
+        return None;
+    }
+    Some(gpu)
+}

@@ -105,6 +105,20 @@ impl Writer {
     }
 }
 
+#[cfg(test)]
+impl Writer {
+    /// A writer into a fresh folder `<name>_<process id>` under the
+    /// temporary directory, for tests that run an experiment.
+    pub(crate) fn temp(name: &str) -> Writer {
+        let out = std::env::temp_dir().join(format!("{name}_{}", std::process::id()));
+        std::fs::create_dir_all(&out).unwrap();
+        Writer {
+            out,
+            files: Vec::new(),
+        }
+    }
+}
+
 /// One CSV record with its line break.
 fn csv_line<'a>(fields: impl Iterator<Item = &'a str>) -> String {
     let quoted: Vec<String> = fields

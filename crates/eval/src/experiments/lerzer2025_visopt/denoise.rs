@@ -12,8 +12,9 @@
 //! Intel Open Image Denoise through [`crate::denoise`] (colour only); when
 //! it is missing the denoised rows say so and the rest still runs.
 
-use super::head::{scene, set, timed, WHITE_MATTER, WIDTH};
+use super::head::{scene, timed, WHITE_MATTER, WIDTH};
 use crate::denoise::denoise;
+use crate::experiments::harness::protocol::set;
 use crate::experiments::harness::Writer;
 use fogbank_image::metrics::{flip, rmse, Image};
 use fogbank_render::{render, Progress, RenderOptions, Scene};
@@ -113,28 +114,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     }
     rows.push(plain);
 
-    let mut csv = Vec::new();
-    let mut lines = Vec::new();
-    for r in &rows {
-        let img = image(&r.rgb);
-        let (e, f) = (rmse(&ref_img, &img)?, flip(&ref_img, &img)?.mean);
-        csv.push(vec![
-            r.name.clone(),
-            r.spp.clone(),
-            format!("{:.4}", r.seconds),
-            format!("{e:.6}"),
-            format!("{f:.5}"),
-        ]);
-        lines.push(format!(
-            "| {} | {} | {:.3} | {e:.5} | {f:.4} |",
-            r.name, r.spp, r.seconds
-        ));
-    }
-    w.csv(
-        "fig6.csv",
-        &["method", "spp", "seconds", "rmse", "flip"],
-        &csv,
-    )?;
+    let lines = write_errors(w, &rows, &ref_img)?;
     let mut panels = vec![reference.as_slice()];
     panels.extend(rows.iter().map(|r| r.rgb.as_slice()));
     let exposure = Writer::auto_exposure(&reference);
@@ -159,4 +139,32 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         lines.join("\n"),
         names.join("; ")
     ))
+}
+
+/// `fig6.csv`: each row's RMSE and FLIP against `ref_img`; returns the
+/// Markdown lines.
+fn write_errors(w: &mut Writer, rows: &[Row], ref_img: &Image) -> Result<Vec<String>, String> {
+    let mut csv = Vec::new();
+    let mut lines = Vec::new();
+    for r in rows {
+        let img = image(&r.rgb);
+        let (e, f) = (rmse(ref_img, &img)?, flip(ref_img, &img)?.mean);
+        csv.push(vec![
+            r.name.clone(),
+            r.spp.clone(),
+            format!("{:.4}", r.seconds),
+            format!("{e:.6}"),
+            format!("{f:.5}"),
+        ]);
+        lines.push(format!(
+            "| {} | {} | {:.3} | {e:.5} | {f:.4} |",
+            r.name, r.spp, r.seconds
+        ));
+    }
+    w.csv(
+        "fig6.csv",
+        &["method", "spp", "seconds", "rmse", "flip"],
+        &csv,
+    )?;
+    Ok(lines)
 }

@@ -8,6 +8,7 @@
 //! the reference by the ray-marched h as well as by discretisation.
 
 use super::overhead::heptane_standin;
+use crate::experiments::harness::protocol::render_at;
 use crate::experiments::harness::Writer;
 use fogbank_image::metrics::{flip, rmse, Image};
 use fogbank_render::{render, Progress, RenderOptions, Scene};
@@ -33,96 +34,18 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let ref_spp = trials.unwrap_or(DEFAULT_REFERENCE_SPP) as u32;
     let visopt = scene(&["integrator.type=\"visopt\""])?;
     visopt.integrator.prepare(&visopt.world);
-    let reference = render(
-        &visopt,
-        &RenderOptions {
-            spp: ref_spp,
-            seed: 1000,
-            time_budget: None,
-        },
-        &Progress::default(),
-    );
+    let reference = render_at(&visopt, ref_spp, 1000);
     let ref_img = image(reference.film.mean());
     let per_pass = reference.seconds / ref_spp as f64;
-
-    // Fig. 8: error against spp.
     let mut rows = Vec::new();
-    let mut conv = Vec::new();
-    for spp in [1u32, 4, 16, 64] {
-        let r = render(
-            &visopt,
-            &RenderOptions {
-                spp,
-                seed: 7,
-                time_budget: None,
-            },
-            &Progress::default(),
-        );
-        let (e, f) = errors(&ref_img, &image(r.film.mean()))?;
-        rows.push(vec![
-            "visopt".into(),
-            spp.to_string(),
-            format!("{:.4}", r.seconds),
-            format!("{e:.6}"),
-            format!("{f:.5}"),
-        ]);
-        conv.push(format!("| {spp} | {:.3} | {e:.5} | {f:.4} |", r.seconds));
-    }
-
-    // Fig. 5: equal time against AZD17.
-    let mut eq = Vec::new();
-    let mut chosen = None;
-    for step in [0.02f32, 0.01, 0.005] {
-        let a = scene(&[
-            "integrator.type=\"ament\"",
-            &format!("integrator.step={step}"),
-        ])?;
-        let r = render(
-            &a,
-            &RenderOptions {
-                spp: 1,
-                seed: 1,
-                time_budget: None,
-            },
-            &Progress::default(),
-        );
-        let (e, f) = errors(&ref_img, &image(r.film.mean()))?;
-        rows.push(vec![
-            format!("ament step {step}"),
-            "1".into(),
-            format!("{:.4}", r.seconds),
-            format!("{e:.6}"),
-            format!("{f:.5}"),
-        ]);
-        eq.push(format!(
-            "| AZD17, step {step} (one frame) | {:.3} | {e:.5} | {f:.4} |",
-            r.seconds
-        ));
-        chosen = Some((step, r.seconds, e, f));
-    }
-    let (step, budget, ae, af) = chosen.ok_or("no AZD17 run")?;
-    let r = render(
-        &visopt,
-        &RenderOptions {
-            spp: 1 << 20,
-            seed: 11,
-            time_budget: Some(Duration::from_secs_f64(budget)),
-        },
-        &Progress::default(),
-    );
-    let spp = r.film.min_spp();
-    let (ve, vf) = errors(&ref_img, &image(r.film.mean()))?;
-    rows.push(vec![
-        "visopt equal time".into(),
-        spp.to_string(),
-        format!("{:.4}", r.seconds),
-        format!("{ve:.6}"),
-        format!("{vf:.5}"),
-    ]);
-    eq.push(format!(
-        "| visopt in the same time ({spp} spp) | {:.3} | {ve:.5} | {vf:.4} |",
-        r.seconds
-    ));
+    let conv = error_against_spp(&visopt, &ref_img, &mut rows)?;
+    let EqualTime {
+        lines: eq,
+        step,
+        budget,
+        azd17: (ae, af),
+        visopt: (ve, vf),
+    } = equal_time(&visopt, &ref_img, &mut rows)?;
     w.csv(
         "errors.csv",
         &["method", "spp", "seconds", "rmse", "flip"],
@@ -141,4 +64,105 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         ae / ve,
         af / vf
     ))
+}
+
+/// One CSV row of `errors.csv`.
+fn row(method: String, spp: String, seconds: f64, e: f64, f: f64) -> Vec<String> {
+    vec![
+        method,
+        spp,
+        format!("{seconds:.4}"),
+        format!("{e:.6}"),
+        format!("{f:.5}"),
+    ]
+}
+
+/// Fig. 8: visopt's error at 1, 4, 16 and 64 spp; its rows join `rows`,
+/// returns the Markdown lines.
+fn error_against_spp(
+    visopt: &Scene,
+    ref_img: &Image,
+    rows: &mut Vec<Vec<String>>,
+) -> Result<Vec<String>, String> {
+    let mut conv = Vec::new();
+    for spp in [1u32, 4, 16, 64] {
+        let r = render_at(visopt, spp, 7);
+        let (e, f) = errors(ref_img, &image(r.film.mean()))?;
+        rows.push(row("visopt".into(), spp.to_string(), r.seconds, e, f));
+        conv.push(format!("| {spp} | {:.3} | {e:.5} | {f:.4} |", r.seconds));
+    }
+    Ok(conv)
+}
+
+/// What [`equal_time`] found.
+struct EqualTime {
+    /// The Markdown table's lines.
+    lines: Vec<String>,
+    /// AZD17's finest step and the seconds of its frame: the budget.
+    step: f32,
+    budget: f64,
+    /// (RMSE, FLIP) of AZD17 at that step and of visopt in that time.
+    azd17: (f64, f64),
+    visopt: (f64, f64),
+}
+
+/// Fig. 5: one AZD17 frame at each step, then visopt for as long as the
+/// finest took; the rows join `rows`.
+fn equal_time(
+    visopt: &Scene,
+    ref_img: &Image,
+    rows: &mut Vec<Vec<String>>,
+) -> Result<EqualTime, String> {
+    let mut eq = Vec::new();
+    let mut chosen = None;
+    for step in [0.02f32, 0.01, 0.005] {
+        let a = scene(&[
+            "integrator.type=\"ament\"",
+            &format!("integrator.step={step}"),
+        ])?;
+        let r = render_at(&a, 1, 1);
+        let (e, f) = errors(ref_img, &image(r.film.mean()))?;
+        rows.push(row(
+            format!("ament step {step}"),
+            "1".into(),
+            r.seconds,
+            e,
+            f,
+        ));
+        eq.push(format!(
+            "| AZD17, step {step} (one frame) | {:.3} | {e:.5} | {f:.4} |",
+            r.seconds
+        ));
+        chosen = Some((step, r.seconds, e, f));
+    }
+    let (step, budget, ae, af) = chosen.ok_or("no AZD17 run")?;
+    let r = render(
+        visopt,
+        &RenderOptions {
+            spp: 1 << 20,
+            seed: 11,
+            time_budget: Some(Duration::from_secs_f64(budget)),
+        },
+        &Progress::default(),
+    );
+    let spp = r.film.min_spp();
+    let (ve, vf) = errors(ref_img, &image(r.film.mean()))?;
+    rows.push(row(
+        "visopt equal time".into(),
+        spp.to_string(),
+        r.seconds,
+        ve,
+        vf,
+    ));
+    eq.push(format!(
+        "| visopt in the same time ({spp} spp) | {:.3} | {ve:.5} | {vf:.4} |",
+        r.seconds
+    ));
+    Ok(EqualTime {
+        lines: eq,
+        step,
+        budget,
+        azd17: (ae, af),
+        visopt: (ve, vf),
+    })
 }

@@ -15,6 +15,7 @@ use super::overhead::heptane_standin_sized;
 use crate::experiments::harness::timing::{gpu_warm_up, median};
 use crate::experiments::harness::Writer;
 use fogbank_gpu::Gpu;
+use fogbank_render::integrators::visopt::VisOpt;
 use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{Progress, RenderOptions, Scene};
 use std::time::Instant;
@@ -56,6 +57,36 @@ fn frame_ms(gpu: &Gpu, scene: &Scene, frames: u32) -> Result<f64, String> {
     Ok(median(times))
 }
 
+/// The camera lists' pool, the NEE scratch and the CPU build time of the
+/// lists at `(width, height)`: the Markdown table's cells and the CSV row.
+fn list_memory(
+    gpu: &Gpu,
+    v: &VisOpt,
+    scene: &Scene,
+    (width, height): (u32, u32),
+) -> (String, Vec<String>) {
+    let t = Instant::now();
+    let lists = v.lists(&scene.world);
+    let build = t.elapsed().as_secs_f64();
+    let px = (width * height) as f64;
+    let pool_mb = lists.memory_bytes() as f64 / 1e6;
+    let scratch_mb =
+        fogbank_gpu::visopt::scratch(gpu, width, height, v.params.light_samples).1 as f64 / 1e6;
+    let memory = format!(
+        "{pool_mb:.1} | {:.1} | {scratch_mb:.1} | {build:.2}",
+        lists.pool.len() as f64 / px
+    );
+    let row = vec![
+        format!("{width}x{height}"),
+        "memory".into(),
+        format!("{pool_mb:.3}"),
+        format!("{:.3}", lists.pool.len() as f64 / px),
+        format!("{scratch_mb:.3}"),
+        format!("{build:.3}"),
+    ];
+    (memory, row)
+}
+
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let gpu = Gpu::new().map_err(|e| e.0)?;
     run_on(&gpu, w, trials, &SIZES)
@@ -84,27 +115,9 @@ pub fn run_on(
                 return Err("the stand-in's integrator is visopt".into());
             };
             if name == "visopt SS" {
-                let t = Instant::now();
-                let lists = v.lists(&scene.world);
-                let build = t.elapsed().as_secs_f64();
-                let px = (width * height) as f64;
-                let pool_mb = lists.memory_bytes() as f64 / 1e6;
-                let scratch_mb =
-                    fogbank_gpu::visopt::scratch(gpu, width, height, v.params.light_samples).1
-                        as f64
-                        / 1e6;
-                memory = format!(
-                    "{pool_mb:.1} | {:.1} | {scratch_mb:.1} | {build:.2}",
-                    lists.pool.len() as f64 / px
-                );
-                rows.push(vec![
-                    format!("{width}x{height}"),
-                    "memory".into(),
-                    format!("{pool_mb:.3}"),
-                    format!("{:.3}", lists.pool.len() as f64 / px),
-                    format!("{scratch_mb:.3}"),
-                    format!("{build:.3}"),
-                ]);
+                let (cells, row) = list_memory(gpu, v, &scene, (width, height));
+                memory = cells;
+                rows.push(row);
             } else {
                 // Built outside the timed frames either way.
                 v.lists(&scene.world);
@@ -156,30 +169,22 @@ pub fn run_on(
 
 #[cfg(test)]
 mod smoke_test {
+    use crate::experiments::harness::timing::timestamp_test_gpu;
     use crate::experiments::harness::Writer;
 
     /// The table is written end to end at a tiny size on whatever device
     /// there is (lavapipe in CI); the times mean nothing there.
     #[test]
     fn table_3_is_written() {
-        let Some(gpu) = fogbank_gpu::test_gpu() else {
+        let Some(gpu) = timestamp_test_gpu() else {
             return;
         };
-        if !gpu.timestamps {
-            eprintln!("SKIPPED (no timestamp queries on {})", gpu.describe());
-            return;
-        }
-        let out = std::env::temp_dir().join(format!("fogbank_visopt_t3_{}", std::process::id()));
-        std::fs::create_dir_all(&out).unwrap();
-        let mut w = Writer {
-            out: out.clone(),
-            files: Vec::new(),
-        };
+        let mut w = Writer::temp("fogbank_visopt_t3");
         let summary = super::run_on(&gpu, &mut w, Some(1), &[(16, 12)]).unwrap();
         assert!(summary.contains("| 16×12 |"), "{summary}");
-        let csv = std::fs::read_to_string(out.join("frame_time.csv")).unwrap();
+        let csv = std::fs::read_to_string(w.path("frame_time.csv")).unwrap();
         // Header, the memory row and one row per method.
         assert_eq!(csv.lines().count(), 2 + super::METHODS.len(), "{csv}");
-        std::fs::remove_dir_all(&out).ok();
+        std::fs::remove_dir_all(&w.out).ok();
     }
 }

@@ -13,9 +13,10 @@
 //!
 //! Images are small (the CPU has 2 cores); the paper renders 800² on a GPU.
 
+use crate::experiments::harness::protocol::{render_at, set};
 use crate::experiments::harness::Writer;
 use fogbank_image::metrics::{self, Image};
-use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
+use fogbank_render::{parse_scene, Scene};
 use std::path::PathBuf;
 
 pub const DEFAULT_SPP: u64 = 16;
@@ -53,23 +54,11 @@ pub(super) const WHITE_MATTER: &str = "importance = [{ mask = { nifti = \"mni_wm
 const TWO_VALUED: &str = "importance = [{ value = 0.75, mask = { nifti = \"mni_wm.nii.gz\" }, half_space = [1.0, 0.0, 0.0, 0.0] }, \
                           { value = 1.0, mask = { nifti = \"mni_wm.nii.gz\" } }]";
 
-pub(super) fn set(kv: &[&str]) -> Vec<String> {
-    kv.iter().map(|s| s.to_string()).collect()
-}
-
 /// (seconds per pass, image) of `spp` passes with seed `seed`, the
 /// integrator prepared before timing.
 pub(super) fn timed(s: &Scene, spp: u32, seed: u32) -> (f64, Vec<[f32; 3]>) {
     s.integrator.prepare(&s.world);
-    let r = render(
-        s,
-        &RenderOptions {
-            spp,
-            seed,
-            time_budget: None,
-        },
-        &Progress::default(),
-    );
+    let r = render_at(s, spp, seed);
     (r.seconds / spp as f64, r.film.mean())
 }
 
@@ -81,8 +70,15 @@ fn rmse(a: &[[f32; 3]], b: &[[f32; 3]]) -> Result<f64, String> {
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let spp = trials.unwrap_or(DEFAULT_SPP) as u32;
     let mut out = String::new();
+    out += &fig9(w, spp)?;
+    out += &fig10(w, spp)?;
+    out += &fig12(w, spp)?;
+    Ok(out)
+}
 
-    // Fig. 9.
+/// Fig. 9: the three multiple-scattering settings, `fig9_<mode>.png` and
+/// `fig9.csv`; returns its section of the summary.
+fn fig9(w: &mut Writer, spp: u32) -> Result<String, String> {
     let mut lines = Vec::new();
     let mut rows = Vec::new();
     let mut base = 0.0;
@@ -112,14 +108,17 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &["scattering", "seconds_per_pass", "ratio"],
         &rows,
     )?;
-    out += &format!(
+    Ok(format!(
         "## Fig. 9: multiple-scattering settings ({WIDTH}², {spp} spp, max_depth 8, lobe on)\n\n\
          | setting | s per pass | / single |\n|---|---|---|\n{}\n\n\
          Paper (2000 spp, GPU): 12.13 s / 72.16 s / 157.21 s, i.e. 1 : 5.9 : 13.0. Images: fig9_*.png.\n\n",
         lines.join("\n")
-    );
+    ))
+}
 
-    // Fig. 10.
+/// Fig. 10: the r sweep with the two-valued importance, `fig10_r<r>.png`
+/// and `fig10.csv`; returns its section of the summary.
+fn fig10(w: &mut Writer, spp: u32) -> Result<String, String> {
     let mut lines = Vec::new();
     let mut rows = Vec::new();
     for r in [0.0f32, 10.0, 30.0, 50.0, 70.0] {
@@ -139,15 +138,18 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &["r", "seconds_per_pass", "mean_radiance"],
         &rows,
     )?;
-    out += &format!(
+    Ok(format!(
         "## Fig. 10: r sweep with the two-valued importance (white matter right 0.75, left 1; q = 70)\n\n\
          | r | s per pass | mean radiance |\n|---|---|---|\n{}\n\n\
          Paper: larger r removes more of the matter behind the important region (less background clutter). \
          Images: fig10_r*.png.\n\n",
         lines.join("\n")
-    );
+    ))
+}
 
-    // Fig. 12.
+/// Fig. 12: light-ray list sizes against 1000-sample lists at 4× the spp,
+/// `fig12.csv`; returns its section of the summary.
+fn fig12(w: &mut Writer, spp: u32) -> Result<String, String> {
     let reference = scene(WHITE_MATTER, &set(&["integrator.light_samples=1000"]))?;
     let (ref_secs, ref_img) = timed(&reference, 4 * spp, 99);
     let mut lines = Vec::new();
@@ -167,13 +169,12 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &["light_samples", "seconds_per_pass", "rmse_vs_1000"],
         &rows,
     )?;
-    out += &format!(
+    Ok(format!(
         "## Fig. 12: light-ray list sizes ({WIDTH}², {spp} spp; reference: 1000-sample lists at {} spp, {ref_secs:.3} s \
          per pass)\n\n| light samples | s per pass | RMSE vs 1000 |\n|---|---|---|\n{}\n\n\
          Paper (5000 spp): 21.47 / 27.17 / 28.2 / 37 s for unstated counts, reference 51.7 s; it settles on 200. \
          The RMSE includes the Monte Carlo noise of both images (independent seeds).\n",
         4 * spp,
         lines.join("\n")
-    );
-    Ok(out)
+    ))
 }

@@ -10,9 +10,10 @@
 //! build time and memory at three resolutions (the paper's Table 3 pool
 //! sizes, which it measures on a GPU at 800², 1600², 1920×1080).
 
+use crate::experiments::harness::protocol::{render_at, set};
 use crate::experiments::harness::Writer;
 use fogbank_render::integrators::IntegratorKind;
-use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
+use fogbank_render::{parse_scene, Scene};
 use std::path::Path;
 use std::time::Instant;
 
@@ -38,32 +39,54 @@ pub fn heptane_standin_sized(width: u32, height: u32, extra: &[&str]) -> Result<
          [[lights]]\ntype = \"point\"\nposition = [-2.5, 1.0, 2.0]\nintensity = [8.0, 9.0, 12.0]\n\
          [render]\npixel_jitter = false\n"
     );
-    let extra: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
-    let desc = parse_scene(&text, "heptane stand-in", &extra).map_err(|e| e.to_string())?;
+    let desc = parse_scene(&text, "heptane stand-in", &set(extra)).map_err(|e| e.to_string())?;
     Scene::build(desc, Path::new(".")).map_err(|e| e.to_string())
 }
 
+/// (method, overrides) of the timed methods; AZD17's deterministic
+/// marcher needs one frame.
+const METHODS: [(&str, &[&str]); 4] = [
+    (
+        "DVR (no optimisation)",
+        &["integrator.type=\"visopt\"", "integrator.optimise=false"],
+    ),
+    (
+        "visopt, camera rays only",
+        &["integrator.type=\"visopt\"", "integrator.light_samples=0"],
+    ),
+    (
+        "visopt (200 light samples)",
+        &["integrator.type=\"visopt\""],
+    ),
+    (
+        "AZD17 ray marching, step 0.01 (one frame)",
+        &["integrator.type=\"ament\"", "integrator.step=0.01"],
+    ),
+];
+
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let spp = trials.unwrap_or(DEFAULT_SPP) as u32;
-    let methods: [(&str, Vec<&str>); 4] = [
-        (
-            "DVR (no optimisation)",
-            vec!["integrator.type=\"visopt\"", "integrator.optimise=false"],
-        ),
-        (
-            "visopt, camera rays only",
-            vec!["integrator.type=\"visopt\"", "integrator.light_samples=0"],
-        ),
-        (
-            "visopt (200 light samples)",
-            vec!["integrator.type=\"visopt\""],
-        ),
-        (
-            "AZD17 ray marching, step 0.01 (one frame)",
-            vec!["integrator.type=\"ament\"", "integrator.step=0.01"],
-        ),
-    ];
-    let scenes: Vec<Scene> = methods
+    let lines = pass_times(w, spp)?;
+    let mem_lines = list_memory(w)?;
+    Ok(format!(
+        "Seed 003 Fig. 5 (right) / Table 3 on the CPU (2 threads): a 128³ procedural cloud in [−1, 1]³ with two point \
+         lights, {WIDTH}², seconds per pass (one sample in every pixel) over {spp} passes (AZD17: its one deterministic frame), best of {REPEATS} interleaved runs (the lists are built before timing).\n\n\
+         | method | seconds per pass | / DVR |\n|---|---|---|\n{}\n\n\
+         The paper (GPU, HEPTANE, equal quality rather than equal spp): DVR 3.48 s, optimisation without light rays \
+         10.08 s (2.9×); SCRAMBLER 21.80 → 24.54 s (1.13×).\n\n\
+         Camera lists (1 uniform + 3 adaptive passes of 64 samples, 16-byte entries):\n\n\
+         | image | build s | pool MB | entries per pixel |\n|---|---|---|---|\n{}\n\n\
+         The paper's Table 3 pools (HEPTANE, 800²): 544 MB with room for every segment to split, 14 entries per pixel.",
+        lines.join("\n"),
+        mem_lines.join("\n")
+    ))
+}
+
+/// Seconds per pass of each of [`METHODS`] over `spp` passes, best of
+/// [`REPEATS`] interleaved runs with the lists built before timing, into
+/// `times.csv`; returns the Markdown lines.
+fn pass_times(w: &mut Writer, spp: u32) -> Result<Vec<String>, String> {
+    let scenes: Vec<Scene> = METHODS
         .iter()
         .map(|(_, e)| heptane_standin(WIDTH, e))
         .collect::<Result<_, _>>()?;
@@ -75,18 +98,13 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         for (i, s) in scenes.iter().enumerate() {
             // The deterministic marcher needs one frame.
             let n = if i == 3 { 1 } else { spp };
-            let opts = RenderOptions {
-                spp: n,
-                seed: 1,
-                time_budget: None,
-            };
-            let r = render(s, &opts, &Progress::default());
+            let r = render_at(s, n, 1);
             best[i] = best[i].min(r.seconds / n as f64);
         }
     }
     let mut rows = Vec::new();
     let mut lines = Vec::new();
-    for (i, (name, _)) in methods.iter().enumerate() {
+    for (i, (name, _)) in METHODS.iter().enumerate() {
         rows.push(vec![
             name.to_string(),
             format!("{:.5}", best[i]),
@@ -103,7 +121,12 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &["method", "seconds_per_spp", "ratio_to_dvr"],
         &rows,
     )?;
+    Ok(lines)
+}
 
+/// The camera lists' build time and memory at 100², 200² and 400², into
+/// `lists.csv`; returns the Markdown lines.
+fn list_memory(w: &mut Writer) -> Result<Vec<String>, String> {
     let mut mem = Vec::new();
     let mut mem_lines = Vec::new();
     for width in [100u32, 200, 400] {
@@ -132,16 +155,5 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &["width", "build_seconds", "pool_mb", "entries_per_pixel"],
         &mem,
     )?;
-    Ok(format!(
-        "Seed 003 Fig. 5 (right) / Table 3 on the CPU (2 threads): a 128³ procedural cloud in [−1, 1]³ with two point \
-         lights, {WIDTH}², seconds per pass (one sample in every pixel) over {spp} passes (AZD17: its one deterministic frame), best of {REPEATS} interleaved runs (the lists are built before timing).\n\n\
-         | method | seconds per pass | / DVR |\n|---|---|---|\n{}\n\n\
-         The paper (GPU, HEPTANE, equal quality rather than equal spp): DVR 3.48 s, optimisation without light rays \
-         10.08 s (2.9×); SCRAMBLER 21.80 → 24.54 s (1.13×).\n\n\
-         Camera lists (1 uniform + 3 adaptive passes of 64 samples, 16-byte entries):\n\n\
-         | image | build s | pool MB | entries per pixel |\n|---|---|---|---|\n{}\n\n\
-         The paper's Table 3 pools (HEPTANE, 800²): 544 MB with room for every segment to split, 14 entries per pixel.",
-        lines.join("\n"),
-        mem_lines.join("\n")
-    ))
+    Ok(mem_lines)
 }

@@ -6,6 +6,7 @@
 //! transfer function whose densest quarter is important.
 
 use super::head::timed;
+use crate::experiments::harness::protocol::set;
 use crate::experiments::harness::Writer;
 use fogbank_image::metrics::{flip, rmse, Image};
 use fogbank_render::{parse_scene, Scene};
@@ -26,8 +27,7 @@ fn scene(extra: &[&str]) -> Result<Scene, String> {
          transfer = {{ opacity = [[0.0, 0.0], [0.1, 0.2], [0.6, 1.0]], color = [[0.0, 0.6, 0.7, 0.9], [0.6, 1.0, 0.8, 0.6]] }}\n\
          importance = [{{ extinction = [7.0, 1e9] }}]\n"
     );
-    let extra: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
-    let desc = parse_scene(&text, "visopt-teaser", &extra).map_err(|e| e.to_string())?;
+    let desc = parse_scene(&text, "visopt-teaser", &set(extra)).map_err(|e| e.to_string())?;
     Scene::build(desc, Path::new(".")).map_err(|e| e.to_string())
 }
 

@@ -175,6 +175,7 @@ pub fn run_on(
 
 #[cfg(test)]
 mod smoke_test {
+    use crate::experiments::harness::timing::timestamp_test_gpu;
     use crate::experiments::harness::Writer;
 
     /// The experiment runs end to end (at 32×18, one measured frame) on
@@ -182,23 +183,13 @@ mod smoke_test {
     /// CSV with one row per case; the times themselves mean nothing there.
     #[test]
     fn frame_time_table_is_written() {
-        let Some(gpu) = fogbank_gpu::test_gpu() else {
+        let Some(gpu) = timestamp_test_gpu() else {
             return;
         };
-        if !gpu.timestamps {
-            eprintln!("SKIPPED (no timestamp queries on {})", gpu.describe());
-            return;
-        }
-        let out =
-            std::env::temp_dir().join(format!("fogbank_gpu_frame_time_{}", std::process::id()));
-        std::fs::create_dir_all(&out).unwrap();
-        let mut w = Writer {
-            out: out.clone(),
-            files: Vec::new(),
-        };
+        let mut w = Writer::temp("fogbank_gpu_frame_time");
         let summary = super::run_on(&gpu, &mut w, Some(1), 32, 18).unwrap();
         assert!(summary.contains("| explosion | 3 |"), "{summary}");
-        let csv = std::fs::read_to_string(out.join("frame_time.csv")).unwrap();
+        let csv = std::fs::read_to_string(w.path("frame_time.csv")).unwrap();
         assert_eq!(csv.lines().count(), 5, "{csv}");
         for line in csv.lines().skip(1) {
             let frame_ms: f64 = line.split(',').nth(6).unwrap().parse().unwrap();
