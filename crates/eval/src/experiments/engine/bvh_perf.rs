@@ -5,12 +5,12 @@
 //! Rays run on rayon's pool (2 threads on the development machine); build
 //! on one thread. `--trials` sets the ray count (default 10⁶).
 
+use crate::experiments::harness::timing::clocked;
 use crate::experiments::harness::Writer;
 use fogbank_geometry::shapes::uv_sphere;
 use fogbank_geometry::{MeshAccel, TriangleMesh};
 use fogbank_math::{Pcg32, Ray, Vec3};
 use rayon::prelude::*;
-use std::time::Instant;
 
 pub const DEFAULT_RAYS: u64 = 1_000_000;
 
@@ -47,23 +47,21 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let rays = trials.unwrap_or(DEFAULT_RAYS);
     let mesh = generated_mesh(700, 100_000);
     let triangles = mesh.len();
-    let start = Instant::now();
-    let accel = MeshAccel::new(mesh);
-    let build = start.elapsed().as_secs_f64();
+    let (accel, build) = clocked(|| MeshAccel::new(mesh));
     let threads = rayon::current_num_threads();
 
-    let start = Instant::now();
-    let hits: u64 = (0..rays)
-        .into_par_iter()
-        .map(|k| accel.intersect(&ray(k), f32::INFINITY).is_some() as u64)
-        .sum();
-    let closest = start.elapsed().as_secs_f64();
-    let start = Instant::now();
-    let occluded: u64 = (0..rays)
-        .into_par_iter()
-        .map(|k| accel.occluded(&ray(k), f32::INFINITY) as u64)
-        .sum();
-    let any = start.elapsed().as_secs_f64();
+    let (hits, closest): (u64, f64) = clocked(|| {
+        (0..rays)
+            .into_par_iter()
+            .map(|k| accel.intersect(&ray(k), f32::INFINITY).is_some() as u64)
+            .sum()
+    });
+    let (occluded, any): (u64, f64) = clocked(|| {
+        (0..rays)
+            .into_par_iter()
+            .map(|k| accel.occluded(&ray(k), f32::INFINITY) as u64)
+            .sum()
+    });
     if hits != occluded {
         return Err(format!("closest hit found {hits} hits, any hit {occluded}"));
     }

@@ -11,9 +11,9 @@
 //! 1.27 / 1.56×.
 
 use crate::experiments::harness::protocol::{build, independent_frames, set, Reference};
+use crate::experiments::harness::timing::clocked;
 use crate::experiments::harness::Writer;
 use fogbank_math::Pcg32;
-use std::time::Instant;
 
 pub const COUNTS: [u32; 3] = [10, 50, 250];
 /// The thesis's step for this figure.
@@ -70,9 +70,8 @@ pub fn measure(n: u32, width: u32, height: u32, reference_spp: u32) -> Result<Ro
     let text = scene(n, width, height);
     let reference = Reference::render(&build(&text, &[])?, reference_spp, 0x0410);
     let rm = build(&text, &set(&["integrator.tracking=ray_marching"]))?;
-    let clock = Instant::now();
-    let pin = build(&text, &set(&["integrator.pins=ms"]))?;
-    let build_s = clock.elapsed().as_secs_f64();
+    let (pin, build_s) = clocked(|| build(&text, &set(&["integrator.pins=ms"])));
+    let pin = pin?;
     let (mut rm_ms, mut pin_ms, mut rm_mse, mut pin_mse) = (0.0, 0.0, 0.0, 0.0);
     // Interleaved, so drift of the machine's speed hits both alike.
     for r in 0..REPEATS {

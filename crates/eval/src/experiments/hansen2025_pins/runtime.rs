@@ -18,10 +18,9 @@
 
 use super::instances;
 use crate::experiments::harness::protocol::{build, independent_frames, Reference};
-use crate::experiments::harness::timing::gpu_ms_per_spp;
+use crate::experiments::harness::timing::{clocked, gpu_ms_per_spp};
 use crate::experiments::harness::Writer;
 use fogbank_math::sample_data;
-use std::time::Instant;
 
 /// One of Fig. 4.11's scenes.
 pub struct Case {
@@ -164,9 +163,8 @@ const REPEATS: u32 = 7;
 /// runs both, one after the other), robust to the machine's drift.
 pub fn measure_cpu(text: &str, step: f32, reference: &Reference) -> Result<[f64; 6], String> {
     let rm = build(text, &overrides(step, false))?;
-    let clock = Instant::now();
-    let pin = build(text, &overrides(step, true))?;
-    let build_s = clock.elapsed().as_secs_f64();
+    let (pin, build_s) = clocked(|| build(text, &overrides(step, true)));
+    let pin = pin?;
     let mut out = [0.0, 0.0, 0.0, 0.0, build_s, 0.0];
     let mut ratios = Vec::new();
     for r in 0..REPEATS {

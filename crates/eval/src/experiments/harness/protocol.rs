@@ -5,11 +5,11 @@
 //! integrator, frames raced within a time budget; MSE of every frame and
 //! of the running mean, with the reference's own variance subtracted.
 
+use super::timing::clocked;
 use fogbank_image::Image;
 use fogbank_render::integrators::restir::frame::PassTimes;
 use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, RenderResult, Scene};
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 /// The repository's `scenes/` folder (probes, scene files).
 pub fn scenes_dir() -> PathBuf {
@@ -245,9 +245,7 @@ pub fn independent_frames(
     let mut acc = Accumulator::new(reference);
     let mut last = Vec::new();
     for f in 0..frames {
-        let clock = Instant::now();
-        let film = render_at(scene, spp, seed.wrapping_add(f)).film;
-        let seconds = clock.elapsed().as_secs_f64();
+        let (film, seconds) = clocked(|| render_at(scene, spp, seed.wrapping_add(f)).film);
         last = film.mean();
         acc.add(&last, seconds);
     }
@@ -296,9 +294,8 @@ impl<'a> BudgetRun<'a> {
         if self.acc.seconds >= self.budget {
             return false;
         }
-        let clock = Instant::now();
-        let film = render_at(self.scene, self.spp, self.seed.wrapping_add(self.acc.n)).film;
-        let seconds = clock.elapsed().as_secs_f64();
+        let seed = self.seed.wrapping_add(self.acc.n);
+        let (film, seconds) = clocked(|| render_at(self.scene, self.spp, seed).film);
         self.last = film.mean();
         self.acc.add(&self.last, seconds);
         while self.shots.len() < self.snapshots.len()

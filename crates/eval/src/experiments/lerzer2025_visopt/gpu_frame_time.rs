@@ -12,13 +12,12 @@
 //! runs it, but its times say nothing about a GPU.
 
 use super::overhead::heptane_standin_sized;
-use crate::experiments::harness::timing::{gpu_warm_up, median};
+use crate::experiments::harness::timing::{clocked, gpu_warm_up, median};
 use crate::experiments::harness::Writer;
 use fogbank_gpu::Gpu;
 use fogbank_render::integrators::visopt::VisOpt;
 use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{Progress, RenderOptions, Scene};
-use std::time::Instant;
 
 /// The paper's frame: 10 samples per pixel (Table 3, Fig. 1).
 const FRAME_SPP: u32 = 10;
@@ -65,9 +64,7 @@ fn list_memory(
     scene: &Scene,
     (width, height): (u32, u32),
 ) -> (String, Vec<String>) {
-    let t = Instant::now();
-    let lists = v.lists(&scene.world);
-    let build = t.elapsed().as_secs_f64();
+    let (lists, build) = clocked(|| v.lists(&scene.world));
     let px = (width * height) as f64;
     let pool_mb = lists.memory_bytes() as f64 / 1e6;
     let scratch_mb =

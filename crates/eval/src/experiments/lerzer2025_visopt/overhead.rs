@@ -11,11 +11,11 @@
 //! sizes, which it measures on a GPU at 800², 1600², 1920×1080).
 
 use crate::experiments::harness::protocol::{render_at, set};
+use crate::experiments::harness::timing::clocked;
 use crate::experiments::harness::Writer;
 use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{parse_scene, Scene};
 use std::path::Path;
-use std::time::Instant;
 
 pub const DEFAULT_SPP: u64 = 64;
 const WIDTH: u32 = 64;
@@ -134,9 +134,7 @@ fn list_memory(w: &mut Writer) -> Result<Vec<String>, String> {
         let IntegratorKind::VisOpt(v) = &s.integrator else {
             return Err("not visopt".into());
         };
-        let t = Instant::now();
-        let lists = v.lists(&s.world);
-        let secs = t.elapsed().as_secs_f64();
+        let (lists, secs) = clocked(|| v.lists(&s.world));
         let px = (width * width) as f64;
         let mb = lists.memory_bytes() as f64 / 1e6;
         let per_pixel = lists.pool.len() as f64 / px;

@@ -28,13 +28,13 @@ use super::sequence::{build_frames, frame_references, rgb};
 use crate::experiments::harness::protocol::{
     build, render_at, scenes_dir, set, spp, Frames, Reference,
 };
+use crate::experiments::harness::timing::clocked;
 use crate::experiments::harness::SceneText;
 use crate::experiments::harness::Writer;
 use crate::plot::{palette, Corner, Figure, LinePlot, Mark, Series};
 use fogbank_render::integrators::restir::frame::{PassTimes, Sequence};
 use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::Scene;
-use std::time::Instant;
 
 /// Reference pixel samples (`--trials` overrides).
 pub const DEFAULT_REFERENCE_SPP: u64 = 256;
@@ -323,14 +323,12 @@ fn race_frames(
             integrators[f].data(&restir[f].world),
             integrators[p].data(&restir[p].world),
         );
-        let clock = Instant::now();
-        let out = seq.frame(&cur, &old);
-        (clock.elapsed().as_secs_f64(), rgb(&out), out.times)
+        let (out, seconds) = clocked(|| seq.frame(&cur, &old));
+        (seconds, rgb(&out), out.times)
     };
     let baseline_frame = |f: usize, spp: u32, seed: u32| {
-        let clock = Instant::now();
-        let img = render_at(&baseline[f], spp, seed).film.mean();
-        (clock.elapsed().as_secs_f64(), img)
+        let (img, seconds) = clocked(|| render_at(&baseline[f], spp, seed).film.mean());
+        (seconds, img)
     };
     let (mut r, mut one, mut b) = (Tally::default(), Tally::default(), Tally::default());
     let (mut r_pilot, mut passes) = (0.0, PassTimes::default());

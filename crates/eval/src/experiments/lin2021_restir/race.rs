@@ -4,11 +4,11 @@
 //! with it and share the machine's drift ([`equal_time_race`]).
 
 use crate::experiments::harness::protocol::{Accumulator, BudgetRun, Frames, Reference};
+use crate::experiments::harness::timing::clocked;
 use fogbank_render::integrators::restir::frame::{PassTimes, Sequence};
 use fogbank_render::integrators::restir::FrameData;
 use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::Scene;
-use std::time::Instant;
 
 /// ReSTIR frames of one sequence of the static `scene` (its integrator
 /// must be `restir`), one per [`RestirRun::step`], so that another run can
@@ -59,9 +59,7 @@ impl<'a> RestirRun<'a> {
 
     /// Renders and times one more frame.
     pub fn step(&mut self) {
-        let clock = Instant::now();
-        let out = self.seq.frame(&self.data, &self.data);
-        let seconds = clock.elapsed().as_secs_f64();
+        let (out, seconds) = clocked(|| self.seq.frame(&self.data, &self.data));
         self.last = out.radiance.iter().map(|l| l.to_array()).collect();
         self.acc.add(&self.last, seconds);
         self.n += 1;

@@ -30,6 +30,7 @@
 
 use super::fig12::rgb_mean_and_var;
 use crate::experiments::harness::protocol::render_at;
+use crate::experiments::harness::timing::clocked;
 use crate::experiments::harness::Writer;
 use crate::image_io::linear_to_srgb;
 use fogbank_math::{SampleKey, Vec3};
@@ -38,7 +39,6 @@ use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{parse_scene, Scene};
 use rayon::prelude::*;
 use std::path::Path;
-use std::time::Instant;
 
 /// N of the optical-depth estimates behind the weights (the paper: 10).
 pub const MIS_SAMPLES: [u32; 4] = [1, 2, 4, 10];
@@ -225,9 +225,8 @@ pub fn compute(spp: u32, direct_spp: u32) -> Result<Results, String> {
     let s = scene(&["integrator.strategy=mis_jackknife_biased".into()])?;
     let pm = point_mis(&s)?;
     let (width, height) = (s.camera.width, s.camera.height);
-    let start = Instant::now();
-    let px = shortcut(&s, pm, spp)?;
-    let seconds = start.elapsed().as_secs_f64();
+    let (px, seconds) = clocked(|| shortcut(&s, pm, spp));
+    let px = px?;
     let n = spp as f64;
     let ref_means: Vec<f64> = px.iter().map(|p| p.reference.mean(n)).collect();
     let ref_vars: Vec<f64> = px.iter().map(|p| p.reference.var_of_mean(n)).collect();
@@ -284,9 +283,7 @@ fn direct_renders(
                     format!("integrator.strategy={strategy}"),
                     format!("integrator.mis_samples={n_mis}"),
                 ])?;
-                let t = Instant::now();
-                let f = render_at(&s, direct_spp, DIRECT_SEED).film;
-                let secs = t.elapsed().as_secs_f64();
+                let (f, secs) = clocked(|| render_at(&s, direct_spp, DIRECT_SEED).film);
                 if f.nan_samples + f.inf_samples > 0 {
                     return Err(format!("fig13: {strategy}: non-finite samples"));
                 }
