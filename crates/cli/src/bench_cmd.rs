@@ -9,7 +9,7 @@
 use crate::common::{thread_pool, CliResult};
 use clap::Args;
 use fogbank_estimators::Estimator;
-use fogbank_eval::experiments::restir_protocol::median;
+use fogbank_eval::experiments::harness::timing::median;
 use fogbank_eval::{transmittance_stats, Backend};
 use fogbank_render::{parse_scene, Progress, RenderOptions, Scene};
 use std::path::Path;

@@ -13,8 +13,8 @@
 //!   frames, seed 000 §6.1) and `converge` (equal-time curves: MSE against a reference
 //!   as a function of render time);
 //! - `maps` (false-colour maps of per-pixel statistics with a colour bar, seed 000
-//!   Figs. 8 and 10) and `experiments` (the seeds' figures and tables, each writing CSV,
-//!   plots and a `summary.md`).
+//!   Figs. 8 and 10) and `experiments` (the papers' figures and tables, one folder per
+//!   paper, each writing CSV, plots and a `summary.md`).
 
 pub mod backend;
 pub mod converge;

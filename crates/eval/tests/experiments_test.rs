@@ -2,9 +2,10 @@
 //! checks the experiment's qualitative finding on the computed numbers.
 
 use fogbank_estimators::optical_depth::Jitter;
-use fogbank_eval::experiments::{
-    self, distributions, fig14, fig2, fig3, fig4, fig5, fig7, pins_fig3_4, profile, table1,
+use fogbank_eval::experiments::peters2025_jackknife::{
+    distributions, fig14, fig2, fig3, fig4, fig5, fig7, profile, table1,
 };
+use fogbank_eval::experiments::{self, hansen2025_pins as pins};
 
 #[test]
 fn fig2_jackknife_reduces_bias_and_laplace_underestimates() {
@@ -286,7 +287,7 @@ fn registry_writes_csv_plots_and_summary() {
 fn pins_fig3_4_decomposition_beats_stored_collision_rows() {
     use fogbank_estimators::pins::reference::collision_probabilities;
     use fogbank_math::Pcg32;
-    use pins_fig3_4::{total_variation, transmittances, Sampler};
+    use pins::fig3_4::{total_variation, transmittances, Sampler};
     let t = transmittances();
     let exact = collision_probabilities(&t);
     let tv = |s: Sampler| -> f64 {
@@ -312,7 +313,7 @@ fn pins_fig3_4_decomposition_beats_stored_collision_rows() {
 /// render, times and errors are finite, and PinMS shares one grid.
 #[test]
 fn pins_instances_measures_both_methods() {
-    use fogbank_eval::experiments::pins_instances::measure;
+    use pins::instances::measure;
     let r = measure(10, 16, 12, 8).unwrap();
     assert!(r.rm_ms > 0.0 && r.pin_ms > 0.0 && r.build_s > 0.0);
     assert!(r.rm_mse.is_finite() && r.pin_mse.is_finite() && r.pin_mse > 0.0);
@@ -322,7 +323,7 @@ fn pins_instances_measures_both_methods() {
 /// picks the thesis's P for all four of its volumes.
 #[test]
 fn pins_memory_rule_matches_the_thesis() {
-    use fogbank_eval::experiments::pins_memory::{row, THESIS};
+    use pins::memory::{row, THESIS};
     for (name, dims, p, tex, grid) in THESIS {
         let r = row(name, dims);
         assert_eq!(r.positions, p, "{name}");
@@ -343,24 +344,24 @@ fn pins_memory_rule_matches_the_thesis() {
 /// within limits).
 #[test]
 fn pins_ablation_settings_all_build() {
-    use fogbank_eval::experiments::{pins_ablation, restir_protocol::build};
-    let studies = pins_ablation::studies();
+    use fogbank_eval::experiments::harness::protocol::build;
+    let studies = pins::ablation::studies();
     assert!(studies.len() >= 18);
     for (fig, label, set) in studies {
         let small: Vec<String> = set
             .into_iter()
             .chain(["media.0.density.resolution=16".to_string()])
             .collect();
-        build(pins_ablation::SCENE, &small).unwrap_or_else(|e| panic!("{fig} {label}: {e}"));
+        build(pins::ablation::SCENE, &small).unwrap_or_else(|e| panic!("{fig} {label}: {e}"));
     }
 }
 
 /// Every row of seed 004's bias experiment builds for both lightings.
 #[test]
 fn pins_bias_settings_all_build() {
-    use fogbank_eval::experiments::{pins_bias, restir_protocol::build};
-    for (case, text) in pins_bias::cases() {
-        for (label, set) in pins_bias::settings() {
+    use fogbank_eval::experiments::harness::protocol::build;
+    for (case, text) in pins::bias::cases() {
+        for (label, set) in pins::bias::settings() {
             let small: Vec<String> = set
                 .into_iter()
                 .chain(["media.0.density.resolution=16".to_string()])
@@ -375,13 +376,13 @@ fn pins_bias_settings_all_build() {
 /// brightness thirds, with the silhouette a one-pixel ring.
 #[test]
 fn pins_boundary_methods_build_and_regions_split_a_disk() {
-    use fogbank_eval::experiments::{pins_boundary, restir_protocol::build};
-    for (_, light_label, light) in pins_boundary::LIGHTS {
-        let text = pins_boundary::scene(
+    use fogbank_eval::experiments::harness::protocol::build;
+    for (_, light_label, light) in pins::boundary::LIGHTS {
+        let text = pins::boundary::scene(
             "[[media]]\ndensity = { procedural = \"cloud\", resolution = 16, seed = 7 }\n",
             light,
         );
-        for (label, set) in pins_boundary::methods(0.08) {
+        for (label, set) in pins::boundary::methods(0.08) {
             build(&text, &set).unwrap_or_else(|e| panic!("{light_label}, {label}: {e}"));
         }
     }
@@ -397,7 +398,7 @@ fn pins_boundary_methods_build_and_regions_split_a_disk() {
             [v; 3]
         })
         .collect();
-    let r = pins_boundary::Regions::of(&img);
+    let r = pins::boundary::Regions::of(&img);
     let object = (0..w * h).filter(|&i| img[i][0] != 0.02).count();
     assert_eq!(r.thirds.iter().map(Vec::len).sum::<usize>(), object);
     assert!(r.thirds.iter().all(|t| t.len() >= object / 3));

@@ -2,9 +2,10 @@
 //! under the z-test (seed-fixed, so deterministic), and the test has the
 //! power to reject a configuration that is known to differ.
 
+use fogbank_eval::experiments::harness::protocol::{film_image, render_at};
 use fogbank_eval::image_io::Image;
 use fogbank_eval::metrics::ztest::ztest;
-use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
+use fogbank_render::{parse_scene, Scene};
 use std::path::Path;
 
 /// A nearest-filtered cloud (so regular tracking is exact) under a dim
@@ -20,20 +21,9 @@ const SCENE: &str = "[camera]\nwidth = 12\nheight = 10\nfov = 45.0\n\
 fn image(extra: &[&str], spp: u32, seed: u32) -> Image {
     let extra: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
     let scene = Scene::build(parse_scene(SCENE, "test", &extra).unwrap(), Path::new(".")).unwrap();
-    let opts = RenderOptions {
-        spp,
-        seed,
-        time_budget: None,
-    };
-    let film = render(&scene, &opts, &Progress::default()).film;
+    let film = render_at(&scene, spp, seed).film;
     assert_eq!(film.nan_samples + film.inf_samples, 0, "{extra:?}");
-    Image {
-        width: film.width as usize,
-        height: film.height as usize,
-        rgb: film.mean(),
-        variance: Some(film.variance_of_mean()),
-        is_srgb8: false,
-    }
+    film_image(&film)
 }
 
 fn configs(integrator: &str) -> Vec<Vec<String>> {

@@ -4,9 +4,10 @@
 //! ray do not (the thesis's Fig. 4.3 ordering), so does PinMS with the
 //! render-time pin stream, and the keys are checked.
 
+use fogbank_eval::experiments::harness::protocol::{film_image, render_at};
 use fogbank_eval::image_io::Image;
 use fogbank_eval::metrics::ztest::ztest;
-use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
+use fogbank_render::{parse_scene, Scene};
 use std::path::Path;
 
 const CLOUD: &str = "[camera]\nfrom = [0.0, 0.1, 2.0]\nto = [0.0, 0.0, 0.0]\nfov = 40.0\nwidth = 24\nheight = 18\n\
@@ -31,20 +32,9 @@ fn build(text: &str, extra: &[&str]) -> Result<Scene, String> {
 
 fn image(text: &str, extra: &[&str], spp: u32, seed: u32) -> Image {
     let scene = build(text, extra).unwrap();
-    let opts = RenderOptions {
-        spp,
-        seed,
-        time_budget: None,
-    };
-    let film = render(&scene, &opts, &Progress::default()).film;
+    let film = render_at(&scene, spp, seed).film;
     assert_eq!(film.nan_samples + film.inf_samples, 0, "{extra:?}");
-    Image {
-        width: film.width as usize,
-        height: film.height as usize,
-        rgb: film.mean(),
-        variance: Some(film.variance_of_mean()),
-        is_srgb8: false,
-    }
+    film_image(&film)
 }
 
 fn mean(i: &Image) -> f64 {

@@ -6,6 +6,7 @@
 //! test has the power to reject plain 1/M weights (Eq. 9), which darken
 //! where a neighbour cannot produce a pixel's paths.
 
+use fogbank_eval::experiments::harness::protocol::{film_image, render_at};
 use fogbank_eval::image_io::Image;
 use fogbank_eval::metrics::ztest::{ztest, ZTest};
 use fogbank_math::testdata::checker_slab_raw;
@@ -52,20 +53,9 @@ const EXPLOSION: &str = "[camera]\nfrom = [0.0, 0.1, 1.9]\nto = [0.0, -0.02, 0.0
 
 fn image(text: &str, set: &[String], spp: u32, seed: u32) -> Image {
     let scene = Scene::build(parse_scene(text, "test", set).unwrap(), Path::new(".")).unwrap();
-    let opts = RenderOptions {
-        spp,
-        seed,
-        time_budget: None,
-    };
-    let film = render(&scene, &opts, &Progress::default()).film;
+    let film = render_at(&scene, spp, seed).film;
     assert_eq!(film.nan_samples + film.inf_samples, 0, "{set:?}");
-    Image {
-        width: film.width as usize,
-        height: film.height as usize,
-        rgb: film.mean(),
-        variance: Some(film.variance_of_mean()),
-        is_srgb8: false,
-    }
+    film_image(&film)
 }
 
 fn mean(img: &Image) -> [f64; 3] {
@@ -278,14 +268,7 @@ fn restir_with_a_moving_light_is_unbiased() {
         seed: 1,
         time_budget: None,
     };
-    let film = render(&at_last, &opts, &Progress::default()).film;
-    let reference = Image {
-        width: film.width as usize,
-        height: film.height as usize,
-        rgb: film.mean(),
-        variance: Some(film.variance_of_mean()),
-        is_srgb8: false,
-    };
+    let reference = film_image(&render(&at_last, &opts, &Progress::default()).film);
     let z = ztest(&reference, &test).unwrap();
     eprintln!(
         "moving light: pass {} failing {} max|z| {:.2} at {:?} mean z {:.3?}, ref mean {:.5?} test mean {:.5?}",

@@ -1,62 +1,42 @@
-//! The seeds' experiments (seed 000's one-dimensional studies; seed 002's
-//! `restir-*` studies on rendered frames): each reproduces one figure or
-//! table of the paper on synthetic data with the project's own estimators,
-//! writes CSV, plots (SVG + PNG) and a `summary.md` stating the finding with
-//! numbers. Every run is deterministic (fixed seeds, chunked parallel
-//! streams) and its trial count can be overridden.
+//! The papers' experiments, one folder per paper: each experiment
+//! reproduces one figure or table of its paper with the project's own
+//! estimators and renderers (synthetic data or shipped scenes, no
+//! downloads unless stated), writes CSV, plots (SVG + PNG) and a
+//! `summary.md` stating the finding with numbers. Every run is
+//! deterministic (fixed seeds, chunked parallel streams) and its trial
+//! count can be overridden.
+//!
+//! - [`peters2025_jackknife`]: C. Peters, *Jackknife Transmittance and MIS
+//!   Weight Estimation*, ACM TOG 44(6), 2025 (seed 000: `fig1` … `fig14`,
+//!   `table1`);
+//! - [`lin2021_restir`]: D. Lin, C. Wyman, C. Yuksel, *Fast Volume Rendering
+//!   with Spatiotemporal Reservoir Resampling*, ACM TOG 40(6), 2021
+//!   (seed 002: `restir-*`);
+//! - [`lerzer2025_visopt`]: N. Lerzer, C. Dachsbacher, *View-Dependent
+//!   Visibility Optimization for Monte Carlo Volume Visualization*, CGF 2025
+//!   (seed 003: `visopt-*`);
+//! - [`hansen2025_pins`]: S. Hansen, *Pin Transmittance Sampling*, master
+//!   thesis, KIT 2025 (seed 004: `pins-*`);
+//! - [`engine`]: measurements of fogbank's own machinery that reproduce no
+//!   paper (`bvh-perf`, `light-bvh`);
+//! - [`harness`]: what the experiments share — the output writer,
+//!   deterministic chunked trials, the frame-rendering protocol (references,
+//!   MSE, equal-time races), GPU timing, scene edits and curve fits.
+//!
+//! `EXPERIMENTS` below is the one list of the names `fogbank experiment`
+//! takes; each name maps to the `run` of one file in a folder above.
 
-pub mod bvh_perf;
-pub mod distributions;
-pub mod fig1;
-pub mod fig12;
-pub mod fig13;
-pub mod fig14;
-pub mod fig2;
-pub mod fig3;
-pub mod fig4;
-pub mod fig5;
-pub mod fig7;
-mod fit;
-pub mod light_bvh;
-pub mod pins_ablation;
-pub mod pins_bias;
-pub mod pins_boundary;
-pub mod pins_convergence;
-pub mod pins_fig3_4;
-pub mod pins_instances;
-pub mod pins_memory;
-pub mod pins_runtime;
-pub mod pins_stream;
-pub mod pins_surfaces;
-pub mod profile;
-pub mod restir_ablation;
-pub mod restir_bias;
-pub mod restir_dynamic;
-pub mod restir_equal_time;
-pub mod restir_gpu_frame_time;
-pub mod restir_protocol;
-pub mod restir_race;
-pub mod restir_scenes;
-pub mod restir_surfaces;
-mod scene_edit;
-pub mod table1;
-pub mod trials;
-pub mod visopt_denoise;
-pub mod visopt_equal_time;
-pub mod visopt_fig2;
-pub mod visopt_fig7;
-pub mod visopt_gpu_frame_time;
-pub mod visopt_head;
-pub mod visopt_overhead;
-pub mod visopt_pre;
-pub mod visopt_teaser;
-mod writer;
+pub mod engine;
+pub mod hansen2025_pins;
+pub mod harness;
+pub mod lerzer2025_visopt;
+pub mod lin2021_restir;
+pub mod peters2025_jackknife;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-pub use fit::log_log_fit;
-pub use writer::Writer;
+pub use harness::Writer;
 
 /// What a run produced.
 #[derive(Clone, Debug)]
@@ -75,49 +55,52 @@ type Run = fn(&mut Writer, Option<u64>) -> Result<String, String>;
 
 /// Every experiment, by the name `fogbank experiment` takes, listed once.
 const EXPERIMENTS: &[(&str, Run)] = &[
-    ("fig1", fig1::run),
-    ("fig2", fig2::run),
-    ("fig3", fig3::run),
+    ("fig1", peters2025_jackknife::fig1::run),
+    ("fig2", peters2025_jackknife::fig2::run),
+    ("fig3", peters2025_jackknife::fig3::run),
     ("fig4", |w, trials| {
-        fig4::run(w, trials, fig4::Variant::Smooth)
+        peters2025_jackknife::fig4::run(w, trials, peters2025_jackknife::fig4::Variant::Smooth)
     }),
-    ("fig5", fig5::run),
+    ("fig5", peters2025_jackknife::fig5::run),
     ("fig6", |w, trials| {
-        fig4::run(w, trials, fig4::Variant::Sparse)
+        peters2025_jackknife::fig4::run(w, trials, peters2025_jackknife::fig4::Variant::Sparse)
     }),
-    ("fig7", fig7::run),
-    ("fig12", fig12::run),
-    ("fig13", fig13::run),
-    ("table1", table1::run),
-    ("fig14", fig14::run),
-    ("restir-equal-time", restir_equal_time::run),
-    ("restir-surfaces", restir_surfaces::run),
-    ("restir-ablation", restir_ablation::run),
-    ("restir-dynamic", restir_dynamic::run),
-    ("restir-bias", restir_bias::run),
-    ("restir-gpu-frame-time", restir_gpu_frame_time::run),
-    ("pins-stream", pins_stream::run),
-    ("pins-surfaces", pins_surfaces::run),
-    ("pins-fig3-4", pins_fig3_4::run),
-    ("pins-instances", pins_instances::run),
-    ("pins-memory", pins_memory::run),
-    ("pins-ablation", pins_ablation::run),
-    ("pins-bias", pins_bias::run),
-    ("pins-boundary", pins_boundary::run),
-    ("pins-runtime", pins_runtime::run),
-    ("pins-gpu-runtime", pins_runtime::run_gpu),
-    ("pins-convergence", pins_convergence::run),
-    ("visopt-fig2", visopt_fig2::run),
-    ("visopt-fig7", visopt_fig7::run),
-    ("visopt-overhead", visopt_overhead::run),
-    ("visopt-head", visopt_head::run),
-    ("visopt-pre", visopt_pre::run),
-    ("visopt-equal-time", visopt_equal_time::run),
-    ("visopt-teaser", visopt_teaser::run),
-    ("visopt-denoise", visopt_denoise::run),
-    ("visopt-gpu-frame-time", visopt_gpu_frame_time::run),
-    ("bvh-perf", bvh_perf::run),
-    ("light-bvh", light_bvh::run),
+    ("fig7", peters2025_jackknife::fig7::run),
+    ("fig12", peters2025_jackknife::fig12::run),
+    ("fig13", peters2025_jackknife::fig13::run),
+    ("table1", peters2025_jackknife::table1::run),
+    ("fig14", peters2025_jackknife::fig14::run),
+    ("restir-equal-time", lin2021_restir::equal_time::run),
+    ("restir-surfaces", lin2021_restir::surfaces::run),
+    ("restir-ablation", lin2021_restir::ablation::run),
+    ("restir-dynamic", lin2021_restir::dynamic::run),
+    ("restir-bias", lin2021_restir::bias::run),
+    ("restir-gpu-frame-time", lin2021_restir::gpu_frame_time::run),
+    ("pins-stream", hansen2025_pins::stream::run),
+    ("pins-surfaces", hansen2025_pins::surfaces::run),
+    ("pins-fig3-4", hansen2025_pins::fig3_4::run),
+    ("pins-instances", hansen2025_pins::instances::run),
+    ("pins-memory", hansen2025_pins::memory::run),
+    ("pins-ablation", hansen2025_pins::ablation::run),
+    ("pins-bias", hansen2025_pins::bias::run),
+    ("pins-boundary", hansen2025_pins::boundary::run),
+    ("pins-runtime", hansen2025_pins::runtime::run),
+    ("pins-gpu-runtime", hansen2025_pins::runtime::run_gpu),
+    ("pins-convergence", hansen2025_pins::convergence::run),
+    ("visopt-fig2", lerzer2025_visopt::fig2::run),
+    ("visopt-fig7", lerzer2025_visopt::fig7::run),
+    ("visopt-overhead", lerzer2025_visopt::overhead::run),
+    ("visopt-head", lerzer2025_visopt::head::run),
+    ("visopt-pre", lerzer2025_visopt::pre::run),
+    ("visopt-equal-time", lerzer2025_visopt::equal_time::run),
+    ("visopt-teaser", lerzer2025_visopt::teaser::run),
+    ("visopt-denoise", lerzer2025_visopt::denoise::run),
+    (
+        "visopt-gpu-frame-time",
+        lerzer2025_visopt::gpu_frame_time::run,
+    ),
+    ("bvh-perf", engine::bvh_perf::run),
+    ("light-bvh", engine::light_bvh::run),
 ];
 
 /// The experiment names `run` accepts.

@@ -124,35 +124,55 @@ pub(super) fn auto_range<'a>(
     (lo - pad, hi + pad)
 }
 
+/// What [`axes`] lays out: the panel's title and axis descriptions, the
+/// ranges in plot coordinates (log10 for log axes), the scales, and the
+/// space right of the plot (a heat map's colour bar needs less).
+pub(super) struct AxesLayout<'s> {
+    pub(super) title: &'s str,
+    pub(super) x_label: &'s str,
+    pub(super) y_label: &'s str,
+    pub(super) x_range: (f64, f64),
+    pub(super) y_range: (f64, f64),
+    pub(super) x_axis: Axis,
+    pub(super) y_axis: Axis,
+    pub(super) right_margin: u32,
+}
+
 /// Builds the chart with mesh and ticks, draws tick labels, axis
 /// descriptions and the title; returns the chart for the data.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn axes<'a, DB: DrawingBackend>(
     ink: &Ink<DB>,
     area: &'a Area<DB>,
-    title: &str,
-    x_label: &str,
-    y_label: &str,
-    xr: (f64, f64),
-    yr: (f64, f64),
-    xa: Axis,
-    ya: Axis,
-    right_margin: u32,
+    layout: &AxesLayout,
 ) -> Result<Chart<'a, DB>, String> {
-    let xt = ticks(xr.0, xr.1, xa);
-    let yt = ticks(yr.0, yr.1, ya);
+    let (xr, yr) = (layout.x_range, layout.y_range);
+    let xt = ticks(xr.0, xr.1, layout.x_axis);
+    let yt = ticks(yr.0, yr.1, layout.y_axis);
     let y_label_w = yt.labels.iter().map(|l| ink.width(l, 1)).max().unwrap_or(0) as u32;
     let mut chart = ChartBuilder::on(area)
-        .margin_top(if title.is_empty() { 10 } else { 34 })
-        .margin_right(right_margin)
+        .margin_top(if layout.title.is_empty() { 10 } else { 34 })
+        .margin_right(layout.right_margin)
         .margin_left(8)
         .margin_bottom(6)
         .x_label_area_size(44)
         .y_label_area_size(y_label_w + 34)
         .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
         .map_err(err)?;
-    // Grid, frame and tick marks (plotters' mesh would also want to draw
-    // the labels, which this module places itself).
+    draw_grid(&mut chart, &xt, &yt, xr, yr)?;
+    draw_ticks(ink, &chart, &xt, &yt, xr, yr)?;
+    draw_labels(ink, area, &chart, layout, y_label_w)?;
+    Ok(chart)
+}
+
+/// Minor and major grid lines (plotters' mesh would also want to draw the
+/// labels, which this module places itself).
+fn draw_grid<DB: DrawingBackend>(
+    chart: &mut Chart<DB>,
+    xt: &Ticks,
+    yt: &Ticks,
+    xr: (f64, f64),
+    yr: (f64, f64),
+) -> Result<(), String> {
     let grid = |v: &[f64], c: RGBColor| -> Vec<PathElement<(f64, f64)>> {
         v.iter()
             .map(|&x| PathElement::new(vec![(x, yr.0), (x, yr.1)], c))
@@ -169,6 +189,18 @@ pub(super) fn axes<'a, DB: DrawingBackend>(
     chart.draw_series(hgrid(&yt.minor, light)).map_err(err)?;
     chart.draw_series(grid(&xt.major, bold)).map_err(err)?;
     chart.draw_series(hgrid(&yt.major, bold)).map_err(err)?;
+    Ok(())
+}
+
+/// The frame round the plotting area, tick marks and tick labels.
+fn draw_ticks<DB: DrawingBackend>(
+    ink: &Ink<DB>,
+    chart: &Chart<DB>,
+    xt: &Ticks,
+    yt: &Ticks,
+    xr: (f64, f64),
+    yr: (f64, f64),
+) -> Result<(), String> {
     let (px, py) = chart.plotting_area().get_pixel_range();
     let root = ink.root;
     let frame = ShapeStyle::from(&BLACK).stroke_width(1);
@@ -192,9 +224,22 @@ pub(super) fn axes<'a, DB: DrawingBackend>(
         .map_err(err)?;
         ink.text(l, (px.start - 8, y), 1, HPos::Right, VPos::Center, false)?;
     }
+    Ok(())
+}
+
+/// The axis descriptions (the y one reading upwards, left of tick labels
+/// `y_label_w` wide) and the title, centred over the plot.
+fn draw_labels<DB: DrawingBackend>(
+    ink: &Ink<DB>,
+    area: &Area<DB>,
+    chart: &Chart<DB>,
+    layout: &AxesLayout,
+    y_label_w: u32,
+) -> Result<(), String> {
+    let (px, py) = chart.plotting_area().get_pixel_range();
     let cx = (px.start + px.end) / 2;
     ink.text(
-        x_label,
+        layout.x_label,
         (cx, py.end + 24),
         1,
         HPos::Center,
@@ -203,7 +248,7 @@ pub(super) fn axes<'a, DB: DrawingBackend>(
     )?;
     let cy = (py.start + py.end) / 2;
     ink.text(
-        y_label,
+        layout.y_label,
         (px.start - 16 - y_label_w as i32, cy),
         1,
         HPos::Center,
@@ -211,7 +256,7 @@ pub(super) fn axes<'a, DB: DrawingBackend>(
         true,
     )?;
     let (aw, _) = area.dim_in_pixel();
-    let (title, scale) = ink.fitted(title, 2, aw as i32 - 8);
+    let (title, scale) = ink.fitted(layout.title, 2, aw as i32 - 8);
     let centre = {
         // Centred over the plot, moved in when that would cut the text.
         let half = ink.width(&title, scale) / 2;
@@ -225,8 +270,7 @@ pub(super) fn axes<'a, DB: DrawingBackend>(
         HPos::Center,
         VPos::Top,
         false,
-    )?;
-    Ok(chart)
+    )
 }
 
 pub(super) fn draw_series<DB: DrawingBackend>(
@@ -322,38 +366,48 @@ pub(super) fn legend_and_notes<DB: DrawingBackend>(
     ))
     .map_err(err)?;
     for (k, s) in entries.iter().enumerate() {
-        let yc = y0 + 11 + k as i32 * 15;
-        let c = s.color.to_plotters();
-        let style = ShapeStyle::from(&c).stroke_width(2);
-        let (a, b) = ((x0 + 6, yc), (x0 + 30, yc));
-        match s.mark {
-            Mark::Line => root
-                .draw(&PathElement::new(vec![a, b], style))
-                .map_err(err)?,
-            Mark::Dashed => {
-                root.draw(&PathElement::new(vec![a, (x0 + 14, yc)], style))
-                    .map_err(err)?;
-                root.draw(&PathElement::new(vec![(x0 + 20, yc), b], style))
-                    .map_err(err)?;
-            }
-            Mark::Points => root
-                .draw(&Circle::new((x0 + 18, yc), 3, c.filled()))
-                .map_err(err)?,
-            Mark::LinePoints => {
-                root.draw(&PathElement::new(vec![a, b], style))
-                    .map_err(err)?;
-                root.draw(&Circle::new((x0 + 18, yc), 3, c.filled()))
-                    .map_err(err)?;
-            }
-        }
-        ink.text(
-            s.label.as_deref().unwrap_or(""),
-            (x0 + 36, yc),
-            1,
-            HPos::Left,
-            VPos::Center,
-            false,
-        )?;
+        legend_entry(ink, s, x0, y0 + 11 + k as i32 * 15)?;
     }
     Ok(())
+}
+
+/// One legend entry at height `yc`: the series' mark, then its label.
+fn legend_entry<DB: DrawingBackend>(
+    ink: &Ink<DB>,
+    s: &Series,
+    x0: i32,
+    yc: i32,
+) -> Result<(), String> {
+    let root = ink.root;
+    let c = s.color.to_plotters();
+    let style = ShapeStyle::from(&c).stroke_width(2);
+    let (a, b) = ((x0 + 6, yc), (x0 + 30, yc));
+    match s.mark {
+        Mark::Line => root
+            .draw(&PathElement::new(vec![a, b], style))
+            .map_err(err)?,
+        Mark::Dashed => {
+            root.draw(&PathElement::new(vec![a, (x0 + 14, yc)], style))
+                .map_err(err)?;
+            root.draw(&PathElement::new(vec![(x0 + 20, yc), b], style))
+                .map_err(err)?;
+        }
+        Mark::Points => root
+            .draw(&Circle::new((x0 + 18, yc), 3, c.filled()))
+            .map_err(err)?,
+        Mark::LinePoints => {
+            root.draw(&PathElement::new(vec![a, b], style))
+                .map_err(err)?;
+            root.draw(&Circle::new((x0 + 18, yc), 3, c.filled()))
+                .map_err(err)?;
+        }
+    }
+    ink.text(
+        s.label.as_deref().unwrap_or(""),
+        (x0 + 36, yc),
+        1,
+        HPos::Left,
+        VPos::Center,
+        false,
+    )
 }

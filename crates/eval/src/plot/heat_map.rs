@@ -4,7 +4,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
 use super::area::{err, Area};
-use super::axes::{axes, draw_series, legend_and_notes, ticks};
+use super::axes::{axes, draw_series, legend_and_notes, ticks, AxesLayout};
 use super::style::{Axis, Corner, Series};
 use super::text::Ink;
 
@@ -79,18 +79,17 @@ pub(super) fn draw_heat_map<DB: DrawingBackend>(
 ) -> Result<(), String> {
     let (w, _) = area.dim_in_pixel();
     let (main, bar) = area.split_horizontally(w.saturating_sub(96));
-    let mut chart = axes(
-        ink,
-        &main,
-        &h.title,
-        &h.x_label,
-        &h.y_label,
-        h.x_range,
-        h.y_range,
-        Axis::Linear,
-        Axis::Linear,
-        8,
-    )?;
+    let layout = AxesLayout {
+        title: &h.title,
+        x_label: &h.x_label,
+        y_label: &h.y_label,
+        x_range: h.x_range,
+        y_range: h.y_range,
+        x_axis: Axis::Linear,
+        y_axis: Axis::Linear,
+        right_margin: 8,
+    };
+    let mut chart = axes(ink, &main, &layout)?;
     let dx = (h.x_range.1 - h.x_range.0) / h.nx as f64;
     let dy = (h.y_range.1 - h.y_range.0) / h.ny as f64;
     let (lo, hi) = h.limits;
@@ -125,6 +124,18 @@ pub(super) fn draw_heat_map<DB: DrawingBackend>(
     legend_and_notes(ink, &chart, &h.overlays, Corner::UpperLeft, &[])?;
     // Colour bar, aligned with the plotting area.
     let (_, py) = chart.plotting_area().get_pixel_range();
+    colour_bar(ink, &bar, h, py)
+}
+
+/// The colour bar right of the plot, spanning the plotting area's rows
+/// `py`, with its ticks and its label.
+fn colour_bar<DB: DrawingBackend>(
+    ink: &Ink<DB>,
+    bar: &Area<DB>,
+    h: &HeatMap,
+    py: std::ops::Range<i32>,
+) -> Result<(), String> {
+    let (lo, hi) = h.limits;
     let (bx, _) = bar.get_base_pixel();
     let (x0, x1) = (bx + 6, bx + 26);
     let steps = 128;

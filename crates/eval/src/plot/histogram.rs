@@ -3,7 +3,7 @@
 use plotters::prelude::*;
 
 use super::area::{err, Area};
-use super::axes::{auto_range, axes, draw_series, legend_and_notes};
+use super::axes::{auto_range, axes, draw_series, legend_and_notes, AxesLayout};
 use super::style::{Axis, Corner, Rgb, Series};
 use super::text::Ink;
 
@@ -76,18 +76,17 @@ pub(super) fn draw_histogram<DB: DrawingBackend>(
         )
         .fold(0.0f64, |a, &b| if b.is_finite() { a.max(b) } else { a });
     let yr = (0.0, if top > 0.0 { 1.08 * top } else { 1.0 });
-    let mut chart = axes(
-        ink,
-        area,
-        &h.title,
-        &h.x_label,
-        &h.y_label,
-        xr,
-        yr,
-        Axis::Linear,
-        Axis::Linear,
-        16,
-    )?;
+    let layout = AxesLayout {
+        title: &h.title,
+        x_label: &h.x_label,
+        y_label: &h.y_label,
+        x_range: xr,
+        y_range: yr,
+        x_axis: Axis::Linear,
+        y_axis: Axis::Linear,
+        right_margin: 16,
+    };
+    let mut chart = axes(ink, area, &layout)?;
     let c = h.color.unwrap_or(Rgb(150, 170, 200)).to_plotters();
     chart
         .draw_series(

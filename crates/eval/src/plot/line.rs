@@ -3,7 +3,7 @@
 use plotters::prelude::*;
 
 use super::area::Area;
-use super::axes::{auto_range, axes, draw_series, legend_and_notes};
+use super::axes::{auto_range, axes, draw_series, legend_and_notes, AxesLayout};
 use super::style::{Axis, Corner, Series};
 use super::text::Ink;
 
@@ -82,9 +82,17 @@ pub(super) fn draw_line_plot<DB: DrawingBackend>(
         p.y_axis,
         p.y_range,
     );
-    let mut chart = axes(
-        ink, area, &p.title, &p.x_label, &p.y_label, xr, yr, p.x_axis, p.y_axis, 16,
-    )?;
+    let layout = AxesLayout {
+        title: &p.title,
+        x_label: &p.x_label,
+        y_label: &p.y_label,
+        x_range: xr,
+        y_range: yr,
+        x_axis: p.x_axis,
+        y_axis: p.y_axis,
+        right_margin: 16,
+    };
+    let mut chart = axes(ink, area, &layout)?;
     for s in &p.series {
         draw_series(&mut chart, s, p.x_axis, p.y_axis)?;
     }
