@@ -78,9 +78,7 @@ pub fn optical_depths<V: VolumeAccess>(
     let prep = prepare(v, ray, t0, t1, importance);
     if prep.total > 0.0 {
         let f_delta = f_delta(prep.total, samples, mode);
-        estimates(
-            v, ray, &prep, f_delta, importance, jitter, rng, lookups, out,
-        );
+        estimates(v, &prep, f_delta, jitter, rng, lookups, out);
     }
 }
 

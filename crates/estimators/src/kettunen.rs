@@ -98,10 +98,8 @@ pub fn biased_transmittance<V: VolumeAccess>(
     let mut x = [0.0; 1];
     estimates(
         v,
-        ray,
         &prep,
         prep.total / n as f64,
-        Importance::Mean,
         Jitter::Stratified,
         rng,
         &mut lookups,
@@ -137,10 +135,8 @@ pub fn unbiased_transmittance<V: VolumeAccess>(
     let mut lookups = 0;
     estimates(
         v,
-        ray,
         &prep,
         prep.total / per as f64,
-        Importance::Mean,
         Jitter::Stratified,
         rng,
         &mut lookups,

@@ -41,10 +41,13 @@ pub enum Jitter {
     Uniform,
 }
 
-/// Result of Alg. 2: total importance along the ray and the tight segment
-/// covering the super-voxels with non-zero importance.
+/// Result of Alg. 2: the ray and importance it was prepared for, the total
+/// importance along the ray and the tight segment covering the
+/// super-voxels with non-zero importance.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Prepared {
+    pub ray: Ray,
+    pub importance: Importance,
     /// F = ∫ P dt over the segment.
     pub total: f64,
     pub t_min: f32,
@@ -71,6 +74,8 @@ pub fn prepare<V: VolumeAccess>(
         }
     }
     Prepared {
+        ray: *ray,
+        importance,
         total,
         t_min,
         t_max,
@@ -78,23 +83,21 @@ pub fn prepare<V: VolumeAccess>(
 }
 
 /// Seed 000, Alg. 1, for `out.len()` interleaved i.i.d. estimates with CDF
-/// step `f_delta` (importance per stratum). Each estimate advances its own
+/// step `f_delta` (importance per stratum) along the prepared ray. Each estimate advances its own
 /// normalised CDF cursor; every pass of the inner loop takes exactly one
 /// full-resolution sample. Writes X_k = F_Δ Σ (μ − μ_c)/P + τ_c. The sample
 /// points are known before any value is read, so they are read in batches
 /// (`LookupBatch`, SIMD lanes), with the sequential result bit for bit.
-#[allow(clippy::too_many_arguments)]
 pub fn estimates<V: VolumeAccess>(
     v: &V,
-    ray: &Ray,
     prep: &Prepared,
     f_delta: f64,
-    importance: Importance,
     jitter: Jitter,
     rng: &mut Pcg32,
     lookups: &mut u32,
     out: &mut [f64],
 ) {
+    let (ray, importance) = (&prep.ray, prep.importance);
     let m = out.len().min(MAX_ESTIMATES);
     out.iter_mut().for_each(|x| *x = 0.0);
     if m == 0 || prep.total <= 0.0 || f_delta <= 0.0 {

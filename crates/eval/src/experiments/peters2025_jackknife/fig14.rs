@@ -170,10 +170,8 @@ fn size_row(grid: &BrickGrid<f32>, ray: &Ray, size: u32, trials: u64, exact: f64
             for _ in 0..count {
                 estimates(
                     &c,
-                    ray,
                     &prep,
                     prep.total / SAMPLES as f64,
-                    Importance::VarianceAware,
                     Jitter::Stratified,
                     rng,
                     &mut lookups,
@@ -182,10 +180,8 @@ fn size_row(grid: &BrickGrid<f32>, ray: &Ray, size: u32, trials: u64, exact: f64
                 acc.0.push(jackknife_transmittance(x[0], x[1]));
                 estimates(
                     &v0,
-                    ray,
                     &prep,
                     prep.total / (2 * SAMPLES) as f64,
-                    Importance::VarianceAware,
                     Jitter::Stratified,
                     rng,
                     &mut lookups,

@@ -144,7 +144,6 @@ impl Profile1D {
         );
         Marching {
             profile: self,
-            ray,
             prep,
         }
     }
@@ -154,7 +153,6 @@ impl Profile1D {
 /// estimate along the profile needs.
 pub struct Marching<'a> {
     profile: &'a Profile1D,
-    ray: Ray,
     /// Alg. 2's result; `prep.total / N` is the importance step of N samples.
     pub prep: Prepared,
 }
@@ -171,17 +169,7 @@ impl Marching<'_> {
         lookups: &mut u32,
         out: &mut [f64],
     ) {
-        estimates(
-            self.profile,
-            &self.ray,
-            &self.prep,
-            f_delta,
-            Importance::VarianceAware,
-            jitter,
-            rng,
-            lookups,
-            out,
-        );
+        estimates(self.profile, &self.prep, f_delta, jitter, rng, lookups, out);
     }
 }
 
