@@ -239,7 +239,7 @@ fn query_value(q: ShadowQuery, surface: bool, tr: vec3<f32>) -> vec3<f32> {
     return q.le * (q.fs * tr * q.w / q.den);
 }
 
-// next_event::light_sample_weighted (medium) and light_sample_surface:
+// next_event::light_sample (medium) and light_sample_surface:
 // one light picked (LightSampler, by vertex kind), sampled, weighted against phase or BSDF
 // sampling by the balance heuristic (not for delta lights, nor with
 // INTEGRATOR_LIGHT_ONLY); the shadow ray leaves a surface from the

@@ -7,12 +7,14 @@
 //! - `protocol`: rendering frames against an offline reference — scene
 //!   building with overrides, references and their noise floors, MSE,
 //!   independent frames, frames raced within a time budget;
+//! - `clock`: the wall-clock time of one piece of work;
 //! - `timing`: device time per sample on a GPU (median of renders after a
 //!   warm-up);
 //! - `scene_edit`: [`SceneText`], edits of a shipped scene that fail when
 //!   they miss;
 //! - `fit`: [`log_log_fit`], power laws as straight lines in log-log space.
 
+mod clock;
 mod fit;
 pub mod protocol;
 mod scene_edit;

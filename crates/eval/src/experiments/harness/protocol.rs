@@ -5,7 +5,7 @@
 //! integrator, frames raced within a time budget; MSE of every frame and
 //! of the running mean, with the reference's own variance subtracted.
 
-use super::timing::clocked;
+use super::clock::clocked;
 use fogbank_image::Image;
 use fogbank_render::integrators::restir::frame::PassTimes;
 use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, RenderResult, Scene};

@@ -3,16 +3,9 @@
 //! renders after a warm-up, since a GPU's clocks and its neighbours make
 //! single renders unreliable.
 
+pub use super::clock::clocked;
 use super::protocol::build;
 use fogbank_render::{Progress, RenderOptions, Scene};
-use std::time::Instant;
-
-/// `f`'s result and the wall-clock seconds it took.
-pub fn clocked<T>(f: impl FnOnce() -> T) -> (T, f64) {
-    let clock = Instant::now();
-    let out = f();
-    (out, clock.elapsed().as_secs_f64())
-}
 
 /// Device milliseconds per sample of `text` with `set`, `spp` samples: the
 /// median of [`TIMED_RENDERS`] renders after [`gpu_warm_up`]. On an H100

@@ -5,8 +5,8 @@ use std::path::PathBuf;
 
 /// Writes an experiment's files into its output directory and records them.
 pub struct Writer {
-    pub(in crate::experiments) out: PathBuf,
-    pub(in crate::experiments) files: Vec<PathBuf>,
+    pub(crate) out: PathBuf,
+    pub(crate) files: Vec<PathBuf>,
 }
 
 impl Writer {
