@@ -14,6 +14,7 @@
 //! | [`ztest()`] | whether the difference is explained by Monte Carlo noise |
 
 pub mod flip;
+mod flip_colour;
 pub mod normal;
 mod pixels;
 pub mod relmse;
