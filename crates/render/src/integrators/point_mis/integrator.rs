@@ -13,7 +13,8 @@ use crate::world::medium::SceneMedium;
 use crate::world::phase::HenyeyGreenstein;
 use crate::world::surfaces::Surfaces;
 use crate::world::World;
-use fogbank_estimators::distance::{delta_tracking_ratio, equiangular};
+use fogbank_estimators::distance::delta_tracking_ratio::{self, TrackedFreeFlight};
+use fogbank_estimators::distance::equiangular;
 use fogbank_estimators::jackknife::{optical_depths, Sampling};
 use fogbank_estimators::jackknife_function::mis_weight;
 use fogbank_estimators::lookup::sigma_t_at;
@@ -208,8 +209,7 @@ impl PointMis {
     /// Free-flight sampling of the scattering distance.
     fn free_flight<V: VolumeAccess>(&self, v: &V, s: &Segment, cx: &mut PathContext) -> Vec3 {
         let mut total = Vec3::ZERO;
-        let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, cx.rng);
-        cx.lookups += f.lookups;
+        let f = tracked_flight(v, s, cx);
         if let Some(t1) = f.t {
             total += self.in_scattered(s, t1, cx);
         }
@@ -219,8 +219,7 @@ impl PointMis {
     /// Equiangular sampling toward the point light.
     fn equiangular<V: VolumeAccess>(&self, v: &V, s: &Segment, cx: &mut PathContext) -> Vec3 {
         let mut total = Vec3::ZERO;
-        let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, cx.next_f32());
-        if pdf0 > 0.0 && pdf0.is_finite() {
+        if let Some((t0, pdf0)) = equiangular_distance(s, cx) {
             let sigma_t = Self::segment_sigma_t(v, s, t0, cx.rng, &mut cx.lookups);
             if sigma_t > 0.0 {
                 let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, cx.rng, 0.0);
@@ -238,8 +237,7 @@ impl PointMis {
         let mut total = Vec3::ZERO;
         // Free-flight sample: w1 = μ T_rt / (p0 + μ T_rt) with T_rt from
         // delta tracking's null collisions before t1 (seed 000 §6.2).
-        let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, cx.rng);
-        cx.lookups += f.lookups;
+        let f = tracked_flight(v, s, cx);
         if let Some(t1) = f.t {
             let w1 = balance(f.sigma_t * f.ratio, p0(t1));
             if w1 > 0.0 {
@@ -248,8 +246,7 @@ impl PointMis {
         }
         // Equiangular sample: one ratio-tracking walk over [a, t0]
         // gives both T(t0) and the weight; w0 T μ / p0 = q/(p0 + q).
-        let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, cx.next_f32());
-        if pdf0 > 0.0 && pdf0.is_finite() {
+        if let Some((t0, pdf0)) = equiangular_distance(s, cx) {
             let sigma_t = Self::segment_sigma_t(v, s, t0, cx.rng, &mut cx.lookups);
             if sigma_t > 0.0 {
                 let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, cx.rng, 0.0);
@@ -270,8 +267,7 @@ impl PointMis {
         // Seed 000, Eq. 9. Every weight uses its own optical-depth
         // estimates and σ_t lookup, independent of the distance
         // sample and of T̃(t0), as App. D's proof needs.
-        let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, cx.rng);
-        cx.lookups += f.lookups;
+        let f = tracked_flight(v, s, cx);
         if let Some(t1) = f.t {
             // The value read by delta tracking is correlated with the
             // acceptance under stochastic filtering; read afresh.
@@ -287,8 +283,7 @@ impl PointMis {
                 total += self.in_scattered(s, t1, cx) * w1;
             }
         }
-        let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, cx.next_f32());
-        if pdf0 > 0.0 && pdf0.is_finite() {
+        if let Some((t0, pdf0)) = equiangular_distance(s, cx) {
             let sigma_t_w = Self::segment_sigma_t(v, s, t0, cx.rng, &mut cx.lookups);
             let sigma_t = if v.needs_jitter() {
                 Self::segment_sigma_t(v, s, t0, cx.rng, &mut cx.lookups)
@@ -360,6 +355,21 @@ pub(super) fn depths_n<V: VolumeAccess>(
     } else {
         (x[0], x[1])
     }
+}
+
+/// A free-flight distance by delta tracking over the camera segment, with
+/// the ratio of its null collisions (its lookups counted).
+fn tracked_flight<V: VolumeAccess>(v: &V, s: &Segment, cx: &mut PathContext) -> TrackedFreeFlight {
+    let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, cx.rng);
+    cx.lookups += f.lookups;
+    f
+}
+
+/// An equiangular distance toward the light with its pdf; `None` when the
+/// pdf is zero or not finite.
+fn equiangular_distance(s: &Segment, cx: &mut PathContext) -> Option<(f32, f32)> {
+    let (t, pdf) = equiangular::sample(&s.world, s.light, s.a, s.b, cx.next_f32());
+    (pdf > 0.0 && pdf.is_finite()).then_some((t, pdf))
 }
 
 /// Seed 000 Eq. 10's two distance samples, drawn in this order: the
