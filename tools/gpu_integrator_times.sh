@@ -6,25 +6,9 @@
 set -u
 A=$1; B=$2; W=${3:-960}; H=${4:-540}
 S=scenes/restir_cloud.toml
-P=$(mktemp --suffix=.toml)
+P=tools/gpu_integrator_times.toml
 OUT=$(mktemp -d)
-trap 'rm -rf "$P" "$OUT"' EXIT
-# The same cloud under one point light (point_mis and ament take delta lights).
-cat > "$P" <<'TOML'
-[camera]
-from = [0.0, 0.05, 2.2]
-to = [0.0, -0.02, 0.0]
-fov = 38.0
-[[media]]
-density = { procedural = "cloud", resolution = 128, seed = 7 }
-sigma_t_scale = 12.0
-albedo = [0.95, 0.95, 0.95]
-phase = { type = "hg", g = 0.6 }
-[[lights]]
-type = "point"
-position = [0.9, 0.6, 0.6]
-intensity = [2.5, 2.2, 1.8]
-TOML
+trap 'rm -rf "$OUT"' EXIT
 run() { # bin label scene args...
   local bin=$1 lab=$2 sc=$3; shift 3
   if "$bin" render "$sc" -q --device gpu --set camera.width="$W" --set camera.height="$H" "$@" \

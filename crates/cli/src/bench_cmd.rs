@@ -131,11 +131,7 @@ fn integrator_scaling(a: &BenchArgs) -> CliResult {
             .iter()
             .map(|&t| thread_pool(Some(t)))
             .collect::<Result<Vec<_>, _>>()?;
-        let opts = RenderOptions {
-            spp: a.frames,
-            seed: 1,
-            time_budget: None,
-        };
+        let opts = RenderOptions::new(a.frames, 1);
         let time = |pool: &rayon::ThreadPool| {
             let r = pool.install(|| fogbank_render::render(&scene, &opts, &Progress::default()));
             r.seconds * 1000.0 / a.frames as f64
@@ -202,10 +198,12 @@ pub fn run(a: BenchArgs) -> CliResult {
     for (backend, threads) in runs {
         let pool = thread_pool(Some(threads))?;
         for (i, e) in estimators.iter().copied().enumerate() {
-            scene.integrator = fogbank_render::integrators::IntegratorKind::Transmittance {
-                estimator: e,
-                background: glam::Vec3::ONE,
-            };
+            scene.integrator = fogbank_render::integrators::IntegratorKind::Transmittance(
+                fogbank_render::integrators::transmittance::Transmittance {
+                    estimator: e,
+                    background: glam::Vec3::ONE,
+                },
+            );
             let row = Row {
                 label: &labels[i],
                 accuracy: accuracy[i],
@@ -296,11 +294,7 @@ fn time_row(
     pool: &rayon::ThreadPool,
     row: Row,
 ) -> Result<serde_json::Value, Box<dyn std::error::Error>> {
-    let opts = RenderOptions {
-        spp: a.frames,
-        seed: 1,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(a.frames, 1);
     if let Backend::Gpu(_) = backend {
         let warm = RenderOptions {
             spp: 1,

@@ -55,18 +55,23 @@ fn clip(ray: &Ray, n: [u32; 3]) -> Option<(f32, f32)> {
     )
 }
 
+/// `g` at scale 1 with super-voxels `sv`, looked up with `filter`.
+fn view<'a>(g: &'a BrickGrid<f32>, sv: &'a SuperVoxelGrid, filter: Filter) -> GridView<'a, f32> {
+    GridView {
+        grid: g,
+        filter,
+        scale: 1.0,
+        supervoxels: sv,
+        opacity: None,
+    }
+}
+
 #[test]
 fn analytic_trilinear_matches_fine_quadrature() {
     let n = [13, 9, 11];
     let g = random_grid(n, 1);
     let sv = SuperVoxelGrid::build(n, 4, 1, |i, j, k| g.fetch(i, j, k));
-    let view = GridView {
-        grid: &g,
-        filter: Filter::Trilinear,
-        scale: 1.0,
-        supervoxels: &sv,
-        opacity: None,
-    };
+    let view = view(&g, &sv, Filter::Trilinear);
     let rays = test_rays(n, 1200, 5);
     let mut checked = 0;
     for ray in &rays {
@@ -92,13 +97,7 @@ fn regular_tracking_matches_exact_voxel_sums() {
     let n = [13, 9, 11];
     let g = random_grid(n, 2);
     let sv = SuperVoxelGrid::build(n, 4, 0, |i, j, k| g.fetch(i, j, k));
-    let view = GridView {
-        grid: &g,
-        filter: Filter::Nearest,
-        scale: 1.0,
-        supervoxels: &sv,
-        opacity: None,
-    };
+    let view = view(&g, &sv, Filter::Nearest);
     // Axis-parallel rays through voxel centres: τ is the plain sum of a row.
     for j in 0..n[1] as i32 {
         for k in 0..n[2] as i32 {

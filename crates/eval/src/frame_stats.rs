@@ -192,11 +192,7 @@ fn film_frames(
     runs: u32,
     seed: u32,
 ) -> Result<FrameStats, String> {
-    let opts = fogbank_render::RenderOptions {
-        spp: runs,
-        seed,
-        time_budget: None,
-    };
+    let opts = fogbank_render::RenderOptions::new(runs, seed);
     let r = backend.render(scene, &opts, &fogbank_render::Progress::default())?;
     Ok(from_film(&r.film, runs, covered_pixels(scene), r.seconds))
 }

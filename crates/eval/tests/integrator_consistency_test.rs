@@ -2,7 +2,7 @@
 //! under the z-test (seed-fixed, so deterministic), and the test has the
 //! power to reject a configuration that is known to differ.
 
-use fogbank_eval::experiments::harness::protocol::{film_image, render_at};
+use fogbank_eval::experiments::harness::protocol::render_at;
 use fogbank_eval::image_io::Image;
 use fogbank_eval::metrics::ztest::ztest;
 use fogbank_render::{parse_scene, Scene};
@@ -23,7 +23,7 @@ fn image(extra: &[&str], spp: u32, seed: u32) -> Image {
     let scene = Scene::build(parse_scene(SCENE, "test", &extra).unwrap(), Path::new(".")).unwrap();
     let film = render_at(&scene, spp, seed).film;
     assert_eq!(film.nan_samples + film.inf_samples, 0, "{extra:?}");
-    film_image(&film)
+    film.mean_image()
 }
 
 fn configs(integrator: &str) -> Vec<Vec<String>> {

@@ -4,7 +4,7 @@
 //! ray do not (the thesis's Fig. 4.3 ordering), so does PinMS with the
 //! render-time pin stream, and the keys are checked.
 
-use fogbank_eval::experiments::harness::protocol::{film_image, render_at};
+use fogbank_eval::experiments::harness::protocol::render_at;
 use fogbank_eval::image_io::Image;
 use fogbank_eval::metrics::ztest::ztest;
 use fogbank_render::{parse_scene, Scene};
@@ -34,7 +34,7 @@ fn image(text: &str, extra: &[&str], spp: u32, seed: u32) -> Image {
     let scene = build(text, extra).unwrap();
     let film = render_at(&scene, spp, seed).film;
     assert_eq!(film.nan_samples + film.inf_samples, 0, "{extra:?}");
-    film_image(&film)
+    film.mean_image()
 }
 
 fn mean(i: &Image) -> f64 {

@@ -6,7 +6,7 @@
 //! test has the power to reject plain 1/M weights (Eq. 9), which darken
 //! where a neighbour cannot produce a pixel's paths.
 
-use fogbank_eval::experiments::harness::protocol::{film_image, render_at};
+use fogbank_eval::experiments::harness::protocol::render_at;
 use fogbank_eval::image_io::Image;
 use fogbank_eval::metrics::ztest::{ztest, ZTest};
 use fogbank_math::testdata::checker_slab_raw;
@@ -55,7 +55,7 @@ fn image(text: &str, set: &[String], spp: u32, seed: u32) -> Image {
     let scene = Scene::build(parse_scene(text, "test", set).unwrap(), Path::new(".")).unwrap();
     let film = render_at(&scene, spp, seed).film;
     assert_eq!(film.nan_samples + film.inf_samples, 0, "{set:?}");
-    film_image(&film)
+    film.mean_image()
 }
 
 fn mean(img: &Image) -> [f64; 3] {
@@ -143,19 +143,7 @@ fn restir_emissive_explosion_is_unbiased() {
 /// paths keep their point on the emitters under reuse; walks, light
 /// sampling and shifted paths are cut by shapes. `volpath` renders the
 /// same scene.
-const SURFACES: &str = "[[lights]]\ntype = \"constant\"\nradiance = [0.3, 0.35, 0.4]\n\
-    [[shapes]]\ntype = \"rectangle\"\n\
-    to_world = { translate = [0.0, 0.45, 0.3], rotate = [1.0, 0.0, 0.0, 90.0], scale = 0.3 }\n\
-    emitter = { radiance = [4.0, 3.6, 3.0] }\n\
-    [[shapes]]\ntype = \"rectangle\"\nto_world = { translate = [-0.3, 0.05, 0.7], scale = 0.15 }\n\
-    bsdf = { type = \"diffuse\", reflectance = [0.8, 0.7, 0.6] }\n\
-    [[shapes]]\ntype = \"rectangle\"\n\
-    to_world = { translate = [0.2, 0.05, 0.0], rotate = [1.0, 0.0, 0.0, -90.0], scale = 0.3 }\n\
-    bsdf = { type = \"roughplastic\", alpha = 0.3, diffuse_reflectance = 0.5 }\n\
-    [[shapes]]\ntype = \"sphere\"\nto_world = { translate = [0.3, -0.2, 0.6], scale = 0.08 }\n\
-    bsdf = { type = \"roughconductor\", alpha = 0.4 }\n\
-    [[shapes]]\ntype = \"sphere\"\nto_world = { translate = [-0.25, -0.25, 0.55], scale = 0.04 }\n\
-    emitter = { radiance = [3.0, 3.0, 3.0] }\n";
+const SURFACES: &str = include_str!("../../render/tests/scenes/restir_surfaces.toml");
 
 #[test]
 fn restir_with_reflecting_and_emitting_surfaces_is_unbiased() {
@@ -263,12 +251,10 @@ fn restir_with_a_moving_light_is_unbiased() {
     .integrator
     .build(&at_last.world)
     .unwrap();
-    let opts = RenderOptions {
-        spp: 2048,
-        seed: 1,
-        time_budget: None,
-    };
-    let reference = film_image(&render(&at_last, &opts, &Progress::default()).film);
+    let opts = RenderOptions::new(2048, 1);
+    let reference = render(&at_last, &opts, &Progress::default())
+        .film
+        .mean_image();
     let z = ztest(&reference, &test).unwrap();
     eprintln!(
         "moving light: pass {} failing {} max|z| {:.2} at {:?} mean z {:.3?}, ref mean {:.5?} test mean {:.5?}",

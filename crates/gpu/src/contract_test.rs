@@ -210,47 +210,17 @@ fn scene(text: &str, overrides: &[&str]) -> Scene {
     Scene::build(desc, Path::new(".")).expect("scene builds")
 }
 
-const SCENE: &str = r#"
-[camera]
-# Narrow, so every camera ray meets the medium's box.
-from = [0.0, 0.0, 1.2]
-width = 12
-height = 10
-fov = 20.0
-
-[[media]]
-density = { procedural = "cloud", resolution = 24 }
-sigma_t_scale = 4.0
-filter = "nearest"
-albedo = [0.9, 0.8, 0.7]
-phase = { type = "hg", g = 0.3 }
-
-[[lights]]
-type = "point"
-position = [0.1, 0.05, 0.0]
-intensity = [1.0, 0.8, 0.6]
-
-[render]
-spp = 8
-"#;
+const SCENE: &str = include_str!("contract_test.toml");
 
 fn gpu_film(gpu: &crate::Gpu, s: &Scene, kernel: &Kernel) -> Film {
-    let opts = RenderOptions {
-        spp: 8,
-        seed: 5,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(8, 5);
     render_kernel(gpu, s, kernel, &opts, &Progress::default(), None)
         .expect("renders")
         .film
 }
 
 fn cpu_film(s: &Scene) -> Film {
-    let opts = RenderOptions {
-        spp: 8,
-        seed: 5,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(8, 5);
     fogbank_render::render(s, &opts, &Progress::default()).film
 }
 

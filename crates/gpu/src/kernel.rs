@@ -86,16 +86,14 @@ impl Kernel {
             // With surfaces or chromatic media: the scatter kernel's shadow
             // walk, as the CPU's `transmittance::sample` takes its shadow
             // transmittance.
-            IntegratorKind::Transmittance { background, .. } if surfaces != 0 || chromatic => {
-                Kernel {
-                    flags: crate::contract::INTEGRATOR_TRANSMITTANCE | surfaces,
-                    background: *background,
-                    max_depth: 0,
-                    ..base(KernelSource::Scatter)
-                }
-            }
-            IntegratorKind::Transmittance { background, .. } => Kernel {
-                background: *background,
+            IntegratorKind::Transmittance(t) if surfaces != 0 || chromatic => Kernel {
+                flags: crate::contract::INTEGRATOR_TRANSMITTANCE | surfaces,
+                background: t.background,
+                max_depth: 0,
+                ..base(KernelSource::Scatter)
+            },
+            IntegratorKind::Transmittance(t) => Kernel {
+                background: t.background,
                 max_depth: 0,
                 rr_depth: 0,
                 ..base(KernelSource::Transmittance)
@@ -147,9 +145,7 @@ impl Kernel {
 fn check_chromatic(scene: &Scene) -> Result<(), GpuError> {
     if matches!(
         scene.integrator,
-        IntegratorKind::Direct(_)
-            | IntegratorKind::VolPath(_)
-            | IntegratorKind::Transmittance { .. }
+        IntegratorKind::Direct(_) | IntegratorKind::VolPath(_) | IntegratorKind::Transmittance(_)
     ) {
         return Ok(());
     }

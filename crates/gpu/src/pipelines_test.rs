@@ -15,11 +15,7 @@ fn scene(resolution: u32, estimator: &str) -> Scene {
 
 fn built_by(gpu: &Gpu, s: &Scene) -> u64 {
     let before = gpu.pipelines_built();
-    let opts = RenderOptions {
-        spp: 2,
-        seed: 1,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(2, 1);
     render(gpu, s, &opts, &Progress::default()).unwrap();
     gpu.pipelines_built() - before
 }

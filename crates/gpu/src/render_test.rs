@@ -20,11 +20,7 @@ fn scene(size: u32, integrator: &str) -> Scene {
 }
 
 fn run(gpu: &crate::Gpu, s: &Scene, spp: u32, schedule: Schedule) -> crate::render::GpuRender {
-    let opts = RenderOptions {
-        spp,
-        seed: 3,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(spp, 3);
     let kernel = Kernel::of(s).unwrap();
     render_scheduled(gpu, s, &kernel, &opts, &Progress::default(), None, schedule).unwrap()
 }

@@ -114,6 +114,21 @@ fn scattering_kernel(kernel: &str) -> String {
     .join("\n")
 }
 
+/// Shapes with their BSDFs: the BVH, the analytic shapes, the microfacet
+/// and layered BSDFs, the per-shape data and the textures (bitmaps).
+fn surfaces() -> String {
+    [
+        BVH,
+        ANALYTIC_SHAPES,
+        MICROFACET,
+        BSDF,
+        SURFACE_DATA,
+        SURFACES,
+        BITMAP,
+    ]
+    .join("\n")
+}
+
 /// `direct` and `volpath`: with seed 004's ray marching and pins, chosen
 /// per ray (tracking.wgsl), and surfaces (compiled out without shapes).
 pub fn scatter_kernel() -> String {
@@ -123,13 +138,7 @@ pub fn scatter_kernel() -> String {
             PINS,
             PIN_GRID,
             TRACKING,
-            BVH,
-            ANALYTIC_SHAPES,
-            MICROFACET,
-            BSDF,
-            SURFACE_DATA,
-            SURFACES,
-            BITMAP,
+            &surfaces(),
             NEXT_EVENT,
             SCATTER_KERNEL,
         ]
@@ -189,13 +198,7 @@ pub fn restir_kernel() -> String {
         PROPERTIES,
         LIGHT_BVH,
         DISTANCE_TRILINEAR,
-        BVH,
-        ANALYTIC_SHAPES,
-        MICROFACET,
-        BSDF,
-        SURFACE_DATA,
-        SURFACES,
-        BITMAP,
+        &surfaces(),
         OCCLUDERS,
         RESTIR_PARAMS,
         RESTIR_RESERVOIR,

@@ -31,11 +31,7 @@ fn matches_cpu(name: &str, spp: u32) {
 /// GPU against the Mitsuba reference, as the CPU is.
 fn agrees_with_mitsuba(name: &str) {
     let Some(gpu) = test_gpu() else { return };
-    let opts = RenderOptions {
-        spp: spp_for(name),
-        seed: 11,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(spp_for(name), 11);
     let r = gpu_render::render(&gpu, &scene(name), &opts, &Progress::default()).unwrap();
     assert_agrees(name, &r.film);
 }

@@ -51,11 +51,7 @@ fn scene(text: &str, set: &[String]) -> Scene {
 }
 
 fn opts(spp: u32, seed: u32) -> RenderOptions {
-    RenderOptions {
-        spp,
-        seed,
-        time_budget: None,
-    }
+    RenderOptions::new(spp, seed)
 }
 
 fn report(what: &str, z: &ZTest, cpu: &Film, gpu: &Film) {
@@ -142,19 +138,7 @@ fn restir_gpu_matches_the_cpu_on_lit_clouds() {
 #[test]
 fn restir_gpu_matches_the_cpu_with_reflecting_and_emitting_surfaces() {
     let Some(gpu) = test_gpu() else { return };
-    let shapes = "[[lights]]\ntype = \"constant\"\nradiance = [0.3, 0.35, 0.4]\n\
-        [[shapes]]\ntype = \"rectangle\"\n\
-        to_world = { translate = [0.0, 0.45, 0.3], rotate = [1.0, 0.0, 0.0, 90.0], scale = 0.3 }\n\
-        emitter = { radiance = [4.0, 3.6, 3.0] }\n\
-        [[shapes]]\ntype = \"rectangle\"\nto_world = { translate = [-0.3, 0.05, 0.7], scale = 0.15 }\n\
-        bsdf = { type = \"diffuse\", reflectance = [0.8, 0.7, 0.6] }\n\
-        [[shapes]]\ntype = \"rectangle\"\n\
-        to_world = { translate = [0.2, 0.05, 0.0], rotate = [1.0, 0.0, 0.0, -90.0], scale = 0.3 }\n\
-        bsdf = { type = \"roughplastic\", alpha = 0.3, diffuse_reflectance = 0.5 }\n\
-        [[shapes]]\ntype = \"sphere\"\nto_world = { translate = [0.3, -0.2, 0.6], scale = 0.08 }\n\
-        bsdf = { type = \"roughconductor\", alpha = 0.4 }\n\
-        [[shapes]]\ntype = \"sphere\"\nto_world = { translate = [-0.25, -0.25, 0.55], scale = 0.04 }\n\
-        emitter = { radiance = [3.0, 3.0, 3.0] }\n";
+    let shapes = include_str!("../../render/tests/scenes/restir_surfaces.toml");
     let text = slab(shapes, "phase = { type = \"hg\", g = 0.5 }");
     assert!(compare(&gpu, &text, 3, &[]).pass);
 }

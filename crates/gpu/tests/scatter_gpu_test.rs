@@ -122,11 +122,7 @@ fn cpu_only_features_are_clear_errors() {
         &["media.0.albedo_grid={ procedural = \"ramp\", value = 0.2, gradient = [0.5, 0.0, 0.0] }"
             .to_string()],
     );
-    let opts = RenderOptions {
-        spp: 1,
-        seed: 0,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(1, 0);
     let e = gpu_render::render(&gpu, &s, &opts, &Progress::default())
         .err()
         .unwrap();

@@ -48,11 +48,7 @@ fn scene(extra: &[&str]) -> Scene {
 }
 
 fn opts(spp: u32, seed: u32) -> RenderOptions {
-    RenderOptions {
-        spp,
-        seed,
-        time_budget: None,
-    }
+    RenderOptions::new(spp, seed)
 }
 
 #[test]

@@ -17,43 +17,11 @@ use std::path::Path;
 mod common;
 use common::assert_gpu_matches_cpu;
 
-const SCENE: &str = r#"
-[camera]
-from = [0.0, 0.2, 2.0]
-to = [0.0, 0.0, 0.0]
-fov = 25.0
-width = 20
-height = 16
-[[media]]
-density = { procedural = "cloud", resolution = 24, seed = 3 }
-sigma_t_scale = 12.0
-albedo = [0.9, 0.8, 0.7]
-phase = { type = "hg", g = 0.3 }
-precision = "f32"
-[[media.importance]]
-value = 0.75
-extinction = [4.0, 1e9]
-half_space = [1.0, 0.0, 0.0, 0.0]
-[[media.importance]]
-extinction = [4.0, 1e9]
-[[lights]]
-type = "point"
-position = [1.5, 1.5, 1.0]
-intensity = [40.0, 40.0, 40.0]
-"#;
+const SCENE: &str = include_str!("scenes/visopt_cloud.toml");
 
 /// Opaque black occluders (occluders.wgsl): one square hides part of the
 /// view, one shadows part of the cloud from the light.
-const OCCLUDERS: &str = r#"
-[[shapes]]
-type = "rectangle"
-to_world = { translate = [-0.2, 0.1, 0.8], scale = 0.12 }
-bsdf = { type = "diffuse", reflectance = 0.0 }
-[[shapes]]
-type = "rectangle"
-to_world = { translate = [0.3, 0.4, 0.0], rotate = [1.0, 0.0, 0.0, -90.0], scale = 0.3 }
-bsdf = { type = "diffuse", reflectance = 0.0 }
-"#;
+const OCCLUDERS: &str = include_str!("scenes/visopt_occluders.toml");
 
 fn scene(extra: &[&str]) -> Scene {
     scene_of(SCENE, extra)
@@ -165,11 +133,7 @@ fn ament_matches_the_cpu_pixel_for_pixel() {
         ],
     ] {
         let s = scene(&extra);
-        let opts = RenderOptions {
-            spp: 1,
-            seed: 1,
-            time_budget: None,
-        };
+        let opts = RenderOptions::new(1, 1);
         let cpu = render(&s, &opts, &Progress::default()).film.mean();
         let g = gpu_render::render(&gpu, &s, &opts, &Progress::default()).unwrap();
         let gm = g.film.mean();

@@ -67,13 +67,9 @@ fn it_builds_and_renders_what_its_line_says() {
     let scene = Scene::build(desc, Path::new(".")).unwrap();
     assert!(matches!(
         scene.integrator,
-        IntegratorKind::Transmittance { .. }
+        IntegratorKind::TestBackground(_)
     ));
-    let opts = RenderOptions {
-        spp: 1,
-        seed: 1,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(1, 1);
     let r = render(&scene, &opts, &Progress::default());
     let mean = r.film.mean();
     assert!(mean

@@ -24,6 +24,17 @@ pub struct RenderOptions {
     pub time_budget: Option<Duration>,
 }
 
+impl RenderOptions {
+    /// `spp` passes from `seed`, without a time budget.
+    pub fn new(spp: u32, seed: u32) -> RenderOptions {
+        RenderOptions {
+            spp,
+            seed,
+            time_budget: None,
+        }
+    }
+}
+
 /// Shared between the render loop and whoever watches it (progress bar,
 /// Ctrl-C handler).
 #[derive(Default)]

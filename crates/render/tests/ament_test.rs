@@ -7,29 +7,7 @@ use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::Path;
 
-const SCENE: &str = r#"
-[camera]
-from = [0.0, 0.2, 2.0]
-to = [0.0, 0.0, 0.0]
-fov = 40.0
-width = 10
-height = 8
-[[media]]
-density = { procedural = "cloud", resolution = 24, seed = 3 }
-sigma_t_scale = 12.0
-albedo = [0.9, 0.9, 0.9]
-filter = "trilinear"
-precision = "f32"
-[[media.importance]]
-value = 0.9
-extinction = [4.0, 1e9]
-[[lights]]
-type = "point"
-position = [1.5, 1.5, 1.0]
-intensity = [6.0, 6.0, 6.0]
-[render]
-pixel_jitter = false
-"#;
+const SCENE: &str = include_str!("scenes/ament_cloud.toml");
 
 fn scene(extra: &[&str]) -> Scene {
     let extra: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
@@ -83,17 +61,9 @@ fn unoptimised_marching_is_the_dvr_visopt_estimates() {
             "integrator.step=0.002",
             &format!("integrator.shading={shading}"),
         ]);
-        let image = render(
-            &a,
-            &RenderOptions {
-                spp: 1,
-                seed: 1,
-                time_budget: None,
-            },
-            &Progress::default(),
-        )
-        .film
-        .mean();
+        let image = render(&a, &RenderOptions::new(1, 1), &Progress::default())
+            .film
+            .mean();
         let v = scene(&[
             "integrator.type=\"visopt\"",
             "integrator.optimise=false",

@@ -5,42 +5,7 @@ use fogbank_render::animation::frame_path;
 use fogbank_render::{parse_scene, Scene};
 use std::path::Path;
 
-const BASE: &str = r#"
-[camera]
-width = 8
-height = 6
-from = [0.0, 0.0, 2.0]
-[[media]]
-density = { procedural = "cloud", resolution = 16, seed = 3 }
-[[lights]]
-type = "point"
-position = [1.0, 0.0, 0.0]
-intensity = [1.0, 1.0, 1.0]
-[[lights]]
-type = "constant"
-radiance = [0.1, 0.1, 0.1]
-[animation]
-frames = 11
-[[animation.camera]]
-frame = 0
-from = [0.0, 0.0, 2.0]
-[[animation.camera]]
-frame = 10
-from = [1.0, 0.0, 2.0]
-fov = 30.0
-[[animation.lights]]
-light = 0
-frame = 5
-position = [0.0, 1.0, 0.0]
-[[animation.media]]
-medium = 0
-frame = 0
-translate = [0.0, 0.0, 0.0]
-[[animation.media]]
-medium = 0
-frame = 10
-translate = [0.0, 0.5, 0.0]
-"#;
+const BASE: &str = include_str!("scenes/animation_base.toml");
 
 fn frame(text: &str, f: u32) -> Result<Scene, String> {
     parse_scene(text, "test", &[])
@@ -134,16 +99,7 @@ fn a_missing_frame_file_names_the_frame_and_file() {
     assert!(e.starts_with("frame 1: ") && e.contains("d_01.raw"), "{e}");
 }
 
-const PLUME: &str = r#"
-[camera]
-width = 8
-height = 6
-[[media]]
-density = { procedural = "plume", resolution = 16, seed = 3 }
-[animation]
-frames = 4
-fps = 8
-"#;
+const PLUME: &str = include_str!("scenes/animation_plume.toml");
 
 #[test]
 fn a_plume_advances_in_time_and_moves_with_its_velocity() {

@@ -17,22 +17,8 @@ fn build(text: &str, overrides: &[String]) -> Result<Scene, String> {
 }
 
 fn film(s: &Scene, spp: u32, seed: u32) -> Film {
-    let opts = RenderOptions {
-        spp,
-        seed,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(spp, seed);
     render(s, &opts, &Progress::default()).film
-}
-
-fn image(f: &Film) -> Image {
-    Image {
-        width: f.width as usize,
-        height: f.height as usize,
-        rgb: f.mean(),
-        variance: Some(f.variance_of_mean()),
-        is_srgb8: false,
-    }
 }
 
 /// Channel `c` of `from` (value and variance) into `into`.
@@ -66,11 +52,11 @@ fn agrees_per_channel(integrator: &str, spp: u32) {
         "media.0.sigma_t_scale=[{}, {}, {}]",
         SCALES[0], SCALES[1], SCALES[2]
     );
-    let chromatic = image(&film(&build(&text, &[rgb]).unwrap(), spp, 1));
+    let chromatic = film(&build(&text, &[rgb]).unwrap(), spp, 1).mean_image();
     let mut reference = chromatic.clone();
     for (c, s) in SCALES.iter().enumerate() {
         let grey = build(&text, &[format!("media.0.sigma_t_scale={s}")]).unwrap();
-        splice_channel(&mut reference, &image(&film(&grey, spp, 2)), c);
+        splice_channel(&mut reference, &film(&grey, spp, 2).mean_image(), c);
     }
     let z = ztest(&reference, &chromatic).unwrap();
     assert!(
@@ -228,11 +214,11 @@ fn rgb_density_grid_matches_each_channel_rendered_alone() {
         )
     };
     let rgb = build(&text(""), &["media.0.density_rgb=true".into()]).unwrap();
-    let chromatic = image(&film(&rgb, 256, 1));
+    let chromatic = film(&rgb, 256, 1).mean_image();
     let mut reference = chromatic.clone();
     for c in 0..3 {
         let one = build(&text(&format!(", channel = {c}")), &[]).unwrap();
-        splice_channel(&mut reference, &image(&film(&one, 256, 2)), c);
+        splice_channel(&mut reference, &film(&one, 256, 2).mean_image(), c);
     }
     std::fs::remove_dir_all(&dir).ok();
     let z = ztest(&reference, &chromatic).unwrap();

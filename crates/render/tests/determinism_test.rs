@@ -4,33 +4,14 @@
 use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::Path;
 
-const SCENE: &str = r#"
-[camera]
-width = 48
-height = 36
-fov = 50.0
-[[media]]
-density = { procedural = "cloud", resolution = 32, seed = 3 }
-sigma_t_scale = 20.0
-filter = "stochastic_trilinear"
-[[media]]
-density = { procedural = "sinusoid", resolution = 16 }
-sigma_t_scale = 0.5
-to_world = { scale = 0.7, rotate = [0.0, 1.0, 0.0, 30.0] }
-[integrator]
-estimator = "ratio_tracking"
-"#;
+const SCENE: &str = include_str!("scenes/two_media.toml");
 
 fn film_with_threads(scene: &Scene, threads: usize, seed: u32) -> fogbank_render::Film {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .unwrap();
-    let opts = RenderOptions {
-        spp: 3,
-        seed,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(3, seed);
     pool.install(|| render(scene, &opts, &Progress::default()))
         .film
 }
@@ -70,11 +51,7 @@ fn same_seed_same_image_for_one_and_two_threads() {
 fn batched_passes_equal_pass_by_pass() {
     let desc = parse_scene(SCENE, "test", &["integrator.type=volpath".to_string()]).unwrap();
     let scene = Scene::build(desc, Path::new(".")).unwrap();
-    let opts = RenderOptions {
-        spp: 37,
-        seed: 4,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(37, 4);
     let batched = render(&scene, &opts, &Progress::default()).film;
     let mut passes = 0;
     let single =

@@ -28,11 +28,7 @@ fn sphere_scene(integrator: &str, extra: &[&str]) -> Scene {
 }
 
 fn run(scene: &Scene, spp: u32, seed: u32) -> Film {
-    let opts = RenderOptions {
-        spp,
-        seed,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(spp, seed);
     render(scene, &opts, &Progress::default()).film
 }
 

@@ -50,11 +50,7 @@ fn separate() -> String {
 
 #[test]
 fn instances_render_like_separate_media() {
-    let opts = RenderOptions {
-        spp: 8,
-        seed: 5,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(8, 5);
     let a = render(
         &scene(&instanced(), &[]).unwrap(),
         &opts,

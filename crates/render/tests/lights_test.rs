@@ -116,7 +116,6 @@ fn linear_spot_curve_is_linear_in_the_angle() {
 /// pixel passed and the mean z was −0.84 over 2304 pixels, 40 σ).
 #[test]
 fn light_bvh_and_power_selection_render_the_same_street() {
-    use fogbank_image::image_io::Image;
     use fogbank_image::metrics::ztest::ztest;
     use fogbank_render::{load_scene, render, Progress, RenderOptions};
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -128,19 +127,10 @@ fn light_bvh_and_power_selection_render_the_same_street() {
             format!("render.light_sampler={selection}"),
         ];
         let scene = load_scene(Some(&path), &overrides).unwrap();
-        let opts = RenderOptions {
-            spp: 256,
-            seed,
-            time_budget: None,
-        };
-        let f = render(&scene, &opts, &Progress::default()).film;
-        Image {
-            width: f.width as usize,
-            height: f.height as usize,
-            rgb: f.mean(),
-            variance: Some(f.variance_of_mean()),
-            is_srgb8: false,
-        }
+        let opts = RenderOptions::new(256, seed);
+        render(&scene, &opts, &Progress::default())
+            .film
+            .mean_image()
     };
     let z = ztest(&image("power", 1), &image("bvh", 2)).unwrap();
     let bound = 5.0 / (z.tests as f64 / 3.0).sqrt();

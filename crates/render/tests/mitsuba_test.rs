@@ -21,11 +21,7 @@ fn agree(name: &str) {
 fn agree_with(name: &str, overrides: &[String]) {
     let spp = spp_for(name);
     let scene = load_scene(Some(&scenes().join(format!("{name}.xml"))), overrides).unwrap();
-    let opts = RenderOptions {
-        spp,
-        seed: 7,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(spp, 7);
     assert_agrees(name, &render(&scene, &opts, &Progress::default()).film);
 }
 
@@ -233,16 +229,7 @@ fn defaults_substitution_includes_and_refs() {
     )
     .unwrap();
     let scene = load_scene(Some(&main), &[]).unwrap();
-    let film = render(
-        &scene,
-        &RenderOptions {
-            spp: 1,
-            seed: 0,
-            time_budget: None,
-        },
-        &Progress::default(),
-    )
-    .film;
+    let film = render(&scene, &RenderOptions::new(1, 0), &Progress::default()).film;
     // The rectangle fills the centre: 0.25/π · 1 (the camera's +z looks at
     // its front).
     let c = film.mean()[3 * 8 + 4][0];

@@ -31,16 +31,7 @@ fn try_build(text: &str, integrator: &[&str]) -> Result<Scene, String> {
 
 fn film(text: &str, integrator: &[&str], spp: u32, seed: u32) -> Film {
     let s = try_build(text, integrator).unwrap();
-    let f = render(
-        &s,
-        &RenderOptions {
-            spp,
-            seed,
-            time_budget: None,
-        },
-        &Progress::default(),
-    )
-    .film;
+    let f = render(&s, &RenderOptions::new(spp, seed), &Progress::default()).film;
     assert_eq!(f.nan_samples + f.inf_samples, 0, "{integrator:?}");
     f
 }

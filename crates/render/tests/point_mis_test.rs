@@ -35,16 +35,7 @@ fn scene(extra: &[&str]) -> Scene {
 }
 
 fn run(s: &Scene, spp: u32, seed: u32) -> Film {
-    let f = render(
-        s,
-        &RenderOptions {
-            spp,
-            seed,
-            time_budget: None,
-        },
-        &Progress::default(),
-    )
-    .film;
+    let f = render(s, &RenderOptions::new(spp, seed), &Progress::default()).film;
     assert_eq!(f.nan_samples + f.inf_samples, 0, "non-finite samples");
     f
 }

@@ -6,24 +6,7 @@
 use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::Path;
 
-const CLOUD: &str = r#"
-[camera]
-width = 20
-height = 14
-[[media]]
-density = { procedural = "cloud", resolution = 24, seed = 3 }
-sigma_t_scale = 20.0
-[[lights]]
-type = "constant"
-radiance = [0.5, 0.6, 0.7]
-[[lights]]
-type = "point"
-position = [0.6, 0.7, 0.5]
-intensity = [1.0, 1.0, 1.0]
-[integrator]
-type = "restir"
-frames = 3
-"#;
+const CLOUD: &str = include_str!("scenes/restir_cloud.toml");
 
 fn build(text: &str, set: &[&str]) -> Result<Scene, String> {
     let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
@@ -134,11 +117,7 @@ fn restir_is_independent_of_the_thread_count() {
             .num_threads(threads)
             .build()
             .unwrap();
-        let opts = RenderOptions {
-            spp: 2,
-            seed: 5,
-            time_budget: None,
-        };
+        let opts = RenderOptions::new(2, 5);
         pool.install(|| render(&s, &opts, &Progress::default()))
             .film
     };

@@ -299,11 +299,7 @@ fn the_explosion_scene_glows_and_quantity_is_checked() {
         o.push("media.0.emission.temperature.resolution=32".into());
         let scene =
             Scene::build(parse_scene(&text, "explosion", &o).unwrap(), Path::new(".")).unwrap();
-        let opts = RenderOptions {
-            spp: 4,
-            seed: 1,
-            time_budget: None,
-        };
+        let opts = RenderOptions::new(4, 1);
         let m = render(&scene, &opts, &Progress::default()).film.mean();
         m.iter().map(|p| p[0] as f64).sum::<f64>() / m.len() as f64
     };

@@ -32,11 +32,7 @@ fn image(density: &str, to_world: &str, centre: [f32; 3], extent: f32, scale: f3
         cy + 0.5 * d,
         cz + 0.62 * d
     );
-    let opts = RenderOptions {
-        spp: 1,
-        seed: 1,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(1, 1);
     let film = render(&build(&text), &opts, &Progress::default()).film;
     film.mean().iter().map(|p| p[0]).collect()
 }

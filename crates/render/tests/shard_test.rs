@@ -9,22 +9,7 @@ use fogbank_render::shard::{Shard, ShardMode};
 use fogbank_render::{parse_scene, render, render_piece, Film, Progress, RenderOptions, Scene};
 use std::path::Path;
 
-const SCENE: &str = r#"
-[camera]
-width = 70
-height = 40
-fov = 50.0
-[[media]]
-density = { procedural = "cloud", resolution = 32, seed = 3 }
-sigma_t_scale = 20.0
-[[lights]]
-type = "constant"
-radiance = [0.6, 0.7, 1.0]
-[[lights]]
-type = "directional"
-direction = [-0.4, -0.8, -0.3]
-irradiance = [3.0, 2.9, 2.7]
-"#;
+const SCENE: &str = include_str!("scenes/shard_cloud.toml");
 
 const SPP: u32 = 10;
 
@@ -43,11 +28,7 @@ fn scene_with(integrator: &str, seed: u32, extra: &[&str]) -> Scene {
 }
 
 fn opts(scene: &Scene) -> RenderOptions {
-    RenderOptions {
-        spp: SPP,
-        seed: scene.desc.render.seed,
-        time_budget: None,
-    }
+    RenderOptions::new(SPP, scene.desc.render.seed)
 }
 
 fn shard_partial(scene: &Scene, shard: Shard) -> Partial {

@@ -8,20 +8,20 @@ use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene};
 use std::path::Path;
 
 fn build(text: &str) -> Scene {
-    Scene::build(parse_scene(text, "test", &[]).unwrap(), Path::new(".")).unwrap()
+    build_with(text, &[])
 }
 
+/// A scene from `text` with `--set` edits.
+fn build_with(text: &str, set: &[&str]) -> Scene {
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    Scene::build(parse_scene(text, "test", &set).unwrap(), Path::new(".")).unwrap()
+}
+
+/// A diffuse plane (ρ = 0.6) under a directional light (E = 2, cos θ = 0.8).
+const PLANE: &str = include_str!("scenes/diffuse_plane.toml");
+
 fn film(s: &Scene, spp: u32) -> Film {
-    render(
-        s,
-        &RenderOptions {
-            spp,
-            seed: 3,
-            time_budget: None,
-        },
-        &Progress::default(),
-    )
-    .film
+    render(s, &RenderOptions::new(spp, 3), &Progress::default()).film
 }
 
 /// Mean and standard error of channel 0 over the pixels `keep` accepts,
@@ -42,11 +42,9 @@ fn pooled(f: &Film, keep: impl Fn(usize) -> bool) -> (f64, f64) {
 /// and the BSDF-sampled direction finds nothing).
 #[test]
 fn diffuse_plane_under_a_directional_light() {
-    let s = build(
-        "[camera]\nfrom = [0, -2, 3]\nto = [0, 0, 0]\nwidth = 8\nheight = 8\nfov = 20\n\
-         [[shapes]]\ntype = \"rectangle\"\nto_world = { scale = 10 }\nbsdf = { type = \"diffuse\", reflectance = 0.6 }\n\
-         [[lights]]\ntype = \"directional\"\ndirection = [0, 0.6, -0.8]\nirradiance = [2, 2, 2]\n\
-         [integrator]\ntype = \"volpath\"\nmax_depth = 1\n",
+    let s = build_with(
+        PLANE,
+        &["integrator.type=volpath", "integrator.max_depth=1"],
     );
     let f = film(&s, 4);
     let expected = 0.6 / std::f64::consts::PI * 2.0 * 0.8;
@@ -281,11 +279,13 @@ fn lossless_glass_in_a_uniform_sky_is_invisible() {
 /// and counts a bounded medium only inside its shape.
 #[test]
 fn direct_and_transmittance_see_surfaces() {
-    let s = build(
-        "[camera]\nfrom = [0, -2, 3]\nto = [0, 0, 0]\nwidth = 4\nheight = 4\nfov = 20\n\
-         [[shapes]]\ntype = \"rectangle\"\nto_world = { scale = 10 }\nbsdf = { type = \"diffuse\", reflectance = 0.6 }\n\
-         [[lights]]\ntype = \"directional\"\ndirection = [0, 0.6, -0.8]\nirradiance = [2, 2, 2]\n\
-         [integrator]\ntype = \"direct\"\n",
+    let s = build_with(
+        PLANE,
+        &[
+            "camera.width=4",
+            "camera.height=4",
+            "integrator.type=direct",
+        ],
     );
     let f = film(&s, 2);
     let expected = 0.6 / std::f64::consts::PI * 2.0 * 0.8;

@@ -204,11 +204,7 @@ fn pre_and_post_agree_bitwise_under_nearest_filtering() {
             ],
         )
         .unwrap();
-        let opts = RenderOptions {
-            spp: 1,
-            seed: 1,
-            time_budget: None,
-        };
+        let opts = RenderOptions::new(1, 1);
         render(&s, &opts, &Progress::default()).film.mean()
     };
     let (post, pre) = (image("post"), image("pre"));

@@ -8,28 +8,7 @@ use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene};
 use std::path::Path;
 
-const SCENE: &str = r#"
-[camera]
-from = [0.0, 0.2, 2.0]
-to = [0.0, 0.0, 0.0]
-fov = 40.0
-width = 12
-height = 10
-[[media]]
-density = { procedural = "cloud", resolution = 24, seed = 3 }
-sigma_t_scale = 12.0
-albedo = [0.9, 0.9, 0.9]
-filter = "trilinear"
-precision = "f32"
-[[media.importance]]
-extinction = [4.0, 1e9]
-[[lights]]
-type = "point"
-position = [1.5, 1.5, 1.0]
-intensity = [6.0, 6.0, 6.0]
-[render]
-pixel_jitter = false
-"#;
+const SCENE: &str = include_str!("scenes/visopt_cloud.toml");
 
 fn scene(extra: &[&str]) -> Scene {
     let extra: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
@@ -38,16 +17,7 @@ fn scene(extra: &[&str]) -> Scene {
 }
 
 fn film(s: &Scene, spp: u32, seed: u32) -> Film {
-    render(
-        s,
-        &RenderOptions {
-            spp,
-            seed,
-            time_budget: None,
-        },
-        &Progress::default(),
-    )
-    .film
+    render(s, &RenderOptions::new(spp, seed), &Progress::default()).film
 }
 
 /// (max |z| over pixels, pooled z) of two renders' means.
@@ -371,24 +341,15 @@ fn pre_interpolative_importance_classifies_voxel_centres() {
     let (mut between, mut important) = (0, 0);
     for i in 0..23 {
         for (j, k) in [(12, 12), (10, 13), (11, 9)] {
-            let c = xf
-                .transform_point3(glam::DVec3::new(
-                    i as f64 + 0.5,
-                    j as f64 + 0.5,
-                    k as f64 + 0.5,
-                ))
-                .as_vec3();
+            let world = |x: f64| {
+                xf.transform_point3(glam::DVec3::new(x, j as f64 + 0.5, k as f64 + 0.5))
+                    .as_vec3()
+            };
+            let c = world(i as f64 + 0.5);
             // (The world → index round trip lands within an ulp of the centre.)
             assert!((at(mp, c) - at(mq, c)).abs() < 1e-5, "voxel {i},{j},{k}");
             important += (at(mp, c) > 0.0) as u32;
-            let h = xf
-                .transform_point3(glam::DVec3::new(
-                    i as f64 + 1.0,
-                    j as f64 + 0.5,
-                    k as f64 + 0.5,
-                ))
-                .as_vec3();
-            let v = at(mq, h);
+            let v = at(mq, world(i as f64 + 1.0));
             between += (v > 0.0 && v < 1.0) as u32;
         }
     }

@@ -32,15 +32,7 @@ fn white_furnace_for_every_unbiased_configuration() {
                 format!("integrator.estimator={nee}"),
                 "media.0.filter=nearest".into(),
             ]);
-            let r = render(
-                &s,
-                &RenderOptions {
-                    spp: 64,
-                    seed: 1,
-                    time_budget: None,
-                },
-                &Progress::default(),
-            );
+            let r = render(&s, &RenderOptions::new(64, 1), &Progress::default());
             let f = &r.film;
             let n = f.total_samples() as f64;
             // Pool all samples of the image: mean and its standard error.
@@ -77,15 +69,7 @@ fn absorbing_medium_matches_analytic_trilinear_transmittance() {
         let s = scene(&overrides(&[&format!(
             "integrator.distance_sampler={sampler}"
         )]));
-        let r = render(
-            &s,
-            &RenderOptions {
-                spp: 256,
-                seed: 2,
-                time_budget: None,
-            },
-            &Progress::default(),
-        );
+        let r = render(&s, &RenderOptions::new(256, 2), &Progress::default());
         let mut exact_scene = scene(&overrides(&[
             "integrator.type=\"transmittance\"",
             "integrator.estimator=analytic_trilinear",
@@ -93,11 +77,7 @@ fn absorbing_medium_matches_analytic_trilinear_transmittance() {
         exact_scene.world.pixel_jitter = false;
         let exact = render(
             &exact_scene,
-            &RenderOptions {
-                spp: 1,
-                seed: 0,
-                time_budget: None,
-            },
+            &RenderOptions::new(1, 0),
             &Progress::default(),
         )
         .film

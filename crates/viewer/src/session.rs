@@ -96,11 +96,7 @@ impl Session {
         let error = Arc::new(Mutex::new(None));
         let (p, l, e) = (progress.clone(), latest.clone(), error.clone());
         let worker = std::thread::spawn(move || {
-            let opts = RenderOptions {
-                spp: max_spp,
-                seed: scene.desc.render.seed,
-                time_budget: None,
-            };
+            let opts = RenderOptions::new(max_spp, scene.desc.render.seed);
             let mut publish = |film: &Film, seconds: f64| {
                 *l.lock().unwrap() = Some(Arc::new(Snapshot::of(film, seconds)));
                 on_pass();

@@ -26,7 +26,7 @@ pub(crate) fn light_sampler(scene: &Scene) -> std::borrow::Cow<'_, LightSampler>
         // `ament` marches to every light and picks none, transmittance
         // through surfaces (the scatter kernel) picks no light: any sampler
         // does, its bindings still hold the scene's.
-        IntegratorKind::Ament(_) | IntegratorKind::Transmittance { .. } => {
+        IntegratorKind::Ament(_) | IntegratorKind::Transmittance(_) => {
             Cow::Owned(LightSampler::new(
                 &scene.world.lights,
                 scene.world.radius(),

@@ -50,11 +50,7 @@ pub fn assert_gpu_image_matches_cpu(
     min_mean: f64,
     what: &str,
 ) -> (f64, f64) {
-    let opts = |seed| RenderOptions {
-        spp,
-        seed,
-        time_budget: None,
-    };
+    let opts = |seed| RenderOptions::new(spp, seed);
     let cpu = render(s, &opts(1), &Progress::default()).film;
     let g = gpu_render::render(gpu, s, &opts(2), &Progress::default()).unwrap();
     assert_eq!(g.film.nan_samples, 0, "{what}");

@@ -28,7 +28,7 @@ use super::shared::next_event::delta_lights;
 use super::shared::{estimator_rng, occluders, primary_ray, PixelSample};
 use super::visopt::segments::mu_factor;
 use crate::error::SceneError;
-use crate::integrators::plugin::{Capabilities, IntegratorParams};
+use crate::integrators::plugin::{Capabilities, Integrator, IntegratorParams};
 use crate::params::{Param, ParamReader};
 use crate::world::medium::SceneMedium;
 use crate::world::shading::dvr_phase;
@@ -327,7 +327,29 @@ impl Ament {
         (-mu.iter().map(|&v| (v * mk.dt) as f64).sum::<f64>()).exp() as f32
     }
 
-    pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+    /// μ'/μ at each sample of the centre ray of pixel (x, y): Fig. 2 as
+    /// numbers (the printed form shrinks with the step, the normalised
+    /// form does not).
+    pub fn factors(&self, world: &World, x: u32, y: u32) -> Vec<(Vec3, f32)> {
+        let m = &world.media[0];
+        let ray = world.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
+        let t_end = occluders::first_surface(world, &ray);
+        let Some((_, t0, t1)) = m.medium.to_index(&ray, 0.0, t_end) else {
+            return Vec::new();
+        };
+        let mk = self.march(m, &ray, t0, t1, 0.5);
+        let mu = self.optimised(&mk, false);
+        mk.points
+            .iter()
+            .zip(mu.iter().zip(&mk.sigma))
+            .filter(|(_, (_, &s))| s > 0.0)
+            .map(|(p, (&o, &s))| (*p, o / s))
+            .collect()
+    }
+}
+
+impl Integrator for Ament {
+    fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
         let mut rng = estimator_rng(key);
         let ray = primary_ray(world, x, y, key);
         let m = &world.media[0];
@@ -369,23 +391,16 @@ impl Ament {
         PixelSample { radiance, lookups }
     }
 
-    /// μ'/μ at each sample of the centre ray of pixel (x, y): Fig. 2 as
-    /// numbers (the printed form shrinks with the step, the normalised
-    /// form does not).
-    pub fn factors(&self, world: &World, x: u32, y: u32) -> Vec<(Vec3, f32)> {
-        let m = &world.media[0];
-        let ray = world.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
-        let t_end = occluders::first_surface(world, &ray);
-        let Some((_, t0, t1)) = m.medium.to_index(&ray, 0.0, t_end) else {
-            return Vec::new();
-        };
-        let mk = self.march(m, &ray, t0, t1, 0.5);
-        let mu = self.optimised(&mk, false);
-        mk.points
-            .iter()
-            .zip(mu.iter().zip(&mk.sigma))
-            .filter(|(_, (_, &s))| s > 0.0)
-            .map(|(p, (&o, &s))| (*p, o / s))
-            .collect()
+    /// Its shadow rays are ratio tracking by construction.
+    fn estimator(&self) -> Option<Estimator> {
+        None
+    }
+
+    fn estimator_mut(&mut self) -> Option<&mut Estimator> {
+        None
+    }
+
+    fn occluders_only(&self) -> bool {
+        true
     }
 }

@@ -22,7 +22,7 @@ use super::shared::next_event::{escaped, light_sample, phase_sample_to_environme
 use super::shared::{estimator_rng, primary_ray, DistanceSampler, PixelSample, ScatterParams};
 use super::volpath::{VolPath, VolPathParams};
 use crate::error::SceneError;
-use crate::integrators::plugin::{Capabilities, IntegratorParams};
+use crate::integrators::plugin::{Capabilities, Integrator, IntegratorParams};
 use crate::lights::sample::LightSampler;
 use crate::params::{Param, ParamReader};
 use crate::world::World;
@@ -89,8 +89,10 @@ impl Direct {
             with_surfaces,
         })
     }
+}
 
-    pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+impl Integrator for Direct {
+    fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
         if let Some(v) = &self.with_surfaces {
             return v.sample(world, x, y, key);
         }
@@ -131,5 +133,13 @@ impl Direct {
         }
         let lookups = cx.lookups;
         PixelSample { radiance, lookups }
+    }
+
+    fn estimator(&self) -> Option<Estimator> {
+        Some(self.nee)
+    }
+
+    fn estimator_mut(&mut self) -> Option<&mut Estimator> {
+        Some(&mut self.nee)
     }
 }

@@ -5,9 +5,11 @@
 //!
 //! Adding an integrator: its folder, with its parameter struct
 //! implementing [`plugin::IntegratorParams`] (name, table, reader, writer,
-//! estimator, capabilities), and one line in the `integrators!` list below,
-//! which says how the description builds. A new kind of render loop (not
-//! one of [`IntegratorKind`]'s) adds a variant there too.
+//! estimator, capabilities) and its built form implementing
+//! [`plugin::Integrator`] (sample, estimator, preparation), and one line in
+//! the `integrators!` list below, which names both and says how the
+//! description builds. The list generates [`IntegratorDesc`],
+//! [`IntegratorKind`] and every dispatch over them.
 
 pub mod ament;
 pub mod direct;
@@ -29,21 +31,21 @@ use ament::{Ament, AmentParams};
 use direct::{Direct, DirectParams};
 use fogbank_estimators::Estimator;
 use fogbank_math::{SampleKey, Vec3};
-use plugin::{Capabilities, IntegratorParams};
+use plugin::{Capabilities, Integrator, IntegratorParams};
 use point_mis::{PointMis, PointMisParams};
 use restir::{Restir, RestirParams};
 use shared::PixelSample;
 use std::sync::LazyLock;
-use transmittance::TransmittanceParams;
+use transmittance::{Transmittance, TransmittanceParams};
 use visopt::{VisOpt, VisOptParams};
 use volpath::{VolPath, VolPathParams};
 
-/// The integrators, one line each: the variant of [`IntegratorDesc`], the
-/// parameter type (its [`IntegratorParams`]), and how the description
-/// builds the integrator for a world. Generates `IntegratorDesc`,
-/// [`REGISTRY`] and every dispatch over the descriptions.
+/// The integrators, one line each: the variant, the parameter type (its
+/// [`IntegratorParams`]), the built type (its [`Integrator`]), and how the
+/// description builds it for a world. Generates `IntegratorDesc`,
+/// `IntegratorKind`, [`REGISTRY`] and every dispatch over them.
 macro_rules! integrators {
-    ($($(#[$meta:meta])* $variant:ident($params:ty) => |$p:ident, $world:ident| $build:expr,)*) => {
+    ($($(#[$meta:meta])* $variant:ident($params:ty => $kind:ty) => |$p:ident, $world:ident| $build:expr,)*) => {
         /// The `[integrator]` table: `type` selects the integrator, every
         /// other key is one of its parameters (see each integrator's table).
         #[derive(Clone, Debug, PartialEq)]
@@ -111,27 +113,61 @@ macro_rules! integrators {
                 Ok(match self {
                     $($(#[$meta])* IntegratorDesc::$variant($p) => {
                         let $world = world;
-                        $build
+                        IntegratorKind::$variant($build)
                     })*
                 })
+            }
+        }
+
+        /// A built integrator.
+        #[derive(Clone, Debug)]
+        pub enum IntegratorKind {
+            $($(#[$meta])* $variant($kind),)*
+        }
+
+        impl IntegratorKind {
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $($(#[$meta])* IntegratorKind::$variant(_) => <$params>::NAME,)*
+                }
+            }
+
+            fn integrator(&self) -> &dyn Integrator {
+                match self {
+                    $($(#[$meta])* IntegratorKind::$variant(i) => i,)*
+                }
+            }
+
+            fn integrator_mut(&mut self) -> &mut dyn Integrator {
+                match self {
+                    $($(#[$meta])* IntegratorKind::$variant(i) => i,)*
+                }
+            }
+
+            /// One sample of pixel `(x, y)` with sample index `key.sample`
+            /// (static dispatch: this is the render loop's call).
+            pub fn sample_pixel(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+                match self {
+                    $($(#[$meta])* IntegratorKind::$variant(i) => i.sample(world, x, y, key),)*
+                }
             }
         }
     };
 }
 
 integrators! {
-    Transmittance(TransmittanceParams) => |p, _world| IntegratorKind::Transmittance {
+    Transmittance(TransmittanceParams => Transmittance) => |p, _world| Transmittance {
         estimator: p.estimator,
         background: Vec3::from(p.background),
     },
-    Direct(DirectParams) => |p, world| IntegratorKind::Direct(Direct::new(p, world)?),
-    VolPath(VolPathParams) => |p, world| IntegratorKind::VolPath(VolPath::new(p, world)?),
-    PointMis(PointMisParams) => |p, world| IntegratorKind::PointMis(PointMis::new(p, world)?),
-    Restir(RestirParams) => |p, world| IntegratorKind::Restir(Restir::new(p, world)?),
-    VisOpt(VisOptParams) => |p, world| IntegratorKind::VisOpt(VisOpt::new(p, world)?),
-    Ament(AmentParams) => |p, world| IntegratorKind::Ament(Ament::new(p, world)?),
+    Direct(DirectParams => Direct) => |p, world| Direct::new(p, world)?,
+    VolPath(VolPathParams => VolPath) => |p, world| VolPath::new(p, world)?,
+    PointMis(PointMisParams => PointMis) => |p, world| PointMis::new(p, world)?,
+    Restir(RestirParams => Restir) => |p, world| Restir::new(p, world)?,
+    VisOpt(VisOptParams => VisOpt) => |p, world| VisOpt::new(p, world)?,
+    Ament(AmentParams => Ament) => |p, world| Ament::new(p, world)?,
     #[cfg(test)]
-    TestBackground(test_background::TestBackground) => |p, _world| IntegratorKind::Transmittance {
+    TestBackground(test_background::TestBackground => Transmittance) => |p, _world| Transmittance {
         estimator: Estimator::TrackLength,
         background: Vec3::splat(p.level),
     },
@@ -255,44 +291,12 @@ impl serde::Serialize for IntegratorDesc {
     }
 }
 
-/// A built integrator.
-#[derive(Clone, Debug)]
-pub enum IntegratorKind {
-    Transmittance {
-        estimator: Estimator,
-        background: Vec3,
-    },
-    Direct(Direct),
-    VolPath(VolPath),
-    PointMis(PointMis),
-    Restir(Restir),
-    VisOpt(VisOpt),
-    Ament(Ament),
-}
-
 impl IntegratorKind {
-    pub fn name(&self) -> &'static str {
-        match self {
-            IntegratorKind::Transmittance { .. } => "transmittance",
-            IntegratorKind::Direct(_) => "direct",
-            IntegratorKind::VolPath(_) => "volpath",
-            IntegratorKind::PointMis(_) => "point_mis",
-            IntegratorKind::Restir(_) => "restir",
-            IntegratorKind::VisOpt(_) => "visopt",
-            IntegratorKind::Ament(_) => "ament",
-        }
-    }
-
     /// What the user should know before rendering `world` with this
     /// integrator: shapes that it sees only as black occluders.
     pub fn notice(&self, world: &World) -> Option<String> {
         let s = world.surfaces.as_ref()?;
-        matches!(
-            self,
-            IntegratorKind::PointMis(_) | IntegratorKind::VisOpt(_)
-                | IntegratorKind::Ament(_)
-        )
-        .then(|| {
+        self.integrator().occluders_only().then(|| {
             format!(
                 "{} sees the scene's {} shape(s) as opaque black occluders: their BSDFs and emitters are not rendered (volpath renders them)",
                 self.name(),
@@ -301,66 +305,32 @@ impl IntegratorKind {
         })
     }
 
-    /// The transmittance estimator (for `volpath`: the NEE estimator).
+    /// The transmittance estimator (for `volpath`: the NEE estimator);
+    /// ratio tracking for the integrators that fix it (visopt, ament).
     pub fn estimator(&self) -> Estimator {
-        match self {
-            IntegratorKind::Transmittance { estimator, .. } => *estimator,
-            IntegratorKind::Direct(d) => d.nee,
-            IntegratorKind::VolPath(v) => v.nee,
-            IntegratorKind::PointMis(p) => p.nee,
-            IntegratorKind::Restir(r) => r.params.estimator,
-            IntegratorKind::VisOpt(_) | IntegratorKind::Ament(_) => {
-                Estimator::RatioTracking { roulette: 0.0 }
-            }
-        }
+        self.integrator()
+            .estimator()
+            .unwrap_or(Estimator::RatioTracking { roulette: 0.0 })
     }
 
     pub fn estimator_name(&self) -> &'static str {
         self.estimator().name()
     }
 
-    /// The same integrator with its transmittance estimator replaced.
+    /// The same integrator with its transmittance estimator replaced (where
+    /// it has one to replace).
     pub fn with_estimator(&self, e: Estimator) -> IntegratorKind {
         let mut k = self.clone();
-        match &mut k {
-            IntegratorKind::Transmittance { estimator, .. } => *estimator = e,
-            IntegratorKind::Direct(d) => d.nee = e,
-            IntegratorKind::VolPath(v) => v.nee = e,
-            IntegratorKind::PointMis(p) => p.nee = e,
-            IntegratorKind::Restir(r) => r.params.estimator = e,
-            // Its shadow rays are ratio tracking by construction.
-            IntegratorKind::VisOpt(_) | IntegratorKind::Ament(_) => {}
+        if let Some(estimator) = k.integrator_mut().estimator_mut() {
+            *estimator = e;
         }
         k
     }
 
     /// Builds what the integrator gathers before its first sample (`volpath`'s
-    /// pin grids), so a render's timer does not count it.
+    /// pin grids, `visopt`'s camera lists), so a render's timer does not
+    /// count it.
     pub fn prepare(&self, world: &World) {
-        match self {
-            IntegratorKind::VolPath(v) => {
-                v.pin_set(world);
-            }
-            IntegratorKind::VisOpt(v) => {
-                v.lists(world);
-            }
-            _ => {}
-        }
-    }
-
-    /// One sample of pixel `(x, y)` with sample index `key.sample`.
-    pub fn sample_pixel(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
-        match self {
-            IntegratorKind::Transmittance {
-                estimator,
-                background,
-            } => transmittance::sample(world, *estimator, *background, x, y, key),
-            IntegratorKind::Direct(d) => d.sample(world, x, y, key),
-            IntegratorKind::VolPath(v) => v.sample(world, x, y, key),
-            IntegratorKind::PointMis(p) => p.sample(world, x, y, key),
-            IntegratorKind::Restir(r) => r.sample(world, x, y, key),
-            IntegratorKind::VisOpt(v) => v.sample(world, x, y, key),
-            IntegratorKind::Ament(a) => a.sample(world, x, y, key),
-        }
+        self.integrator().prepare(world);
     }
 }

@@ -14,7 +14,7 @@ use super::shared::free_flight::shadow_transmittance_in;
 use super::shared::tracking::Shadow;
 use super::shared::{estimator_rng, primary_ray, PixelSample};
 use crate::error::SceneError;
-use crate::integrators::plugin::{Capabilities, IntegratorParams};
+use crate::integrators::plugin::{Capabilities, Integrator, IntegratorParams};
 use crate::params::{estimator_value, take_estimator, Param, ParamReader};
 use crate::world::World;
 use fogbank_estimators::{transmittance, Estimate, Estimator};
@@ -92,7 +92,29 @@ pub fn along_ray(
     total
 }
 
-pub fn sample(
+/// The built integrator: the transmittance of each camera ray by
+/// `estimator`, times a constant `background`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Transmittance {
+    pub estimator: Estimator,
+    pub background: Vec3,
+}
+
+impl Integrator for Transmittance {
+    fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+        sample(world, self.estimator, self.background, x, y, key)
+    }
+
+    fn estimator(&self) -> Option<Estimator> {
+        Some(self.estimator)
+    }
+
+    fn estimator_mut(&mut self) -> Option<&mut Estimator> {
+        Some(&mut self.estimator)
+    }
+}
+
+fn sample(
     world: &World,
     estimator: Estimator,
     background: Vec3,

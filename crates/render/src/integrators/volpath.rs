@@ -38,7 +38,7 @@ use super::shared::{
     estimator_rng, primary_ray, PixelSample, Preset, ScatterParams, SCATTER_PARAMS,
 };
 use crate::error::SceneError;
-use crate::integrators::plugin::{Capabilities, IntegratorParams};
+use crate::integrators::plugin::{Capabilities, Integrator, IntegratorParams};
 use crate::lights::sample::{LightSampler, Vertex};
 use crate::params::{Param, ParamReader};
 use crate::world::chroma::ChromaEvent;
@@ -237,10 +237,6 @@ impl VolPath {
     /// [`VolPath::sample_with`].
     pub fn pin_stream(&self, world: &World) -> Option<PinStream> {
         self.pins.stream(self.gathered(world))
-    }
-
-    pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
-        self.sample_with(world, x, y, key, self.pin_set(world))
     }
 
     /// [`VolPath::sample`] with the pin grids `set` (a pass of the stream).
@@ -483,5 +479,23 @@ impl VolPath {
             path.beta /= q;
         }
         Step::Scatter
+    }
+}
+
+impl Integrator for VolPath {
+    fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+        self.sample_with(world, x, y, key, self.pin_set(world))
+    }
+
+    fn estimator(&self) -> Option<Estimator> {
+        Some(self.nee)
+    }
+
+    fn estimator_mut(&mut self) -> Option<&mut Estimator> {
+        Some(&mut self.nee)
+    }
+
+    fn prepare(&self, world: &World) {
+        self.pin_set(world);
     }
 }

@@ -4,6 +4,7 @@
 //! render interrupted mid-pass stays unbiased per pixel), and the counts of
 //! dropped non-finite samples.
 
+use fogbank_image::image_io::Image;
 use fogbank_math::exact_sum::{sample_variance, SAMPLE_LIMIT};
 use fogbank_math::{ExactSum, Vec3};
 
@@ -157,6 +158,18 @@ impl Film {
                 self.sample_variance(i).map(|s2| (s2 / n) as f32)
             })
             .collect()
+    }
+
+    /// The per-pixel means with the variance of each mean: the image that
+    /// [`fogbank_image::metrics::ztest`] compares with another.
+    pub fn mean_image(&self) -> Image {
+        Image {
+            width: self.width as usize,
+            height: self.height as usize,
+            rgb: self.mean(),
+            variance: Some(self.variance_of_mean()),
+            is_srgb8: false,
+        }
     }
 
     pub fn total_samples(&self) -> u64 {

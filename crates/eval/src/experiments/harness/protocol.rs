@@ -6,9 +6,8 @@
 //! of the running mean, with the reference's own variance subtracted.
 
 use super::clock::clocked;
-use fogbank_image::Image;
 use fogbank_render::integrators::restir::frame::PassTimes;
-use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, RenderResult, Scene};
+use fogbank_render::{parse_scene, render, Progress, RenderOptions, RenderResult, Scene};
 use std::path::{Path, PathBuf};
 
 /// The repository's `scenes/` folder (probes, scene files).
@@ -39,24 +38,8 @@ pub fn spp(trials: Option<u64>, default: u64) -> u32 {
 
 /// `scene` rendered at `spp` samples per pixel with `seed`, no time budget.
 pub fn render_at(scene: &Scene, spp: u32, seed: u32) -> RenderResult {
-    let opts = RenderOptions {
-        spp,
-        seed,
-        time_budget: None,
-    };
+    let opts = RenderOptions::new(spp, seed);
     render(scene, &opts, &Progress::default())
-}
-
-/// A film's per-pixel means with the variance of each mean: the image
-/// [`fogbank_image::metrics::ztest`] compares with another.
-pub fn film_image(film: &Film) -> Image {
-    Image {
-        width: film.width as usize,
-        height: film.height as usize,
-        rgb: film.mean(),
-        variance: Some(film.variance_of_mean()),
-        is_srgb8: false,
-    }
 }
 
 /// Luminance (Rec. 709) of an RGB pixel.

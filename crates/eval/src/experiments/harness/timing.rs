@@ -19,11 +19,7 @@ pub fn gpu_ms_per_spp(
 ) -> Result<f64, String> {
     let scene = build(text, set)?;
     let render = |spp| -> Result<f64, String> {
-        let opts = RenderOptions {
-            spp,
-            seed: 1,
-            time_budget: None,
-        };
+        let opts = RenderOptions::new(spp, 1);
         let r = fogbank_gpu::render::render(gpu, &scene, &opts, &Progress::default())
             .map_err(|e| e.0)?;
         r.gpu_ms

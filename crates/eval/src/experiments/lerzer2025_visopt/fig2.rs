@@ -11,27 +11,7 @@ use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{parse_scene, Scene};
 use std::path::Path;
 
-const SCENE: &str = r#"
-[camera]
-from = [0.0, 0.2, 2.0]
-to = [0.0, 0.0, 0.0]
-fov = 40.0
-width = 9
-height = 9
-[[media]]
-density = { procedural = "cloud", resolution = 64, seed = 3 }
-sigma_t_scale = 12.0
-filter = "trilinear"
-[[media.importance]]
-value = 0.9
-extinction = [4.0, 1e9]
-[[lights]]
-type = "point"
-position = [1.5, 1.5, 1.0]
-intensity = [6.0, 6.0, 6.0]
-[integrator]
-type = "ament"
-"#;
+const SCENE: &str = include_str!("fig2.toml");
 
 const STEPS: [f32; 3] = [0.01, 0.001, 0.0001];
 

@@ -39,11 +39,7 @@ fn frame_ms(gpu: &Gpu, scene: &Scene, frames: u32) -> Result<f64, String> {
     gpu_warm_up(gpu, scene)?;
     let mut times = Vec::new();
     for f in 0..=frames {
-        let opts = RenderOptions {
-            spp: FRAME_SPP,
-            seed: f,
-            time_budget: None,
-        };
+        let opts = RenderOptions::new(FRAME_SPP, f);
         let r = fogbank_gpu::render::render(gpu, scene, &opts, &Progress::default())
             .map_err(|e| e.0)?;
         let ms = r

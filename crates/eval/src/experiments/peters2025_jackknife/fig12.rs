@@ -35,37 +35,7 @@ const REFERENCE_SEED: u32 = 0x000f_1613;
 /// The scene: a dense procedural cumulus (extinction up to ≈ 24 per unit
 /// length, so the interior is optically thick), two point lights inside it,
 /// nearest filtering, jackknife (N = 10) on the light ray.
-pub const SCENE: &str = r#"
-[camera]
-from = [0.0, 0.05, 2.2]
-to = [0.0, -0.03, 0.0]
-fov = 30.0
-width = 160
-height = 120
-
-[[media]]
-density = { procedural = "cloud", resolution = 96, seed = 7 }
-sigma_t_scale = 24.0
-albedo = [0.9, 0.9, 0.9]
-phase = { type = "hg", g = 0.5 }
-filter = "nearest"
-supervoxel = 16
-
-[[lights]]
-type = "point"
-position = [0.12, 0.02, 0.05]
-intensity = [1.0, 0.85, 0.7]
-
-[[lights]]
-type = "point"
-position = [-0.16, -0.06, -0.02]
-intensity = [0.45, 0.6, 1.0]
-
-[integrator]
-type = "point_mis"
-estimator = "jackknife"
-samples = 10
-"#;
+pub const SCENE: &str = include_str!("fig12.toml");
 
 pub fn scene(strategy: Strategy) -> Result<Scene, String> {
     let desc = parse_scene(
@@ -104,11 +74,7 @@ fn render_strategy(s: &Scene, spp: u32, seed: u32) -> (Vec<[f32; 3]>, f64, Film)
     let mut passes = 0;
     let r = render_observed(
         s,
-        &RenderOptions {
-            spp,
-            seed,
-            time_budget: None,
-        },
+        &RenderOptions::new(spp, seed),
         &Progress::default(),
         &mut |film, secs| {
             passes += 1;

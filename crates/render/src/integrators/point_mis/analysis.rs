@@ -77,10 +77,7 @@ impl PointMis {
         let ts = eq10_distances(v, s, cx.rng, &mut 0);
         let mut total = Vec3::ZERO;
         for (t, p, known_mu) in ts.into_iter().flatten() {
-            let sigma_t = match known_mu {
-                Some(m) if !v.needs_jitter() => m,
-                _ => Self::segment_sigma_t(v, s, t, cx.rng, &mut cx.lookups),
-            };
+            let sigma_t = Self::collision_sigma_t(v, s, t, known_mu, cx);
             if sigma_t <= 0.0 {
                 continue;
             }

@@ -5,6 +5,7 @@
 use super::params::PointMisParams;
 use super::strategy::Strategy;
 use crate::error::SceneError;
+use crate::integrators::plugin::Integrator;
 use crate::integrators::shared::context::PathContext;
 use crate::integrators::shared::{balance, estimator_rng, occluders, primary_ray, PixelSample};
 use crate::lights::sample::{LightSampler, Vertex};
@@ -68,6 +69,38 @@ impl PointMis {
     }
 }
 
+impl Integrator for PointMis {
+    fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+        let mut rng = estimator_rng(key);
+        let Some((seg, pmf)) = self.begin(world, x, y, key, &mut rng) else {
+            return PixelSample::default();
+        };
+        let cx = &mut PathContext::new(world, &mut rng);
+        let medium = seg.medium;
+        let l = match medium.medium.view() {
+            MediumView::F16(v) => self.radiance(&v, &seg, cx),
+            MediumView::F32(v) => self.radiance(&v, &seg, cx),
+            MediumView::Analytic(v) => self.radiance(&v, &seg, cx),
+        };
+        PixelSample {
+            radiance: l / pmf,
+            lookups: cx.lookups,
+        }
+    }
+
+    fn estimator(&self) -> Option<Estimator> {
+        Some(self.nee)
+    }
+
+    fn estimator_mut(&mut self) -> Option<&mut Estimator> {
+        Some(&mut self.nee)
+    }
+
+    fn occluders_only(&self) -> bool {
+        true
+    }
+}
+
 /// What every distance sample of one pixel sample shares.
 pub(super) struct Segment<'a> {
     pub(super) medium: &'a SceneMedium,
@@ -87,24 +120,6 @@ pub(super) struct Segment<'a> {
 }
 
 impl PointMis {
-    pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
-        let mut rng = estimator_rng(key);
-        let Some((seg, pmf)) = self.begin(world, x, y, key, &mut rng) else {
-            return PixelSample::default();
-        };
-        let cx = &mut PathContext::new(world, &mut rng);
-        let medium = seg.medium;
-        let l = match medium.medium.view() {
-            MediumView::F16(v) => self.radiance(&v, &seg, cx),
-            MediumView::F32(v) => self.radiance(&v, &seg, cx),
-            MediumView::Analytic(v) => self.radiance(&v, &seg, cx),
-        };
-        PixelSample {
-            radiance: l / pmf,
-            lookups: cx.lookups,
-        }
-    }
-
     /// The camera ray of a pixel sample inside the medium and the point
     /// light chosen for it (one draw of `rng`): the segment and the light's
     /// selection probability, or `None` when the sample adds nothing.
@@ -194,6 +209,22 @@ impl PointMis {
         lookups: &mut u32,
     ) -> f32 {
         sigma_t_at(v, s.index.at(t), rng, lookups)
+    }
+
+    /// σ_t at a distance t drawn by Eq. 10: `known_mu` where the strategy
+    /// that drew it already knows it (and the lookup is not jittered), else
+    /// one lookup.
+    pub(super) fn collision_sigma_t<V: VolumeAccess>(
+        v: &V,
+        s: &Segment,
+        t: f32,
+        known_mu: Option<f32>,
+        cx: &mut PathContext,
+    ) -> f32 {
+        match known_mu {
+            Some(m) if !v.needs_jitter() => m,
+            _ => Self::segment_sigma_t(v, s, t, cx.rng, &mut cx.lookups),
+        }
     }
 
     fn radiance<V: VolumeAccess>(&self, v: &V, s: &Segment, cx: &mut PathContext) -> Vec3 {
@@ -314,10 +345,7 @@ impl PointMis {
         let naive = self.strategy == Strategy::MisNaive;
         let ts = eq10_distances(v, s, cx.rng, &mut cx.lookups);
         for (t, p, known_mu) in ts.into_iter().flatten() {
-            let sigma_t = match known_mu {
-                Some(m) if !v.needs_jitter() => m,
-                _ => Self::segment_sigma_t(v, s, t, cx.rng, &mut cx.lookups),
-            };
+            let sigma_t = Self::collision_sigma_t(v, s, t, known_mu, cx);
             if sigma_t <= 0.0 {
                 continue;
             }

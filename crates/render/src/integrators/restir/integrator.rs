@@ -9,6 +9,7 @@ use super::reservoir::Reservoir;
 use super::target::{evaluate, luminance};
 use super::volume::{Mips, SegmentT};
 use crate::error::SceneError;
+use crate::integrators::plugin::Integrator;
 use crate::integrators::shared::{estimator_rng, occluders, PixelSample};
 use crate::lights::sample::LightSampler;
 use crate::world::World;
@@ -156,10 +157,12 @@ impl Restir {
         };
         evaluate(data.world, ray, &y, &mut tr, lookups) * w
     }
+}
 
+impl Integrator for Restir {
     /// One pixel without reuse (plain RIS over M walks, then shading): what
     /// a per-pixel caller gets; reuse needs whole frames ([`super::frame::Sequence`]).
-    pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+    fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
         let data = self.data(world);
         let mut rng = estimator_rng(key);
         let ray = pixel_ray(world, (x, y));
@@ -167,5 +170,13 @@ impl Restir {
         let res = self.candidates(&data, None, &ray, &mut rng, &mut lookups);
         let radiance = self.shade(&data, &ray, &res, &mut rng, &mut lookups);
         PixelSample { radiance, lookups }
+    }
+
+    fn estimator(&self) -> Option<Estimator> {
+        Some(self.params.estimator)
+    }
+
+    fn estimator_mut(&mut self) -> Option<&mut Estimator> {
+        Some(&mut self.params.estimator)
     }
 }

@@ -15,6 +15,7 @@ use super::optimised::{Optimised, RayList, Weights};
 use super::params::{Scattering, VisOptParams};
 use super::segments::Segment;
 use crate::error::SceneError;
+use crate::integrators::plugin::Integrator;
 use crate::integrators::shared::context::PathContext;
 use crate::integrators::shared::free_flight::next_collision;
 use crate::integrators::shared::next_event::escaped;
@@ -27,6 +28,7 @@ use crate::world::shading::dvr_phase;
 use crate::world::World;
 use fogbank_estimators::distance::delta_tracking;
 use fogbank_estimators::ratio_tracking;
+use fogbank_estimators::Estimator;
 use fogbank_math::{Ray, SampleKey, Vec3};
 use fogbank_volume::MediumView;
 use std::sync::{Arc, OnceLock};
@@ -94,59 +96,6 @@ impl VisOpt {
             q: p.q,
             r: p.r,
             lambda: p.lambda,
-        }
-    }
-
-    pub fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
-        let mut rng = estimator_rng(key);
-        let cx = &mut PathContext::new(world, &mut rng);
-        let ray = primary_ray(world, x, y, key);
-        let m = &world.media[0];
-        let t_end = occluders::first_surface(world, &ray);
-        // The environment, unless a surface hides it (black: occluders.rs).
-        let background = || match t_end {
-            f32::INFINITY => escaped(world, &self.lights, ray.d, None),
-            _ => Vec3::ZERO,
-        };
-        let Some((r, t0, t1)) = m.medium.to_index(&ray, 0.0, t_end) else {
-            return PixelSample {
-                radiance: background(),
-                lookups: 0,
-            };
-        };
-        let (list, big_k_z, length) = self.lists(world).get(x, y);
-        let list = RayList {
-            list,
-            big_k_z,
-            length,
-            origin: t0,
-            sign: 1.0,
-        };
-        let flight = if self.params.optimise {
-            with_view!(m, v => {
-                let o = Optimised { inner: &v, medium: m, ray: r, list, weights: self.weights(), unit: self.unit };
-                delta_tracking::sample(&o, &r, t0, t1, cx.rng)
-            })
-        } else {
-            with_view!(m, v => delta_tracking::sample(&v, &r, t0, t1, cx.rng))
-        };
-        cx.lookups += flight.lookups;
-        let Some(t) = flight.t else {
-            return PixelSample {
-                radiance: background(),
-                lookups: cx.lookups,
-            };
-        };
-        let p = ray.at(t);
-        let albedo = m.albedo_at(p);
-        let mut radiance = m.emitted(p, albedo);
-        radiance += albedo * self.next_event(cx, p, ray.d, self.params.optimise);
-        if self.params.scattering != Scattering::Single {
-            radiance += albedo * self.continue_path(cx, m, p, ray.d);
-        }
-        PixelSample {
-            radiance,
-            lookups: cx.lookups,
         }
     }
 
@@ -246,5 +195,70 @@ impl VisOpt {
     pub fn phase(&self, m: &SceneMedium, p: Vec3, d: Vec3, wi: Vec3) -> f32 {
         let lobe = self.params.shading.then_some(self.params.n);
         dvr_phase(m, p, d, wi, lobe, self.unit)
+    }
+}
+
+impl Integrator for VisOpt {
+    fn sample(&self, world: &World, x: u32, y: u32, key: SampleKey) -> PixelSample {
+        let mut rng = estimator_rng(key);
+        let cx = &mut PathContext::new(world, &mut rng);
+        let ray = primary_ray(world, x, y, key);
+        let m = &world.media[0];
+        let t_end = occluders::first_surface(world, &ray);
+        // The environment, unless a surface hides it (black: occluders.rs).
+        let background = || match t_end {
+            f32::INFINITY => escaped(world, &self.lights, ray.d, None),
+            _ => Vec3::ZERO,
+        };
+        let Some((r, t0, t1)) = m.medium.to_index(&ray, 0.0, t_end) else {
+            return PixelSample {
+                radiance: background(),
+                lookups: 0,
+            };
+        };
+        let list = self.lists(world).ray_list(x, y, t0);
+        let flight = if self.params.optimise {
+            with_view!(m, v => {
+                let o = Optimised { inner: &v, medium: m, ray: r, list, weights: self.weights(), unit: self.unit };
+                delta_tracking::sample(&o, &r, t0, t1, cx.rng)
+            })
+        } else {
+            with_view!(m, v => delta_tracking::sample(&v, &r, t0, t1, cx.rng))
+        };
+        cx.lookups += flight.lookups;
+        let Some(t) = flight.t else {
+            return PixelSample {
+                radiance: background(),
+                lookups: cx.lookups,
+            };
+        };
+        let p = ray.at(t);
+        let albedo = m.albedo_at(p);
+        let mut radiance = m.emitted(p, albedo);
+        radiance += albedo * self.next_event(cx, p, ray.d, self.params.optimise);
+        if self.params.scattering != Scattering::Single {
+            radiance += albedo * self.continue_path(cx, m, p, ray.d);
+        }
+        PixelSample {
+            radiance,
+            lookups: cx.lookups,
+        }
+    }
+
+    /// Its shadow rays are ratio tracking by construction.
+    fn estimator(&self) -> Option<Estimator> {
+        None
+    }
+
+    fn estimator_mut(&mut self) -> Option<&mut Estimator> {
+        None
+    }
+
+    fn prepare(&self, world: &World) {
+        self.lists(world);
+    }
+
+    fn occluders_only(&self) -> bool {
+        true
     }
 }

@@ -10,7 +10,7 @@
 //! frozen list makes the estimator unbiased for μ' of that list
 //! (acceptance 3). A jittered ray looks its t up from its own entry point.
 
-use super::optimised::importance_at;
+use super::optimised::{importance_at, RayList};
 use super::params::VisOptParams;
 use super::sampling;
 use super::segments::{self, Segment};
@@ -67,6 +67,19 @@ impl CameraLists {
     pub fn get(&self, x: u32, y: u32) -> (&[Segment], f32, f32) {
         let (o, n, kz, len) = self.pixels[(y * self.width + x) as usize];
         (&self.pool[o as usize..(o + n) as usize], kz, len)
+    }
+
+    /// Pixel (x, y)'s list as its camera ray sees it: t = 0 at ray
+    /// parameter `origin`, where the ray enters the medium.
+    pub fn ray_list(&self, x: u32, y: u32, origin: f32) -> RayList<'_> {
+        let (list, big_k_z, length) = self.get(x, y);
+        RayList {
+            list,
+            big_k_z,
+            length,
+            origin,
+            sign: 1.0,
+        }
     }
 
     pub fn memory_bytes(&self) -> usize {

@@ -13,7 +13,7 @@
 //! NEE has no directional randomness) and no environment.
 
 use super::integrator::VisOpt;
-use super::optimised::{factor, RayList};
+use super::optimised::factor;
 use super::params::Scattering;
 use crate::integrators::shared::next_event::delta_lights;
 use crate::world::World;
@@ -47,14 +47,7 @@ impl VisOpt {
             return Ok(Vec3::ZERO);
         };
         let (step, shadow_step) = (step / self.unit, shadow_step / self.unit);
-        let (list, big_k_z, length) = self.lists(world).get(x, y);
-        let list = RayList {
-            list,
-            big_k_z,
-            length,
-            origin: t0,
-            sign: 1.0,
-        };
+        let list = self.lists(world).ray_list(x, y, t0);
         let n = (((t1 - t0) / step).ceil() as usize).max(1);
         let dt = (t1 - t0) / n as f32;
         let (mut tau, mut radiance) = (0.0f64, Vec3::ZERO);

@@ -233,6 +233,13 @@ mod segments_test {
         list.iter().map(|s| (r(s.t), r(s.l), s.k)).collect()
     }
 
+    /// The shape of `old` merged with `new` (distance `d`, ray length 10).
+    fn merged(old: &[Segment], new: &[(f32, f32)], d: f32) -> Vec<(f32, f32, f32)> {
+        let mut out = Vec::new();
+        merge(old, new, d, 10.0, &mut out);
+        shape(&out)
+    }
+
     #[test]
     fn same_importance_within_d_merges_into_a_segment_and_points_inside_are_discarded() {
         let mut out = Vec::new();
@@ -253,18 +260,10 @@ mod segments_test {
 
     #[test]
     fn a_different_importance_splits_and_requeues_the_right_end() {
-        let mut out = Vec::new();
         // Segment [1, 3] of k = 1; a k = 0 sample at 2 splits it, the old
         // right end 3 comes back as a k = 1 point after a later sample 2.5.
-        merge(
-            &[seg(1.0, 2.0, 1.0)],
-            &[(2.0, 0.0), (2.5, 0.0)],
-            0.1,
-            10.0,
-            &mut out,
-        );
         assert_eq!(
-            shape(&out),
+            merged(&[seg(1.0, 2.0, 1.0)], &[(2.0, 0.0), (2.5, 0.0)], 0.1),
             vec![
                 (1.0, 0.0, 1.0),
                 (2.0, 0.0, 0.0),
@@ -273,15 +272,8 @@ mod segments_test {
             ]
         );
         // Re-queued beyond the next new sample: it is still placed in order.
-        merge(
-            &[seg(1.0, 2.0, 1.0)],
-            &[(2.0, 0.0), (3.5, 1.0)],
-            0.1,
-            10.0,
-            &mut out,
-        );
         assert_eq!(
-            shape(&out),
+            merged(&[seg(1.0, 2.0, 1.0)], &[(2.0, 0.0), (3.5, 1.0)], 0.1),
             vec![
                 (1.0, 0.0, 1.0),
                 (2.0, 0.0, 0.0),

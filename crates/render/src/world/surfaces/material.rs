@@ -396,26 +396,15 @@ mod material_test {
             "type = \"twosided\"\n[bsdf]\ntype = \"diffuse\"\n[bsdf.reflectance]\ntype = \"checkerboard\"\nto_uv = { scale = [2, 2] }",
         )
         .unwrap();
-        let b = m.at(Vec2::new(0.1, 0.1));
-        let SurfaceBsdf::Two(t) = b else {
-            panic!("{b:?}")
+        let sides = |u: f32| match m.at(Vec2::new(u, 0.1)) {
+            SurfaceBsdf::Two(t) => t,
+            b => panic!("{b:?}"),
         };
-        assert_eq!(
-            t.front,
-            Bsdf::Diffuse {
-                reflectance: Vec3::splat(0.4)
-            }
-        );
-        let b = m.at(Vec2::new(0.3, 0.1));
-        let SurfaceBsdf::Two(t) = b else {
-            panic!("{b:?}")
+        let diffuse = |r: f32| Bsdf::Diffuse {
+            reflectance: Vec3::splat(r),
         };
-        assert_eq!(
-            t.back,
-            Bsdf::Diffuse {
-                reflectance: Vec3::splat(0.2)
-            }
-        );
+        assert_eq!(sides(0.1).front, diffuse(0.4));
+        assert_eq!(sides(0.3).back, diffuse(0.2));
         assert!(parse(r#"type = "null""#).unwrap().is_null());
         let e = parse("type = \"diffuse\"\nreflectance = [0.5, -1, 0]").unwrap_err();
         assert!(e.0.contains("shapes.0.bsdf.reflectance"), "{e}");
