@@ -6,7 +6,7 @@
 //! quadrature integrates cubics exactly, which gives the closed-form integral
 //! with two evaluations per cell. Computed in f64.
 
-use fogbank_math::{Ray, Vec3};
+use fogbank_math::{Ray, RaySegment, Vec3};
 use fogbank_volume::{BrickGrid, Dda, GridView, Occupied, Voxel, ZERO_TRILINEAR};
 use glam::DVec3;
 
@@ -82,7 +82,8 @@ pub fn shifted(ray: &Ray, dims: [u32; 3]) -> (Ray, [u32; 3]) {
 /// super-voxels where the field is zero ([`Occupied`]); a dual cell cut by
 /// a span's end is integrated in pieces, which sum to the same cubic's
 /// integral.
-pub fn optical_depth<T: Voxel>(v: &GridView<'_, T>, ray: &Ray, t0: f32, t1: f32) -> (f64, u32) {
+pub fn optical_depth<T: Voxel>(v: &GridView<'_, T>, seg: &RaySegment) -> (f64, u32) {
+    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
     // Exact only for the trilinear field itself; scenes refuse this
     // estimator for media classified by a transfer function.
     debug_assert!(

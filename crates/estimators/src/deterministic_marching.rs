@@ -7,19 +7,14 @@
 //! is cut at the segment's end. On mip 1 with a step of one mip-1 voxel
 //! diagonal this is the paper's reuse T̃.
 
-use fogbank_math::{Ray, Vec3};
+use fogbank_math::{RaySegment, Vec3};
 use fogbank_volume::{Filter, GridView, Occupied, Voxel, ZERO_TRILINEAR};
 
 /// (τ̃, lookups) over `[t0, t1]` of the index-space `ray`, with steps of
 /// `step` index-space units (voxels) along the ray; the field is read
 /// trilinearly whatever the view's own filter.
-pub fn optical_depth<T: Voxel>(
-    v: &GridView<'_, T>,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
-    step: f32,
-) -> (f64, u32) {
+pub fn optical_depth<T: Voxel>(v: &GridView<'_, T>, seg: &RaySegment, step: f32) -> (f64, u32) {
+    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
     let speed = ray.d.length() as f64;
     // Also refuses NaN bounds or steps: every comparison with NaN is false.
     let valid = t1 > t0 && step > 0.0 && speed > 0.0;

@@ -404,42 +404,44 @@ pub fn transmittance(
     rng: &mut Pcg32,
 ) -> Estimate {
     use crate::*;
+    use fogbank_math::RaySegment;
     let Some((r, t0, t1)) = medium.to_index(world, 0.0, t_max) else {
         return Estimate::ONE;
     };
+    let seg = RaySegment::new(r, t0, t1);
     let view = medium.view();
     match e {
         Estimator::RegularTracking => match view {
-            MediumView::F16(v) => exact(regular_tracking::optical_depth(&v, &r, t0, t1)),
-            MediumView::F32(v) => exact(regular_tracking::optical_depth(&v, &r, t0, t1)),
+            MediumView::F16(v) => exact(regular_tracking::optical_depth(&v, &seg)),
+            MediumView::F32(v) => exact(regular_tracking::optical_depth(&v, &seg)),
             MediumView::Analytic(a) => {
                 exact((a.field.optical_depth(&r, t0, t1) * a.scale as f64, 0))
             }
         },
         Estimator::AnalyticTrilinear => match view {
-            MediumView::F16(v) => exact(analytic_trilinear::optical_depth(&v, &r, t0, t1)),
-            MediumView::F32(v) => exact(analytic_trilinear::optical_depth(&v, &r, t0, t1)),
+            MediumView::F16(v) => exact(analytic_trilinear::optical_depth(&v, &seg)),
+            MediumView::F32(v) => exact(analytic_trilinear::optical_depth(&v, &seg)),
             MediumView::Analytic(a) => {
                 exact((a.field.optical_depth(&r, t0, t1) * a.scale as f64, 0))
             }
         },
         Estimator::TrackLength => {
-            with_view!(view, v => track_length::transmittance(&v, &r, t0, t1, rng))
+            with_view!(view, v => track_length::transmittance(&v, &seg, rng))
         }
         Estimator::RatioTracking { roulette } => {
-            with_view!(view, v => ratio_tracking::transmittance(&v, &r, t0, t1, rng, roulette))
+            with_view!(view, v => ratio_tracking::transmittance(&v, &seg, rng, roulette))
         }
         Estimator::ResidualRatioTracking { roulette } => {
-            with_view!(view, v => residual_ratio_tracking::transmittance(&v, &r, t0, t1, rng, roulette))
+            with_view!(view, v => residual_ratio_tracking::transmittance(&v, &seg, rng, roulette))
         }
         Estimator::RayMarching { samples, clip } => {
-            with_view!(view, v => ray_marching::transmittance(&v, &r, t0, t1, samples, clip, rng))
+            with_view!(view, v => ray_marching::transmittance(&v, &seg, samples, clip, rng))
         }
         Estimator::BiasedRayMarching { doubled } => {
-            with_view!(view, v => kettunen::biased_transmittance(&v, &r, t0, t1, doubled, rng))
+            with_view!(view, v => kettunen::biased_transmittance(&v, &seg, doubled, rng))
         }
         Estimator::UnbiasedRayMarching { mult } => {
-            with_view!(view, v => kettunen::unbiased_transmittance(&v, &r, t0, t1, mult, rng))
+            with_view!(view, v => kettunen::unbiased_transmittance(&v, &seg, mult, rng))
         }
         Estimator::Jackknife {
             samples,
@@ -450,17 +452,17 @@ pub fn transmittance(
                 mode,
                 ..jackknife::Sampling::fixed_count(samples, jitter)
             };
-            with_view!(view, v => jackknife::transmittance(&v, &r, t0, t1, sampling, rng))
+            with_view!(view, v => jackknife::transmittance(&v, &seg, sampling, rng))
         }
         Estimator::JackknifeNaive { samples, jitter } => {
-            with_view!(view, v => jackknife::naive_transmittance(&v, &r, t0, t1, samples, jitter, rng))
+            with_view!(view, v => jackknife::naive_transmittance(&v, &seg, samples, jitter, rng))
         }
         Estimator::JackknifeMeanImportance { samples, jitter } => {
             let sampling = jackknife::Sampling {
                 importance: Importance::Mean,
                 ..jackknife::Sampling::fixed_count(samples, jitter)
             };
-            with_view!(view, v => jackknife::transmittance(&v, &r, t0, t1, sampling, rng))
+            with_view!(view, v => jackknife::transmittance(&v, &seg, sampling, rng))
         }
     }
 }

@@ -7,7 +7,7 @@
 
 use crate::optical_depth::{estimates, prepare, Importance, Jitter};
 use crate::Estimate;
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::VolumeAccess;
 
 /// How the CDF step F_Δ is chosen (seed 000 §4.3).
@@ -58,11 +58,10 @@ impl Sampling {
 }
 
 /// `out.len()` interleaved optical-depth estimates of the segment
-/// `[t0, t1]` of `ray` (all 0 when F = 0, the segment meets no medium).
+/// `seg` (all 0 when F = 0, the segment meets no medium).
 pub fn optical_depths<V: VolumeAccess>(
     v: &V,
-    ray: &Ray,
-    (t0, t1): (f32, f32),
+    seg: &RaySegment,
     sampling: Sampling,
     rng: &mut Pcg32,
     lookups: &mut u32,
@@ -75,7 +74,7 @@ pub fn optical_depths<V: VolumeAccess>(
         importance,
         jitter,
     } = sampling;
-    let prep = prepare(v, ray, t0, t1, importance);
+    let prep = prepare(v, seg, importance);
     if prep.total > 0.0 {
         let f_delta = f_delta(prep.total, samples, mode);
         estimates(v, &prep, f_delta, jitter, rng, lookups, out);
@@ -86,14 +85,12 @@ pub fn optical_depths<V: VolumeAccess>(
 /// the ablation of seed 000 Fig. 9).
 pub fn transmittance<V: VolumeAccess>(
     v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     sampling: Sampling,
     rng: &mut Pcg32,
 ) -> Estimate {
     let (mut lookups, mut x) = (0, [0.0; 2]);
-    optical_depths(v, ray, (t0, t1), sampling, rng, &mut lookups, &mut x);
+    optical_depths(v, seg, sampling, rng, &mut lookups, &mut x);
     Estimate {
         transmittance: jackknife_transmittance(x[0], x[1]) as f32,
         lookups,
@@ -104,16 +101,14 @@ pub fn transmittance<V: VolumeAccess>(
 /// machinery (seed 000 Fig. 8c), i.e. m = 1 at equal cost.
 pub fn naive_transmittance<V: VolumeAccess>(
     v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     samples: u32,
     jitter: Jitter,
     rng: &mut Pcg32,
 ) -> Estimate {
     let (mut lookups, mut x) = (0, [0.0; 1]);
     let sampling = Sampling::fixed_count(2 * samples.max(1), jitter);
-    optical_depths(v, ray, (t0, t1), sampling, rng, &mut lookups, &mut x);
+    optical_depths(v, seg, sampling, rng, &mut lookups, &mut x);
     Estimate {
         transmittance: (-x[0]).exp() as f32,
         lookups,

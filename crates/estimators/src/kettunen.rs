@@ -5,7 +5,7 @@
 
 use crate::optical_depth::{estimates, prepare, Importance, Jitter, MAX_ESTIMATES};
 use crate::Estimate;
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::VolumeAccess;
 
 /// N_CMF = ceil(cbrt((τ̄ + 0.015)(τ̄ + 0.65)(τ̄ + 60.3))) for control optical
@@ -83,13 +83,11 @@ pub fn u_statistic(x: &[f64], survival: &[f64; MAX_DEGREE + 1]) -> f64 {
 /// samples (doubled on request), T = exp(−X).
 pub fn biased_transmittance<V: VolumeAccess>(
     v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     doubled: bool,
     rng: &mut Pcg32,
 ) -> Estimate {
-    let prep = prepare(v, ray, t0, t1, Importance::Mean);
+    let prep = prepare(v, seg, Importance::Mean);
     if prep.total <= 0.0 {
         return Estimate::ONE;
     }
@@ -116,13 +114,11 @@ pub fn biased_transmittance<V: VolumeAccess>(
 /// U-statistic. May exceed 1 or be negative; never clamped.
 pub fn unbiased_transmittance<V: VolumeAccess>(
     v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     mult: u32,
     rng: &mut Pcg32,
 ) -> Estimate {
-    let prep = prepare(v, ray, t0, t1, Importance::Mean);
+    let prep = prepare(v, seg, Importance::Mean);
     if prep.total <= 0.0 {
         return Estimate::ONE;
     }

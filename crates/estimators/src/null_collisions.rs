@@ -11,7 +11,7 @@
 //! is bit for bit the sequential walk's.
 
 use crate::lookup::{count_and_jitter, sample_exponential, sigma_t_at};
-use fogbank_math::{Pcg32, Ray, Vec3};
+use fogbank_math::{Pcg32, Ray, RaySegment, Vec3};
 use fogbank_volume::{Dda, SuperVoxel, VolumeAccess};
 
 /// Tentative collisions drawn ahead and read in one lanes call.
@@ -38,9 +38,7 @@ pub struct Tracking<R, C> {
 #[inline(always)]
 pub fn walk<V: VolumeAccess, R, C>(
     v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     rng: &mut Pcg32,
     lookups: &mut u32,
     tracking: Tracking<R, C>,
@@ -49,6 +47,7 @@ where
     R: FnMut(&SuperVoxel, f32) -> (f32, f32),
     C: FnMut(f32, f32, f32, f32, &mut Pcg32) -> bool,
 {
+    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
     let Tracking {
         draws,
         mut rate,

@@ -5,7 +5,7 @@
 //! ray marching share one implementation.
 
 use crate::lookup::LookupBatch;
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, Ray, RaySegment};
 use fogbank_volume::{Dda, SuperVoxel, VolumeAccess};
 
 /// Largest number of interleaved estimates (unbiased ray marching draws up
@@ -55,13 +55,8 @@ pub struct Prepared {
 }
 
 /// Seed 000, Alg. 2: one super-voxel traversal summing importance.
-pub fn prepare<V: VolumeAccess>(
-    v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
-    importance: Importance,
-) -> Prepared {
+pub fn prepare<V: VolumeAccess>(v: &V, seg: &RaySegment, importance: Importance) -> Prepared {
+    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
     let sv = v.supervoxels();
     let mut total = 0.0f64;
     let (mut t_min, mut t_max) = (t1, t0);
@@ -156,7 +151,8 @@ fn floor_f64(x: f64) -> f64 {
 
 /// Exact optical depth of the control extinction (the super-voxel minima)
 /// over `[t0, t1]`; used by estimators that add it separately.
-pub fn control_optical_depth<V: VolumeAccess>(v: &V, ray: &Ray, t0: f32, t1: f32) -> f64 {
+pub fn control_optical_depth<V: VolumeAccess>(v: &V, seg: &RaySegment) -> f64 {
+    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
     let sv = v.supervoxels();
     Dda::new(ray, sv.size as f32, sv.dims, t0, t1)
         .map(|s| (s.t1 - s.t0) as f64 * sv.get(s.cell).min as f64)

@@ -8,18 +8,16 @@
 use crate::null_collisions::{walk, Tracking};
 use crate::roulette::roulette;
 use crate::Estimate;
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::{SuperVoxel, VolumeAccess};
 
 pub fn transmittance<V: VolumeAccess>(
     v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     rng: &mut Pcg32,
     threshold: f32,
 ) -> Estimate {
-    Estimate::of_one_channel(transmittance_scaled(v, ray, t0, t1, rng, [1.0], threshold))
+    Estimate::of_one_channel(transmittance_scaled(v, seg, rng, [1.0], threshold))
 }
 
 /// Ratio tracking of k_c σ_t for each channel c at once (k_c ≤ 1: the
@@ -27,9 +25,7 @@ pub fn transmittance<V: VolumeAccess>(
 /// tentative collisions. With k = [1] this is [`transmittance`] exactly.
 pub fn transmittance_scaled<V: VolumeAccess, const N: usize>(
     v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     rng: &mut Pcg32,
     k: [f32; N],
     threshold: f32,
@@ -38,9 +34,7 @@ pub fn transmittance_scaled<V: VolumeAccess, const N: usize>(
     let mut tr = [1.0f32; N];
     walk(
         v,
-        ray,
-        t0,
-        t1,
+        seg,
         rng,
         &mut lookups,
         Tracking {

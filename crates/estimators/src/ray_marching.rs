@@ -5,19 +5,17 @@
 use crate::lookup::LookupBatch;
 use crate::optical_depth::{prepare, Importance};
 use crate::Estimate;
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::VolumeAccess;
 
 pub fn transmittance<V: VolumeAccess>(
     v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     samples: u32,
     clip: bool,
     rng: &mut Pcg32,
 ) -> Estimate {
-    let (x, lookups) = optical_depth(v, ray, t0, t1, samples, clip, rng);
+    let (x, lookups) = optical_depth(v, seg, samples, clip, rng);
     Estimate {
         transmittance: (-x).exp() as f32,
         lookups,
@@ -28,15 +26,14 @@ pub fn transmittance<V: VolumeAccess>(
 /// lookup when `clip` finds the segment empty).
 pub fn optical_depth<V: VolumeAccess>(
     v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     samples: u32,
     clip: bool,
     rng: &mut Pcg32,
 ) -> (f64, u32) {
+    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
     let (a, b) = if clip {
-        let p = prepare(v, ray, t0, t1, Importance::Mean);
+        let p = prepare(v, seg, Importance::Mean);
         if p.total <= 0.0 {
             return (0.0, 0);
         }

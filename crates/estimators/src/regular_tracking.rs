@@ -2,12 +2,13 @@
 //! optical depth of the piecewise-constant (nearest-filtered) grid, summed
 //! voxel by voxel along a DDA. Deterministic; its cost is the worst case.
 
-use fogbank_math::Ray;
+use fogbank_math::RaySegment;
 use fogbank_volume::{Dda, GridView, Voxel};
 
 /// τ = Σ_voxels σ_t(voxel) · Δt over `[t0, t1]` (already clipped to the
 /// grid). Returns (τ, lookups = voxels visited).
-pub fn optical_depth<T: Voxel>(v: &GridView<'_, T>, ray: &Ray, t0: f32, t1: f32) -> (f64, u32) {
+pub fn optical_depth<T: Voxel>(v: &GridView<'_, T>, seg: &RaySegment) -> (f64, u32) {
+    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
     let mut tau = 0.0f64;
     let mut lookups = 0;
     for s in Dda::new(ray, 1.0, v.grid.dims(), t0, t1) {

@@ -14,7 +14,7 @@
 use crate::null_collisions::{walk, Tracking};
 use crate::roulette::roulette;
 use crate::Estimate;
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::{SuperVoxel, VolumeAccess};
 
 /// The control extinction of a super-voxel with world-space diagonal `d`.
@@ -29,13 +29,11 @@ pub fn control_extinction(s: &SuperVoxel, d: f32) -> f32 {
 
 pub fn transmittance<V: VolumeAccess>(
     v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     rng: &mut Pcg32,
     threshold: f32,
 ) -> Estimate {
-    Estimate::of_one_channel(transmittance_scaled(v, ray, t0, t1, rng, [1.0], threshold))
+    Estimate::of_one_channel(transmittance_scaled(v, seg, rng, [1.0], threshold))
 }
 
 /// Residual ratio tracking of k_c σ_t with control k_c μ_c for each
@@ -43,13 +41,12 @@ pub fn transmittance<V: VolumeAccess>(
 /// |k_c (σ_t − μ_c)|). With k = [1] this is [`transmittance`] exactly.
 pub fn transmittance_scaled<V: VolumeAccess, const N: usize>(
     v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     rng: &mut Pcg32,
     k: [f32; N],
     threshold: f32,
 ) -> ([f32; N], u32) {
+    let ray = &seg.ray;
     // Index units per world unit along this ray turn the super-voxel's
     // index-space diagonal into world units.
     let diagonal =
@@ -68,9 +65,7 @@ pub fn transmittance_scaled<V: VolumeAccess, const N: usize>(
     let control = |k: f32| (-(k as f64 * tau_c.get())).exp() as f32;
     walk(
         v,
-        ray,
-        t0,
-        t1,
+        seg,
         rng,
         &mut lookups,
         Tracking {

@@ -16,7 +16,7 @@
 use crate::jackknife::{jackknife_transmittance, optical_depths, Sampling, StepMode};
 use crate::{analytic_trilinear, ratio_tracking, ray_marching, regular_tracking};
 use crate::{residual_ratio_tracking, Estimator};
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, Ray, RaySegment};
 use fogbank_volume::{Medium, MediumView};
 
 /// The optical-depth estimates one walk gives, and how an estimator turns
@@ -42,20 +42,21 @@ pub fn transmittance_scaled(
     let Some((r, t0, t1)) = medium.to_index(world, 0.0, t_max) else {
         return Some(([1.0; 3], 0));
     };
+    let seg = RaySegment::new(r, t0, t1);
     let view = medium.view();
     let (depths, lookups) = match e {
         Estimator::RegularTracking => match view {
-            MediumView::F16(v) => exp(regular_tracking::optical_depth(&v, &r, t0, t1)),
-            MediumView::F32(v) => exp(regular_tracking::optical_depth(&v, &r, t0, t1)),
+            MediumView::F16(v) => exp(regular_tracking::optical_depth(&v, &seg)),
+            MediumView::F32(v) => exp(regular_tracking::optical_depth(&v, &seg)),
             MediumView::Analytic(_) => return None,
         },
         Estimator::AnalyticTrilinear => match view {
-            MediumView::F16(v) => exp(analytic_trilinear::optical_depth(&v, &r, t0, t1)),
-            MediumView::F32(v) => exp(analytic_trilinear::optical_depth(&v, &r, t0, t1)),
+            MediumView::F16(v) => exp(analytic_trilinear::optical_depth(&v, &seg)),
+            MediumView::F32(v) => exp(analytic_trilinear::optical_depth(&v, &seg)),
             MediumView::Analytic(_) => return None,
         },
         Estimator::RayMarching { samples, clip } => with_view!(view, v => exp(
-            ray_marching::optical_depth(&v, &r, t0, t1, samples, clip, rng)
+            ray_marching::optical_depth(&v, &seg, samples, clip, rng)
         )),
         Estimator::Jackknife {
             samples,
@@ -65,19 +66,19 @@ pub fn transmittance_scaled(
             let (mut lookups, mut x) = (0, [0.0; 2]);
             let sampling = Sampling::fixed_count(samples, jitter);
             with_view!(view, v => optical_depths(
-                &v, &r, (t0, t1), sampling, rng, &mut lookups, &mut x
+                &v, &seg, sampling, rng, &mut lookups, &mut x
             ));
             (Depths::Jackknife(x), lookups)
         }
         Estimator::RatioTracking { roulette } => {
             return Some(with_view!(view, v => ratio_tracking::transmittance_scaled(
-                &v, &r, t0, t1, rng, k, roulette
+                &v, &seg, rng, k, roulette
             )))
         }
         Estimator::ResidualRatioTracking { roulette } => {
             return Some(
                 with_view!(view, v => residual_ratio_tracking::transmittance_scaled(
-                    &v, &r, t0, t1, rng, k, roulette
+                    &v, &seg, rng, k, roulette
                 )),
             )
         }

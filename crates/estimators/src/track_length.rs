@@ -4,17 +4,11 @@
 
 use crate::distance::delta_tracking;
 use crate::Estimate;
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::VolumeAccess;
 
-pub fn transmittance<V: VolumeAccess>(
-    v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
-    rng: &mut Pcg32,
-) -> Estimate {
-    let f = delta_tracking::sample(v, ray, t0, t1, rng);
+pub fn transmittance<V: VolumeAccess>(v: &V, seg: &RaySegment, rng: &mut Pcg32) -> Estimate {
+    let f = delta_tracking::sample(v, seg, rng);
     Estimate {
         transmittance: if f.t.is_none() { 1.0 } else { 0.0 },
         lookups: f.lookups,

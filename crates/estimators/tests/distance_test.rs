@@ -10,7 +10,7 @@ use fogbank_estimators::distance::{
     decomposition_tracking, delta_tracking, equiangular, regular_tracking, FreeFlight,
 };
 use fogbank_estimators::{transmittance, Estimator};
-use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
+use fogbank_math::{Pcg32, Ray, RaySegment, SampleKey, Vec3};
 use fogbank_volume::{Filter, Medium, MediumView};
 
 #[derive(Clone, Copy, Debug)]
@@ -23,11 +23,15 @@ enum Sampler {
 fn draw(s: Sampler, m: &Medium, ray: &Ray, rng: &mut Pcg32) -> FreeFlight {
     let (r, t0, t1) = m.to_index(ray, 0.0, f32::INFINITY).unwrap();
     match (m.view(), s) {
-        (MediumView::F32(v), Sampler::Delta) => delta_tracking::sample(&v, &r, t0, t1, rng),
-        (MediumView::F32(v), Sampler::Decomposition) => {
-            decomposition_tracking::sample(&v, &r, t0, t1, rng)
+        (MediumView::F32(v), Sampler::Delta) => {
+            delta_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng)
         }
-        (MediumView::F32(v), Sampler::Regular) => regular_tracking::sample(&v, &r, t0, t1, rng),
+        (MediumView::F32(v), Sampler::Decomposition) => {
+            decomposition_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng)
+        }
+        (MediumView::F32(v), Sampler::Regular) => {
+            regular_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng)
+        }
         _ => unreachable!("tests use f32 grids"),
     }
 }
@@ -266,7 +270,7 @@ fn analytic_trilinear_sampling_passes_chi_square() {
         seed: 13,
     };
     let draw = |rng: &mut Pcg32| {
-        analytic_trilinear::sample(&v, &r, t0, t1, rng)
+        analytic_trilinear::sample(&v, &RaySegment::new(r, t0, t1), rng)
             .t
             .map(|t| t as f64)
     };

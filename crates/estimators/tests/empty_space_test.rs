@@ -11,7 +11,7 @@ use common::*;
 use fogbank_estimators::analytic_trilinear::{self, shifted, DualCell};
 use fogbank_estimators::deterministic_marching;
 use fogbank_estimators::distance::{analytic_trilinear as exact_flight, regular_tracking};
-use fogbank_math::{Pcg32, Ray, Vec3};
+use fogbank_math::{Pcg32, Ray, RaySegment, Vec3};
 use fogbank_volume::{BrickGrid, Dda, Filter, GridView, MediumView};
 
 /// Two blobs and a thin sheet in a 40×36×44 box; most super-voxels are
@@ -84,13 +84,14 @@ fn skipping_empty_super_voxels_changes_no_result() {
                 continue;
             };
             let step = [1.732, 0.37, 2.9][n % 3];
-            let (march, _) = deterministic_marching::optical_depth(&v, &r, t0, t1, step);
+            let (march, _) =
+                deterministic_marching::optical_depth(&v, &RaySegment::new(r, t0, t1), step);
             assert_eq!(
                 march.to_bits(),
                 plain_march(&v, &r, t0, t1, step).to_bits(),
                 "ray {n}"
             );
-            let (exact, _) = analytic_trilinear::optical_depth(&v, &r, t0, t1);
+            let (exact, _) = analytic_trilinear::optical_depth(&v, &RaySegment::new(r, t0, t1));
             let plain = plain_exact(&v, &r, t0, t1);
             assert!(close(exact, plain), "ray {n}: {exact} vs {plain}");
             checked[0] += (plain > 0.0) as u32;
@@ -98,7 +99,8 @@ fn skipping_empty_super_voxels_changes_no_result() {
             // Free flights with the same random number as the plain walk.
             let mut rng = Pcg32::new(n as u64, 5);
             let u = rng.clone().next_f32();
-            let tracked = regular_tracking::sample_tracked(&v, &r, t0, t1, &mut rng);
+            let tracked =
+                regular_tracking::sample_tracked(&v, &RaySegment::new(r, t0, t1), &mut rng);
             let (t, tau) = plain_tracking(&v, &r, t0, t1, u);
             assert_eq!(tracked.t.is_some(), t.is_some(), "ray {n}");
             if let (Some(a), Some(b)) = (tracked.t, t) {
@@ -112,7 +114,7 @@ fn skipping_empty_super_voxels_changes_no_result() {
             }
             let mut rng = Pcg32::new(n as u64, 6);
             let u = rng.clone().next_f32() as f64;
-            let flight = exact_flight::sample_tracked(&v, &r, t0, t1, &mut rng);
+            let flight = exact_flight::sample_tracked(&v, &RaySegment::new(r, t0, t1), &mut rng);
             let target = -(1.0 - u).ln();
             match flight.t {
                 // Collides where the plain optical depth reaches the target.

@@ -5,7 +5,7 @@ mod common;
 
 use common::*;
 use fogbank_estimators::{analytic_trilinear, regular_tracking};
-use fogbank_math::{Aabb, Pcg32, Ray, Vec3};
+use fogbank_math::{Aabb, Pcg32, Ray, RaySegment, Vec3};
 use fogbank_volume::{BrickGrid, Filter, GridView, SuperVoxelGrid};
 use glam::DVec3;
 
@@ -81,7 +81,7 @@ fn analytic_trilinear_matches_fine_quadrature() {
         if t1 - t0 < 1e-3 {
             continue;
         }
-        let (tau, _) = analytic_trilinear::optical_depth(&view, ray, t0, t1);
+        let (tau, _) = analytic_trilinear::optical_depth(&view, &RaySegment::new(*ray, t0, t1));
         let q = quadrature(ray, n, |p| trilinear_f64(&g, p));
         assert!(
             (tau - q).abs() <= 1e-5 * q.abs().max(1e-3),
@@ -103,7 +103,8 @@ fn regular_tracking_matches_exact_voxel_sums() {
         for k in 0..n[2] as i32 {
             let ray = Ray::new(Vec3::new(-3.0, j as f32 + 0.5, k as f32 + 0.5), Vec3::X);
             let (t0, t1) = clip(&ray, n).unwrap();
-            let (tau, lookups) = regular_tracking::optical_depth(&view, &ray, t0, t1);
+            let (tau, lookups) =
+                regular_tracking::optical_depth(&view, &RaySegment::new(ray, t0, t1));
             let sum: f64 = (0..n[0] as i32).map(|i| g.fetch(i, j, k) as f64).sum();
             assert!(
                 (tau - sum).abs() < 1e-5 * sum,
@@ -139,7 +140,7 @@ fn regular_tracking_matches_exact_voxel_sums() {
                     * (w[1] - w[0])
             })
             .sum();
-        let (tau, _) = regular_tracking::optical_depth(&view, &ray, t0, t1);
+        let (tau, _) = regular_tracking::optical_depth(&view, &RaySegment::new(ray, t0, t1));
         assert!(
             (tau - exact).abs() <= 1e-4 * exact.max(1e-2),
             "ray {ray:?}: {tau} vs {exact}"

@@ -8,7 +8,7 @@ use fogbank_estimators::jackknife::jackknife_transmittance;
 use fogbank_estimators::jackknife_function::umvu_transmittance;
 use fogbank_estimators::optical_depth::{prepare, Importance};
 use fogbank_estimators::{transmittance, Estimator};
-use fogbank_math::{Pcg32, SampleKey};
+use fogbank_math::{Pcg32, RaySegment, SampleKey};
 use fogbank_volume::{Filter, MediumView};
 
 fn normal(rng: &mut Pcg32) -> f64 {
@@ -108,7 +108,8 @@ fn fixed_cost_two_n_lookups_on_non_empty_rays_zero_otherwise() {
                     // from a counting one.
                     let total = match (m.to_index(&ray, 0.0, f32::INFINITY), m.view()) {
                         (Some((r, t0, t1)), MediumView::F32(v)) => {
-                            prepare(&v, &r, t0, t1, Importance::VarianceAware).total
+                            prepare(&v, &RaySegment::new(r, t0, t1), Importance::VarianceAware)
+                                .total
                         }
                         _ => 0.0,
                     };

@@ -8,7 +8,7 @@ use common::*;
 use fogbank_estimators::analytic_trilinear;
 use fogbank_estimators::distance::ray_marching;
 use fogbank_math::chi2::IntervalTest;
-use fogbank_math::{Pcg32, Ray, Vec3};
+use fogbank_math::{Pcg32, Ray, RaySegment, Vec3};
 use fogbank_volume::{BrickGrid, Filter, MediumView};
 
 #[test]
@@ -36,7 +36,7 @@ fn constant_medium_is_sampled_exactly() {
         };
         let res = test.run(
             |rng| {
-                ray_marching::sample(&v, &r, t0, t1, dt, rng)
+                ray_marching::sample(&v, &RaySegment::new(r, t0, t1), dt, rng)
                     .t
                     .map(|t| t as f64)
             },
@@ -44,7 +44,8 @@ fn constant_medium_is_sampled_exactly() {
             (-sigma * len).exp(),
         );
         assert!(res.passes(0.005), "step {dt}:\n{res}");
-        let (t, _) = ray_marching::transmittance(&v, &r, t0, t1, dt, &mut Pcg32::new(1, 1));
+        let (t, _) =
+            ray_marching::transmittance(&v, &RaySegment::new(r, t0, t1), dt, &mut Pcg32::new(1, 1));
         assert!(
             (t as f64 - (-sigma * len).exp()).abs() < 1e-6,
             "step {dt}: {t}"
@@ -63,11 +64,11 @@ fn small_steps_converge_and_long_walks_are_bounded() {
         Vec3::new(1.0, 0.05, -0.02).normalize(),
     );
     let (r, t0, t1) = m.to_index(&ray, 0.0, f32::INFINITY).unwrap();
-    let exact = (-analytic_trilinear::optical_depth(&v, &r, t0, t1).0).exp();
+    let exact = (-analytic_trilinear::optical_depth(&v, &RaySegment::new(r, t0, t1)).0).exp();
     let mut rng = Pcg32::new(2, 2);
     let mean = |dt: f32, rng: &mut Pcg32| -> f64 {
         (0..2000)
-            .map(|_| ray_marching::transmittance(&v, &r, t0, t1, dt, rng).0 as f64)
+            .map(|_| ray_marching::transmittance(&v, &RaySegment::new(r, t0, t1), dt, rng).0 as f64)
             .sum::<f64>()
             / 2000.0
     };
@@ -77,6 +78,7 @@ fn small_steps_converge_and_long_walks_are_bounded() {
         "{fine} vs {exact}"
     );
     // A step far below the segment: the walk is capped, not runaway.
-    let (_, lookups) = ray_marching::transmittance(&v, &r, t0, t1, 1e-12, &mut rng);
+    let (_, lookups) =
+        ray_marching::transmittance(&v, &RaySegment::new(r, t0, t1), 1e-12, &mut rng);
     assert!(lookups <= ray_marching::MAX_STEPS, "{lookups}");
 }

@@ -9,25 +9,22 @@ mod common;
 use common::*;
 use fogbank_estimators::lookup::{sample_exponential, sigma_t_at};
 use fogbank_estimators::null_collisions::{walk, Tracking};
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::{
     Dda, DensityData, Filter, Medium, MediumView, Precision, SuperVoxel, VolumeAccess,
 };
 
 /// The walk as it was before lanes: one collision at a time.
-#[allow(clippy::too_many_arguments)]
 fn walk_sequential<V: VolumeAccess>(
     v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     rng: &mut Pcg32,
     lookups: &mut u32,
     mut rate: impl FnMut(&SuperVoxel, f32) -> (f32, f32),
     mut collide: impl FnMut(f32, f32, f32, f32, &mut Pcg32) -> bool,
 ) -> bool {
-    let sv = v.supervoxels();
-    for s in Dda::new(ray, sv.size as f32, sv.dims, t0, t1) {
+    let (ray, sv) = (&seg.ray, v.supervoxels());
+    for s in Dda::new(ray, sv.size as f32, sv.dims, seg.t0, seg.t1) {
         let (sigma_maj, value) = rate(sv.get(s.cell), s.t1 - s.t0);
         if sigma_maj <= 0.0 {
             continue;
@@ -61,15 +58,7 @@ struct Trace {
 /// tracking with roulette at 0, 0.1 and 0.6; 4 delta tracking (one draw
 /// per collision); 5 one draw per collision as a rule, none or two at
 /// some, stopping at others.
-fn trace<V: VolumeAccess>(
-    v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
-    seed: u64,
-    kind: u32,
-    lanes: bool,
-) -> Trace {
+fn trace<V: VolumeAccess>(v: &V, seg: RaySegment, seed: u64, kind: u32, lanes: bool) -> Trace {
     let mut rng = Pcg32::new(seed, 3);
     let mut lookups = 0;
     let mut seen = Vec::new();
@@ -114,9 +103,9 @@ fn trace<V: VolumeAccess>(
             rate,
             collide,
         };
-        walk(v, ray, t0, t1, &mut rng, &mut lookups, tracking)
+        walk(v, &seg, &mut rng, &mut lookups, tracking)
     } else {
-        walk_sequential(v, ray, t0, t1, &mut rng, &mut lookups, rate, collide)
+        walk_sequential(v, &seg, &mut rng, &mut lookups, rate, collide)
     };
     Trace {
         reached,
@@ -157,12 +146,12 @@ fn lanes_walk_is_the_sequential_walk_bit_for_bit() {
             for kind in 0..6 {
                 let (a, b) = match m.view() {
                     MediumView::F32(v) => (
-                        trace(&v, &r, t0, t1, i as u64, kind, true),
-                        trace(&v, &r, t0, t1, i as u64, kind, false),
+                        trace(&v, RaySegment::new(r, t0, t1), i as u64, kind, true),
+                        trace(&v, RaySegment::new(r, t0, t1), i as u64, kind, false),
                     ),
                     MediumView::F16(v) => (
-                        trace(&v, &r, t0, t1, i as u64, kind, true),
-                        trace(&v, &r, t0, t1, i as u64, kind, false),
+                        trace(&v, RaySegment::new(r, t0, t1), i as u64, kind, true),
+                        trace(&v, RaySegment::new(r, t0, t1), i as u64, kind, false),
                     ),
                     MediumView::Analytic(_) => unreachable!(),
                 };

@@ -17,7 +17,7 @@ use crate::error::Error;
 use crate::renderer::Renderer;
 use fogbank_estimators::distance::{analytic_trilinear, equiangular};
 use fogbank_estimators::{transmittance, Estimator};
-use fogbank_math::{Ray, SampleKey, Vec3};
+use fogbank_math::{Ray, RaySegment, SampleKey, Vec3};
 use fogbank_render::integrators::shared::dim;
 use fogbank_render::integrators::shared::tracking::sampler_flight;
 use fogbank_render::integrators::shared::DistanceSampler;
@@ -211,8 +211,12 @@ fn flight(
                 return Ok((f64::INFINITY, 1.0, 0));
             };
             let f = match medium.view() {
-                MediumView::F16(v) => analytic_trilinear::sample(&v, &r, t0, t1, rng),
-                MediumView::F32(v) => analytic_trilinear::sample(&v, &r, t0, t1, rng),
+                MediumView::F16(v) => {
+                    analytic_trilinear::sample(&v, &RaySegment::new(r, t0, t1), rng)
+                }
+                MediumView::F32(v) => {
+                    analytic_trilinear::sample(&v, &RaySegment::new(r, t0, t1), rng)
+                }
                 MediumView::Analytic(_) => {
                     return Err(Error::invalid(
                         "sampler analytic_trilinear: the medium is analytic, not a grid",

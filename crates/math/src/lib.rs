@@ -32,5 +32,5 @@ pub use bbox::Aabb;
 pub use exact_sum::ExactSum;
 pub use glam::{DAffine3, DVec3, Vec3};
 pub use piecewise::PiecewiseLinear;
-pub use ray::Ray;
+pub use ray::{Ray, RaySegment};
 pub use rng::{pcg3d, Pcg32, SampleKey};

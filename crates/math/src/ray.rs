@@ -10,6 +10,22 @@ pub struct Ray {
     pub d: Vec3,
 }
 
+/// The part `[t0, t1]` of a ray: what a transmittance estimator integrates
+/// over and a free-flight sampler samples in (pbrt-v4's ray with its `tMax`,
+/// with the start made explicit).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RaySegment {
+    pub ray: Ray,
+    pub t0: f32,
+    pub t1: f32,
+}
+
+impl RaySegment {
+    pub fn new(ray: Ray, t0: f32, t1: f32) -> Self {
+        RaySegment { ray, t0, t1 }
+    }
+}
+
 impl Ray {
     pub fn new(o: Vec3, d: Vec3) -> Self {
         Ray { o, d }

@@ -6,7 +6,7 @@
 //! units, and the combinations that would be wrong are refused.
 
 use fogbank_estimators::{deterministic_marching, ratio_tracking, track_length};
-use fogbank_math::{Pcg32, Ray, Vec3};
+use fogbank_math::{Pcg32, Ray, RaySegment, Vec3};
 use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use fogbank_volume::{MediumView, VolumeAccess};
 use std::path::Path;
@@ -118,20 +118,21 @@ fn post_classified_transmittance_is_unbiased_against_fine_marching() {
         let Some((ray, t0, t1)) = m.to_index(&world, 0.0, f32::INFINITY) else {
             panic!("ray {r} misses")
         };
-        let (tau, _) = deterministic_marching::optical_depth(&v, &ray, t0, t1, 1.0 / 256.0);
+        let seg = RaySegment::new(ray, t0, t1);
+        let (tau, _) = deterministic_marching::optical_depth(&v, &seg, 1.0 / 256.0);
         let exact = (-tau).exp();
         for (name, f) in [
             (
                 "track_length",
-                track_length::transmittance::<_> as fn(&_, &Ray, f32, f32, &mut Pcg32) -> _,
+                track_length::transmittance::<_> as fn(&_, &RaySegment, &mut Pcg32) -> _,
             ),
-            ("ratio_tracking", |v, r, a, b, rng| {
-                ratio_tracking::transmittance(v, r, a, b, rng, 0.0)
+            ("ratio_tracking", |v, seg, rng| {
+                ratio_tracking::transmittance(v, seg, rng, 0.0)
             }),
         ] {
             let (mut sum, mut sum2) = (0.0f64, 0.0f64);
             for _ in 0..n {
-                let t = f(&v, &ray, t0, t1, &mut rng).transmittance as f64;
+                let t = f(&v, &seg, &mut rng).transmittance as f64;
                 sum += t;
                 sum2 += t * t;
             }
@@ -145,8 +146,9 @@ fn post_classified_transmittance_is_unbiased_against_fine_marching() {
         assert!(tau > 0.02, "ray {r} sees little of the medium (τ {tau})");
         let (mut sum, mut sum2) = (0.0f64, 0.0f64);
         for _ in 0..n {
-            let t = track_length::transmittance(&naive_view, &ray, t0, t1, &mut rng).transmittance
-                as f64;
+            let t =
+                track_length::transmittance(&naive_view, &RaySegment::new(ray, t0, t1), &mut rng)
+                    .transmittance as f64;
             sum += t;
             sum2 += t * t;
         }
@@ -226,7 +228,7 @@ fn pre_and_post_agree_bitwise_under_nearest_filtering() {
         };
         let ray = Ray::new(Vec3::new(-1.0, 0.01, 0.02), Vec3::X);
         let (r, t0, t1) = m.to_index(&ray, 0.0, f32::INFINITY).unwrap();
-        deterministic_marching::optical_depth(&v, &r, t0, t1, 1.0 / 64.0).0
+        deterministic_marching::optical_depth(&v, &RaySegment::new(r, t0, t1), 1.0 / 64.0).0
     };
     let (a, b) = (tri("post"), tri("pre"));
     assert!((a - b).abs() > 0.01 * a.max(b), "post τ {a}, pre τ {b}");

@@ -9,32 +9,25 @@
 
 use super::{FreeFlight, TrackedFlight};
 use crate::analytic_trilinear::{shifted, DualCell};
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::{Dda, GridView, Occupied, Voxel, ZERO_TRILINEAR};
 
 /// Newton steps before giving up on tighter brackets (bisection alone
 /// reaches f64 resolution in ~60).
 const MAX_STEPS: u32 = 64;
 
-pub fn sample<T: Voxel>(
-    v: &GridView<'_, T>,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
-    rng: &mut Pcg32,
-) -> FreeFlight {
-    sample_tracked(v, ray, t0, t1, rng).free_flight()
+pub fn sample<T: Voxel>(v: &GridView<'_, T>, seg: &RaySegment, rng: &mut Pcg32) -> FreeFlight {
+    sample_tracked(v, seg, rng).free_flight()
 }
 
 /// [`sample`] with σ_t at the collision and the optical depth up to it:
 /// the closed-form density σ_t(t)·exp(−τ(t)) of the trilinear field.
 pub fn sample_tracked<T: Voxel>(
     v: &GridView<'_, T>,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     rng: &mut Pcg32,
 ) -> TrackedFlight {
+    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
     // Exact only for the trilinear field itself; scenes refuse this
     // estimator for media classified by a transfer function.
     debug_assert!(

@@ -7,10 +7,11 @@
 
 use super::FreeFlight;
 use crate::lookup::{sample_exponential, sigma_t_at};
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::{Dda, VolumeAccess};
 
-pub fn sample<V: VolumeAccess>(v: &V, ray: &Ray, t0: f32, t1: f32, rng: &mut Pcg32) -> FreeFlight {
+pub fn sample<V: VolumeAccess>(v: &V, seg: &RaySegment, rng: &mut Pcg32) -> FreeFlight {
+    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
     let sv = v.supervoxels();
     let mut lookups = 0;
     for s in Dda::new(ray, sv.size as f32, sv.dims, t0, t1) {

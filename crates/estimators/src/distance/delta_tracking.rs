@@ -5,7 +5,7 @@
 
 use super::FreeFlight;
 use crate::null_collisions::{walk, Tracking};
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::{SuperVoxel, VolumeAccess};
 
 /// The first real collision `(t, σ_t(t))` in `[t0, t1]`, or `None`;
@@ -13,9 +13,7 @@ use fogbank_volume::{SuperVoxel, VolumeAccess};
 #[inline(always)]
 pub fn track<V: VolumeAccess>(
     v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     rng: &mut Pcg32,
     lookups: &mut u32,
     mut on_null: impl FnMut(f32, f32),
@@ -23,9 +21,7 @@ pub fn track<V: VolumeAccess>(
     let mut hit = None;
     walk(
         v,
-        ray,
-        t0,
-        t1,
+        seg,
         rng,
         lookups,
         Tracking {
@@ -45,9 +41,9 @@ pub fn track<V: VolumeAccess>(
     hit
 }
 
-pub fn sample<V: VolumeAccess>(v: &V, ray: &Ray, t0: f32, t1: f32, rng: &mut Pcg32) -> FreeFlight {
+pub fn sample<V: VolumeAccess>(v: &V, seg: &RaySegment, rng: &mut Pcg32) -> FreeFlight {
     let mut lookups = 0;
-    let hit = track(v, ray, t0, t1, rng, &mut lookups, |_, _| {});
+    let hit = track(v, seg, rng, &mut lookups, |_, _| {});
     FreeFlight {
         t: hit.map(|(t, _)| t),
         lookups,

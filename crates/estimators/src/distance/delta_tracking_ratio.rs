@@ -10,7 +10,7 @@
 //! space (Miller et al.'s pdfs then share every factor but the last).
 
 use super::delta_tracking::track;
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::VolumeAccess;
 
 /// A delta-tracking sample with its null-collision record.
@@ -26,16 +26,10 @@ pub struct TrackedFreeFlight {
     pub lookups: u32,
 }
 
-pub fn sample<V: VolumeAccess>(
-    v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
-    rng: &mut Pcg32,
-) -> TrackedFreeFlight {
+pub fn sample<V: VolumeAccess>(v: &V, seg: &RaySegment, rng: &mut Pcg32) -> TrackedFreeFlight {
     let mut lookups = 0;
     let mut ratio = 1.0;
-    let hit = track(v, ray, t0, t1, rng, &mut lookups, |sigma_t, sigma_maj| {
+    let hit = track(v, seg, rng, &mut lookups, |sigma_t, sigma_maj| {
         ratio *= 1.0 - sigma_t / sigma_maj;
     });
     TrackedFreeFlight {

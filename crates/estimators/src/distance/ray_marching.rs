@@ -9,7 +9,7 @@
 
 use super::FreeFlight;
 use crate::lookup::sigma_t_at;
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::VolumeAccess;
 
 /// Longest walk, in steps: a tiny step on a long segment would otherwise
@@ -29,14 +29,8 @@ fn steps(t0: f32, t1: f32, dt: f32) -> (u32, f64) {
 }
 
 /// Free flight on `[t0, t1]` of the index-space `ray` with step `dt`.
-pub fn sample<V: VolumeAccess>(
-    v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
-    dt: f32,
-    rng: &mut Pcg32,
-) -> FreeFlight {
+pub fn sample<V: VolumeAccess>(v: &V, seg: &RaySegment, dt: f32, rng: &mut Pcg32) -> FreeFlight {
+    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
     // f32 draws, as the GPU's (WGSL has no f64).
     let target = -(1.0 - rng.next_f32() as f64).ln();
     let u = rng.next_f32() as f64;
@@ -64,12 +58,11 @@ pub fn sample<V: VolumeAccess>(
 /// exp(−τ̂) of `[t0, t1]` with step `dt`: (transmittance, lookups).
 pub fn transmittance<V: VolumeAccess>(
     v: &V,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     dt: f32,
     rng: &mut Pcg32,
 ) -> (f32, u32) {
+    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
     let u = rng.next_f32() as f64;
     let (n, dt) = steps(t0, t1, dt);
     let mut lookups = 0;

@@ -5,28 +5,21 @@
 //! nearest-filtered field.
 
 use super::{FreeFlight, TrackedFlight};
-use fogbank_math::{Pcg32, Ray};
+use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::{Dda, GridView, Occupied, Voxel, ZERO_NEAREST};
 
-pub fn sample<T: Voxel>(
-    v: &GridView<'_, T>,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
-    rng: &mut Pcg32,
-) -> FreeFlight {
-    sample_tracked(v, ray, t0, t1, rng).free_flight()
+pub fn sample<T: Voxel>(v: &GridView<'_, T>, seg: &RaySegment, rng: &mut Pcg32) -> FreeFlight {
+    sample_tracked(v, seg, rng).free_flight()
 }
 
 /// [`sample`] with σ_t at the collision and the optical depth up to it
 /// (seed 002 Eq. 27–28: p(t) = T*(t)·σ_t*(t) in closed form).
 pub fn sample_tracked<T: Voxel>(
     v: &GridView<'_, T>,
-    ray: &Ray,
-    t0: f32,
-    t1: f32,
+    seg: &RaySegment,
     rng: &mut Pcg32,
 ) -> TrackedFlight {
+    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
     let target = -(1.0 - rng.next_f32() as f64).ln();
     let mut tau = 0.0f64;
     let mut lookups = 0;

@@ -17,7 +17,7 @@ use crate::experiments::harness::Writer;
 use crate::plot::{palette, ColourMap, Figure, HeatMap, LinePlot, Mark, Rgb, Series};
 use fogbank_estimators::jackknife::jackknife_transmittance;
 use fogbank_estimators::optical_depth::{estimates, prepare, Importance, Jitter};
-use fogbank_math::{Pcg32, Ray, Vec3};
+use fogbank_math::{Pcg32, Ray, RaySegment, Vec3};
 use fogbank_volume::{BrickGrid, Filter, GridView, SuperVoxelGrid, VolumeAccess};
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -151,7 +151,11 @@ fn size_row(grid: &BrickGrid<f32>, ray: &Ray, size: u32, trials: u64, exact: f64
         opacity: None,
     };
     let v0 = view();
-    let prep = prepare(&v0, ray, 0.0, DIMS[0] as f32, Importance::VarianceAware);
+    let prep = prepare(
+        &v0,
+        &RaySegment::new(*ray, 0.0, DIMS[0] as f32),
+        Importance::VarianceAware,
+    );
     let nonempty = (0..svg.dims[0] as i32)
         .filter(|&c| svg.get([c, (ROW / size) as i32, 0]).importance > 0.0)
         .count();

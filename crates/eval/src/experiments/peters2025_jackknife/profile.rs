@@ -9,7 +9,7 @@
 //! exact optical depth is simply the sum of the voxel values.
 
 use fogbank_estimators::optical_depth::{estimates, prepare, Importance, Jitter, Prepared};
-use fogbank_math::{Pcg32, Ray, Vec3};
+use fogbank_math::{Pcg32, Ray, RaySegment, Vec3};
 use fogbank_volume::{SuperVoxelGrid, VolumeAccess};
 
 /// Paper's Table 1 transmittance, T ≈ 0.13411: the smooth profile is scaled
@@ -135,13 +135,8 @@ impl Profile1D {
     /// over its whole length, with the variance-aware importance.
     pub fn marching(&self) -> Marching<'_> {
         let ray = self.ray();
-        let prep = prepare(
-            self,
-            &ray,
-            0.0,
-            self.len() as f32,
-            Importance::VarianceAware,
-        );
+        let seg = RaySegment::new(ray, 0.0, self.len() as f32);
+        let prep = prepare(self, &seg, Importance::VarianceAware);
         Marching {
             profile: self,
             prep,

@@ -21,7 +21,7 @@ use fogbank_estimators::jackknife_function::mis_weight;
 use fogbank_estimators::lookup::sigma_t_at;
 use fogbank_estimators::optical_depth::Jitter;
 use fogbank_estimators::{ratio_tracking, transmittance, Estimator};
-use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
+use fogbank_math::{Pcg32, Ray, RaySegment, SampleKey, Vec3};
 use fogbank_volume::{MediumView, VolumeAccess};
 
 #[derive(Clone, Debug)]
@@ -253,7 +253,12 @@ impl PointMis {
         if let Some((t0, pdf0)) = equiangular_distance(s, cx) {
             let sigma_t = Self::segment_sigma_t(v, s, t0, cx.rng, &mut cx.lookups);
             if sigma_t > 0.0 {
-                let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, cx.rng, 0.0);
+                let tr = ratio_tracking::transmittance(
+                    v,
+                    &RaySegment::new(s.index, s.a, t0),
+                    cx.rng,
+                    0.0,
+                );
                 cx.lookups += tr.lookups;
                 let l = self.in_scattered(s, t0, cx);
                 total += l * (tr.transmittance * sigma_t / pdf0);
@@ -280,7 +285,12 @@ impl PointMis {
         if let Some((t0, pdf0)) = equiangular_distance(s, cx) {
             let sigma_t = Self::segment_sigma_t(v, s, t0, cx.rng, &mut cx.lookups);
             if sigma_t > 0.0 {
-                let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, cx.rng, 0.0);
+                let tr = ratio_tracking::transmittance(
+                    v,
+                    &RaySegment::new(s.index, s.a, t0),
+                    cx.rng,
+                    0.0,
+                );
                 cx.lookups += tr.lookups;
                 let c = balance(sigma_t * tr.transmittance, pdf0);
                 if c != 0.0 {
@@ -325,7 +335,12 @@ impl PointMis {
                 let (x0, x1) = self.depths(v, s, t0, false, cx.rng, &mut cx.lookups);
                 let (mw, p) = (sigma_t_w as f64, pdf0 as f64);
                 let w0 = mis_weight(0.0, p, mw, p, x0, x1) as f32;
-                let tr = ratio_tracking::transmittance(v, &s.index, s.a, t0, cx.rng, 0.0);
+                let tr = ratio_tracking::transmittance(
+                    v,
+                    &RaySegment::new(s.index, s.a, t0),
+                    cx.rng,
+                    0.0,
+                );
                 cx.lookups += tr.lookups;
                 let c = w0 * tr.transmittance * sigma_t / pdf0;
                 if c != 0.0 && c.is_finite() {
@@ -377,7 +392,14 @@ pub(super) fn depths_n<V: VolumeAccess>(
         (mis_samples, &mut x[..])
     };
     let sampling = Sampling::fixed_count(n, Jitter::Stratified);
-    optical_depths(v, &s.index, (s.a, t), sampling, rng, lookups, out);
+    optical_depths(
+        v,
+        &RaySegment::new(s.index, s.a, t),
+        sampling,
+        rng,
+        lookups,
+        out,
+    );
     if naive {
         (x[0], x[0])
     } else {
@@ -388,7 +410,7 @@ pub(super) fn depths_n<V: VolumeAccess>(
 /// A free-flight distance by delta tracking over the camera segment, with
 /// the ratio of its null collisions (its lookups counted).
 fn tracked_flight<V: VolumeAccess>(v: &V, s: &Segment, cx: &mut PathContext) -> TrackedFreeFlight {
-    let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, cx.rng);
+    let f = delta_tracking_ratio::sample(v, &RaySegment::new(s.index, s.a, s.b), cx.rng);
     cx.lookups += f.lookups;
     f
 }
@@ -409,7 +431,7 @@ pub(super) fn eq10_distances<V: VolumeAccess>(
     rng: &mut Pcg32,
     lookups: &mut u32,
 ) -> [Option<(f32, f32, Option<f32>)>; 2] {
-    let f = delta_tracking_ratio::sample(v, &s.index, s.a, s.b, rng);
+    let f = delta_tracking_ratio::sample(v, &RaySegment::new(s.index, s.a, s.b), rng);
     *lookups += f.lookups;
     let (t0, pdf0) = equiangular::sample(&s.world, s.light, s.a, s.b, rng.next_f32());
     let mut ts = [None, None];

@@ -13,7 +13,7 @@
 
 use crate::world::camera::Camera;
 use fogbank_estimators::deterministic_marching;
-use fogbank_math::{Ray, Vec3};
+use fogbank_math::{Ray, RaySegment, Vec3};
 use fogbank_volume::{Filter, GridView, Medium, MediumView, Voxel};
 use rayon::prelude::*;
 
@@ -169,12 +169,16 @@ impl PrimaryT {
             (self.sums[s.first + n - 1] + last) * self.scale
         } else {
             let (tau, k) = match medium.view() {
-                MediumView::F16(v) => {
-                    deterministic_marching::optical_depth(&v, &s.ray, s.t0, t1, self.step)
-                }
-                MediumView::F32(v) => {
-                    deterministic_marching::optical_depth(&v, &s.ray, s.t0, t1, self.step)
-                }
+                MediumView::F16(v) => deterministic_marching::optical_depth(
+                    &v,
+                    &RaySegment::new(s.ray, s.t0, t1),
+                    self.step,
+                ),
+                MediumView::F32(v) => deterministic_marching::optical_depth(
+                    &v,
+                    &RaySegment::new(s.ray, s.t0, t1),
+                    self.step,
+                ),
                 MediumView::Analytic(_) => unreachable!("restir refuses analytic media"),
             };
             *lookups += k;

@@ -9,7 +9,7 @@ use super::primary::PrimaryT;
 use crate::error::SceneError;
 use fogbank_estimators::distance::{analytic_trilinear, regular_tracking, TrackedFlight};
 use fogbank_estimators::{analytic_trilinear as exact, deterministic_marching, Estimator};
-use fogbank_math::{Pcg32, Ray, Vec3};
+use fogbank_math::{Pcg32, Ray, RaySegment, Vec3};
 use fogbank_volume::{Medium, MediumView};
 use std::sync::Arc;
 
@@ -107,10 +107,18 @@ pub fn track(
         };
     };
     match (mip.view(), full_res) {
-        (MediumView::F16(v), true) => analytic_trilinear::sample_tracked(&v, &r, t0, t1, rng),
-        (MediumView::F32(v), true) => analytic_trilinear::sample_tracked(&v, &r, t0, t1, rng),
-        (MediumView::F16(v), false) => regular_tracking::sample_tracked(&v, &r, t0, t1, rng),
-        (MediumView::F32(v), false) => regular_tracking::sample_tracked(&v, &r, t0, t1, rng),
+        (MediumView::F16(v), true) => {
+            analytic_trilinear::sample_tracked(&v, &RaySegment::new(r, t0, t1), rng)
+        }
+        (MediumView::F32(v), true) => {
+            analytic_trilinear::sample_tracked(&v, &RaySegment::new(r, t0, t1), rng)
+        }
+        (MediumView::F16(v), false) => {
+            regular_tracking::sample_tracked(&v, &RaySegment::new(r, t0, t1), rng)
+        }
+        (MediumView::F32(v), false) => {
+            regular_tracking::sample_tracked(&v, &RaySegment::new(r, t0, t1), rng)
+        }
         (MediumView::Analytic(_), _) => unreachable!("restir refuses analytic media"),
     }
 }
@@ -173,12 +181,16 @@ impl SegmentT<'_> {
                     return 1.0;
                 };
                 let (tau, n) = match medium.view() {
-                    MediumView::F16(v) => {
-                        deterministic_marching::optical_depth(&v, &r, t0, t1, *step * SQRT3)
-                    }
-                    MediumView::F32(v) => {
-                        deterministic_marching::optical_depth(&v, &r, t0, t1, *step * SQRT3)
-                    }
+                    MediumView::F16(v) => deterministic_marching::optical_depth(
+                        &v,
+                        &RaySegment::new(r, t0, t1),
+                        *step * SQRT3,
+                    ),
+                    MediumView::F32(v) => deterministic_marching::optical_depth(
+                        &v,
+                        &RaySegment::new(r, t0, t1),
+                        *step * SQRT3,
+                    ),
                     MediumView::Analytic(_) => unreachable!("restir refuses analytic media"),
                 };
                 *lookups += n;
@@ -189,8 +201,8 @@ impl SegmentT<'_> {
                     return 1.0;
                 };
                 let (tau, n) = match full.view() {
-                    MediumView::F16(v) => exact::optical_depth(&v, &r, t0, t1),
-                    MediumView::F32(v) => exact::optical_depth(&v, &r, t0, t1),
+                    MediumView::F16(v) => exact::optical_depth(&v, &RaySegment::new(r, t0, t1)),
+                    MediumView::F32(v) => exact::optical_depth(&v, &RaySegment::new(r, t0, t1)),
                     MediumView::Analytic(_) => unreachable!("restir refuses analytic media"),
                 };
                 *lookups += n;

@@ -14,7 +14,7 @@ use fogbank_estimators::distance::{
 };
 use fogbank_estimators::pins::{Chord, Pin, PinGrid, UnitCube};
 use fogbank_estimators::Estimator;
-use fogbank_math::{Pcg32, Ray, Vec3};
+use fogbank_math::{Pcg32, Ray, RaySegment, Vec3};
 use fogbank_volume::{Medium, MediumView};
 use std::sync::Arc;
 
@@ -166,9 +166,15 @@ pub fn free_flight(
             };
             let dt = parameter_step(&local, step);
             match m.view() {
-                MediumView::F16(v) => ray_marching::sample(&v, &r, t0, t1, dt, rng),
-                MediumView::F32(v) => ray_marching::sample(&v, &r, t0, t1, dt, rng),
-                MediumView::Analytic(v) => ray_marching::sample(&v, &r, t0, t1, dt, rng),
+                MediumView::F16(v) => {
+                    ray_marching::sample(&v, &RaySegment::new(r, t0, t1), dt, rng)
+                }
+                MediumView::F32(v) => {
+                    ray_marching::sample(&v, &RaySegment::new(r, t0, t1), dt, rng)
+                }
+                MediumView::Analytic(v) => {
+                    ray_marching::sample(&v, &RaySegment::new(r, t0, t1), dt, rng)
+                }
             }
         }
         Flight::Pins(set) => {
@@ -208,9 +214,15 @@ pub fn transmittance(
             };
             let dt = parameter_step(&local, step);
             match m.view() {
-                MediumView::F16(v) => ray_marching::transmittance(&v, &r, t0, t1, dt, rng),
-                MediumView::F32(v) => ray_marching::transmittance(&v, &r, t0, t1, dt, rng),
-                MediumView::Analytic(v) => ray_marching::transmittance(&v, &r, t0, t1, dt, rng),
+                MediumView::F16(v) => {
+                    ray_marching::transmittance(&v, &RaySegment::new(r, t0, t1), dt, rng)
+                }
+                MediumView::F32(v) => {
+                    ray_marching::transmittance(&v, &RaySegment::new(r, t0, t1), dt, rng)
+                }
+                MediumView::Analytic(v) => {
+                    ray_marching::transmittance(&v, &RaySegment::new(r, t0, t1), dt, rng)
+                }
             }
         }
         Shadow::Pins(set) => {
@@ -261,22 +273,24 @@ pub fn sampler_flight(
     };
     match (m.view(), s) {
         (MediumView::F16(v), DistanceSampler::RegularTracking) => {
-            regular_tracking::sample(&v, &r, t0, t1, rng)
+            regular_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng)
         }
         (MediumView::F32(v), DistanceSampler::RegularTracking) => {
-            regular_tracking::sample(&v, &r, t0, t1, rng)
+            regular_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng)
         }
         (MediumView::F16(v), DistanceSampler::DecompositionTracking) => {
-            decomposition_tracking::sample(&v, &r, t0, t1, rng)
+            decomposition_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng)
         }
         (MediumView::F32(v), DistanceSampler::DecompositionTracking) => {
-            decomposition_tracking::sample(&v, &r, t0, t1, rng)
+            decomposition_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng)
         }
         (MediumView::Analytic(v), DistanceSampler::DecompositionTracking) => {
-            decomposition_tracking::sample(&v, &r, t0, t1, rng)
+            decomposition_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng)
         }
-        (MediumView::F16(v), _) => delta_tracking::sample(&v, &r, t0, t1, rng),
-        (MediumView::F32(v), _) => delta_tracking::sample(&v, &r, t0, t1, rng),
-        (MediumView::Analytic(v), _) => delta_tracking::sample(&v, &r, t0, t1, rng),
+        (MediumView::F16(v), _) => delta_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng),
+        (MediumView::F32(v), _) => delta_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng),
+        (MediumView::Analytic(v), _) => {
+            delta_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng)
+        }
     }
 }

@@ -29,7 +29,7 @@ use crate::world::World;
 use fogbank_estimators::distance::delta_tracking;
 use fogbank_estimators::ratio_tracking;
 use fogbank_estimators::Estimator;
-use fogbank_math::{Ray, SampleKey, Vec3};
+use fogbank_math::{Ray, RaySegment, SampleKey, Vec3};
 use fogbank_volume::MediumView;
 use std::sync::{Arc, OnceLock};
 
@@ -178,11 +178,11 @@ impl VisOpt {
                         };
                         with_view!(m, v => {
                             let o = Optimised { inner: &v, medium: m, ray: r, list, weights: self.weights(), unit: self.unit };
-                            ratio_tracking::transmittance(&o, &r, s0, s1, rng, 0.0)
+                            ratio_tracking::transmittance(&o, &RaySegment::new(r, s0, s1), rng, 0.0)
                         })
                     })
                 } else {
-                    with_view!(m, v => ratio_tracking::transmittance(&v, &r, s0, s1, rng, 0.0))
+                    with_view!(m, v => ratio_tracking::transmittance(&v, &RaySegment::new(r, s0, s1), rng, 0.0))
                 };
                 cx.lookups += est.lookups;
                 est.transmittance
@@ -220,10 +220,10 @@ impl Integrator for VisOpt {
         let flight = if self.params.optimise {
             with_view!(m, v => {
                 let o = Optimised { inner: &v, medium: m, ray: r, list, weights: self.weights(), unit: self.unit };
-                delta_tracking::sample(&o, &r, t0, t1, cx.rng)
+                delta_tracking::sample(&o, &RaySegment::new(r, t0, t1), cx.rng)
             })
         } else {
-            with_view!(m, v => delta_tracking::sample(&v, &r, t0, t1, cx.rng))
+            with_view!(m, v => delta_tracking::sample(&v, &RaySegment::new(r, t0, t1), cx.rng))
         };
         cx.lookups += flight.lookups;
         let Some(t) = flight.t else {
