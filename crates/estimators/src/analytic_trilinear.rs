@@ -82,16 +82,22 @@ pub fn shifted(ray: &Ray, dims: [u32; 3]) -> (Ray, [u32; 3]) {
 /// super-voxels where the field is zero ([`Occupied`]); a dual cell cut by
 /// a span's end is integrated in pieces, which sum to the same cubic's
 /// integral.
-pub fn optical_depth<T: Voxel>(v: &GridView<'_, T>, seg: &RaySegment) -> (f64, u32) {
-    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
-    // Exact only for the trilinear field itself; scenes refuse this
-    // estimator for media classified by a transfer function.
+/// The dual-grid frame of `ray` for the exact integrals: the ray [`shifted`]
+/// half a voxel, the dual grid's size, and the shifted origin and direction
+/// in f64. Exact only for the trilinear field itself: scenes refuse this
+/// estimator for media classified by a transfer function.
+pub fn dual_frame<T: Voxel>(v: &GridView<'_, T>, ray: &Ray) -> (Ray, [u32; 3], DVec3, DVec3) {
     debug_assert!(
         v.opacity.is_none(),
         "analytic_trilinear on a classified medium"
     );
     let (shifted, n) = shifted(ray, v.grid.dims());
-    let (o, d) = (shifted.o.as_dvec3(), shifted.d.as_dvec3());
+    (shifted, n, shifted.o.as_dvec3(), shifted.d.as_dvec3())
+}
+
+pub fn optical_depth<T: Voxel>(v: &GridView<'_, T>, seg: &RaySegment) -> (f64, u32) {
+    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
+    let (shifted, n, o, d) = dual_frame(v, ray);
     let mut tau = 0.0f64;
     let mut lookups = 0;
     for (ta, tb) in Occupied::new(v.supervoxels, ZERO_TRILINEAR, ray, t0, t1) {

@@ -432,7 +432,9 @@ pub fn transmittance(
             with_view!(view, v => ratio_tracking::transmittance(&v, &seg, rng, roulette))
         }
         Estimator::ResidualRatioTracking { roulette } => {
-            with_view!(view, v => residual_ratio_tracking::transmittance(&v, &seg, rng, roulette))
+            with_view!(view, v => Estimate::of_one_channel(
+                residual_ratio_tracking::transmittance_scaled(&v, &seg, rng, [1.0], roulette)
+            ))
         }
         Estimator::RayMarching { samples, clip } => {
             with_view!(view, v => ray_marching::transmittance(&v, &seg, samples, clip, rng))

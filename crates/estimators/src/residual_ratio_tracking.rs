@@ -13,7 +13,6 @@
 
 use crate::null_collisions::{walk, Tracking};
 use crate::roulette::roulette;
-use crate::Estimate;
 use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::{SuperVoxel, VolumeAccess};
 
@@ -27,18 +26,9 @@ pub fn control_extinction(s: &SuperVoxel, d: f32) -> f32 {
     s.mean.min(c.max(s.min))
 }
 
-pub fn transmittance<V: VolumeAccess>(
-    v: &V,
-    seg: &RaySegment,
-    rng: &mut Pcg32,
-    threshold: f32,
-) -> Estimate {
-    Estimate::of_one_channel(transmittance_scaled(v, seg, rng, [1.0], threshold))
-}
-
 /// Residual ratio tracking of k_c σ_t with control k_c μ_c for each
 /// channel c at once (k_c ≤ 1: the residual majorant bounds every
-/// |k_c (σ_t − μ_c)|). With k = [1] this is [`transmittance`] exactly.
+/// |k_c (σ_t − μ_c)|); k = [1] is the estimator of one channel.
 pub fn transmittance_scaled<V: VolumeAccess, const N: usize>(
     v: &V,
     seg: &RaySegment,

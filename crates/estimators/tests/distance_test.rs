@@ -30,7 +30,7 @@ fn draw(s: Sampler, m: &Medium, ray: &Ray, rng: &mut Pcg32) -> FreeFlight {
             decomposition_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng)
         }
         (MediumView::F32(v), Sampler::Regular) => {
-            regular_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng)
+            regular_tracking::sample_tracked(&v, &RaySegment::new(r, t0, t1), rng).free_flight()
         }
         _ => unreachable!("tests use f32 grids"),
     }
@@ -270,7 +270,8 @@ fn analytic_trilinear_sampling_passes_chi_square() {
         seed: 13,
     };
     let draw = |rng: &mut Pcg32| {
-        analytic_trilinear::sample(&v, &RaySegment::new(r, t0, t1), rng)
+        analytic_trilinear::sample_tracked(&v, &RaySegment::new(r, t0, t1), rng)
+            .free_flight()
             .t
             .map(|t| t as f64)
     };

@@ -187,12 +187,7 @@ fn restir_with_a_bc4_reuse_mip_is_unbiased() {
 /// independent sequences agrees with `volpath` at that frame.
 #[test]
 fn restir_with_a_moving_light_is_unbiased() {
-    let moving =
-        "[[lights]]\ntype = \"point\"\nposition = [0.6, 0.7, 0.5]\nintensity = [1.5, 1.4, 1.2]\n\
-        [[lights]]\ntype = \"constant\"\nradiance = [0.1, 0.1, 0.1]\n\
-        [animation]\nframes = 8\n\
-        [[animation.lights]]\nlight = 0\nframe = 0\nposition = [0.6, 0.7, 0.5]\n\
-        [[animation.lights]]\nlight = 0\nframe = 7\nposition = [-0.7, 0.2, 0.6]\n";
+    let moving = include_str!("../../render/tests/scenes/restir_moving_light.toml");
     let text = scene_text(moving, "phase = { type = \"hg\", g = 0.5 }");
     let set = sets(&["integrator.type=restir", "integrator.max_depth=3"]);
     let desc = parse_scene(&text, "test", &set).unwrap();

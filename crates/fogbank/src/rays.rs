@@ -212,10 +212,12 @@ fn flight(
             };
             let f = match medium.view() {
                 MediumView::F16(v) => {
-                    analytic_trilinear::sample(&v, &RaySegment::new(r, t0, t1), rng)
+                    analytic_trilinear::sample_tracked(&v, &RaySegment::new(r, t0, t1), rng)
+                        .free_flight()
                 }
                 MediumView::F32(v) => {
-                    analytic_trilinear::sample(&v, &RaySegment::new(r, t0, t1), rng)
+                    analytic_trilinear::sample_tracked(&v, &RaySegment::new(r, t0, t1), rng)
+                        .free_flight()
                 }
                 MediumView::Analytic(_) => {
                     return Err(Error::invalid(

@@ -306,19 +306,35 @@ fn pack_medium(m: &Medium, camera: glam::Vec3, p: &mut Packed) -> Result<MediumG
         }
     };
     let a = m.world_to_index;
+    let c = a.transform_point3(camera.as_dvec3()).as_vec3();
     Ok(MediumGpu {
-        w2i: affine_rows(a),
-        dims,
         filter: match m.filter {
             Filter::Nearest => 0,
             Filter::Trilinear => 1,
             Filter::StochasticTrilinear => 2,
         },
-        bdims: dims.map(|d| d.div_ceil(8)),
-        precision,
         sv_dims: m.supervoxels.dims,
         sv_size: m.supervoxels.size as f32,
         scale: m.sigma_t_scale,
+        camera_index: [c.x, c.y, c.z, 1.0],
+        ..grid_record(a, (offsets, precision, dims), sv_offset)
+    })
+}
+
+/// The record of a packed grid with index→world `w2i`: trilinear, unscaled,
+/// one super-voxel over the whole grid, no transfer function; the density
+/// media set their own filter, scale, super-voxels and camera.
+fn grid_record(w2i: fogbank_math::DAffine3, packed: PackedData, sv_offset: u32) -> MediumGpu {
+    let (offsets, precision, dims) = packed;
+    MediumGpu {
+        w2i: affine_rows(w2i),
+        dims,
+        filter: 1,
+        bdims: dims.map(|d| d.div_ceil(8)),
+        precision,
+        sv_dims: [1, 1, 1],
+        sv_size: dims.into_iter().max().unwrap_or(1) as f32,
+        scale: 1.0,
         table_offset: offsets.0,
         constants_offset: offsets.1,
         data_offset: offsets.2,
@@ -326,11 +342,8 @@ fn pack_medium(m: &Medium, camera: glam::Vec3, p: &mut Packed) -> Result<MediumG
         tf_offset: 0,
         tf_counts: 0,
         tf_emission: 0,
-        camera_index: {
-            let c = a.transform_point3(camera.as_dvec3()).as_vec3();
-            [c.x, c.y, c.z, 1.0]
-        },
-    })
+        camera_index: [0.0; 4],
+    }
 }
 
 /// Most points a transfer-function curve may have on the device (counts
@@ -383,31 +396,14 @@ fn pack_property(
     w2i: fogbank_math::DAffine3,
     p: &mut Packed,
 ) -> Result<MediumGpu, GpuError> {
-    let (offsets, storage, dims) = pack_data(
+    let packed = pack_data(
         data,
         p,
         "analytic property grids other than constant are CPU-only; use a voxel grid",
     )?;
     let sv_offset = p.supervoxels.len() as u32;
     p.supervoxels.push([0.0; 4]);
-    Ok(MediumGpu {
-        w2i: affine_rows(w2i),
-        dims,
-        filter: 1,
-        bdims: dims.map(|d| d.div_ceil(8)),
-        precision: storage,
-        sv_dims: [1, 1, 1],
-        sv_size: dims.into_iter().max().unwrap_or(1) as f32,
-        scale: 1.0,
-        table_offset: offsets.0,
-        constants_offset: offsets.1,
-        data_offset: offsets.2,
-        sv_offset,
-        tf_offset: 0,
-        tf_counts: 0,
-        tf_emission: 0,
-        camera_index: [0.0; 4],
-    })
+    Ok(grid_record(w2i, packed, sv_offset))
 }
 
 fn pack_f16(d: &[half::f16]) -> Vec<u32> {

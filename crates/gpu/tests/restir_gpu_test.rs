@@ -199,12 +199,7 @@ fn restir_gpu_with_plain_weights_is_rejected() {
 #[test]
 fn restir_gpu_matches_the_cpu_with_a_moving_light() {
     let Some(gpu) = test_gpu() else { return };
-    let moving =
-        "[[lights]]\ntype = \"point\"\nposition = [0.6, 0.7, 0.5]\nintensity = [1.5, 1.4, 1.2]\n\
-        [[lights]]\ntype = \"constant\"\nradiance = [0.1, 0.1, 0.1]\n\
-        [animation]\nframes = 8\n\
-        [[animation.lights]]\nlight = 0\nframe = 0\nposition = [0.6, 0.7, 0.5]\n\
-        [[animation.lights]]\nlight = 0\nframe = 7\nposition = [-0.7, 0.2, 0.6]\n";
+    let moving = include_str!("../../render/tests/scenes/restir_moving_light.toml");
     let text = slab(moving, "phase = { type = \"hg\", g = 0.5 }");
     let set = ["integrator.max_depth=3", CPU_MARCHES].map(String::from);
     let desc = parse_scene(&text, "test", &set).unwrap();

@@ -39,14 +39,9 @@ fn film(text: &str, integrator: &[&str], spp: u32, seed: u32) -> Film {
 /// Per pixel (green): no |z| beyond 5 and a pooled |z| below 4 over the
 /// lit pixels; returns the pooled z.
 fn agree(label: &str, a: &Film, b: &Film) -> f64 {
-    let (ma, va, mb, vb) = (
-        a.mean(),
-        a.variance_of_mean(),
-        b.mean(),
-        b.variance_of_mean(),
-    );
-    let d: Vec<(f64, f64)> = (0..ma.len())
-        .map(|k| ((ma[k][1] - mb[k][1]) as f64, (va[k][1] + vb[k][1]) as f64))
+    let d: Vec<(f64, f64)> = a
+        .mean_difference(b, 1)
+        .into_iter()
         .filter(|d| d.1 > 0.0)
         .collect();
     assert!(d.len() >= 60, "{label}: only {} lit pixels", d.len());

@@ -148,15 +148,7 @@ fn unbiased_strategies_agree_per_pixel() {
     for i in 0..films.len() {
         for j in i + 1..films.len() {
             let (a, b) = (&films[i], &films[j]);
-            let (ma, va, mb, vb) = (
-                a.mean(),
-                a.variance_of_mean(),
-                b.mean(),
-                b.variance_of_mean(),
-            );
-            let d: Vec<(f64, f64)> = (0..ma.len())
-                .map(|k| ((ma[k][1] - mb[k][1]) as f64, (va[k][1] + vb[k][1]) as f64))
-                .collect();
+            let d = a.mean_difference(b, 1);
             check(&format!("{} vs {}", unbiased[i], unbiased[j]), &d);
         }
     }

@@ -4,11 +4,18 @@
 //! spheres, with and without a medium inside) whose radiance is
 //! Le / (1 − ρ).
 
-use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene};
+use fogbank_render::{parse_scene, render, Film, Progress, RenderOptions, Scene, SceneError};
 use std::path::Path;
 
 fn build(text: &str) -> Scene {
     build_with(text, &[])
+}
+
+/// Why the scene of `text`, which parses, does not build.
+fn build_error(text: &str) -> SceneError {
+    Scene::build(parse_scene(text, "t", &[]).unwrap(), Path::new("."))
+        .err()
+        .unwrap()
 }
 
 /// A scene from `text` with `--set` edits.
@@ -154,40 +161,21 @@ fn shape_errors_name_the_key() {
     let base = "[[shapes]]\ntype = \"cube\"\n";
     let e = parse_scene(&format!("{base}colour = 1\n"), "t", &[]).unwrap_err();
     assert!(e.0.contains("colour"), "{e}");
-    let e = Scene::build(
-        parse_scene(
-            "[[shapes]]\ntype = \"obj\"\n[integrator]\ntype = \"volpath\"\n",
-            "t",
-            &[],
-        )
-        .unwrap(),
-        Path::new("."),
-    )
-    .err()
-    .unwrap();
+    let e = build_error("[[shapes]]\ntype = \"obj\"\n[integrator]\ntype = \"volpath\"\n");
     assert!(e.0.contains("shapes.0") && e.0.contains("file"), "{e}");
-    let e = Scene::build(
-        parse_scene(
-            "[[shapes]]\ntype = \"obj\"\nfile = \"missing.obj\"\n[integrator]\ntype = \"volpath\"\n",
-            "t",
-            &[],
-        )
-        .unwrap(),
-        Path::new("."),
-    )
-    .err()
-    .unwrap();
+    let e = build_error(
+        "[[shapes]]\ntype = \"obj\"\nfile = \"missing.obj\"\n[integrator]\ntype = \"volpath\"\n",
+    );
     assert!(
         e.0.contains("shapes.0") && e.0.contains("missing.obj"),
         "{e}"
     );
     // Analytic shapes: a sphere has one radius; they have no vertices.
     let build_err = |shape: &str| {
-        let text = format!("[[shapes]]\n{shape}\n[integrator]\ntype = \"volpath\"\n");
-        Scene::build(parse_scene(&text, "t", &[]).unwrap(), Path::new("."))
-            .err()
-            .unwrap()
-            .0
+        build_error(&format!(
+            "[[shapes]]\n{shape}\n[integrator]\ntype = \"volpath\"\n"
+        ))
+        .0
     };
     let e = build_err("type = \"sphere\"\nto_world = { scale = [1, 2, 1] }");
     assert!(

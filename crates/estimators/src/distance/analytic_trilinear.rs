@@ -7,8 +7,8 @@
 //! same field `analytic_trilinear` integrates; stochastic trilinear media
 //! have this field as their mean.
 
-use super::{FreeFlight, TrackedFlight};
-use crate::analytic_trilinear::{shifted, DualCell};
+use super::TrackedFlight;
+use crate::analytic_trilinear::{dual_frame, DualCell};
 use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::{Dda, GridView, Occupied, Voxel, ZERO_TRILINEAR};
 
@@ -16,11 +16,7 @@ use fogbank_volume::{Dda, GridView, Occupied, Voxel, ZERO_TRILINEAR};
 /// reaches f64 resolution in ~60).
 const MAX_STEPS: u32 = 64;
 
-pub fn sample<T: Voxel>(v: &GridView<'_, T>, seg: &RaySegment, rng: &mut Pcg32) -> FreeFlight {
-    sample_tracked(v, seg, rng).free_flight()
-}
-
-/// [`sample`] with σ_t at the collision and the optical depth up to it:
+/// A free flight (its [`TrackedFlight::free_flight`]) with σ_t at the collision and the optical depth up to it:
 /// the closed-form density σ_t(t)·exp(−τ(t)) of the trilinear field.
 pub fn sample_tracked<T: Voxel>(
     v: &GridView<'_, T>,
@@ -28,18 +24,11 @@ pub fn sample_tracked<T: Voxel>(
     rng: &mut Pcg32,
 ) -> TrackedFlight {
     let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
-    // Exact only for the trilinear field itself; scenes refuse this
-    // estimator for media classified by a transfer function.
-    debug_assert!(
-        v.opacity.is_none(),
-        "analytic_trilinear on a classified medium"
-    );
+    let (shifted, n, o, d) = dual_frame(v, ray);
     // The target in units of the unscaled field (∞ for a zero scale).
     let u = -(1.0 - rng.next_f32() as f64).ln();
     let scale = v.scale as f64;
     let target = u / scale;
-    let (shifted, n) = shifted(ray, v.grid.dims());
-    let (o, d) = (shifted.o.as_dvec3(), shifted.d.as_dvec3());
     let mut tau = 0.0f64;
     let mut lookups = 0;
     // Zero super-voxels hold no collision and add nothing to τ ([`Occupied`]).

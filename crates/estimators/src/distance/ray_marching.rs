@@ -16,32 +16,36 @@ use fogbank_volume::VolumeAccess;
 /// run away.
 pub const MAX_STEPS: u32 = 1 << 20;
 
-/// The marching grid of `[t0, t1]`: step `dt` (ray parameter), clamped so
-/// the walk has at most [`MAX_STEPS`] steps.
+/// The marching grid of `seg`: step `dt` (ray parameter), clamped so the
+/// walk has at most [`MAX_STEPS`] steps; per step its ends `(a, b)` and the
+/// point `a + u·(b − a)` where σ_t is read (one jitter `u` per ray).
 #[inline]
-fn steps(t0: f32, t1: f32, dt: f32) -> (u32, f64) {
-    let len = (t1 - t0) as f64;
+fn steps(seg: &RaySegment, dt: f32, u: f64) -> impl Iterator<Item = (f64, f64, f64)> {
+    let (t0, t1) = (seg.t0 as f64, seg.t1 as f64);
+    // The length in f32, as the GPU computes it.
+    let len = (seg.t1 - seg.t0) as f64;
     let dt = (dt as f64).max(len / MAX_STEPS as f64);
-    if !(len > 0.0 && dt > 0.0) {
-        return (0, dt);
-    }
-    (((len / dt).ceil() as u32).clamp(1, MAX_STEPS), dt)
+    let n = if len > 0.0 && dt > 0.0 {
+        ((len / dt).ceil() as u32).clamp(1, MAX_STEPS)
+    } else {
+        0
+    };
+    (0..n).map(move |j| {
+        let a = t0 + j as f64 * dt;
+        let b = (a + dt).min(t1);
+        (a, b, a + u * (b - a))
+    })
 }
 
 /// Free flight on `[t0, t1]` of the index-space `ray` with step `dt`.
 pub fn sample<V: VolumeAccess>(v: &V, seg: &RaySegment, dt: f32, rng: &mut Pcg32) -> FreeFlight {
-    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
     // f32 draws, as the GPU's (WGSL has no f64).
     let target = -(1.0 - rng.next_f32() as f64).ln();
     let u = rng.next_f32() as f64;
-    let (n, dt) = steps(t0, t1, dt);
     let mut lookups = 0;
     let mut tau = 0.0f64;
-    for j in 0..n {
-        let a = t0 as f64 + j as f64 * dt;
-        let b = (a + dt).min(t1 as f64);
-        let t = a + u * (b - a);
-        let sigma = sigma_t_at(v, ray.at(t as f32), rng, &mut lookups) as f64;
+    for (a, b, t) in steps(seg, dt, u) {
+        let sigma = sigma_t_at(v, seg.ray.at(t as f32), rng, &mut lookups) as f64;
         let d = sigma * (b - a);
         if tau + d >= target && sigma > 0.0 {
             let hit = a + (target - tau) / sigma;
@@ -62,15 +66,11 @@ pub fn transmittance<V: VolumeAccess>(
     dt: f32,
     rng: &mut Pcg32,
 ) -> (f32, u32) {
-    let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
     let u = rng.next_f32() as f64;
-    let (n, dt) = steps(t0, t1, dt);
     let mut lookups = 0;
     let mut tau = 0.0f64;
-    for j in 0..n {
-        let a = t0 as f64 + j as f64 * dt;
-        let b = (a + dt).min(t1 as f64);
-        tau += sigma_t_at(v, ray.at((a + u * (b - a)) as f32), rng, &mut lookups) as f64 * (b - a);
+    for (a, b, t) in steps(seg, dt, u) {
+        tau += sigma_t_at(v, seg.ray.at(t as f32), rng, &mut lookups) as f64 * (b - a);
     }
     ((-tau).exp() as f32, lookups)
 }

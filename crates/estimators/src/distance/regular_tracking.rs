@@ -4,15 +4,11 @@
 //! voxel. Exact for `Filter::Nearest`; for trilinear media it samples the
 //! nearest-filtered field.
 
-use super::{FreeFlight, TrackedFlight};
+use super::TrackedFlight;
 use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::{Dda, GridView, Occupied, Voxel, ZERO_NEAREST};
 
-pub fn sample<T: Voxel>(v: &GridView<'_, T>, seg: &RaySegment, rng: &mut Pcg32) -> FreeFlight {
-    sample_tracked(v, seg, rng).free_flight()
-}
-
-/// [`sample`] with σ_t at the collision and the optical depth up to it
+/// A free flight (its [`TrackedFlight::free_flight`]) with σ_t at the collision and the optical depth up to it
 /// (seed 002 Eq. 27–28: p(t) = T*(t)·σ_t*(t) in closed form).
 pub fn sample_tracked<T: Voxel>(
     v: &GridView<'_, T>,

@@ -68,7 +68,16 @@ pub struct Document {
 
 /// Reads `path` with `defines` (name, value) overriding its `default`s.
 pub fn read(path: &Path, defines: &[(String, String)]) -> Result<Document, SceneError> {
-    document(path, defines, |vars, paths| read_file(path, vars, paths, 0))
+    document(path, defines, |scope| read_file(path, scope))
+}
+
+/// What a file is read in: the variables (`<default>`s and defines, shared
+/// with the files it includes), the resolver's folders (each include sees
+/// its own copy) and how deep in includes it stands.
+struct Scope<'a> {
+    vars: &'a mut HashMap<String, String>,
+    paths: &'a mut Vec<PathBuf>,
+    depth: u32,
 }
 
 /// A document read by `read` from the top-level file `path`, with `defines`
@@ -76,23 +85,22 @@ pub fn read(path: &Path, defines: &[(String, String)]) -> Result<Document, Scene
 fn document(
     path: &Path,
     defines: &[(String, String)],
-    read: impl FnOnce(&mut HashMap<String, String>, &mut Vec<PathBuf>) -> Result<Element, SceneError>,
+    read: impl FnOnce(&mut Scope) -> Result<Element, SceneError>,
 ) -> Result<Document, SceneError> {
     let mut vars: HashMap<String, String> = defines.iter().cloned().collect();
     let mut paths = vec![folder_of(path)];
     if let Ok(cwd) = std::env::current_dir() {
         paths.push(cwd);
     }
-    let root = read(&mut vars, &mut paths)?;
+    let root = read(&mut Scope {
+        vars: &mut vars,
+        paths: &mut paths,
+        depth: 0,
+    })?;
     Ok(Document { root, paths })
 }
 
-fn read_file(
-    path: &Path,
-    vars: &mut HashMap<String, String>,
-    paths: &mut Vec<PathBuf>,
-    depth: u32,
-) -> Result<Element, SceneError> {
+fn read_file(path: &Path, scope: &mut Scope) -> Result<Element, SceneError> {
     let err = |m: String| SceneError(format!("{}: {m}", path.display()));
     let len = std::fs::metadata(path)
         .map_err(|e| err(e.to_string()))?
@@ -104,7 +112,7 @@ fn read_file(
         )));
     }
     let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
-    read_text(&text, path, vars, paths, depth)
+    read_text(&text, path, scope)
 }
 
 /// [`read`] of the text of file `path` (which names it in messages and
@@ -114,18 +122,10 @@ pub fn read_str(
     path: &Path,
     defines: &[(String, String)],
 ) -> Result<Document, SceneError> {
-    document(path, defines, |vars, paths| {
-        read_text(text, path, vars, paths, 0)
-    })
+    document(path, defines, |scope| read_text(text, path, scope))
 }
 
-fn read_text(
-    text: &str,
-    path: &Path,
-    vars: &mut HashMap<String, String>,
-    paths: &mut Vec<PathBuf>,
-    depth: u32,
-) -> Result<Element, SceneError> {
+fn read_text(text: &str, path: &Path, scope: &mut Scope) -> Result<Element, SceneError> {
     let err = |m: String| SceneError(format!("{}: {m}", path.display()));
     let opts = roxmltree::ParsingOptions {
         allow_dtd: false,
@@ -148,11 +148,13 @@ fn read_text(
         let (Some(name), Some(value)) = (c.attr("name"), c.attr("value")) else {
             return Err(c.error("<default> needs `name` and `value`"));
         };
-        vars.entry(name.to_string())
+        scope
+            .vars
+            .entry(name.to_string())
             .or_insert_with(|| value.to_string());
     }
     for mut c in root.children {
-        substitute(&mut c, vars)?;
+        substitute(&mut c, scope.vars)?;
         match c.tag.as_str() {
             "default" => {}
             "path" => {
@@ -164,14 +166,14 @@ fn read_text(
                 let folder = if beside.is_dir() {
                     beside
                 } else {
-                    resolve(paths, v)
+                    resolve(scope.paths, v)
                         .filter(|p| p.is_dir())
                         .ok_or_else(|| c.error(format!("<path>: folder `{v}` not found")))?
                 };
-                paths.insert(0, folder);
+                scope.paths.insert(0, folder);
             }
             "include" => {
-                if depth >= MAX_INCLUDE_DEPTH {
+                if scope.depth >= MAX_INCLUDE_DEPTH {
                     return Err(c.error(format!(
                         "includes nest deeper than {MAX_INCLUDE_DEPTH} (a cycle?)"
                     )));
@@ -179,10 +181,17 @@ fn read_text(
                 let f = c
                     .attr("filename")
                     .ok_or_else(|| c.error("<include> needs `filename`"))?;
-                let mut local = paths.clone();
+                let mut local = scope.paths.clone();
                 local.insert(0, folder_of(&c.file));
                 let inc = find_file(&local, f).map_err(|e| c.error(e))?;
-                let sub = read_file(&inc, vars, &mut local, depth + 1)?;
+                let sub = read_file(
+                    &inc,
+                    &mut Scope {
+                        vars: scope.vars,
+                        paths: &mut local,
+                        depth: scope.depth + 1,
+                    },
+                )?;
                 scene.children.extend(sub.children);
             }
             _ => scene.children.push(c),

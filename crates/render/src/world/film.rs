@@ -172,6 +172,17 @@ impl Film {
         }
     }
 
+    /// Per pixel, channel `c`: the difference of this film's mean and
+    /// `other`'s, with the variance of that difference (the films
+    /// independent) — what a per-pixel z-test divides.
+    pub fn mean_difference(&self, other: &Film, c: usize) -> Vec<(f64, f64)> {
+        let (ma, va) = (self.mean(), self.variance_of_mean());
+        let (mb, vb) = (other.mean(), other.variance_of_mean());
+        (0..ma.len())
+            .map(|k| ((ma[k][c] - mb[k][c]) as f64, (va[k][c] + vb[k][c]) as f64))
+            .collect()
+    }
+
     pub fn total_samples(&self) -> u64 {
         self.count.iter().map(|&c| c as u64).sum()
     }

@@ -249,22 +249,10 @@ impl PointMis {
 
     /// Equiangular sampling toward the point light.
     fn equiangular<V: VolumeAccess>(&self, v: &V, s: &Segment, cx: &mut PathContext) -> Vec3 {
-        let mut total = Vec3::ZERO;
-        if let Some((t0, pdf0)) = equiangular_distance(s, cx) {
-            let sigma_t = Self::segment_sigma_t(v, s, t0, cx.rng, &mut cx.lookups);
-            if sigma_t > 0.0 {
-                let tr = ratio_tracking::transmittance(
-                    v,
-                    &RaySegment::new(s.index, s.a, t0),
-                    cx.rng,
-                    0.0,
-                );
-                cx.lookups += tr.lookups;
-                let l = self.in_scattered(s, t0, cx);
-                total += l * (tr.transmittance * sigma_t / pdf0);
-            }
-        }
-        total
+        let Some(e) = equiangular_vertex(v, s, cx) else {
+            return Vec3::ZERO;
+        };
+        self.in_scattered(s, e.t, cx) * (e.transmittance * e.sigma_t / e.pdf)
     }
 
     /// Both samples MIS-combined with weights from ratio-tracked transmittance (Miller et al. 2019).
@@ -282,20 +270,10 @@ impl PointMis {
         }
         // Equiangular sample: one ratio-tracking walk over [a, t0]
         // gives both T(t0) and the weight; w0 T μ / p0 = q/(p0 + q).
-        if let Some((t0, pdf0)) = equiangular_distance(s, cx) {
-            let sigma_t = Self::segment_sigma_t(v, s, t0, cx.rng, &mut cx.lookups);
-            if sigma_t > 0.0 {
-                let tr = ratio_tracking::transmittance(
-                    v,
-                    &RaySegment::new(s.index, s.a, t0),
-                    cx.rng,
-                    0.0,
-                );
-                cx.lookups += tr.lookups;
-                let c = balance(sigma_t * tr.transmittance, pdf0);
-                if c != 0.0 {
-                    total += self.in_scattered(s, t0, cx) * c;
-                }
+        if let Some(e) = equiangular_vertex(v, s, cx) {
+            let c = balance(e.sigma_t * e.transmittance, e.pdf);
+            if c != 0.0 {
+                total += self.in_scattered(s, e.t, cx) * c;
             }
         }
         total
@@ -335,14 +313,7 @@ impl PointMis {
                 let (x0, x1) = self.depths(v, s, t0, false, cx.rng, &mut cx.lookups);
                 let (mw, p) = (sigma_t_w as f64, pdf0 as f64);
                 let w0 = mis_weight(0.0, p, mw, p, x0, x1) as f32;
-                let tr = ratio_tracking::transmittance(
-                    v,
-                    &RaySegment::new(s.index, s.a, t0),
-                    cx.rng,
-                    0.0,
-                );
-                cx.lookups += tr.lookups;
-                let c = w0 * tr.transmittance * sigma_t / pdf0;
+                let c = w0 * transmittance_to(v, s, t0, cx) * sigma_t / pdf0;
                 if c != 0.0 && c.is_finite() {
                     total += self.in_scattered(s, t0, cx) * c;
                 }
@@ -420,6 +391,43 @@ fn tracked_flight<V: VolumeAccess>(v: &V, s: &Segment, cx: &mut PathContext) -> 
 fn equiangular_distance(s: &Segment, cx: &mut PathContext) -> Option<(f32, f32)> {
     let (t, pdf) = equiangular::sample(&s.world, s.light, s.a, s.b, cx.next_f32());
     (pdf > 0.0 && pdf.is_finite()).then_some((t, pdf))
+}
+
+/// An equiangular vertex: its distance `t` and `pdf`, σ_t there and the
+/// transmittance from the segment's start by ratio tracking.
+struct EquiangularVertex {
+    t: f32,
+    pdf: f32,
+    sigma_t: f32,
+    transmittance: f32,
+}
+
+/// An equiangular distance with σ_t and the ratio-tracked transmittance up
+/// to it; `None` where no distance was drawn or σ_t is zero there.
+fn equiangular_vertex<V: VolumeAccess>(
+    v: &V,
+    s: &Segment,
+    cx: &mut PathContext,
+) -> Option<EquiangularVertex> {
+    let (t, pdf) = equiangular_distance(s, cx)?;
+    let sigma_t = PointMis::segment_sigma_t(v, s, t, cx.rng, &mut cx.lookups);
+    if sigma_t <= 0.0 {
+        return None;
+    }
+    Some(EquiangularVertex {
+        t,
+        pdf,
+        sigma_t,
+        transmittance: transmittance_to(v, s, t, cx),
+    })
+}
+
+/// T from the segment's start to `t` by ratio tracking, its lookups
+/// counted.
+fn transmittance_to<V: VolumeAccess>(v: &V, s: &Segment, t: f32, cx: &mut PathContext) -> f32 {
+    let tr = ratio_tracking::transmittance(v, &RaySegment::new(s.index, s.a, t), cx.rng, 0.0);
+    cx.lookups += tr.lookups;
+    tr.transmittance
 }
 
 /// Seed 000 Eq. 10's two distance samples, drawn in this order: the

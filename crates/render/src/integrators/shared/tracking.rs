@@ -273,10 +273,10 @@ pub fn sampler_flight(
     };
     match (m.view(), s) {
         (MediumView::F16(v), DistanceSampler::RegularTracking) => {
-            regular_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng)
+            regular_tracking::sample_tracked(&v, &RaySegment::new(r, t0, t1), rng).free_flight()
         }
         (MediumView::F32(v), DistanceSampler::RegularTracking) => {
-            regular_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng)
+            regular_tracking::sample_tracked(&v, &RaySegment::new(r, t0, t1), rng).free_flight()
         }
         (MediumView::F16(v), DistanceSampler::DecompositionTracking) => {
             decomposition_tracking::sample(&v, &RaySegment::new(r, t0, t1), rng)
