@@ -124,7 +124,8 @@ pub(super) fn parse_entries(path: &Path, src: &mut Source) -> Result<Vec<GridEnt
             format!("{len} bytes is too short for a NanoVDB file (16-byte header)"),
         ));
     }
-    let head = src.read(path, 0, HEADER_LEN.min(len as usize))?;
+    // The segment header, and a raw grid's version word after it.
+    let head = src.read(path, 0, (HEADER_LEN + 4).min(len as usize))?;
     let magic = u64_at(&head, 0);
     if magic.swap_bytes() & 0x00ff_ffff_ffff_ffff == MAGIC_NUMB & 0x00ff_ffff_ffff_ffff {
         return Err(VolumeError::format(
