@@ -62,6 +62,35 @@ fn committed_vec3_fixtures_match_their_openvdb_sources() {
     }
 }
 
+/// Double and Vec3d grids (`tools/make_nanovdb_wide_fixtures.py`: the
+/// float fixtures widened; the double one then rewritten by NanoVDB) hold
+/// the float grids' values exactly, as f32.
+#[test]
+fn double_fixtures_hold_the_float_values() {
+    let dir = fixture("nanovdb");
+    let mut d = nanovdb::read_grid(&dir.join("fog_double_zip.nvdb"), None).unwrap();
+    let f = nanovdb::read_grid(&dir.join("fog_zip.nvdb"), None).unwrap();
+    // OpenVDB's round trip rounds the map (0.1 → 0.1 + 9e-17).
+    let rows = d
+        .index_to_world
+        .iter()
+        .flatten()
+        .zip(f.index_to_world.iter().flatten());
+    assert!(rows.into_iter().all(|(a, b)| (a - b).abs() < 1e-12));
+    d.index_to_world = f.index_to_world;
+    assert_same_grid(&d, &f, "fog_double_zip.nvdb");
+    let list = nanovdb::list_grids(&dir.join("fog_double_zip.nvdb")).unwrap();
+    assert_eq!(
+        (list[0].value_type.as_str(), list[0].supported),
+        ("double", true)
+    );
+    let d = nanovdb::read_vec3_grid(&dir.join("vec3d_zip.nvdb"), None).unwrap();
+    let f = nanovdb::read_vec3_grid(&dir.join("vec3_zip.nvdb"), None).unwrap();
+    for c in 0..3 {
+        assert_same_grid(&d[c], &f[c], "vec3d_zip.nvdb");
+    }
+}
+
 #[test]
 fn quantised_fixture_is_within_half_a_quantum() {
     let nv = nanovdb::read_grid(&fixture("nanovdb/fog_fp8_zip.nvdb"), None).unwrap();

@@ -53,3 +53,4 @@ pub use read::{
     list_grids, list_grids_from_bytes, read_grid, read_grid_from_bytes, read_vec3_grid,
     read_vec3_grid_from_bytes,
 };
+pub use segment::version_string;

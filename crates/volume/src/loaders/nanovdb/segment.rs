@@ -60,8 +60,10 @@ pub(super) struct GridEntry {
     pub(super) file_size: u64,
 }
 
-/// `major.minor.patch` of a packed NanoVDB version.
-pub(super) fn version_string(v: u32) -> String {
+/// `major.minor.patch` of a packed NanoVDB version (`major << 21 | minor
+/// << 10 | patch`), as [`VdbGrid::file_version`](crate::loaders::vdb::VdbGrid)
+/// holds it for NanoVDB grids.
+pub fn version_string(v: u32) -> String {
     format!("{}.{}.{}", v >> 21, (v >> 10) & 0x7ff, v & 0x3ff)
 }
 
