@@ -11,7 +11,7 @@ use std::collections::HashSet;
 
 use super::gridbuf::GridBuf;
 use super::griddata::GridHead;
-use super::layout::{Layout, NodeLayout};
+use super::layout::{Layout, NodeLayout, FP_CODES, LEAF_MASK};
 use super::leaf::{leaf_size, read_values};
 use crate::error::Result;
 
@@ -64,8 +64,13 @@ pub(super) fn read_tree<const K: usize>(b: &GridBuf, head: &GridHead) -> Result<
             format!("root table of {table} tiles does not fit in the grid buffer"),
         ));
     }
-    // Node counts can only be as large as the buffer holds nodes.
-    let sizes = [lay.upper.size, lay.lower.size, lay.leaf_size.max(96)];
+    // Node counts can only be as large as the buffer holds nodes (the
+    // smallest FpN leaf has 1-bit codes).
+    let sizes = [
+        lay.upper.size,
+        lay.lower.size,
+        lay.leaf_size.max(FP_CODES + 64),
+    ];
     let counts = [head.node_count[2], head.node_count[1], head.node_count[0]];
     for (c, s) in counts.iter().zip(sizes) {
         if *c as usize > b.len() / s {
@@ -203,7 +208,7 @@ impl<const K: usize> Walk<'_, '_, K> {
                 let child = b.child(at, offset, self.lay.lower.size, "lower node")?;
                 self.internal(child, child_origin(i), self.lay.lower)?;
             } else {
-                let child = b.child(at, offset, super::layout::FP_CODES, "leaf")?;
+                let child = b.child(at, offset, FP_CODES, "leaf")?;
                 self.leaf(child, child_origin(i))?;
             }
         }
@@ -213,9 +218,7 @@ impl<const K: usize> Walk<'_, '_, K> {
     fn leaf(&mut self, at: usize, origin: [i32; 3]) -> Result<()> {
         let size = leaf_size(self.b, &self.lay, at)?;
         self.reach(at, size, 2, "leaf")?;
-        let mask = self
-            .b
-            .mask(at + super::layout::LEAF_MASK, 8, "leaf value mask")?;
+        let mask = self.b.mask(at + LEAF_MASK, 8, "leaf value mask")?;
         let mut values = vec![0.0f32; 512 * K];
         read_values(self.b, &self.lay, at, &mut values)?;
         self.flat.leaves.push(Leaf {
