@@ -5,6 +5,7 @@
 //! installed (skipped with a message otherwise, unless
 //! `FOGBANK_REQUIRE_NANOVDB=1`).
 
+use fogbank_math::testdata::tool_on_path;
 use fogbank_math::{sample_data, Vec3};
 use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
 use std::path::{Path, PathBuf};
@@ -87,19 +88,11 @@ fn converted_dragon_renders_as_dragon_vdb() {
 }
 
 fn nanovdb_convert() -> Option<PathBuf> {
-    let found = std::env::var_os("PATH").and_then(|paths| {
-        std::env::split_paths(&paths)
-            .map(|d| d.join("nanovdb_convert"))
-            .find(|p| p.is_file())
-    });
-    if found.is_none() {
-        let what = "no nanovdb_convert on PATH (Debian: apt-get install libnanovdb-tools)";
-        if std::env::var("FOGBANK_REQUIRE_NANOVDB").as_deref() == Ok("1") {
-            panic!("FOGBANK_REQUIRE_NANOVDB=1 but {what}");
-        }
-        eprintln!("SKIPPED ({what})");
-    }
-    found
+    tool_on_path(
+        "nanovdb_convert",
+        "FOGBANK_REQUIRE_NANOVDB",
+        "Debian: apt-get install libnanovdb-tools",
+    )
 }
 
 #[test]

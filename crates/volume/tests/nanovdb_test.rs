@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use fogbank_math::sample_data;
-use fogbank_math::testdata::external_data;
+use fogbank_math::testdata::{external_data, tool_on_path};
 use fogbank_volume::loaders::nanovdb;
 use fogbank_volume::loaders::vdb::{self, GridClass, VdbGrid};
 use fogbank_volume::VolumeError;
@@ -187,19 +187,11 @@ fn quantisation_error(nv: &VdbGrid, v: &VdbGrid, bits: Option<u32>, ctx: &str) -
 /// The NanoVDB command-line tool `name`, or `None` (after saying so) when
 /// it is not installed; a failure instead when `FOGBANK_REQUIRE_NANOVDB=1`.
 fn nanovdb_tool(name: &str) -> Option<PathBuf> {
-    let found = std::env::var_os("PATH").and_then(|paths| {
-        std::env::split_paths(&paths)
-            .map(|d| d.join(name))
-            .find(|p| p.is_file())
-    });
-    if found.is_none() {
-        let what = format!("no {name} on PATH (Debian: apt-get install libnanovdb-tools)");
-        if std::env::var("FOGBANK_REQUIRE_NANOVDB").as_deref() == Ok("1") {
-            panic!("FOGBANK_REQUIRE_NANOVDB=1 but {what}");
-        }
-        eprintln!("SKIPPED ({what})");
-    }
-    found
+    tool_on_path(
+        name,
+        "FOGBANK_REQUIRE_NANOVDB",
+        "Debian: apt-get install libnanovdb-tools",
+    )
 }
 
 /// The real OpenVDB files: committed dragon and sphere, external cube.
