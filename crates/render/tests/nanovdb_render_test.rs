@@ -1,8 +1,8 @@
 //! A NanoVDB file renders exactly as the OpenVDB file it was converted
 //! from: the `nvdb` scene key yields the same grid, so the same image bit
 //! for bit, and the same velocities. The committed fixtures need no tools;
-//! the dragon of `data/` is converted with `nanovdb_convert` when it is
-//! installed (skipped with a message otherwise, unless
+//! the dragon and the sphere of `data/` are converted with `nanovdb_convert`
+//! when it is installed (skipped with a message otherwise, unless
 //! `FOGBANK_REQUIRE_NANOVDB=1`).
 
 use fogbank_math::testdata::tool_on_path;
@@ -60,31 +60,50 @@ fn nvdb_fixture_renders_as_its_vdb_source() {
     }
 }
 
-/// The dragon converted to a float NanoVDB grid renders bit for bit as
-/// `dragon.vdb`.
+/// The dragon (a fog volume) and the sphere (a level set, rendered as fog)
+/// converted to float NanoVDB grids render bit for bit as the `.vdb` files.
 #[test]
-fn converted_dragon_renders_as_dragon_vdb() {
+fn converted_real_files_render_as_their_vdb_files() {
     let Some(tool) = nanovdb_convert() else {
         return;
     };
-    let dragon = sample_data::committed("dragon.vdb");
-    let out = std::env::temp_dir().join(format!("fogbank-dragon-{}.nvdb", std::process::id()));
-    let status = std::process::Command::new(tool)
-        .arg("-f")
-        .arg(&dragon)
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(
-        status.status.success(),
-        "nanovdb_convert {}",
-        dragon.display()
+    for (file, from, to) in [
+        ("dragon.vdb", [3.0, 4.5, 13.0], [5.0, 2.5, 5.0]),
+        ("sphere.vdb", [0.0, 1.0, 9.0], [0.0, 0.0, 0.0]),
+    ] {
+        let vdb = sample_data::committed(file);
+        let out = std::env::temp_dir().join(format!("fogbank-{file}-{}.nvdb", std::process::id()));
+        let status = std::process::Command::new(&tool)
+            .arg("-f")
+            .arg(&vdb)
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(status.status.success(), "nanovdb_convert {}", vdb.display());
+        let v = image(&format!("{{ vdb = \"{}\" }}", vdb.display()), from, to);
+        let nv = image(&format!("{{ nvdb = \"{}\" }}", out.display()), from, to);
+        let _ = std::fs::remove_file(&out);
+        assert_same_image(&nv, &v, file);
+    }
+}
+
+#[test]
+fn nvdb_is_one_of_the_exclusive_sources() {
+    let d = fixtures();
+    let text = format!(
+        "[[media]]\ndensity = {{ vdb = \"{0}/vdb/fog_f32_zip.vdb\", nvdb = \"{0}/nanovdb/fog_zip.nvdb\" }}\n",
+        d.display()
     );
-    let (from, to) = ([3.0, 4.5, 13.0], [5.0, 2.5, 5.0]);
-    let vdb = image(&format!("{{ vdb = \"{}\" }}", dragon.display()), from, to);
-    let nv = image(&format!("{{ nvdb = \"{}\" }}", out.display()), from, to);
-    let _ = std::fs::remove_file(&out);
-    assert_same_image(&nv, &vdb, "dragon");
+    let desc = parse_scene(&text, "test", &[]).unwrap();
+    let e = Scene::build(desc, Path::new(".")).err().unwrap().0;
+    assert!(e.contains("give exactly one of `vdb`, `nvdb`"), "{e}");
+    let text = format!(
+        "[[media]]\ndensity = {{ nvdb = \"{}/nanovdb/fog_zip.nvdb\", grid = \"smoke\" }}\n",
+        d.display()
+    );
+    let desc = parse_scene(&text, "test", &[]).unwrap();
+    let e = Scene::build(desc, Path::new(".")).err().unwrap().0;
+    assert!(e.contains("fog_zip.nvdb") && e.contains("smoke"), "{e}");
 }
 
 fn nanovdb_convert() -> Option<PathBuf> {
