@@ -36,7 +36,7 @@
 //! | grid classes | fog volume, level set, staggered; others read as unknown |
 //! | several grids and segments per file | yes; selected by name (default `density`, else the first float grid) |
 //! | checksum | verified (partial and full CRC32) for NanoVDB 32.4 grids; grids of other minor versions are read without it |
-//! | raw grid buffers (no segment header, 32.6+) | yes (`NanoVDB1` grid magic, or `NanoVDB0` with the version where a grid has it) |
+//! | raw grid buffers (no segment header, 32.6+) | yes (`NanoVDB1` grid magic, or `NanoVDB0` with the version where a grid has it); tested with 32.4 grids stored that way, no 32.6 writer at hand |
 //! | large files | only the segment headers and the chosen grid's bytes are read |
 
 mod checksum;
