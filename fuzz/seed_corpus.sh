@@ -9,6 +9,27 @@ for f in ../crates/volume/tests/fixtures/vdb/*.vdb ../data/dragon.vdb; do
     [ -f "$f" ] && [ "$(wc -c < "$f")" -le 131072 ] && cp "$f" corpus/vdb/
 done
 echo "seeded $(ls corpus/vdb | wc -l) vdb inputs"
+# NanoVDB: the committed (ZIP and BLOSC) fixtures, and one grid stored
+# uncompressed and as a raw grid buffer, so that mutations reach the tree
+# and not only the compressed streams.
+mkdir -p corpus/nanovdb
+for f in ../crates/volume/tests/fixtures/nanovdb/*.nvdb; do
+    [ -f "$f" ] && cp "$f" corpus/nanovdb/
+done
+python3 - <<'PY'
+import struct, zlib
+zip_file = open("../crates/volume/tests/fixtures/nanovdb/fog_zip.nvdb", "rb").read()
+name_size = struct.unpack_from("<I", zip_file, 16 + 136)[0]
+start = 16 + 176 + name_size
+grid = zlib.decompress(zip_file[start + 8:])
+head = bytearray(zip_file[:start])
+struct.pack_into("<H", head, 14, 0)
+struct.pack_into("<Q", head, 16 + 8, len(grid))
+struct.pack_into("<H", head, 16 + 168, 0)
+open("corpus/nanovdb/fog_none.nvdb", "wb").write(bytes(head) + grid)
+open("corpus/nanovdb/fog_raw_grid.nvdb", "wb").write(grid)
+PY
+echo "seeded $(ls corpus/nanovdb | wc -l) nanovdb inputs"
 mkdir -p corpus/vol
 for f in ../data/fetched/*.vol ../../shared/data/*.vol; do
     [ -f "$f" ] && cp "$f" corpus/vol/

@@ -431,8 +431,8 @@ impl Grid {
     }
 }
 
-/// Reads a volume file as fogbank reads it for a scene: `.vdb` (grid
-/// `grid`), `.vol`, `.nii`/`.nii.gz`/`.hdr`, `.nrrd`/`.nhdr`, `.raw`
+/// Reads a volume file as fogbank reads it for a scene: `.vdb` and `.nvdb`
+/// (grid `grid`), `.vol`, `.nii`/`.nii.gz`/`.hdr`, `.nrrd`/`.nhdr`, `.raw`
 /// (dimensions from a `name_XxYxZ_type.raw` file name); values as fogbank
 /// renders them (negative densities clamped to 0, a level set as fog,
 /// scientific data normalised onto [0, 1] with its range in `units`).
@@ -455,6 +455,8 @@ pub fn read_volume(
     };
     if lower.ends_with(".vdb") {
         d.vdb = Some(name.clone());
+    } else if lower.ends_with(".nvdb") {
+        d.nvdb = Some(name.clone());
     } else if lower.ends_with(".vol") {
         d.vol = Some(name.clone());
     } else if lower.ends_with(".nii") || lower.ends_with(".nii.gz") || lower.ends_with(".hdr") {
@@ -465,12 +467,12 @@ pub fn read_volume(
         d.raw = Some(name.clone());
     } else {
         return Err(PyValueError::new_err(format!(
-            "{name}: unknown volume format (.vdb, .vol, .nii, .nii.gz, .hdr, .nrrd, .nhdr, .raw)"
+            "{name}: unknown volume format (.vdb, .nvdb, .vol, .nii, .nii.gz, .hdr, .nrrd, .nhdr, .raw)"
         )));
     }
-    if d.grid.is_some() && d.vdb.is_none() {
+    if d.grid.is_some() && d.vdb.is_none() && d.nvdb.is_none() {
         return Err(PyValueError::new_err(format!(
-            "{name}: grid= names a grid of a .vdb file"
+            "{name}: grid= names a grid of a .vdb or .nvdb file"
         )));
     }
     let f = guarded(|| {

@@ -5,13 +5,13 @@ use crate::common::CliResult;
 use clap::Args;
 use fogbank_math::DAffine3;
 use fogbank_render::integrators::shared::pin_params::PinGridParams;
-use fogbank_volume::loaders::{raw, vdb, vdb_grid, vol};
+use fogbank_volume::loaders::{nanovdb, raw, vdb, vdb_grid, vol};
 use fogbank_volume::{BrickGrid, DensityData, Precision};
 use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct InfoArgs {
-    /// A .vdb, .vol or .raw file.
+    /// A .vdb, .nvdb, .vol or .raw file.
     pub file: PathBuf,
     /// Raw files: dimensions X Y Z (else parsed from `name_XxYxZ_type.raw`).
     #[arg(long, num_args = 3)]
@@ -82,21 +82,50 @@ pub fn run(a: InfoArgs) -> CliResult {
         return scientific_info(&a.file, name.contains(".nii") || name.ends_with(".hdr"));
     }
     match ext.as_str() {
-        "vdb" => vdb_info(&a),
+        "vdb" => grid_file_info(&a, &OPENVDB),
+        "nvdb" => grid_file_info(&a, &NANOVDB),
         "vol" => vol_info(&a),
         "raw" => raw_info(&a),
         _ => Err(format!(
-            "{}: unknown volume format (expected .vdb, .vol, .raw, .nii, .nii.gz, .hdr, .nrrd or .nhdr)",
+            "{}: unknown volume format (expected .vdb, .nvdb, .vol, .raw, .nii, .nii.gz, .hdr, .nrrd or .nhdr)",
             a.file.display()
         )
         .into()),
     }
 }
 
-/// Every grid of an OpenVDB file.
-fn vdb_info(a: &InfoArgs) -> CliResult {
-    let grids = vdb::list_grids(&a.file)?;
-    println!("{}: OpenVDB, {} grid(s)", a.file.display(), grids.len());
+/// A file format of sparse grids (OpenVDB, NanoVDB): its readers and how
+/// it names its versions.
+struct GridFormat {
+    name: &'static str,
+    list: fn(&std::path::Path) -> fogbank_volume::Result<Vec<vdb::VdbGridDescriptor>>,
+    read: fn(&std::path::Path, Option<&str>) -> fogbank_volume::Result<vdb::VdbGrid>,
+    version: fn(u32) -> String,
+}
+
+const OPENVDB: GridFormat = GridFormat {
+    name: "OpenVDB",
+    list: vdb::list_grids,
+    read: vdb::read_grid,
+    version: |v| format!("file version {v}"),
+};
+
+const NANOVDB: GridFormat = GridFormat {
+    name: "NanoVDB",
+    list: nanovdb::list_grids,
+    read: nanovdb::read_grid,
+    version: |v| format!("NanoVDB {}", nanovdb::version_string(v)),
+};
+
+/// Every grid of an OpenVDB or NanoVDB file.
+fn grid_file_info(a: &InfoArgs, format: &GridFormat) -> CliResult {
+    let grids = (format.list)(&a.file)?;
+    println!(
+        "{}: {}, {} grid(s)",
+        a.file.display(),
+        format.name,
+        grids.len()
+    );
     for d in grids {
         println!(
             "grid `{}`: {} ({:?}){}",
@@ -112,10 +141,10 @@ fn vdb_info(a: &InfoArgs) -> CliResult {
         if !d.supported {
             continue;
         }
-        let g = vdb::read_grid(&a.file, Some(&d.name))?;
+        let g = (format.read)(&a.file, Some(&d.name))?;
         println!(
-            "  file version {}, stored as {}, compression {}",
-            g.file_version,
+            "  {}, stored as {}, compression {}",
+            (format.version)(g.file_version),
             if g.stored_as_half { "half" } else { "float" },
             g.compression
         );

@@ -36,7 +36,7 @@ enum Command {
     Render(render_cmd::RenderArgs),
     /// Add up the partial results (.fbpart) of a sharded render or stats run (`--shard I/N`).
     Merge(merge_cmd::MergeArgs),
-    /// Describe a volume file (.vdb, .vol, .raw).
+    /// Describe a volume file (.vdb, .nvdb, .vol, .raw).
     Info(info_cmd::InfoArgs),
     /// List the transmittance estimators.
     Estimators,

@@ -4,6 +4,7 @@ mod support;
 
 use fogbank_math::sample_data;
 use fogbank_math::testdata::external_data;
+use std::path::Path;
 use support::*;
 #[test]
 fn default_render_writes_exr_with_variance_png_and_stats() {
@@ -137,6 +138,47 @@ fn info_reports_the_dragon() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("active voxels 19660"), "{text}");
     assert!(text.contains("[16, 1, 35] – [85, 49, 65]"), "{text}");
+}
+
+/// `fogbank info` of a NanoVDB file reports what it reports for the
+/// OpenVDB file it was converted from.
+#[test]
+fn info_reports_a_nanovdb_file_as_its_openvdb_source() {
+    let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("../volume/tests/fixtures");
+    let info = |p: &Path| {
+        let out = run_ok(fogbank().args(["info", p.to_str().unwrap()]));
+        String::from_utf8_lossy(&out.stdout).to_string()
+    };
+    let nv = info(&fixtures.join("nanovdb/fog_zip.nvdb"));
+    let v = info(&fixtures.join("vdb/fog_f32_zip.vdb"));
+    assert!(
+        nv.contains("NanoVDB, 1 grid(s)") && nv.contains("NanoVDB 32.4.2"),
+        "{nv}"
+    );
+    let facts = |text: &str| -> Vec<String> {
+        text.lines()
+            .filter(|l| {
+                [
+                    "index bbox",
+                    "active voxels",
+                    "active value range",
+                    "transform",
+                    "    [",
+                ]
+                .iter()
+                .any(|k| l.contains(k))
+            })
+            .map(str::to_string)
+            .collect()
+    };
+    assert!(facts(&nv).len() >= 7, "{nv}");
+    assert_eq!(facts(&nv), facts(&v));
+    let bad = tmp("garbage.nvdb");
+    std::fs::write(&bad, b"this is not a nanovdb file at all").unwrap();
+    run_fails_naming(
+        fogbank().args(["info", bad.to_str().unwrap()]),
+        "garbage.nvdb",
+    );
 }
 
 #[test]

@@ -45,8 +45,14 @@ pub const SKIP_LOG_VAR: &str = "FOGBANK_SKIP_LOG";
 /// `None` after printing `SKIPPED (what)`, for a test whose external input
 /// is missing; panics instead when `FOGBANK_REQUIRE_DATA=1`.
 pub fn skip_unless_required<T>(what: &str) -> Option<T> {
-    if std::env::var(REQUIRE_DATA_VAR).as_deref() == Ok("1") {
-        panic!("{REQUIRE_DATA_VAR}=1 but {what}");
+    skip_unless(REQUIRE_DATA_VAR, what)
+}
+
+/// `None` after printing (and logging) `SKIPPED (what)`; panics instead
+/// when the variable `require` is `1`.
+fn skip_unless<T>(require: &str, what: &str) -> Option<T> {
+    if std::env::var(require).as_deref() == Ok("1") {
+        panic!("{require}=1 but {what}");
     }
     eprintln!("SKIPPED ({what})");
     if let Some(log) = std::env::var_os(SKIP_LOG_VAR) {
@@ -62,6 +68,19 @@ pub fn skip_unless_required<T>(what: &str) -> Option<T> {
         }
     }
     None
+}
+
+/// The command-line tool `name` found on `PATH`, or `None` after printing
+/// `SKIPPED (no NAME on PATH …)` with `install` (how to get it). Panics
+/// instead when the variable `require` is `1` (`.ci/run` sets it for the
+/// tools it installs), so that CI cannot pass by skipping.
+pub fn tool_on_path(name: &str, require: &str, install: &str) -> Option<PathBuf> {
+    let found = std::env::var_os("PATH").and_then(|paths| {
+        std::env::split_paths(&paths)
+            .map(|d| d.join(name))
+            .find(|p| p.is_file())
+    });
+    found.or_else(|| skip_unless(require, &format!("no {name} on PATH ({install})")))
 }
 
 /// A 24³ f32 raw grid for integrator tests without faint fringes (seed

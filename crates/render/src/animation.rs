@@ -125,6 +125,7 @@ pub fn frame_path(path: &str, frame: u32) -> String {
 fn frame_field(f: &mut FieldDesc, frame: u32, fps: f32) {
     for p in [
         &mut f.vdb,
+        &mut f.nvdb,
         &mut f.vol,
         &mut f.raw,
         &mut f.nifti,
@@ -238,8 +239,10 @@ impl AnimationDesc {
                 frame_field(g, frame, self.fps);
             }
         }
-        if let Some(f) = m.velocity.as_mut().and_then(|v| v.vdb.as_mut()) {
-            *f = frame_path(f, frame);
+        if let Some(v) = m.velocity.as_mut() {
+            for f in [&mut v.vdb, &mut v.nvdb].into_iter().flatten() {
+                *f = frame_path(f, frame);
+            }
         }
         m
     }

@@ -5,10 +5,12 @@
 
 use std::path::{Path, PathBuf};
 
-/// Keys whose string values name files: field sources (`vdb`, `vol`, `raw`,
-/// `nifti`, `nrrd`), ParaView colour maps, and every `file` (environment
-/// maps, velocity and transfer files).
-pub const FILE_KEYS: [&str; 7] = ["vdb", "vol", "raw", "nifti", "nrrd", "paraview", "file"];
+/// Keys whose string values name files: field sources (`vdb`, `nvdb`,
+/// `vol`, `raw`, `nifti`, `nrrd`), ParaView colour maps, and every `file`
+/// (environment maps, velocity and transfer files).
+pub const FILE_KEYS: [&str; 8] = [
+    "vdb", "nvdb", "vol", "raw", "nifti", "nrrd", "paraview", "file",
+];
 
 /// Rewrites the relative file names of `scene` (resolved against `from`)
 /// so they name the same files from `to`: unchanged when the two folders

@@ -14,7 +14,7 @@
 //! `analytic` (test media with closed-form optical depth), `dda` (Amanatides–Woo grid
 //! traversal) and `lanes` (eight filtered lookups at a time in SIMD lanes) → `medium`
 //! (a medium's extinction: data, scale, filter, placement, statistics) and `occupied`
-//! (empty-space skipping along a ray) → `loaders` (volume files: OpenVDB, `.vol`, NRRD,
+//! (empty-space skipping along a ray) → `loaders` (volume files: OpenVDB, NanoVDB, `.vol`, NRRD,
 //! NIfTI, raw) and `mip` (conservative mips for regular tracking, seed 002 §4.1) →
 //! `voxel_array` (voxels held in memory by the caller, such as a numpy array).
 

@@ -5,7 +5,7 @@
 use super::arrays;
 use crate::error::SceneError;
 use fogbank_math::{DAffine3, Vec3};
-use fogbank_volume::loaders::{self as scalar_files, raw, vdb, vdb_grid, vol};
+use fogbank_volume::loaders::{self as scalar_files, nanovdb, raw, vdb, vdb_grid, vol};
 use fogbank_volume::{
     bunny, explosion, medium::unit_box_transform, plume, procedural, AnalyticField, AnalyticKind,
     BrickGrid, DensityData, Precision,
@@ -14,12 +14,13 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// The source of a scalar field (density, albedo, emission, temperature).
-/// Exactly one source key: `vdb`, `vol`, `raw`, `nifti`, `nrrd`, `array` or
-/// `procedural`.
+/// Exactly one source key: `vdb`, `nvdb`, `vol`, `raw`, `nifti`, `nrrd`,
+/// `array` or `procedural`.
 ///
 /// | source | further keys |
 /// |---|---|
 /// | `vdb = "f.vdb"` | `grid` (default `density`, else the first float grid), `level_set` = `"fog"` (default) or `"raw"` |
+/// | `nvdb = "f.nvdb"` | a NanoVDB file (float, double, Fp4/Fp8/Fp16/FpN grids; uncompressed, ZIP or BLOSC); `grid` and `level_set` as for `vdb` |
 /// | `vol = "f.vol"` | `channel` (default 0) |
 /// | `raw = "f.raw"` | `dims = [x, y, z]`, `type = "u8"/"u16"/"f32"` (or from a `name_XxYxZ_uint8.raw` file name) |
 /// | `nifti = "f.nii.gz"` | `channel` (the 3D volume of a 4D file, 0); placed by the sform/qform in RAS millimetres; values rescaled from their range onto [0, 1] |
@@ -33,6 +34,9 @@ use std::path::Path;
 #[serde(deny_unknown_fields)]
 pub struct FieldDesc {
     pub vdb: Option<String>,
+    /// A NanoVDB file; `grid` and `level_set` as for `vdb`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nvdb: Option<String>,
     pub grid: Option<String>,
     pub level_set: Option<String>,
     pub vol: Option<String>,
@@ -273,6 +277,7 @@ pub fn field_data(
 ) -> Result<FieldData, SceneError> {
     let sources = [
         d.vdb.is_some(),
+        d.nvdb.is_some(),
         d.vol.is_some(),
         d.raw.is_some(),
         d.nifti.is_some(),
@@ -282,7 +287,7 @@ pub fn field_data(
     ];
     if sources.iter().filter(|&&s| s).count() != 1 {
         return Err(SceneError(format!(
-            "{key}: give exactly one of `vdb`, `vol`, `raw`, `nifti`, `nrrd`, `array`, `procedural`"
+            "{key}: give exactly one of `vdb`, `nvdb`, `vol`, `raw`, `nifti`, `nrrd`, `array`, `procedural`"
         )));
     }
     if d.quantity.is_some() && d.procedural.as_deref() != Some("explosion") {
@@ -296,7 +301,10 @@ pub fn field_data(
         )));
     }
     if let Some(f) = &d.vdb {
-        return vdb_field(d, f, key, base, precision);
+        return vdb_field(d, f, vdb::read_grid, key, base, precision);
+    }
+    if let Some(f) = &d.nvdb {
+        return vdb_field(d, f, nanovdb::read_grid, key, base, precision);
     }
     if let Some(f) = &d.vol {
         return vol_field(d, f, key, base, precision);
@@ -321,17 +329,22 @@ fn volume_error(key: &str) -> impl Fn(fogbank_volume::VolumeError) -> SceneError
     move |e| SceneError(format!("{key}: {e}"))
 }
 
-/// A VDB grid, its leaves the bricks (level sets as fog unless `raw`).
+/// The reader of an OpenVDB or a NanoVDB file's float grid.
+type GridReader = fn(&Path, Option<&str>) -> fogbank_volume::Result<vdb::VdbGrid>;
+
+/// An OpenVDB or NanoVDB grid (read by `read`), its leaves the bricks
+/// (level sets as fog unless `raw`).
 fn vdb_field(
     d: &FieldDesc,
     f: &str,
+    read: GridReader,
     key: &str,
     base: &Path,
     precision: Precision,
 ) -> Result<FieldData, SceneError> {
     let err = volume_error(key);
     let path = base.join(f);
-    let g = vdb::read_grid(&path, d.grid.as_deref()).map_err(err)?;
+    let g = read(&path, d.grid.as_deref()).map_err(err)?;
     let (level_set, background, name) = (vdb_grid::is_level_set(&g), g.background, g.name.clone());
     let mode = d.level_set.as_deref().unwrap_or("fog");
     if level_set && mode != "fog" && mode != "raw" {

@@ -6,6 +6,7 @@
 //! | key | meaning |
 //! |---|---|
 //! | `vdb = "f_{frame:04}.vdb"` | a `vec3s` grid (float or half, any compression), taken as vectors in the file's world space (OpenVDB's `is_in_world_space`, as Houdini and Blender write velocities), units per second, turned by the medium's `to_world`; `grid` names it (default `vel`, `v`, `velocity`, else the first vec3s grid) |
+//! | `nvdb = "f_{frame:04}.nvdb"` | a NanoVDB `Vec3f` or `Vec3d` grid (uncompressed, ZIP or BLOSC), taken as for `vdb`; `grid` names it (default `vel`, `v`, `velocity`, else the first vector grid) |
 //! | `array = "array:3"` | an in-memory 3-channel array (`fogbank.Grid` of shape (z, y, x, 3) from numpy), placed by its own box and the medium's `to_world`, vectors in that box's world space, units per second |
 //! | `constant = [x, y, z]` | the same velocity everywhere (world units per second) |
 //! | `procedural = "plume"` | the analytic velocity of `density = { procedural = "plume" }` (its default) |
@@ -16,7 +17,7 @@
 use super::field::{Field, FieldDesc};
 use crate::error::SceneError;
 use fogbank_math::{DAffine3, DVec3, Vec3};
-use fogbank_volume::loaders::{vdb, vdb_grid};
+use fogbank_volume::loaders::{nanovdb, vdb, vdb_grid};
 use fogbank_volume::{plume, DensityData, Precision};
 use glam::Mat3;
 use serde::{Deserialize, Serialize};
@@ -27,6 +28,8 @@ use std::path::Path;
 pub struct VelocityDesc {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub vdb: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nvdb: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub grid: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -100,17 +103,20 @@ impl Velocity {
         let key = format!("{key}.velocity");
         let given = [
             v.vdb.is_some(),
+            v.nvdb.is_some(),
             v.array.is_some(),
             v.constant.is_some(),
             v.procedural.is_some(),
         ];
         if given.iter().filter(|&&g| g).count() != 1 {
             return Err(SceneError(format!(
-                "{key}: give exactly one of `vdb`, `array`, `constant`, `procedural`"
+                "{key}: give exactly one of `vdb`, `nvdb`, `array`, `constant`, `procedural`"
             )));
         }
-        if v.grid.is_some() && v.vdb.is_none() {
-            return Err(SceneError(format!("{key}.grid: only used with `vdb`")));
+        if v.grid.is_some() && v.vdb.is_none() && v.nvdb.is_none() {
+            return Err(SceneError(format!(
+                "{key}.grid: only used with `vdb` or `nvdb`"
+            )));
         }
         if let Some(c) = v.constant {
             if !c.iter().all(|x| x.is_finite()) {
@@ -134,8 +140,11 @@ impl Velocity {
         if let Some(name) = &v.array {
             return Ok(Some(array_velocity(name, &key, placement)?));
         }
-        let file = v.vdb.as_deref().unwrap_or_default();
-        let field = vdb_velocity(&base.join(file), v.grid.as_deref(), &key, placement)?;
+        let (file, read): (_, Vec3Reader) = match &v.nvdb {
+            Some(f) => (f.as_str(), nanovdb::read_vec3_grid),
+            None => (v.vdb.as_deref().unwrap_or_default(), vdb::read_vec3_grid),
+        };
+        let field = vdb_velocity(&base.join(file), v.grid.as_deref(), read, &key, placement)?;
         Ok(Some(Velocity::Grid {
             field,
             to_world: placement.matrix3.as_mat3(),
@@ -168,16 +177,21 @@ fn array_velocity(name: &str, key: &str, placement: DAffine3) -> Result<Velocity
     })
 }
 
+/// The reader of an OpenVDB or a NanoVDB file's vector grid, as components.
+type Vec3Reader = fn(&Path, Option<&str>) -> fogbank_volume::Result<[vdb::VdbGrid; 3]>;
+
 /// The three components of vector grid `grid` (or the file's first) of the
-/// OpenVDB file `path` as one field placed by `placement`.
+/// OpenVDB or NanoVDB file `path` (read by `read`) as one field placed by
+/// `placement`.
 fn vdb_velocity(
     path: &Path,
     grid: Option<&str>,
+    read: Vec3Reader,
     key: &str,
     placement: DAffine3,
 ) -> Result<Field, SceneError> {
     let err = |e: fogbank_volume::VolumeError| SceneError(format!("{key}: {e}"));
-    let grids = vdb::read_vec3_grid(path, grid).map_err(err)?;
+    let grids = read(path, grid).map_err(err)?;
     let mut channels = Vec::with_capacity(3);
     let mut xf = None;
     let source = format!("{} ({})", path.display(), grids[0].name);

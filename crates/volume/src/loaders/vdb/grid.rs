@@ -107,9 +107,14 @@ pub struct VdbTile {
 pub struct VdbGrid {
     pub name: String,
     pub grid_class: GridClass,
+    /// The OpenVDB file format version; for a grid read from a NanoVDB
+    /// file, its packed NanoVDB version (see
+    /// [`nanovdb::version_string`](crate::loaders::nanovdb::version_string)).
     pub file_version: u32,
     pub stored_as_half: bool,
-    /// `none`, or `zip`/`blosc`/`active-mask` joined with ` + `.
+    /// `none`, or `zip`/`blosc`/`active-mask` joined with ` + `; for a
+    /// NanoVDB grid its codec (`none`, `zip`, `blosc`), after the
+    /// quantisation (`Fp4 + zip`) for quantised grids.
     pub compression: String,
     pub background: f32,
     /// Row-major affine map, world = M · (i, j, k, 1).
