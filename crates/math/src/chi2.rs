@@ -73,6 +73,17 @@ pub struct Chi2Result {
 }
 
 impl Chi2Result {
+    /// For tests: prints the result and panics unless the pdf integrates to
+    /// 1 within `tolerance` and the sampler passes at level `alpha`.
+    pub fn assert_passes(&self, alpha: f64, tolerance: f64, label: &str) {
+        println!("{label}{self}");
+        assert!(
+            (self.total_probability - 1.0).abs() < tolerance,
+            "{label}{self}"
+        );
+        assert!(self.passes(alpha), "{label}{self}");
+    }
+
     /// True when the sampler is not rejected at level `alpha`.
     pub fn passes(&self, alpha: f64) -> bool {
         self.p_value >= alpha
@@ -165,6 +176,16 @@ pub struct SphereTest {
 }
 
 impl SphereTest {
+    /// `bins` = [cos θ bins, φ bins].
+    pub fn new(bins: [usize; 2], samples: usize, seed: u64) -> SphereTest {
+        SphereTest {
+            cos_theta_bins: bins[0],
+            phi_bins: bins[1],
+            samples,
+            seed,
+        }
+    }
+
     /// `sample` returns a unit direction or `None` (no sample, e.g. a black
     /// environment map); `pdf` is in solid angle and `none_probability` is
     /// the probability of `None`.

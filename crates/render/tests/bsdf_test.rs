@@ -27,12 +27,7 @@ fn chi2(name: &str, bsdf: Bsdf, wo: Vec3) {
             .map(|s| s.wi.normalize().as_dvec3())
     };
     let pdf = |d: glam::DVec3| bsdf.pdf(wo, d.as_vec3()) as f64;
-    let test = |samples| SphereTest {
-        cos_theta_bins: 24,
-        phi_bins: 48,
-        samples,
-        seed: 29,
-    };
+    let test = |samples| SphereTest::new([24, 48], samples, 29);
     // ∫ pdf < 1 where samples are lost (below the horizon, total internal
     // reflection of a sampled microfacet): that deficit is the probability
     // of no sample.
@@ -101,13 +96,8 @@ fn chi2_microfacet_normals() {
             let sampler =
                 |rng: &mut Pcg32| Some(m.sample(wo, [rng.next_f32(), rng.next_f32()]).as_dvec3());
             let pdf = |d: glam::DVec3| m.pdf(wo, d.as_vec3()) as f64;
-            let r = fogbank_math::chi2::SphereTest {
-                cos_theta_bins: 24,
-                phi_bins: 48,
-                samples: 500_000,
-                seed: 31,
-            }
-            .run(sampler, pdf, 0.0);
+            let r =
+                fogbank_math::chi2::SphereTest::new([24, 48], 500_000, 31).run(sampler, pdf, 0.0);
             println!("{m:?} θo {theta}: {r}");
             assert!(
                 r.passes(sidak(SIGNIFICANCE, CHI2_TESTS)),

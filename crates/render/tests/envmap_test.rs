@@ -63,20 +63,13 @@ fn sky(to_world: Mat3) -> Envmap {
 }
 
 fn chi2(env: &Envmap) {
-    let test = SphereTest {
-        cos_theta_bins: 32,
-        phi_bins: 64,
-        samples: 1_000_000,
-        seed: 23,
-    };
+    let test = SphereTest::new([32, 64], 1_000_000, 23);
     let r = test.run(
         |rng| Some(env.sample([rng.next_f32(), rng.next_f32()]).0.as_dvec3()),
         |d| env.pdf(d.as_vec3()) as f64,
         0.0,
     );
-    println!("{r}");
-    assert!((r.total_probability - 1.0).abs() < 1e-4, "{r}");
-    assert!(r.passes(sidak(SIGNIFICANCE, CHI2_TESTS)), "{r}");
+    r.assert_passes(sidak(SIGNIFICANCE, CHI2_TESTS), 1e-4, "");
 }
 
 #[test]

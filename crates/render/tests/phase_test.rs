@@ -19,12 +19,7 @@ fn wo() -> Vec3 {
 fn chi2(g: f32) {
     let hg = HenyeyGreenstein { g };
     let wo = wo();
-    let test = SphereTest {
-        cos_theta_bins: 20,
-        phi_bins: 40,
-        samples: 400_000,
-        seed: 17,
-    };
+    let test = SphereTest::new([20, 40], 400_000, 17);
     let r = test.run(
         |rng| {
             let u = [rng.next_f32(), rng.next_f32()];
@@ -33,11 +28,10 @@ fn chi2(g: f32) {
         |d| hg.pdf(wo, d.as_vec3()) as f64,
         0.0,
     );
-    println!("g = {g}: {r}");
-    assert!((r.total_probability - 1.0).abs() < 1e-4, "g = {g}: {r}");
-    assert!(
-        r.passes(sidak(SIGNIFICANCE, CHI2_GS.len() as u32)),
-        "g = {g}: {r}"
+    r.assert_passes(
+        sidak(SIGNIFICANCE, CHI2_GS.len() as u32),
+        1e-4,
+        &format!("g = {g}: "),
     );
 }
 

@@ -18,17 +18,9 @@ fn null_collision_walk(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32, roulet
     var dda = dda_new(r, m.sv_size, m.sv_dims, t0, t1);
     var s: DdaStep;
     while (dda_next(&dda, &s)) {
-        let sv = supervoxel(m, s.cell);
-        var sigma_maj = sv.y;
-        var sigma_c = 0.0;
-        if (mode == WALK_RESIDUAL) {
-            if (sv.y <= 0.0) {
-                continue;
-            }
-            sigma_c = control_extinction(sv, diagonal);
-            tau_c += (s.t1 - s.t0) * sigma_c;
-            sigma_maj = max(sv.y - sigma_c, sigma_c - sv.x);
-        }
+        let rate = walk_rate(m, s, mode, diagonal, &tau_c);
+        let sigma_maj = rate.x;
+        let sigma_c = rate.y;
         if (sigma_maj <= 0.0) {
             continue;
         }
@@ -70,6 +62,23 @@ fn null_collision_walk(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32, roulet
 
 // residual_ratio_tracking::control_extinction: a control between the
 // super-voxel's minimum and mean that keeps the residual majorant small.
+// Tracking::rate of the walk's DDA step s: (majorant, control σ_c); for
+// residual tracking the residual majorant, with the control's optical
+// depth added to *tau_c (a step without medium: majorant 0, no control).
+fn walk_rate(m: MediumGpu, s: DdaStep, mode: u32, diagonal: f32,
+             tau_c: ptr<function, f32>) -> vec2<f32> {
+    let sv = supervoxel(m, s.cell);
+    if (mode != WALK_RESIDUAL) {
+        return vec2<f32>(sv.y, 0.0);
+    }
+    if (sv.y <= 0.0) {
+        return vec2<f32>(0.0);
+    }
+    let sigma_c = control_extinction(sv, diagonal);
+    *tau_c += (s.t1 - s.t0) * sigma_c;
+    return vec2<f32>(max(sv.y - sigma_c, sigma_c - sv.x), sigma_c);
+}
+
 fn control_extinction(sv: vec4<f32>, d: f32) -> f32 {
     let delta = sv.y - sv.x;
     if (delta <= 0.0) {
@@ -95,17 +104,9 @@ fn null_collision_walk_rgb(m: MediumGpu, r: Ray, t0: f32, t1: f32, mode: u32, k:
     var dda = dda_new(r, m.sv_size, m.sv_dims, t0, t1);
     var s: DdaStep;
     while (dda_next(&dda, &s)) {
-        let sv = supervoxel(m, s.cell);
-        var sigma_maj = sv.y;
-        var sigma_c = 0.0;
-        if (mode == WALK_RESIDUAL) {
-            if (sv.y <= 0.0) {
-                continue;
-            }
-            sigma_c = control_extinction(sv, diagonal);
-            tau_c += (s.t1 - s.t0) * sigma_c;
-            sigma_maj = max(sv.y - sigma_c, sigma_c - sv.x);
-        }
+        let rate = walk_rate(m, s, mode, diagonal, &tau_c);
+        let sigma_maj = rate.x;
+        let sigma_c = rate.y;
         if (sigma_maj <= 0.0) {
             continue;
         }

@@ -14,20 +14,26 @@ fn march_steps(t0: f32, t1: f32, dt_in: f32) -> vec2<f32> {
     return vec2<f32>(f32(clamp(u32(ceil(len / dt)), 1u, MARCH_MAX_STEPS)), dt);
 }
 
+// Step j of the grid (step dt, one jitter u per ray): its ends (x, y) and
+// the point read, a + u·(b − a) (z).
+fn march_step(t0: f32, t1: f32, dt: f32, j: u32, u: f32) -> vec3<f32> {
+    let a = t0 + f32(j) * dt;
+    let b = min(a + dt, t1);
+    return vec3<f32>(a, b, a + u * (b - a));
+}
+
 fn march_sample(m: MediumGpu, r: Ray, t0: f32, t1: f32, dt_in: f32,
                 rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
     let target_tau = -log(1.0 - pcg32_next_f32(rng));
     let u = pcg32_next_f32(rng);
     let s = march_steps(t0, t1, dt_in);
-    let n = u32(s.x);
     var tau = 0.0;
-    for (var j = 0u; j < n; j++) {
-        let a = t0 + f32(j) * s.y;
-        let b = min(a + s.y, t1);
-        let sigma = sigma_t_at(m, ray_at(r, a + u * (b - a)), rng, lookups);
-        let d = sigma * (b - a);
+    for (var j = 0u; j < u32(s.x); j++) {
+        let step = march_step(t0, t1, s.y, j, u);
+        let sigma = sigma_t_at(m, ray_at(r, step.z), rng, lookups);
+        let d = sigma * (step.y - step.x);
         if (tau + d >= target_tau && sigma > 0.0) {
-            return clamp(a + (target_tau - tau) / sigma, a, b);
+            return clamp(step.x + (target_tau - tau) / sigma, step.x, step.y);
         }
         tau += d;
     }
@@ -38,12 +44,10 @@ fn march_transmittance(m: MediumGpu, r: Ray, t0: f32, t1: f32, dt_in: f32,
                        rng: ptr<function, Pcg32>, lookups: ptr<function, u32>) -> f32 {
     let u = pcg32_next_f32(rng);
     let s = march_steps(t0, t1, dt_in);
-    let n = u32(s.x);
     var tau = 0.0;
-    for (var j = 0u; j < n; j++) {
-        let a = t0 + f32(j) * s.y;
-        let b = min(a + s.y, t1);
-        tau += sigma_t_at(m, ray_at(r, a + u * (b - a)), rng, lookups) * (b - a);
+    for (var j = 0u; j < u32(s.x); j++) {
+        let step = march_step(t0, t1, s.y, j, u);
+        tau += sigma_t_at(m, ray_at(r, step.z), rng, lookups) * (step.y - step.x);
     }
     return exp(-tau);
 }
