@@ -1,6 +1,7 @@
 //! File loaders. Each one validates sizes before allocating and returns a
 //! [`crate::VolumeError`] naming the file and the problem.
 
+pub mod grid_choice;
 pub mod nanovdb;
 pub mod nifti;
 pub mod nrrd;

@@ -395,21 +395,37 @@ impl Tally {
 }
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
-    let reference_spp = spp(trials, DEFAULT_REFERENCE_SPP);
-    let threads = rayon::current_num_threads();
-    let table = compare(
+    run_cases(
         w,
+        trials,
         &cases()?,
-        reference_spp,
         "Seed 002 Fig. 22: MSE of accumulated frames vs time (solid ReSTIR, dashed baseline)",
-    )?;
-    Ok(format!(
-        "Seed 002 Figs. 16/17 (equal time) on fogbank's CPU backend ({threads} threads), \
-         128×96, pixel-centre rays, spatial radius {RADIUS} px, {WARM_UP} warm-up + {FRAMES} measured frames, \
-         reference `volpath` at {reference_spp} spp (its variance subtracted from every MSE). \
-         The paper reports lower MSE for ReSTIR than the baseline in every case, on an RTX 3090 at 1920×1080; \
-         fogbank's own goal is ≥ 4× on the light-probe cloud at K = 1 and lower at every K.\n\n{table}"
-    ))
+        |threads, reference_spp| {
+            format!(
+                "Seed 002 Figs. 16/17 (equal time) on fogbank's CPU backend ({threads} threads), \
+                 128×96, pixel-centre rays, spatial radius {RADIUS} px, {WARM_UP} warm-up + {FRAMES} measured frames, \
+                 reference `volpath` at {reference_spp} spp (its variance subtracted from every MSE). \
+                 The paper reports lower MSE for ReSTIR than the baseline in every case, on an RTX 3090 at 1920×1080; \
+                 fogbank's own goal is ≥ 4× on the light-probe cloud at K = 1 and lower at every K."
+            )
+        },
+    )
+}
+
+/// An equal-time run: `cases` measured by [`compare`] against a `volpath`
+/// reference at the trials' spp, the table under `note(threads,
+/// reference spp)`.
+pub fn run_cases(
+    w: &mut Writer,
+    trials: Option<u64>,
+    cases: &[Case],
+    figure_title: &str,
+    note: impl FnOnce(usize, u32) -> String,
+) -> Result<String, String> {
+    let reference_spp = spp(trials, DEFAULT_REFERENCE_SPP);
+    let table = compare(w, cases, reference_spp, figure_title)?;
+    let note = note(rayon::current_num_threads(), reference_spp);
+    Ok(format!("{note}\n\n{table}"))
 }
 
 /// Measures every case, writes `equal_time.csv` and the Fig. 22 curves

@@ -14,8 +14,8 @@
 //!   3200 emitting triangles (the substitute for Bistro / Emerald Square),
 //!   K = 1: volume single scattering plus direct light on the road.
 
-use super::equal_time::{compare, Case, DEFAULT_REFERENCE_SPP, FRAMES, RADIUS, WARM_UP};
-use crate::experiments::harness::protocol::{scenes_dir, spp};
+use super::equal_time::{run_cases, Case, FRAMES, RADIUS, WARM_UP};
+use crate::experiments::harness::protocol::scenes_dir;
 use crate::experiments::harness::SceneText;
 use crate::experiments::harness::Writer;
 
@@ -70,22 +70,22 @@ fn cases() -> Result<Vec<Case>, String> {
 }
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
-    let reference_spp = spp(trials, DEFAULT_REFERENCE_SPP);
-    let threads = rayon::current_num_threads();
-    let table = compare(
+    run_cases(
         w,
+        trials,
         &cases()?,
-        reference_spp,
         "Seed 002 Fig. 22 (surfaces): MSE of accumulated frames vs time (solid ReSTIR, dashed baseline)",
-    )?;
-    Ok(format!(
-        "Seed 002 Figs. 1 and 18 (equal time, scenes with surfaces) and the surface curves of Fig. 22 on fogbank's \
-         CPU backend ({threads} threads), pixel-centre rays, spatial radius {RADIUS} px, {WARM_UP} warm-up + \
-         {FRAMES} measured frames, reference `volpath` at {reference_spp} spp (its variance subtracted from every \
-         MSE). The paper reports 55 ms for ReSTIR against 142 ms for its baseline at equal quality in Fig. 1, and \
-         lower MSE at equal time in Fig. 18 (Bistro, Emerald Square) and along Fig. 22's Emerald curve, where \
-         ReSTIR's error falls more slowly with accumulated time than the baseline's.\n\n{table}"
-    ))
+        |threads, reference_spp| {
+            format!(
+                "Seed 002 Figs. 1 and 18 (equal time, scenes with surfaces) and the surface curves of Fig. 22 on fogbank's \
+                 CPU backend ({threads} threads), pixel-centre rays, spatial radius {RADIUS} px, {WARM_UP} warm-up + \
+                 {FRAMES} measured frames, reference `volpath` at {reference_spp} spp (its variance subtracted from every \
+                 MSE). The paper reports 55 ms for ReSTIR against 142 ms for its baseline at equal quality in Fig. 1, and \
+                 lower MSE at equal time in Fig. 18 (Bistro, Emerald Square) and along Fig. 22's Emerald curve, where \
+                 ReSTIR's error falls more slowly with accumulated time than the baseline's."
+            )
+        },
+    )
 }
 
 #[cfg(test)]

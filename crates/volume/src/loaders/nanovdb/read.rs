@@ -12,6 +12,7 @@ use super::layout::{type_name, ValueKind};
 use super::segment::{parse_entries, version_string, Codec, GridEntry, Source};
 use super::tree::{read_tree, Flat};
 use crate::error::{Result, VolumeError};
+use crate::loaders::grid_choice::{pick_default, ListedGrid};
 use crate::loaders::vdb::{GridClass, VdbGrid, VdbGridDescriptor, VdbLeaf, VdbTile};
 
 /// Lists the grids of a file with their types, reading only the headers.
@@ -182,6 +183,16 @@ fn split<const K: usize>(flat: Flat<K>, base: impl Fn(usize) -> VdbGrid) -> [Vdb
     })
 }
 
+impl ListedGrid for GridEntry {
+    fn grid_name(&self) -> &str {
+        &self.name
+    }
+
+    fn describe(&self) -> String {
+        format!("`{}` ({})", self.name, type_name(self.grid_type))
+    }
+}
+
 /// Picks the grid to read: by name, else by the default names, else the
 /// first grid with `k` components. A named grid of another type is an
 /// error that names its type.
@@ -191,34 +202,14 @@ fn select<'e>(
     name: Option<&str>,
     k: usize,
 ) -> Result<&'e GridEntry> {
-    let (defaults, wanted): (&[&str], &str) = if k == 3 {
-        (&["vel", "v", "velocity"], "Vec3f or Vec3d (velocity)")
+    let wanted = if k == 3 {
+        "Vec3f or Vec3d (velocity)"
     } else {
-        (&["density"], "float (float, double, Fp4, Fp8, Fp16 or FpN)")
+        "float (float, double, Fp4, Fp8, Fp16 or FpN)"
     };
-    let fits = |e: &&GridEntry| kind(e).is_some_and(|kind| kind.components() == k);
-    let listed = || {
-        let all: Vec<String> = entries
-            .iter()
-            .map(|e| format!("`{}` ({})", e.name, type_name(e.grid_type)))
-            .collect();
-        if all.is_empty() {
-            "none".to_string()
-        } else {
-            all.join(", ")
-        }
-    };
+    let fits = |e: &GridEntry| kind(e).is_some_and(|kind| kind.components() == k);
     let Some(name) = name else {
-        let pick = defaults
-            .iter()
-            .find_map(|n| entries.iter().filter(fits).find(|e| e.name == *n))
-            .or_else(|| entries.iter().find(fits));
-        return pick.ok_or_else(|| {
-            VolumeError::format(
-                path,
-                format!("no {wanted} grid to read (grids in file: {})", listed()),
-            )
-        });
+        return pick_default(path, entries, k, fits, wanted);
     };
     let Some(e) = entries.iter().find(|e| e.name == name) else {
         return Err(VolumeError::GridNotFound {
@@ -227,7 +218,7 @@ fn select<'e>(
             available: entries.iter().map(|e| e.name.clone()).collect(),
         });
     };
-    if fits(&e) {
+    if fits(e) {
         return Ok(e);
     }
     Err(VolumeError::format(

@@ -11,6 +11,7 @@ use super::metadata::read_grid_head;
 use super::reader::{grid_context, Reader};
 use super::tree::read_grid_at;
 use crate::error::{Result, VolumeError};
+use crate::loaders::grid_choice::{pick_default, ListedGrid};
 
 /// Lists the grids of a file with their types, without reading any tree.
 pub fn list_grids(path: &Path) -> Result<Vec<VdbGridDescriptor>> {
@@ -208,6 +209,17 @@ fn read_grid_limit<const K: usize>(
     Ok(read_grid_at::<K>(&mut r, &header, desc)?.0)
 }
 
+impl ListedGrid for GridDesc {
+    fn grid_name(&self) -> &str {
+        &self.name
+    }
+
+    fn describe(&self) -> String {
+        let half = if self.half { ", half" } else { "" };
+        format!("`{}` ({}{half})", self.display_name, self.value_type)
+    }
+}
+
 /// Picks the grid to read: by name (`name`, or `name[N]` for duplicated
 /// names; a plain name picks the first), else by the default names, else
 /// the first grid of the wanted type. A named grid of another type is an
@@ -218,39 +230,10 @@ fn select_grid<'f>(
     name: Option<&str>,
     k: usize,
 ) -> Result<&'f GridDesc> {
-    // Names preferred when no name is given, best first; the kind of grid.
-    let (defaults, kind): (&[&str], &str) = if k == 3 {
-        (&["vel", "v", "velocity"], "vec3s (velocity)")
-    } else {
-        (&["density"], "float")
-    };
-    let fits = |d: &&GridDesc| d.components() == Some(k);
-    let listed = || {
-        let all: Vec<String> = file
-            .descs
-            .iter()
-            .map(|d| {
-                let half = if d.half { ", half" } else { "" };
-                format!("`{}` ({}{half})", d.display_name, d.value_type)
-            })
-            .collect();
-        if all.is_empty() {
-            "none".to_string()
-        } else {
-            all.join(", ")
-        }
-    };
+    let wanted = if k == 3 { "vec3s (velocity)" } else { "float" };
+    let fits = |d: &GridDesc| d.components() == Some(k);
     let Some(name) = name else {
-        let pick = defaults
-            .iter()
-            .find_map(|n| file.descs.iter().filter(fits).find(|d| d.name == *n))
-            .or_else(|| file.descs.iter().find(fits));
-        return pick.ok_or_else(|| {
-            VolumeError::format(
-                path,
-                format!("no {} grid to read (grids in file: {})", kind, listed()),
-            )
-        });
+        return pick_default(path, &file.descs, k, fits, wanted);
     };
     let unique = match (name.find('['), name.strip_suffix(']')) {
         (Some(open), Some(body)) => format!("{}{}{}", &body[..open], NAME_SEP, &body[open + 1..]),
@@ -268,7 +251,7 @@ fn select_grid<'f>(
             available: file.descs.iter().map(|d| d.display_name.clone()).collect(),
         });
     };
-    if fits(&d) {
+    if fits(d) {
         return Ok(d);
     }
     let precision = if d.half { ", stored as half" } else { "" };
