@@ -7,6 +7,7 @@
 
 use fogbank_geometry::shapes::{quad_grid, uv_sphere};
 use fogbank_geometry::{intersect, MeshAccel, RayFrame, TriangleMesh};
+use fogbank_math::testdata::probe_ray;
 use fogbank_math::{Pcg32, Ray, Vec3};
 
 fn test_mesh() -> TriangleMesh {
@@ -53,17 +54,7 @@ fn brute(mesh: &TriangleMesh, ray: &Ray, t_max: f32) -> Option<(u32, f32)> {
 fn check_range(accel: &MeshAccel, range: std::ops::Range<usize>) -> usize {
     let mut hits = 0;
     for k in range {
-        let mut rng = Pcg32::new(5, k as u64);
-        let r = |rng: &mut Pcg32| 2.0 * rng.next_f32() - 1.0;
-        let o = Vec3::new(r(&mut rng), r(&mut rng), r(&mut rng)) * 2.5;
-        let target = Vec3::new(r(&mut rng), r(&mut rng), r(&mut rng)) * 1.2;
-        let mut d = target - o;
-        if k % 7 == 0 {
-            // Axis-parallel rays exercise the slab test's 0·∞.
-            d = Vec3::new(0.0, 0.0, -o.z.signum());
-        }
-        let ray = Ray::new(o, d);
-        let t_max = if k % 3 == 0 { 0.9 } else { f32::INFINITY };
+        let (ray, t_max) = probe_ray(&mut Pcg32::new(5, k as u64), k);
         let want = brute(&accel.mesh, &ray, t_max);
         let got = accel.intersect(&ray, t_max).map(|h| (h.primitive, h.hit.t));
         assert_eq!(got, want, "ray {k}: {ray:?}");

@@ -8,6 +8,7 @@ use fogbank_geometry::shapes::{quad_grid, uv_sphere};
 use fogbank_geometry::{MeshAccel, TriangleMesh};
 use fogbank_gpu::diagnostics::{bvh_queries, BvhQuery};
 use fogbank_gpu::test_gpu;
+use fogbank_math::testdata::probe_ray;
 use fogbank_math::{Pcg32, Ray, Vec3};
 
 fn mesh() -> TriangleMesh {
@@ -33,18 +34,11 @@ fn mesh() -> TriangleMesh {
 fn queries(count: u32) -> Vec<BvhQuery> {
     (0..count)
         .map(|k| {
-            let mut rng = Pcg32::new(k as u64, 3);
-            let r = |rng: &mut Pcg32| 2.0 * rng.next_f32() - 1.0;
-            let o = Vec3::new(r(&mut rng), r(&mut rng), r(&mut rng)) * 2.5;
-            let target = Vec3::new(r(&mut rng), r(&mut rng), r(&mut rng)) * 1.2;
-            let mut d = target - o;
-            if k % 7 == 0 {
-                d = Vec3::new(0.0, 0.0, -o.z.signum());
-            }
+            let (ray, t_max) = probe_ray(&mut Pcg32::new(k as u64, 3), k as usize);
             BvhQuery {
-                o: o.to_array(),
-                t_max: if k % 3 == 0 { 0.9 } else { f32::INFINITY },
-                d: d.to_array(),
+                o: ray.o.to_array(),
+                t_max,
+                d: ray.d.to_array(),
                 pad: 0.0,
             }
         })

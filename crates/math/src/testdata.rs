@@ -9,6 +9,7 @@
 //! again from a clone with nothing beside it to keep it so.
 
 use crate::sample_data;
+use crate::{Pcg32, Ray, Vec3};
 use std::path::PathBuf;
 
 /// The variable that turns missing external data into a test failure.
@@ -116,4 +117,21 @@ pub fn checker_slab_raw(name: &str) -> String {
     std::fs::write(&tmp, bytes).expect("writing the test volume");
     std::fs::rename(&tmp, &path).expect("moving the test volume into place");
     path.display().to_string().replace('\\', "/")
+}
+
+/// Ray `k` of a BVH test, drawn from `rng`: from around a sphere of radius
+/// 2.5 toward a random point of the box [−1.2, 1.2]³; every seventh ray
+/// axis-parallel (the slab test's 0·∞) and every third with a finite
+/// `t_max` of 0.9. Returns the ray and its `t_max`.
+pub fn probe_ray(rng: &mut Pcg32, k: usize) -> (Ray, f32) {
+    let mut r = || 2.0 * rng.next_f32() - 1.0;
+    let o = Vec3::new(r(), r(), r()) * 2.5;
+    let target = Vec3::new(r(), r(), r()) * 1.2;
+    let d = if k.is_multiple_of(7) {
+        Vec3::new(0.0, 0.0, -o.z.signum())
+    } else {
+        target - o
+    };
+    let t_max = if k.is_multiple_of(3) { 0.9 } else { f32::INFINITY };
+    (Ray::new(o, d), t_max)
 }

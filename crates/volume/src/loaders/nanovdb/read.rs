@@ -13,7 +13,7 @@ use super::segment::{parse_entries, version_string, Codec, GridEntry, Source};
 use super::tree::{read_tree, Flat};
 use crate::error::{Result, VolumeError};
 use crate::loaders::grid_choice::{pick_default, ListedGrid};
-use crate::loaders::vdb::{GridClass, VdbGrid, VdbGridDescriptor, VdbLeaf, VdbTile};
+use crate::loaders::vdb::{GridClass, VdbGrid, VdbGridDescriptor, VdbLeaf};
 
 /// Lists the grids of a file with their types, reading only the headers.
 pub fn list_grids(path: &Path) -> Result<Vec<VdbGridDescriptor>> {
@@ -154,16 +154,7 @@ fn split<const K: usize>(flat: Flat<K>, base: impl Fn(usize) -> VdbGrid) -> [Vdb
     std::array::from_fn(|c| {
         let mut g = base(c);
         g.background = flat.background[c];
-        g.tiles = flat
-            .tiles
-            .iter()
-            .map(|t| VdbTile {
-                origin: t.origin,
-                size: t.size,
-                value: t.value[c],
-                active: t.active,
-            })
-            .collect();
+        g.tiles = flat.tiles.iter().map(|t| t.component(c)).collect();
         g.leaves = flat
             .leaves
             .iter()

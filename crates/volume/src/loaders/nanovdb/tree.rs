@@ -14,14 +14,7 @@ use super::griddata::GridHead;
 use super::layout::{Layout, NodeLayout, FP_CODES, LEAF_MASK};
 use super::leaf::{leaf_size, read_values};
 use crate::error::Result;
-
-/// A tile before it is split into components.
-pub(super) struct Tile<const K: usize> {
-    pub(super) origin: [i32; 3],
-    pub(super) size: u32,
-    pub(super) value: [f32; K],
-    pub(super) active: bool,
-}
+use crate::loaders::vdb::Tile;
 
 /// A leaf before it is split into components: 512 values of `K` floats.
 pub(super) struct Leaf {

@@ -100,6 +100,27 @@ pub struct VdbTile {
     pub active: bool,
 }
 
+/// A tile of `K` floats per voxel as a tree stores it (OpenVDB's and
+/// NanoVDB's readers), before it is split into one grid per component.
+pub(crate) struct Tile<const K: usize> {
+    pub(crate) origin: [i32; 3],
+    pub(crate) size: u32,
+    pub(crate) value: [f32; K],
+    pub(crate) active: bool,
+}
+
+impl<const K: usize> Tile<K> {
+    /// Component `c` of the tile.
+    pub(crate) fn component(&self, c: usize) -> VdbTile {
+        VdbTile {
+            origin: self.origin,
+            size: self.size,
+            value: self.value[c],
+            active: self.active,
+        }
+    }
+}
+
 /// One float grid, flattened into leaves and tiles. A `vec3s` grid is read
 /// as three of these, one per component, named `name.x`, `name.y` and
 /// `name.z`, with identical leaves, tiles, masks, transform and class.

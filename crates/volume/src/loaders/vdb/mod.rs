@@ -34,6 +34,7 @@ mod transform;
 mod tree;
 mod values;
 
+pub(crate) use grid::Tile;
 pub use grid::{GridClass, VdbGrid, VdbGridDescriptor, VdbLeaf, VdbTile};
 pub use read::{
     list_grids, list_grids_from_bytes, parse_grid, parse_vec3_grid, read_grid, read_vec3_grid,

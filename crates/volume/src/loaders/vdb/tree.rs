@@ -2,7 +2,7 @@
 //! tiles. Vector grids are read as one tree of `K`-float values and split
 //! into one float tree per component, all with the same topology.
 
-use super::grid::{bit_on, for_each_active, FileHeader, GridDesc, VdbGrid, VdbLeaf, VdbTile};
+use super::grid::{bit_on, for_each_active, FileHeader, GridDesc, Tile, VdbGrid, VdbLeaf, VdbTile};
 use super::metadata::{compression_name, read_grid_head};
 use super::reader::{grid_context, Reader};
 use super::transform::read_transform;
@@ -12,14 +12,6 @@ use crate::error::Result;
 struct LeafTopo {
     origin: [i32; 3],
     mask: [u64; 8],
-}
-
-/// A tile before it is split into components.
-struct Tile<const K: usize> {
-    origin: [i32; 3],
-    size: u32,
-    value: [f32; K],
-    active: bool,
 }
 
 /// One component's flattened tree.
@@ -146,15 +138,7 @@ fn read_tree<const K: usize>(r: &mut Reader, compression: u32, half: bool) -> Re
     Ok(std::array::from_fn(|c| Tree {
         background: background[c],
         leaves: leaves.next().unwrap_or_default(),
-        tiles: tiles
-            .iter()
-            .map(|t| VdbTile {
-                origin: t.origin,
-                size: t.size,
-                value: t.value[c],
-                active: t.active,
-            })
-            .collect(),
+        tiles: tiles.iter().map(|t| t.component(c)).collect(),
     }))
 }
 
