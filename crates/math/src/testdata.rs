@@ -132,6 +132,10 @@ pub fn probe_ray(rng: &mut Pcg32, k: usize) -> (Ray, f32) {
     } else {
         target - o
     };
-    let t_max = if k.is_multiple_of(3) { 0.9 } else { f32::INFINITY };
+    let t_max = if k.is_multiple_of(3) {
+        0.9
+    } else {
+        f32::INFINITY
+    };
     (Ray::new(o, d), t_max)
 }

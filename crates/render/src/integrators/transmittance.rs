@@ -10,7 +10,7 @@
 //! | `background` | [1, 1, 1] | radiance behind the media; the image is T · background |
 
 use super::shared::context::PathContext;
-use super::shared::free_flight::shadow_transmittance_in;
+use super::shared::free_flight::{shadow_transmittance_in, ShadowSpan};
 use super::shared::tracking::Shadow;
 use super::shared::{estimator_rng, primary_ray, PixelSample};
 use crate::error::SceneError;
@@ -133,7 +133,7 @@ fn sample(
         let camera_medium = world.surfaces.as_ref().and_then(|s| s.camera_medium);
         let cx = &mut PathContext::new(world, &mut rng);
         let nee = Shadow::Estimator(estimator);
-        let t = shadow_transmittance_in(cx, nee, &ray, t_max, camera_medium);
+        let t = shadow_transmittance_in(cx, nee, ShadowSpan::new(ray, t_max, camera_medium));
         return PixelSample {
             radiance: background * t,
             lookups: cx.lookups,

@@ -39,64 +39,79 @@ pub fn next_collision(
 /// medium (the product of per-medium estimates is unbiased when they are);
 /// 0 when a surface other than an index-matched boundary blocks it.
 pub fn shadow_transmittance(cx: &mut PathContext, nee: Shadow, ray: &Ray, distance: f32) -> Vec3 {
-    shadow_transmittance_in(cx, nee, ray, distance, None)
+    shadow_transmittance_in(cx, nee, ShadowSpan::new(*ray, distance, None))
+}
+
+/// What is left of a shadow ray: `distance` along `ray` from its origin,
+/// which lies in bounded medium `medium` (`None`: in none; see
+/// [`World::medium_active`]).
+#[derive(Clone, Copy, Debug)]
+pub struct ShadowSpan {
+    pub ray: Ray,
+    pub distance: f32,
+    pub medium: Option<usize>,
+}
+
+impl ShadowSpan {
+    pub fn new(ray: Ray, distance: f32, medium: Option<usize>) -> ShadowSpan {
+        ShadowSpan {
+            ray,
+            distance,
+            medium,
+        }
+    }
 }
 
 /// Index-matched boundaries a ray may cross in a row (a guard against
 /// rays trapped by coincident surfaces).
 pub const MAX_CROSSINGS: u32 = 1024;
 
-/// [`shadow_transmittance`] for a ray that starts in bounded medium
-/// `current`: across medium transitions (null boundaries) it continues in
-/// the medium on their far side; thin dielectrics pass 1 − R′ of it.
-pub fn shadow_transmittance_in(
-    cx: &mut PathContext,
-    nee: Shadow,
-    ray: &Ray,
-    distance: f32,
-    current: Option<usize>,
-) -> Vec3 {
+/// [`shadow_transmittance`] for a span that starts in a bounded medium:
+/// across medium transitions (null boundaries) it continues in the medium
+/// on their far side; thin dielectrics pass 1 − R′ of it.
+pub fn shadow_transmittance_in(cx: &mut PathContext, nee: Shadow, span: ShadowSpan) -> Vec3 {
     let world = cx.world;
     let Some(s) = &world.surfaces else {
-        return media_transmittance(cx, nee, ray, distance, current);
+        return media_transmittance(cx, nee, &span);
     };
     if !s.shadows_walk() {
-        if s.occluded(ray, distance) {
+        if s.occluded(&span.ray, span.distance) {
             return Vec3::ZERO;
         }
-        return media_transmittance(cx, nee, ray, distance, current);
+        return media_transmittance(cx, nee, &span);
     }
-    let (mut ray, mut left, mut current, mut tr) = (*ray, distance, current, Vec3::ONE);
+    let (mut left, mut tr) = (span, Vec3::ONE);
     for _ in 0..MAX_CROSSINGS {
-        let Some(h) = s.intersect(&ray, left) else {
-            return tr * media_transmittance(cx, nee, &ray, left, current);
+        let Some(h) = s.intersect(&left.ray, left.distance) else {
+            return tr * media_transmittance(cx, nee, &left);
         };
         let material = &s.shapes[h.shape as usize].material;
-        let Some(pass) = material.null_transmission(h.ns.dot(ray.d)) else {
+        let Some(pass) = material.null_transmission(h.ns.dot(left.ray.d)) else {
             return Vec3::ZERO;
         };
-        tr *= pass * media_transmittance(cx, nee, &ray, h.t, current);
+        let to_hit = ShadowSpan {
+            distance: h.t,
+            ..left
+        };
+        tr *= pass * media_transmittance(cx, nee, &to_hit);
         if tr == Vec3::ZERO {
             return Vec3::ZERO;
         }
-        current = s.target_medium(&h, ray.d, current);
-        left -= h.t;
-        ray = h.spawn(ray.d);
+        left = ShadowSpan {
+            ray: h.spawn(left.ray.d),
+            distance: left.distance - h.t,
+            medium: s.target_medium(&h, left.ray.d, left.medium),
+        };
     }
     Vec3::ZERO
 }
 
-/// Transmittance of `[0, distance]` through the media present for a ray
-/// in bounded medium `current`, surfaces aside: per channel (equal
-/// channels unless a medium's extinction is chromatic).
-fn media_transmittance(
-    cx: &mut PathContext,
-    nee: Shadow,
-    ray: &Ray,
-    distance: f32,
-    current: Option<usize>,
-) -> Vec3 {
+/// Transmittance of `span` through the media present in it, surfaces
+/// aside: per channel (equal channels unless a medium's extinction is
+/// chromatic).
+fn media_transmittance(cx: &mut PathContext, nee: Shadow, span: &ShadowSpan) -> Vec3 {
     let (world, rng, lookups) = (cx.world, &mut *cx.rng, &mut cx.lookups);
+    let (ray, distance, current) = (&span.ray, span.distance, span.medium);
     let mut t = Vec3::ONE;
     world.media_along(
         ray,

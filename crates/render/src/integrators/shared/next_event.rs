@@ -7,7 +7,7 @@
 
 use super::balance;
 use super::context::{MediumVertex, NextEvent, PathContext, SurfaceVertex};
-use super::free_flight::shadow_transmittance_in;
+use super::free_flight::{shadow_transmittance_in, ShadowSpan};
 use crate::lights::area::SHADOW_SHORTEN;
 use crate::lights::sample::{LightSample, LightSampler, Vertex};
 use crate::world::World;
@@ -50,7 +50,7 @@ pub fn light_sample(cx: &mut PathContext, nee: &NextEvent, v: &MediumVertex) -> 
         return Vec3::ZERO;
     }
     let ray = Ray::new(v.p, ls.wi);
-    let tr = shadow_transmittance_in(cx, nee.shadow, &ray, ls.distance, v.medium);
+    let tr = shadow_transmittance_in(cx, nee.shadow, ShadowSpan::new(ray, ls.distance, v.medium));
     if ls.is_delta || !nee.mis {
         ls.radiance * (f * tr / (pmf * if ls.is_delta { 1.0 } else { ls.pdf }))
     } else {
@@ -140,7 +140,8 @@ pub fn sampled_direction_to_lights(
             };
             let w = emitter_weight(world, nee.lights, li, h.p, ray.d, prev);
             let distance = h.t * (1.0 - SHADOW_SHORTEN);
-            let tr = shadow_transmittance_in(cx, nee.shadow, ray, distance, current);
+            let tr =
+                shadow_transmittance_in(cx, nee.shadow, ShadowSpan::new(*ray, distance, current));
             return le * (w * tr);
         }
     }
@@ -151,7 +152,11 @@ pub fn sampled_direction_to_lights(
     if le == Vec3::ZERO {
         return Vec3::ZERO;
     }
-    le * shadow_transmittance_in(cx, nee.shadow, ray, f32::INFINITY, current)
+    le * shadow_transmittance_in(
+        cx,
+        nee.shadow,
+        ShadowSpan::new(*ray, f32::INFINITY, current),
+    )
 }
 
 /// MIS weight of an area light's emission reached at `q` along `d` by a
@@ -193,7 +198,7 @@ pub fn light_sample_surface(cx: &mut PathContext, nee: &NextEvent, v: &SurfaceVe
         None => v.medium,
     };
     let ray = hit.spawn(ls.wi);
-    let tr = shadow_transmittance_in(cx, nee.shadow, &ray, ls.distance, current);
+    let tr = shadow_transmittance_in(cx, nee.shadow, ShadowSpan::new(ray, ls.distance, current));
     if ls.is_delta || !nee.mis {
         ls.radiance * f * (tr / (pmf * if ls.is_delta { 1.0 } else { ls.pdf }))
     } else {
