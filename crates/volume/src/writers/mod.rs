@@ -9,10 +9,16 @@
 mod bricks;
 mod bytes;
 mod compress;
+pub mod nanovdb;
+mod nanovdb_grid;
+mod nanovdb_map;
+mod nanovdb_quantise;
+mod nanovdb_stats;
 mod tree;
 pub mod vdb;
 
 pub use bricks::{from_brick_grid, rows, VDB_FILE_VERSION};
+pub use nanovdb::{NanoOptions, NanoValue};
 pub use vdb::VdbOptions;
 
 /// How a file's data is compressed: OpenVDB compresses each node buffer,
