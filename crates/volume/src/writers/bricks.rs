@@ -40,7 +40,7 @@ pub fn from_brick_grid<T: Voxel>(
             }
         }
     }
-    let shifted = index_to_world * DAffine3::from_translation(DVec3::splat(0.5));
+    let shifted = exact_shift(index_to_world, &leaves);
     VdbGrid {
         name: name.to_string(),
         grid_class: GridClass::FogVolume,
@@ -52,6 +52,58 @@ pub fn from_brick_grid<T: Voxel>(
         leaves,
         tiles: Vec::new(),
     }
+}
+
+/// `index_to_world` shifted by `+½` voxel, with its translation chosen so
+/// that the reader's own shift (to the origin it will pick, less ½: a
+/// leaf below the lowest one, see [`vdb_grid`](crate::loaders::vdb_grid))
+/// lands on the map of its voxel frame bit for bit, not just to within
+/// rounding: a grid read from a file, exported and loaded again has the
+/// same transform.
+fn exact_shift(index_to_world: DAffine3, leaves: &[VdbLeaf]) -> DAffine3 {
+    let half = index_to_world * DAffine3::from_translation(DVec3::splat(0.5));
+    let Some(lo) = leaves
+        .iter()
+        .map(|l| l.origin)
+        .reduce(|a, b| std::array::from_fn(|k| a[k].min(b[k])))
+    else {
+        return half;
+    };
+    // The reader's origin, and the map it should arrive at for its voxel
+    // frame (exactly `index_to_world` when the origin is 0, as for a grid
+    // that was itself read from a file).
+    let origin = DVec3::from_array(lo.map(|v| (v - BRICK as i32) as f64));
+    let want = (index_to_world * DAffine3::from_translation(origin)).translation;
+    // What the reader computes: `matrix · (origin − ½) + translation`.
+    let ls = index_to_world.matrix3 * (origin - 0.5);
+    let mut t = half.translation;
+    for k in 0..3 {
+        let mut candidate = want[k] - ls[k];
+        // The difference is exact in most cases; otherwise a neighbour
+        // within a few ulps is.
+        for step in [0, 1, -1, 2, -2, 3, -3] {
+            let c = nudge(want[k] - ls[k], step);
+            if ls[k] + c == want[k] {
+                candidate = c;
+                break;
+            }
+        }
+        t[k] = candidate;
+    }
+    DAffine3::from_mat3_translation(index_to_world.matrix3, t)
+}
+
+/// `x` moved by `steps` ulps.
+fn nudge(x: f64, steps: i32) -> f64 {
+    let mut y = x;
+    for _ in 0..steps.unsigned_abs() {
+        y = if steps > 0 {
+            y.next_up()
+        } else {
+            y.next_down()
+        };
+    }
+    y
 }
 
 /// The leaf of brick `b`, or `None` when it holds only background.
@@ -135,5 +187,34 @@ mod tests {
             .filter(|n| g.fetch(n % 20, n / 20 % 9, n / 180) != 0.0)
             .count();
         assert_eq!(v.active_voxel_count(), nonzero as u64);
+    }
+
+    /// A grid read from a file, converted back and read again: the same
+    /// brick grid and the same transform, bit for bit.
+    #[test]
+    fn file_grid_round_trips_exactly() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/vdb");
+        for file in ["fog_f32_zip.vdb", "affine_half_blosc.vdb"] {
+            let g = crate::loaders::vdb::read_grid(&dir.join(file), None).unwrap();
+            let (a, axf) = to_brick_grid(g).unwrap();
+            let v = from_brick_grid(&a, axf, "density", 0.0);
+            let (b, bxf) = to_brick_grid(v).unwrap();
+            assert_eq!(bxf, axf, "{file}");
+            assert_eq!(b.dims(), a.dims(), "{file}");
+            let d = a.dims();
+            for n in 0..d[0] as usize * d[1] as usize * d[2] as usize {
+                let (i, j, k) = (
+                    n % d[0] as usize,
+                    n / d[0] as usize % d[1] as usize,
+                    n / (d[0] * d[1]) as usize,
+                );
+                let (i, j, k) = (i as i32, j as i32, k as i32);
+                assert_eq!(
+                    b.fetch(i, j, k).to_bits(),
+                    a.fetch(i, j, k).to_bits(),
+                    "{file}"
+                );
+            }
+        }
     }
 }
