@@ -14,39 +14,11 @@ mod nanovdb_grid;
 mod nanovdb_map;
 mod nanovdb_quantise;
 mod nanovdb_stats;
+mod options;
 mod tree;
 pub mod vdb;
 
 pub use bricks::{from_brick_grid, rows, VDB_FILE_VERSION};
-pub use nanovdb::{NanoOptions, NanoValue};
+pub use nanovdb::NanoOptions;
+pub use options::{Codec, NanoValue};
 pub use vdb::VdbOptions;
-
-/// How a file's data is compressed: OpenVDB compresses each node buffer,
-/// NanoVDB each grid buffer, with zlib (Zip) or Blosc (LZ4 frames).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Codec {
-    #[default]
-    None,
-    Zip,
-    Blosc,
-}
-
-impl Codec {
-    pub fn name(self) -> &'static str {
-        match self {
-            Codec::None => "none",
-            Codec::Zip => "zip",
-            Codec::Blosc => "blosc",
-        }
-    }
-
-    /// `none`, `zip` or `blosc`.
-    pub fn parse(s: &str) -> Option<Codec> {
-        match s {
-            "none" => Some(Codec::None),
-            "zip" => Some(Codec::Zip),
-            "blosc" => Some(Codec::Blosc),
-            _ => None,
-        }
-    }
-}

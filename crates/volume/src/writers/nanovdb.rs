@@ -19,33 +19,9 @@ use std::path::Path;
 use super::bytes::Put;
 use super::compress::{blosc, zlib};
 use super::nanovdb_grid::{build, GridBuffer, MAGIC, VERSION};
-use super::Codec;
+use super::options::{Codec, NanoValue};
 use crate::loaders::vdb::VdbGrid;
 use crate::{Result, VolumeError};
-
-/// How a grid's values are stored.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum NanoValue {
-    /// Full-precision `float` leaves.
-    #[default]
-    Float,
-    /// 8-bit codes per leaf (`Fp8`): error at most half of `(max − min) / 255`.
-    Fp8,
-    /// 16-bit codes per leaf (`Fp16`): error at most half of `(max − min) / 65535`.
-    Fp16,
-}
-
-impl NanoValue {
-    /// `float`, `fp8` or `fp16`.
-    pub fn parse(s: &str) -> Option<NanoValue> {
-        match s {
-            "float" => Some(NanoValue::Float),
-            "fp8" => Some(NanoValue::Fp8),
-            "fp16" => Some(NanoValue::Fp16),
-            _ => None,
-        }
-    }
-}
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct NanoOptions {

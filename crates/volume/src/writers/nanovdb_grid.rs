@@ -18,8 +18,8 @@ use super::bytes::put_at;
 use super::nanovdb_map::Map;
 use super::nanovdb_quantise::Quantised;
 use super::nanovdb_stats::Stats;
+use super::options::NanoValue;
 use super::tree::{child_origin, Internal, RootEntry, Tree, LOWER_TOTAL, UPPER_TOTAL};
-use super::NanoValue;
 use crate::loaders::nanovdb::layout::{
     Layout, NodeLayout, ValueKind, FP_CODES, FP_MINIMUM, FP_QUANTUM, LEAF_MASK,
 };
@@ -109,43 +109,13 @@ pub(crate) fn build(g: &VdbGrid, value: NanoValue) -> Result<GridBuffer> {
     let size = leaves_at + nodes.leaves.len() * lay.leaf_size;
     let mut buf = vec![0u8; size];
     write_root(&mut buf, &tree, &nodes, &lay, uppers_at);
-    let mut lower_index = 0;
-    for (i, (u, s)) in nodes.uppers.iter().zip(&nodes.upper_stats).enumerate() {
-        let at = uppers_at + i * lay.upper.size;
-        let first = lowers_at + lower_index * lay.lower.size;
-        let offsets =
-            (0..u.children.len()).map(|k| (first + k * lay.lower.size) as i64 - at as i64);
-        write_internal(
-            &mut buf,
-            at,
-            u,
-            s,
-            lay.upper,
-            g.background,
-            offsets.collect(),
-        );
-        lower_index += u.children.len();
-    }
-    let mut leaf_index = 0;
-    for (i, (l, s)) in nodes.lowers.iter().zip(&nodes.lower_stats).enumerate() {
-        let at = lowers_at + i * lay.lower.size;
-        let first = leaves_at + leaf_index * lay.leaf_size;
-        let offsets = (0..l.children.len()).map(|k| (first + k * lay.leaf_size) as i64 - at as i64);
-        write_internal(
-            &mut buf,
-            at,
-            l,
-            s,
-            lay.lower,
-            g.background,
-            offsets.collect(),
-        );
-        leaf_index += l.children.len();
-    }
-    for (i, (leaf, s)) in nodes.leaves.iter().zip(&nodes.leaf_stats).enumerate() {
-        let q = nodes.quantised.get(i);
-        write_leaf(&mut buf, leaves_at + i * lay.leaf_size, leaf, s, &lay, q);
-    }
+    write_nodes(
+        &mut buf,
+        &nodes,
+        &lay,
+        [uppers_at, lowers_at, leaves_at],
+        g.background,
+    );
     let counts = [nodes.leaves.len(), nodes.lowers.len(), nodes.uppers.len()].map(|c| c as u32);
     let firsts = [leaves_at, lowers_at, uppers_at, ROOT];
     write_tree_data(
@@ -180,6 +150,33 @@ pub(crate) fn build(g: &VdbGrid, value: NanoValue) -> Result<GridBuffer> {
         ((u32::MAX as u64) << 32 | crc as u64).to_le_bytes(),
     );
     Ok(GridBuffer { bytes: buf, ..out })
+}
+
+/// The upper nodes, lower nodes and leaves, each level from its first
+/// byte in `at`, every child offset pointing into the next level.
+fn write_nodes(buf: &mut [u8], nodes: &Nodes, lay: &Layout, at: [usize; 3], background: f32) {
+    let [uppers_at, lowers_at, leaves_at] = at;
+    let mut lower_index = 0;
+    for (i, (u, s)) in nodes.uppers.iter().zip(&nodes.upper_stats).enumerate() {
+        let at = uppers_at + i * lay.upper.size;
+        let first = lowers_at + lower_index * lay.lower.size;
+        let offsets =
+            (0..u.children.len()).map(|k| (first + k * lay.lower.size) as i64 - at as i64);
+        write_internal(buf, at, u, s, lay.upper, background, offsets.collect());
+        lower_index += u.children.len();
+    }
+    let mut leaf_index = 0;
+    for (i, (l, s)) in nodes.lowers.iter().zip(&nodes.lower_stats).enumerate() {
+        let at = lowers_at + i * lay.lower.size;
+        let first = leaves_at + leaf_index * lay.leaf_size;
+        let offsets = (0..l.children.len()).map(|k| (first + k * lay.leaf_size) as i64 - at as i64);
+        write_internal(buf, at, l, s, lay.lower, background, offsets.collect());
+        leaf_index += l.children.len();
+    }
+    for (i, (leaf, s)) in nodes.leaves.iter().zip(&nodes.leaf_stats).enumerate() {
+        let q = nodes.quantised.get(i);
+        write_leaf(buf, leaves_at + i * lay.leaf_size, leaf, s, lay, q);
+    }
 }
 
 fn crc32(bytes: &[u8]) -> u32 {

@@ -30,8 +30,8 @@ use std::path::Path;
 
 use super::bytes::{put_at, Put};
 use super::compress::{blosc, zlib};
+use super::options::Codec;
 use super::tree::{child_origin, Internal, RootEntry, TileValue, Tree};
-use super::Codec;
 use crate::loaders::vdb::{GridClass, VdbGrid, VdbLeaf};
 use crate::{Result, VolumeError};
 
