@@ -108,6 +108,7 @@ pub fn export_desc(
         let o = VdbOptions {
             half: options.half,
             codec: options.codec,
+            active_mask: options.codec != Codec::None,
         };
         writers::vdb::to_bytes(std::slice::from_ref(&grid), o)
     }

@@ -1,5 +1,6 @@
 //! The OpenVDB writer against the reader and against OpenVDB itself: every
-//! grid written (float and half, each codec) reads back voxel for voxel in
+//! grid written (float and half, each codec, with and without active-mask
+//! compression) reads back voxel for voxel in
 //! fogbank's reader, and, when Debian's `python3-openvdb` is installed,
 //! `pyopenvdb` reads the same active voxel count, value sum, voxels and
 //! transform. The OpenVDB checks skip with a message without the binding,
@@ -50,7 +51,13 @@ fn all_options() -> Vec<VdbOptions> {
     let mut out = Vec::new();
     for half in [false, true] {
         for codec in [Codec::None, Codec::Zip, Codec::Blosc] {
-            out.push(VdbOptions { half, codec });
+            for active_mask in [false, true] {
+                out.push(VdbOptions {
+                    half,
+                    codec,
+                    active_mask,
+                });
+            }
         }
     }
     out
@@ -112,7 +119,12 @@ fn written_vdb_reads_back_voxel_for_voxel() {
     let dir = temp_dir("fogbank_vdb_write");
     for (name, g) in sources() {
         for o in all_options() {
-            let path = dir.join(format!("{name}-{}-{}.vdb", o.half, o.codec.name()));
+            let path = dir.join(format!(
+                "{name}-{}-{}-{}.vdb",
+                o.half,
+                o.codec.name(),
+                o.active_mask
+            ));
             writers::vdb::write(&path, std::slice::from_ref(&g), o).unwrap();
             let back = vdb::read_grid(&path, None).unwrap();
             let want = rounded(&g, o.half);
@@ -192,7 +204,12 @@ fn written_vdb_reads_in_openvdb() {
     let dir = temp_dir("fogbank_vdb_openvdb");
     for (name, g) in sources() {
         for o in all_options() {
-            let path = dir.join(format!("{name}-{}-{}.vdb", o.half, o.codec.name()));
+            let path = dir.join(format!(
+                "{name}-{}-{}-{}.vdb",
+                o.half,
+                o.codec.name(),
+                o.active_mask
+            ));
             writers::vdb::write(&path, std::slice::from_ref(&g), o).unwrap();
             check_with_openvdb(&py, &path, &rounded(&g, o.half));
         }

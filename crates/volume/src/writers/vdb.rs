@@ -16,9 +16,11 @@
 //!   each leaf's value mask), then every leaf's buffer in the same order.
 //!
 //! Every node value buffer starts with a per-node byte saying how inactive
-//! values were stored. Active-mask compression is not used: every buffer
-//! holds all its values (indicator 6, "no mask and all values"), the
-//! simplest layout every OpenVDB version reads. A Zip or Blosc buffer is an
+//! values were stored. Without active-mask compression every buffer holds
+//! all its values (indicator 6, "no mask and all values"); with it, a node
+//! whose inactive values are all the background (or its negation) holds
+//! only its active values, and any other node all of them (OpenVDB's
+//! selection-mask modes are not written). A Zip or Blosc buffer is an
 //! `i64` size and the compressed bytes, or the negated size and the raw
 //! bytes when compression does not pay off, as OpenVDB writes them.
 //!
@@ -46,7 +48,12 @@ const HALF_SUFFIX: &str = "_HalfFloat";
 const NAME_SEP: char = '\x1e';
 const COMPRESS_ZIP: u32 = 0x1;
 const COMPRESS_BLOSC: u32 = 0x4;
-/// Per-node indicator: every value stored, none left to rebuild.
+const COMPRESS_ACTIVE_MASK: u32 = 0x2;
+/// Per-node indicators (`io/Compression.h`): only the active values
+/// stored, the inactive ones all the background, or all its negation; or
+/// every value stored.
+const NO_MASK_OR_INACTIVE_VALS: u8 = 0;
+const NO_MASK_AND_MINUS_BG: u8 = 1;
 const NO_MASK_AND_ALL_VALS: u8 = 6;
 
 /// How float values are stored and compressed.
@@ -56,6 +63,9 @@ pub struct VdbOptions {
     /// tile values stay full width, as OpenVDB keeps them.
     pub half: bool,
     pub codec: Codec,
+    /// Active-mask compression: nodes whose inactive values are all the
+    /// background (or its negation) store only their active values.
+    pub active_mask: bool,
 }
 
 /// Writes `grids` to the file `path`.
@@ -154,11 +164,18 @@ fn write_grid(out: &mut Vec<u8>, g: &VdbGrid, name: &str, options: VdbOptions) -
     let offsets_at = out.len();
     out.extend_from_slice(&[0u8; 24]);
     let grid_pos = out.len();
-    out.u32(match options.codec {
-        Codec::None => 0,
-        Codec::Zip => COMPRESS_ZIP,
-        Codec::Blosc => COMPRESS_BLOSC,
-    });
+    let mask = if options.active_mask {
+        COMPRESS_ACTIVE_MASK
+    } else {
+        0
+    };
+    out.u32(
+        mask | match options.codec {
+            Codec::None => 0,
+            Codec::Zip => COMPRESS_ZIP,
+            Codec::Blosc => COMPRESS_BLOSC,
+        },
+    );
     // Metadata: the class, the name (OpenVDB takes a grid's name from its
     // metadata, not from the descriptor) and, for half grids, the flag
     // without which OpenVDB reads the node values as full floats.
@@ -183,7 +200,13 @@ fn write_grid(out: &mut Vec<u8>, g: &VdbGrid, name: &str, options: VdbOptions) -
     let block_pos = out.len();
     for leaf in leaves {
         out.mask(&leaf.active);
-        write_values(out, &leaf.values[..], options)?;
+        write_values(
+            out,
+            &leaf.values[..],
+            &leaf.active,
+            tree.background,
+            options,
+        )?;
     }
     let end_pos = out.len();
     for (k, v) in [grid_pos, block_pos, end_pos].into_iter().enumerate() {
@@ -316,13 +339,51 @@ fn internal_head<C>(
     }));
     out.mask(&child_mask);
     out.mask(&value_mask);
-    write_values(out, &values, options)
+    write_values(out, &values, &value_mask, background, options)
 }
 
-/// One node buffer: the per-node indicator, then all values, half or full,
-/// through the codec.
-fn write_values(out: &mut Vec<u8>, values: &[f32], options: VdbOptions) -> Result<()> {
-    out.u8(NO_MASK_AND_ALL_VALS);
+/// One node buffer: the per-node indicator, then the values, half or
+/// full, through the codec. With active-mask compression, a node whose
+/// inactive values all equal the background (or its negation) stores only
+/// its active values (indicators 0 and 1), as OpenVDB does; any other node
+/// stores all of them.
+fn write_values(
+    out: &mut Vec<u8>,
+    values: &[f32],
+    value_mask: &[u64],
+    background: f32,
+    options: VdbOptions,
+) -> Result<()> {
+    let active = |i: usize| value_mask[i / 64] >> (i % 64) & 1 == 1;
+    let inactive_all =
+        |v: f32| (0..values.len()).all(|i| active(i) || values[i].to_bits() == v.to_bits());
+    let meta = if !options.active_mask {
+        NO_MASK_AND_ALL_VALS
+    } else if inactive_all(background) {
+        NO_MASK_OR_INACTIVE_VALS
+    } else if inactive_all(-background) {
+        NO_MASK_AND_MINUS_BG
+    } else {
+        NO_MASK_AND_ALL_VALS
+    };
+    out.u8(meta);
+    let kept: Vec<f32> = match meta {
+        NO_MASK_AND_ALL_VALS => values.to_vec(),
+        _ => (0..values.len())
+            .filter(|&i| active(i))
+            .map(|i| values[i])
+            .collect(),
+    };
+    // OpenVDB writes nothing at all, not even a size, for an empty half
+    // buffer.
+    if options.half && kept.is_empty() {
+        return Ok(());
+    }
+    write_chunk(out, &kept, options)
+}
+
+/// Values as half or full floats, raw or as a Zip or Blosc chunk.
+fn write_chunk(out: &mut Vec<u8>, values: &[f32], options: VdbOptions) -> Result<()> {
     let (raw, typesize): (Vec<u8>, usize) = if options.half {
         let b = values
             .iter()
