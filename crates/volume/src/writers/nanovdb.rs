@@ -10,8 +10,7 @@
 //! name length, node and tile counts, codec, version) and its name, then
 //! the grid's bytes: the buffer as is; for ZIP, a `u64` size and one zlib
 //! stream; for BLOSC, chunks of at most 2³⁰ bytes, each a `u64` size and
-//! one Blosc1 frame. The grid buffer itself is built by
-//! [`nanovdb_grid`](super::nanovdb_grid).
+//! one Blosc1 frame. The grid buffer itself is built by `nanovdb_grid`.
 
 use std::io::Write;
 use std::path::Path;
