@@ -5,6 +5,7 @@ mod common;
 mod compare_cmd;
 mod converge_cmd;
 mod experiment_cmd;
+mod export_cmd;
 mod frames_cmd;
 mod info_cmd;
 mod integrators_cmd;
@@ -38,6 +39,8 @@ enum Command {
     Merge(merge_cmd::MergeArgs),
     /// Describe a volume file (.vdb, .nvdb, .vol, .raw).
     Info(info_cmd::InfoArgs),
+    /// Write a scene medium's density (or temperature) grid as .vdb or .nvdb.
+    Export(export_cmd::ExportArgs),
     /// List the transmittance estimators.
     Estimators,
     /// List the integrators and their parameters (`integrator.type` and keys).
@@ -64,6 +67,7 @@ fn main() -> ExitCode {
         Command::Render(a) => render_cmd::run(a),
         Command::Merge(a) => merge_cmd::run(a),
         Command::Info(a) => info_cmd::run(a),
+        Command::Export(a) => export_cmd::run(a),
         Command::Estimators => {
             for e in fogbank_estimators::Estimator::all() {
                 let kind = if e.biased() { "biased" } else { "unbiased" };

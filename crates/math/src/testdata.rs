@@ -84,6 +84,29 @@ pub fn tool_on_path(name: &str, require: &str, install: &str) -> Option<PathBuf>
     found.or_else(|| skip_unless(require, &format!("no {name} on PATH ({install})")))
 }
 
+/// A Python interpreter that imports `module`, or `None` (after saying so)
+/// when there is none; a failure instead when the variable `require` is
+/// `1`. Debian's bindings live in `/usr/bin/python3`'s site packages, so
+/// that interpreter is preferred to whatever `python3` a virtual
+/// environment puts first on `PATH`.
+pub fn python_with_module(module: &str, require: &str, install: &str) -> Option<PathBuf> {
+    let system = PathBuf::from("/usr/bin/python3");
+    let candidates = [system, PathBuf::from("python3")];
+    let imports = |py: &PathBuf| {
+        std::process::Command::new(py)
+            .args(["-c", &format!("import {module}")])
+            .output()
+            .is_ok_and(|o| o.status.success())
+    };
+    match candidates.into_iter().find(imports) {
+        Some(py) => Some(py),
+        None => skip_unless(
+            require,
+            &format!("no python3 that imports {module} ({install})"),
+        ),
+    }
+}
+
 /// A 24³ f32 raw grid for integrator tests without faint fringes (seed
 /// 002's unbiasedness tests, CPU and GPU): its far half (k < 12) is dense
 /// everywhere, so every ray through the front face meets many events, and

@@ -15,6 +15,7 @@
 pub mod animation;
 pub mod desc;
 pub mod error;
+pub mod export;
 pub mod integrators;
 pub mod lights;
 pub mod merge;

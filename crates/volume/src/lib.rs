@@ -37,6 +37,7 @@ pub mod plume;
 pub mod procedural;
 pub mod supervoxel;
 pub mod voxel_array;
+pub mod writers;
 
 pub use access::{Filter, GridView, VolumeAccess};
 pub use analytic::{AnalyticField, AnalyticKind, AnalyticView};

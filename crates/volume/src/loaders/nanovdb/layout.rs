@@ -8,7 +8,7 @@
 
 /// The grid types the reader reads (`GridType` numbers 1, 2, 6, 7, 13–16).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum ValueKind {
+pub(crate) enum ValueKind {
     Float,
     Double,
     Vec3f,
@@ -20,7 +20,7 @@ pub(super) enum ValueKind {
 }
 
 /// NanoVDB's name for `GridType` `t`, as `nanovdb_print` shows it.
-pub(super) fn type_name(t: u32) -> &'static str {
+pub(crate) fn type_name(t: u32) -> &'static str {
     const NAMES: [&str; 27] = [
         "unknown",
         "float",
@@ -54,7 +54,7 @@ pub(super) fn type_name(t: u32) -> &'static str {
 }
 
 impl ValueKind {
-    pub(super) fn from_grid_type(t: u32) -> Option<ValueKind> {
+    pub(crate) fn from_grid_type(t: u32) -> Option<ValueKind> {
         Some(match t {
             1 => ValueKind::Float,
             2 => ValueKind::Double,
@@ -69,7 +69,7 @@ impl ValueKind {
     }
 
     /// Floats per value.
-    pub(super) fn components(self) -> usize {
+    pub(crate) fn components(self) -> usize {
         match self {
             ValueKind::Vec3f | ValueKind::Vec3d => 3,
             _ => 1,
@@ -78,7 +78,7 @@ impl ValueKind {
 
     /// Bytes per component of the root's and internal nodes' values
     /// (quantised grids keep those as `float`).
-    pub(super) fn element_size(self) -> usize {
+    pub(crate) fn element_size(self) -> usize {
         match self {
             ValueKind::Double | ValueKind::Vec3d => 8,
             _ => 4,
@@ -86,7 +86,7 @@ impl ValueKind {
     }
 
     /// Code width of fixed-width quantised leaves.
-    pub(super) fn code_bits(self) -> Option<u32> {
+    pub(crate) fn code_bits(self) -> Option<u32> {
         match self {
             ValueKind::Fp4 => Some(4),
             ValueKind::Fp8 => Some(8),
@@ -95,7 +95,7 @@ impl ValueKind {
         }
     }
 
-    pub(super) fn is_quantised(self) -> bool {
+    pub(crate) fn is_quantised(self) -> bool {
         matches!(
             self,
             ValueKind::Fp4 | ValueKind::Fp8 | ValueKind::Fp16 | ValueKind::FpN
@@ -109,50 +109,50 @@ fn align(x: usize, a: usize) -> usize {
 
 /// An internal node: 32³ (upper, log2 dimension 5) or 16³ (lower, 4).
 #[derive(Debug, Clone, Copy)]
-pub(super) struct NodeLayout {
-    pub(super) log2: u32,
+pub(crate) struct NodeLayout {
+    pub(crate) log2: u32,
     /// log2 of the child's edge length in voxels: 7 below an upper node,
     /// 3 below a lower one.
-    pub(super) child_total: u32,
-    pub(super) value_mask: usize,
-    pub(super) child_mask: usize,
-    pub(super) table: usize,
+    pub(crate) child_total: u32,
+    pub(crate) value_mask: usize,
+    pub(crate) child_mask: usize,
+    pub(crate) table: usize,
     /// Bytes per table entry: the value, or an `i64` child offset.
-    pub(super) entry: usize,
-    pub(super) size: usize,
+    pub(crate) entry: usize,
+    pub(crate) size: usize,
 }
 
 /// Byte layout of a grid's nodes.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct Layout {
-    pub(super) kind: ValueKind,
+pub(crate) struct Layout {
+    pub(crate) kind: ValueKind,
     /// Root: background value offset and size of `RootData`.
-    pub(super) root_background: usize,
-    pub(super) root_size: usize,
+    pub(crate) root_background: usize,
+    pub(crate) root_size: usize,
     /// Root tile: value offset and tile size (key `u64`, child `i64` and
     /// state `u32` come first).
-    pub(super) tile_value: usize,
-    pub(super) tile_size: usize,
-    pub(super) upper: NodeLayout,
-    pub(super) lower: NodeLayout,
+    pub(crate) tile_value: usize,
+    pub(crate) tile_size: usize,
+    pub(crate) upper: NodeLayout,
+    pub(crate) lower: NodeLayout,
     /// Leaf: where its value array starts and its size; quantised leaves
     /// start their codes at 96, FpN leaves vary in size.
-    pub(super) leaf_values: usize,
-    pub(super) leaf_size: usize,
+    pub(crate) leaf_values: usize,
+    pub(crate) leaf_size: usize,
 }
 
 /// The leaf header: origin (3 × i32), bbox extent (3 × u8), flags (u8) and
 /// the 64-byte value mask.
-pub(super) const LEAF_MASK: usize = 16;
-pub(super) const LEAF_HEADER: usize = 80;
+pub(crate) const LEAF_MASK: usize = 16;
+pub(crate) const LEAF_HEADER: usize = 80;
 /// Quantised leaves: minimum and quantum (f32), four u16 statistics, then
 /// the codes.
-pub(super) const FP_MINIMUM: usize = 80;
-pub(super) const FP_QUANTUM: usize = 84;
-pub(super) const FP_CODES: usize = 96;
+pub(crate) const FP_MINIMUM: usize = 80;
+pub(crate) const FP_QUANTUM: usize = 84;
+pub(crate) const FP_CODES: usize = 96;
 
 impl Layout {
-    pub(super) fn new(kind: ValueKind) -> Layout {
+    pub(crate) fn new(kind: ValueKind) -> Layout {
         let elem = kind.element_size();
         // Quantised leaves hold floats; their nodes' values are floats.
         let value = elem * kind.components();

@@ -43,7 +43,7 @@ mod checksum;
 mod codec;
 mod gridbuf;
 mod griddata;
-mod layout;
+pub(crate) mod layout;
 mod leaf;
 mod read;
 mod segment;
