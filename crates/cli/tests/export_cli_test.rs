@@ -65,24 +65,13 @@ fn export_refuses_bad_options() {
     let s = scene.to_str().unwrap();
     let out = tmp("export_bad.vdb");
     let o = out.to_str().unwrap();
-    run_fails_naming(
-        fogbank().args(["export", s, "-o", o, "--codec", "lzma"]),
-        "--codec lzma",
-    );
-    run_fails_naming(
-        fogbank().args(["export", s, "-o", o, "--grid", "vel"]),
-        "--grid vel",
-    );
-    run_fails_naming(
-        fogbank().args(["export", s, "-o", o, "--quantise", "fp8"]),
-        "quantisation",
-    );
-    run_fails_naming(
-        fogbank().args(["export", s, "-o", o, "--medium", "2"]),
-        "has 1 media",
-    );
-    run_fails_naming(
-        fogbank().args(["export", s, "-o", o, "--grid", "temperature"]),
-        "temperature",
-    );
+    for (option, needle) in [
+        (["--codec", "lzma"], "--codec lzma"),
+        (["--grid", "vel"], "--grid vel"),
+        (["--quantise", "fp8"], "quantisation"),
+        (["--medium", "2"], "has 1 media"),
+        (["--grid", "temperature"], "temperature"),
+    ] {
+        run_fails_naming(fogbank().args(["export", s, "-o", o]).args(option), needle);
+    }
 }

@@ -4,11 +4,15 @@
 //! into the file's map), and a procedural medium exports the voxels it
 //! renders.
 
+#[path = "support/same_image.rs"]
+mod same_image;
+
 use fogbank_math::sample_data;
 use fogbank_render::export::{export_desc, medium_grid, ExportGrid, ExportOptions};
-use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene, SceneDesc};
+use fogbank_render::{parse_scene, SceneDesc};
 use fogbank_volume::loaders::{nanovdb, vdb};
 use fogbank_volume::writers::{Codec, NanoValue};
+use same_image::{assert_same_image, transmittance_image};
 use std::path::{Path, PathBuf};
 
 const CAMERA: &str = "[camera]\nfrom = [6.0, 4.0, 14.0]\nto = [6.0, 2.5, 4.5]\nfov = 40.0\nwidth = 16\nheight = 16\n";
@@ -22,25 +26,6 @@ fn scene(density: &str, extra: &str) -> SceneDesc {
     parse_scene(&text, "test", &[]).unwrap()
 }
 
-/// The transmittance image (16×16, 4 spp, a fixed seed).
-fn image(desc: SceneDesc) -> Vec<[f32; 3]> {
-    let scene = Scene::build(desc, Path::new(".")).unwrap();
-    let opts = RenderOptions {
-        spp: 4,
-        seed: 7,
-        time_budget: None,
-    };
-    render(&scene, &opts, &Progress::default()).film.mean()
-}
-
-fn assert_same_image(a: &[[f32; 3]], b: &[[f32; 3]], what: &str) {
-    let bits =
-        |img: &[[f32; 3]]| -> Vec<u32> { img.iter().flatten().map(|v| v.to_bits()).collect() };
-    assert!(bits(a) == bits(b), "{what}: images differ");
-    let lo = a.iter().flatten().fold(f32::MAX, |m, &v| m.min(v));
-    assert!(lo < 0.9, "{what}: the medium is not in view (min {lo})");
-}
-
 fn out_path(name: &str) -> PathBuf {
     std::env::temp_dir().join(format!("fogbank-export-{}-{name}", std::process::id()))
 }
@@ -51,7 +36,7 @@ fn exported_medium_renders_as_the_original() {
     let placement =
         "to_world = { translate = [0.25, -0.5, 0.125], rotate = [0.0, 1.0, 0.0, 10.0] }";
     let original = scene(&format!("{{ vdb = \"{}\" }}", dragon.display()), placement);
-    let want = image(original.clone());
+    let want = transmittance_image(original.clone());
     for (file, key, codec) in [
         ("dragon.vdb", "vdb", Codec::Zip),
         ("dragon.nvdb", "nvdb", Codec::Blosc),
@@ -64,7 +49,7 @@ fn exported_medium_renders_as_the_original() {
         let done = export_desc(&original, Path::new("."), &out, &options).unwrap();
         assert_eq!(done.grid, "density");
         let back = scene(&format!("{{ {key} = \"{}\" }}", out.display()), "");
-        let got = image(back);
+        let got = transmittance_image(back);
         std::fs::remove_file(&out).ok();
         assert_same_image(&got, &want, file);
     }

@@ -5,9 +5,13 @@
 //! when it is installed (skipped with a message otherwise, unless
 //! `FOGBANK_REQUIRE_NANOVDB=1`).
 
+#[path = "support/same_image.rs"]
+mod same_image;
+
 use fogbank_math::testdata::tool_on_path;
 use fogbank_math::{sample_data, Vec3};
-use fogbank_render::{parse_scene, render, Progress, RenderOptions, Scene};
+use fogbank_render::{parse_scene, Scene};
+use same_image::{assert_same_image, transmittance_image};
 use std::path::{Path, PathBuf};
 
 fn fixtures() -> PathBuf {
@@ -22,23 +26,7 @@ fn image(density: &str, from: [f32; 3], to: [f32; 3]) -> Vec<[f32; 3]> {
          [[media]]\ndensity = {density}\nsigma_t_scale = 8.0\n\
          [integrator]\ntype = \"transmittance\"\nestimator = \"ratio_tracking\"\n"
     );
-    let desc = parse_scene(&text, "test", &[]).unwrap();
-    let scene = Scene::build(desc, Path::new(".")).unwrap();
-    let opts = RenderOptions {
-        spp: 4,
-        seed: 7,
-        time_budget: None,
-    };
-    render(&scene, &opts, &Progress::default()).film.mean()
-}
-
-/// Bit-identical images, and not a blank one.
-fn assert_same_image(a: &[[f32; 3]], b: &[[f32; 3]], what: &str) {
-    let bits =
-        |img: &[[f32; 3]]| -> Vec<u32> { img.iter().flatten().map(|v| v.to_bits()).collect() };
-    assert!(bits(a) == bits(b), "{what}: images differ");
-    let lo = a.iter().flatten().fold(f32::MAX, |m, &v| m.min(v));
-    assert!(lo < 0.9, "{what}: the medium is not in view (min {lo})");
+    transmittance_image(parse_scene(&text, "test", &[]).unwrap())
 }
 
 #[test]

@@ -49,15 +49,6 @@ fn manifest() -> Value {
     serde_json::from_str(&text).unwrap()
 }
 
-fn class_name(c: GridClass) -> &'static str {
-    match c {
-        GridClass::FogVolume => "fog volume",
-        GridClass::LevelSet => "level set",
-        GridClass::Staggered => "staggered",
-        GridClass::Unknown => "unknown",
-    }
-}
-
 fn f(v: &Value) -> f64 {
     v.as_f64().unwrap()
 }
@@ -71,7 +62,7 @@ fn check_grid(file: &str, grid: &VdbGrid, r: &Value) {
     let ctx = format!("{file} / {}", r["name"]);
     assert_eq!(grid.name, r["name"].as_str().unwrap(), "{ctx}");
     assert_eq!(
-        class_name(grid.grid_class),
+        grid.grid_class.name(),
         r["grid_class"].as_str().unwrap(),
         "{ctx}"
     );
@@ -140,7 +131,7 @@ fn check_entry(entry: &Value, path: &Path) {
         .iter()
         .map(|d| {
             let plain = d.name.split('[').next().unwrap().to_string();
-            (plain, d.value_type.clone(), class_name(d.grid_class))
+            (plain, d.value_type.clone(), d.grid_class.name())
         })
         .collect();
     let mut expected: Vec<(String, String, &str)> = want

@@ -114,18 +114,20 @@ fn temp_dir(name: &str) -> PathBuf {
     dir
 }
 
+/// `g` written with `o` into `dir`, under a name that says how.
+fn written(dir: &Path, name: &str, g: &VdbGrid, o: VdbOptions) -> PathBuf {
+    let (half, codec, mask) = (o.half, o.codec.name(), o.active_mask);
+    let path = dir.join(format!("{name}-{half}-{codec}-{mask}.vdb"));
+    writers::vdb::write(&path, std::slice::from_ref(g), o).unwrap();
+    path
+}
+
 #[test]
 fn written_vdb_reads_back_voxel_for_voxel() {
     let dir = temp_dir("fogbank_vdb_write");
     for (name, g) in sources() {
         for o in all_options() {
-            let path = dir.join(format!(
-                "{name}-{}-{}-{}.vdb",
-                o.half,
-                o.codec.name(),
-                o.active_mask
-            ));
-            writers::vdb::write(&path, std::slice::from_ref(&g), o).unwrap();
+            let path = written(&dir, &name, &g, o);
             let back = vdb::read_grid(&path, None).unwrap();
             let want = rounded(&g, o.half);
             let ctx = path.display().to_string();
@@ -204,13 +206,7 @@ fn written_vdb_reads_in_openvdb() {
     let dir = temp_dir("fogbank_vdb_openvdb");
     for (name, g) in sources() {
         for o in all_options() {
-            let path = dir.join(format!(
-                "{name}-{}-{}-{}.vdb",
-                o.half,
-                o.codec.name(),
-                o.active_mask
-            ));
-            writers::vdb::write(&path, std::slice::from_ref(&g), o).unwrap();
+            let path = written(&dir, &name, &g, o);
             check_with_openvdb(&py, &path, &rounded(&g, o.half));
         }
     }

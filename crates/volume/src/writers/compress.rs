@@ -11,15 +11,12 @@
 //! a block, the whole frame is written as a plain copy instead ("memcpyed"
 //! flag, header then the bytes), which every Blosc1 reader accepts.
 
+use crate::loaders::vdb::blosc::{FLAG_DONT_SPLIT, FLAG_MEMCPYED, FLAG_SHUFFLE, HEADER_LEN};
 use std::io::Write;
 
-const HEADER_LEN: usize = 16;
 /// c-blosc's frame format and LZ4's codec format versions.
 const FORMAT_VERSION: u8 = 2;
 const LZ4_FORMAT_VERSION: u8 = 1;
-const FLAG_SHUFFLE: u8 = 0x1;
-const FLAG_MEMCPYED: u8 = 0x2;
-const FLAG_DONT_SPLIT: u8 = 0x10;
 /// The codec number sits in the top three flag bits; LZ4 is 1.
 const FLAG_LZ4: u8 = 1 << 5;
 /// c-blosc's block sizes for LZ4 at high levels are of this order; small

@@ -34,27 +34,18 @@ use super::bytes::{put_at, Put};
 use super::compress::{blosc, zlib};
 use super::options::Codec;
 use super::tree::{child_origin, Internal, RootEntry, TileValue, Tree};
-use crate::loaders::vdb::{GridClass, VdbGrid, VdbLeaf};
+use crate::loaders::vdb::format::{COMPRESS_ACTIVE_MASK, COMPRESS_BLOSC, COMPRESS_ZIP};
+use crate::loaders::vdb::format::{FLOAT_TREE, HALF_SUFFIX, MAGIC, NAME_SEP};
+use crate::loaders::vdb::format::{
+    NO_MASK_AND_ALL_VALS, NO_MASK_AND_MINUS_BG, NO_MASK_OR_INACTIVE_VALS,
+};
+use crate::loaders::vdb::{VdbGrid, VdbLeaf};
 use crate::{Result, VolumeError};
 
-const MAGIC: [u8; 8] = [0x20, 0x42, 0x44, 0x56, 0, 0, 0, 0];
 const FILE_VERSION: u32 = super::bricks::VDB_FILE_VERSION;
 /// The OpenVDB library version the file claims to come from (10.0, whose
 /// file format is 224).
 const LIBRARY_VERSION: [u32; 2] = [10, 0];
-const FLOAT_TREE: &str = "Tree_float_5_4_3";
-const HALF_SUFFIX: &str = "_HalfFloat";
-/// Separates a duplicated grid name from its index in unique names.
-const NAME_SEP: char = '\x1e';
-const COMPRESS_ZIP: u32 = 0x1;
-const COMPRESS_BLOSC: u32 = 0x4;
-const COMPRESS_ACTIVE_MASK: u32 = 0x2;
-/// Per-node indicators (`io/Compression.h`): only the active values
-/// stored, the inactive ones all the background, or all its negation; or
-/// every value stored.
-const NO_MASK_OR_INACTIVE_VALS: u8 = 0;
-const NO_MASK_AND_MINUS_BG: u8 = 1;
-const NO_MASK_AND_ALL_VALS: u8 = 6;
 
 /// How float values are stored and compressed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -145,15 +136,6 @@ fn uuid(grids: &[VdbGrid]) -> String {
     )
 }
 
-fn class_name(c: GridClass) -> &'static str {
-    match c {
-        GridClass::FogVolume => "fog volume",
-        GridClass::LevelSet => "level set",
-        GridClass::Staggered => "staggered",
-        GridClass::Unknown => "unknown",
-    }
-}
-
 fn write_grid(out: &mut Vec<u8>, g: &VdbGrid, name: &str, options: VdbOptions) -> Result<()> {
     let tree = Tree::build(g)?;
     let map = transform(g)?;
@@ -180,10 +162,7 @@ fn write_grid(out: &mut Vec<u8>, g: &VdbGrid, name: &str, options: VdbOptions) -
     // metadata, not from the descriptor) and, for half grids, the flag
     // without which OpenVDB reads the node values as full floats.
     out.u32(2 + options.half as u32);
-    for (key, value) in [
-        ("class", class_name(g.grid_class)),
-        ("name", g.name.as_str()),
-    ] {
+    for (key, value) in [("class", g.grid_class.name()), ("name", g.name.as_str())] {
         out.string(key);
         out.string("string");
         out.string(value);

@@ -11,12 +11,14 @@
 
 use std::fmt;
 
-const HEADER_LEN: usize = 16;
-const FLAG_SHUFFLE: u8 = 0x1;
-const FLAG_MEMCPYED: u8 = 0x2;
+// The frame format's constants, shared with the encoder
+// (`crate::writers::compress`).
+pub(crate) const HEADER_LEN: usize = 16;
+pub(crate) const FLAG_SHUFFLE: u8 = 0x1;
+pub(crate) const FLAG_MEMCPYED: u8 = 0x2;
 const FLAG_BITSHUFFLE: u8 = 0x4;
 const FLAG_RESERVED: u8 = 0x8;
-const FLAG_DONT_SPLIT: u8 = 0x10;
+pub(crate) const FLAG_DONT_SPLIT: u8 = 0x10;
 /// c-blosc only splits blocks whose type size is at most this...
 const MAX_SPLITS: usize = 16;
 /// ...and that hold at least this many elements; older writers did not

@@ -2,6 +2,8 @@
 //! flattened float grid with its summaries; and the parsed file header and
 //! grid descriptors that the header parser and the tree reader share.
 
+use super::format::{FLOAT_TREE, VEC3S_TREE};
+
 /// How OpenVDB classifies a grid; renderers treat fog volumes as density and
 /// level sets as signed distance.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -13,6 +15,16 @@ pub enum GridClass {
 }
 
 impl GridClass {
+    /// The `class` metadata value OpenVDB writes for it.
+    pub fn name(self) -> &'static str {
+        match self {
+            GridClass::FogVolume => "fog volume",
+            GridClass::LevelSet => "level set",
+            GridClass::Staggered => "staggered",
+            GridClass::Unknown => "unknown",
+        }
+    }
+
     pub(super) fn from_meta(s: &str) -> GridClass {
         match s {
             "fog volume" => GridClass::FogVolume,
@@ -62,11 +74,6 @@ pub(super) struct GridDesc {
     pub(super) grid_pos: usize,
     pub(super) end_pos: usize,
 }
-
-/// Tree type names of the grids the reader reads (5-4-3 trees of `float`
-/// and of `vec3s` values).
-pub(super) const FLOAT_TREE: &str = "Tree_float_5_4_3";
-pub(super) const VEC3S_TREE: &str = "Tree_vec3s_5_4_3";
 
 impl GridDesc {
     /// Floats per value for the trees the reader can read: 1 for `float`,

@@ -3,7 +3,8 @@
 
 use std::path::Path;
 
-use super::grid::{FileHeader, GridDesc, FLOAT_TREE};
+use super::format::{FLOAT_TREE, HALF_SUFFIX, MAGIC, NAME_SEP};
+use super::grid::{FileHeader, GridDesc};
 use super::metadata::{read_grid_head, read_metamap};
 use super::reader::{grid_context, Reader};
 use super::transform::read_transform;
@@ -16,10 +17,6 @@ const MIN_FILE_VERSION: u32 = 222;
 /// The newest format we know (OpenVDB 12 added native half grids, which we
 /// list as unsupported but otherwise read like 224).
 const MAX_FILE_VERSION: u32 = 225;
-
-const MAGIC: [u8; 8] = [0x20, 0x42, 0x44, 0x56, 0, 0, 0, 0];
-const HALF_SUFFIX: &str = "_HalfFloat";
-pub(super) const NAME_SEP: char = '\x1e';
 
 /// What precedes the grid descriptors.
 pub(super) struct Preamble {

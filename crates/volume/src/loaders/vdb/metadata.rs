@@ -1,12 +1,9 @@
 //! Metadata maps and the grid header: compression flags and grid class.
 
+use super::format::{COMPRESS_ACTIVE_MASK, COMPRESS_BLOSC, COMPRESS_ZIP};
 use super::grid::GridClass;
 use super::reader::Reader;
 use crate::error::Result;
-
-pub(super) const COMPRESS_ZIP: u32 = 0x1;
-pub(super) const COMPRESS_ACTIVE_MASK: u32 = 0x2;
-pub(super) const COMPRESS_BLOSC: u32 = 0x4;
 
 /// Reads a metadata map and returns `(name, type, raw value)` entries.
 pub(super) fn read_metamap<'a>(r: &mut Reader<'a>) -> Result<Vec<(String, String, &'a [u8])>> {

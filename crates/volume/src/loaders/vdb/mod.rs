@@ -25,6 +25,7 @@
 //! | delayed-load metadata, multi-pass (point) grids | ignored / not supported |
 
 pub mod blosc;
+pub(crate) mod format;
 mod grid;
 mod header;
 mod metadata;

@@ -3,9 +3,8 @@
 
 use std::path::Path;
 
+use super::format::{FLOAT_TREE, NAME_SEP, VEC3S_TREE};
 use super::grid::{FileHeader, GridDesc, VdbGrid, VdbGridDescriptor};
-use super::grid::{FLOAT_TREE, VEC3S_TREE};
-use super::header::NAME_SEP;
 use super::header::{check_offsets, parse_descriptor, parse_header, parse_preamble};
 use super::metadata::read_grid_head;
 use super::reader::{grid_context, Reader};

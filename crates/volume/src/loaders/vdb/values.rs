@@ -2,8 +2,11 @@
 //! chunks, for values of one float (`float` grids) or three (`vec3s`).
 
 use super::blosc;
+use super::format::{COMPRESS_ACTIVE_MASK, COMPRESS_BLOSC, COMPRESS_ZIP};
+use super::format::{MASK_AND_NO_INACTIVE_VALS, MASK_AND_ONE_INACTIVE_VAL};
+use super::format::{MASK_AND_TWO_INACTIVE_VALS, NO_MASK_AND_ALL_VALS, NO_MASK_AND_MINUS_BG};
+use super::format::{NO_MASK_AND_ONE_INACTIVE_VAL, NO_MASK_OR_INACTIVE_VALS};
 use super::grid::bit_on;
-use super::metadata::{COMPRESS_ACTIVE_MASK, COMPRESS_BLOSC, COMPRESS_ZIP};
 use super::reader::Reader;
 use crate::error::Result;
 
@@ -15,16 +18,6 @@ pub(super) struct Codec<const K: usize> {
     pub(super) half: bool,
     pub(super) background: [f32; K],
 }
-
-/// Per-node indicator of how inactive values were stored (OpenVDB's
-/// `io::Compression.h` enum, in file order).
-const NO_MASK_OR_INACTIVE_VALS: u8 = 0;
-const NO_MASK_AND_MINUS_BG: u8 = 1;
-const NO_MASK_AND_ONE_INACTIVE_VAL: u8 = 2;
-const MASK_AND_NO_INACTIVE_VALS: u8 = 3;
-const MASK_AND_ONE_INACTIVE_VAL: u8 = 4;
-const MASK_AND_TWO_INACTIVE_VALS: u8 = 5;
-const NO_MASK_AND_ALL_VALS: u8 = 6;
 
 /// Fills `out` (one value of `K` floats, interleaved, per bit of
 /// `value_mask`) from a node buffer that may hold only the active values, in
