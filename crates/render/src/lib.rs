@@ -10,7 +10,8 @@
 //! `animation` (keyframes, per-frame files) → `scene` (description, world
 //! and integrator; scene files of every format) → `render` (the progressive
 //! loop) → `partial` (a shard's `.fbpart`) → `merge` (shards added up bit
-//! for bit); `desc` re-exports every description.
+//! for bit); `export` (a built medium's grids written as OpenVDB or
+//! NanoVDB) stands beside `render`; `desc` re-exports every description.
 
 pub mod animation;
 pub mod desc;

@@ -16,7 +16,8 @@
 //! (a medium's extinction: data, scale, filter, placement, statistics) and `occupied`
 //! (empty-space skipping along a ray) → `loaders` (volume files: OpenVDB, NanoVDB, `.vol`, NRRD,
 //! NIfTI, raw) and `mip` (conservative mips for regular tracking, seed 002 §4.1) →
-//! `voxel_array` (voxels held in memory by the caller, such as a numpy array).
+//! `voxel_array` (voxels held in memory by the caller, such as a numpy array) and
+//! `writers` (OpenVDB and NanoVDB files written from a brick grid).
 
 pub mod access;
 pub mod analytic;
