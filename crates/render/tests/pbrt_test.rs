@@ -327,3 +327,33 @@ fn object_instances_are_flattened() {
     assert_eq!(d.shapes.len(), 2);
     assert_eq!(d.shapes[1].to_world.matrix.unwrap()[0][3], 2.0);
 }
+
+#[test]
+fn uniform_grid_medium_is_an_in_memory_array_over_its_box() {
+    let head = "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 25\nFilm \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 8\nWorldBegin\n";
+    let text = format!(
+        "{head}AttributeBegin\nTranslate 0 0 -1\nMakeNamedMedium \"g\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"integer ny\" 1 \"integer nz\" 1 \"float density\" [0 1] \"point3 p0\" [-1 -1 -1] \"point3 p1\" [1 1 1] \"rgb sigma_a\" [1 1 1] \"rgb sigma_s\" [0 0 0] \"float scale\" 3\nAttributeEnd\nAttributeBegin\nMediumInterface \"g\" \"\"\nMaterial \"interface\"\nShape \"sphere\"\nAttributeEnd\nLightSource \"infinite\"\n"
+    );
+    let d = desc(&text);
+    let m = &d.media[0];
+    assert!(m.density.array.as_deref().unwrap().starts_with("array:"));
+    assert_eq!((m.sigma_t_scale.max(), m.albedo), (3.0, Some([0.0; 3])));
+    assert_eq!(m.to_world.matrix.unwrap()[2][3], -1.0);
+    // Read again (a reload): the same array.
+    assert_eq!(desc(&text).media[0].density, m.density);
+    // It builds and renders: the grid's dense half (+x, on the image's
+    // left) absorbs more of the environment than its empty half.
+    let scene = Scene::build(d, Path::new(".")).unwrap();
+    let img = render(&scene, &RenderOptions::new(64, 3), &Progress::default())
+        .film
+        .mean();
+    let row = |x: usize| img[4 * 8 + x][0];
+    assert!(row(1) < 0.5 && row(6) > 0.9, "{:?}", (row(1), row(6)));
+    let e = error(&format!(
+        "{HEAD}MakeNamedMedium \"g\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" [1 1 1]\nMediumInterface \"g\" \"\"\nShape \"sphere\"\n"
+    ));
+    assert!(
+        e.contains("t.pbrt:5:") && e.contains("3 density values for 2×1×1"),
+        "{e}"
+    );
+}

@@ -16,10 +16,16 @@
 //!   index coordinates, fogbank at cell centres with the half-voxel shift
 //!   in the grid's transform, so both place each voxel's value at the same
 //!   point. `temperaturename` ("temperature"), when the file has that grid,
-//!   gives blackbody emission: `Lescale`·B((T − `temperatureoffset` (or
+//!   gives blackbody emission: `Lescale`·B((T − `temperatureoffset` (else
 //!   `temperaturecutoff`))·`temperaturescale`), B normalised to peak 1,
 //!   zero at or below 100 K, as fogbank's `emission.temperature` does.
-//! - `uniformgrid`, `rgbgrid` and `cloud` are refused (fogbank has no
+//! - `uniformgrid`: `density` (nx·ny·nz values, x fastest) over the box
+//!   `p0`–`p1` (0–1) under the current transform, cell-centred as pbrt
+//!   looks it up, as an in-memory array ([`super::grids`]); the medium
+//!   exists in that box. Near the box's faces pbrt interpolates towards
+//!   zero outside, fogbank towards the edge value (within half a voxel).
+//!   Its emission (`Le`, `Lescale`, `temperature`) is refused.
+//! - `rgbgrid` and `cloud` are refused (fogbank has neither chromatic
 //!   inline grids nor pbrt's cloud noise).
 
 use super::cursor::resolve;
@@ -91,7 +97,10 @@ pub fn medium(
     match e.ty.as_str() {
         "homogeneous" => homogeneous(ps, bounds, &mut t, warnings, &what)?,
         "nanovdb" => nanovdb(m, top_dir, &mut t)?,
-        other @ ("uniformgrid" | "rgbgrid" | "cloud") => {
+        "uniformgrid" => {
+            uniform_grid(m, &mut t).map_err(|err| e.loc.error(format!("{what}: {err}")))?
+        }
+        other @ ("rgbgrid" | "cloud") => {
             return Err(e.loc.error(format!(
                 "{what}: the \"{other}\" medium is not supported yet (homogeneous, nanovdb)"
             )))
@@ -141,6 +150,59 @@ fn homogeneous(
     Ok(())
 }
 
+fn uniform_grid(m: &Placed, t: &mut Table) -> Result<(), String> {
+    let ps = &m.entity.params;
+    for k in ["Le", "Lescale", "temperature"] {
+        if ps.has(k) {
+            return Err(format!(
+                "emission (\"{k}\") of a uniform grid is not supported"
+            ));
+        }
+    }
+    let mut n = [1u32; 3];
+    for (i, k) in ["nx", "ny", "nz"].iter().enumerate() {
+        let v = ps.int(k, 1).map_err(|e| e.0)?;
+        n[i] = u32::try_from(v)
+            .ok()
+            .filter(|&v| (1..=4096).contains(&v))
+            .ok_or(format!("{k} = {v} outside 1..=4096"))?;
+    }
+    let d = ps
+        .nums("float", "density")
+        .ok_or("needs \"float density\"")?;
+    let count = n.iter().map(|&v| v as u64).product::<u64>();
+    if d.len() as u64 != count {
+        return Err(format!(
+            "{} density values for {}×{}×{}",
+            d.len(),
+            n[0],
+            n[1],
+            n[2]
+        ));
+    }
+    let p0 = ps
+        .vec3("p0")
+        .map_err(|e| e.0)?
+        .map(DVec3::from)
+        .unwrap_or(DVec3::ZERO);
+    let p1 = ps
+        .vec3("p1")
+        .map_err(|e| e.0)?
+        .map(DVec3::from)
+        .unwrap_or(DVec3::ONE);
+    if !(p1 - p0).cmpgt(DVec3::ZERO).all() {
+        return Err("needs p0 < p1 on every axis".into());
+    }
+    let source = format!("{} uniformgrid", m.entity.loc);
+    let name = super::grids::register(n, d, p0, p1, &source)?;
+    let mut f = Table::new();
+    f.insert("array".into(), name.into());
+    t.insert("density".into(), Value::Table(f));
+    t.insert("to_world".into(), Value::Table(matrix_table(m.ctm)));
+    t.insert("filter".into(), "trilinear".into());
+    Ok(())
+}
+
 fn nanovdb(m: &Placed, top_dir: &Path, t: &mut Table) -> Result<(), SceneError> {
     let e = &m.entity;
     let ps = &e.params;
@@ -162,14 +224,10 @@ fn nanovdb(m: &Placed, top_dir: &Path, t: &mut Table) -> Result<(), SceneError> 
     t.insert("to_world".into(), Value::Table(matrix_table(m.ctm)));
     t.insert("filter".into(), "trilinear".into());
     let temp = ps.string("temperaturename")?.unwrap_or("temperature");
-    let le_scale = ps
-        .lookup("Lescale", &["float"])
-        .or_else(|| ps.lookup("LeScale", &["float"]));
-    let le_scale = le_scale.and_then(|p| p.values_one()).unwrap_or(1.0);
-    let offset = match ps.one("float", "temperatureoffset")? {
-        Some(o) => o,
-        None => ps.float("temperaturecutoff", 0.0)?,
-    };
+    let le_scale = ps.float("Lescale", 1.0)?;
+    // pbrt reads both; `temperatureoffset` wins.
+    let cutoff = ps.float("temperaturecutoff", 0.0)?;
+    let offset = ps.float("temperatureoffset", cutoff)?;
     let tscale = ps.float("temperaturescale", 1.0)?;
     if grids.iter().any(|g| g.name == temp) {
         let mut em = Table::new();

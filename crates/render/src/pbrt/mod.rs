@@ -27,13 +27,14 @@
 //! `coateddiffuse`, unbounded homogeneous media); anything fogbank cannot
 //! express is refused with its file and line: textures, `Attribute`, motion
 //! (`ActiveTransform`), lenses, spectral sensors, image and portal infinite
-//! lights, goniometric and projection lights, `uniformgrid`, `rgbgrid`
-//! and `cloud` media, partial quadrics, inline meshes other than a single
+//! lights, goniometric and projection lights, `rgbgrid` and `cloud`
+//! media, emitting `uniformgrid`s, partial quadrics, inline meshes other than a single
 //! parallelogram, and integrators other than `volpath` (and `path` without
 //! media).
 
 pub mod convert;
 pub mod cursor;
+pub mod grids;
 pub mod interpret;
 pub mod lights;
 pub mod materials;

@@ -76,14 +76,6 @@ impl Param {
         }
     }
 
-    /// The only number, if there is exactly one.
-    pub fn values_one(&self) -> Option<f64> {
-        match self.nums() {
-            [x] => Some(*x),
-            _ => None,
-        }
-    }
-
     pub fn error(&self, msg: impl std::fmt::Display) -> SceneError {
         self.loc
             .error(format!("parameter \"{} {}\": {msg}", self.ty, self.name))
