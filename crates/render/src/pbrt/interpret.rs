@@ -153,10 +153,22 @@ impl Interpreter {
         Ok(list)
     }
 
-    /// A statement's type string and parameters.
-    fn entity(&mut self, loc: &Loc, what: &str) -> Result<Entity, SceneError> {
+    /// `list` with the `Attribute` defaults of `target` it does not give.
+    fn with_defaults(&self, target: &str, mut list: ParamList) -> ParamList {
+        for (t, p) in &self.attrs.defaults {
+            if t == target && !list.has(&p.name) {
+                list.params.push(p.clone());
+            }
+        }
+        list
+    }
+
+    /// A statement's type string and parameters, with the `Attribute`
+    /// defaults of `target` (`shape`, `light`, `material`; "" for none).
+    fn entity(&mut self, loc: &Loc, what: &str, target: &str) -> Result<Entity, SceneError> {
         let (ty, tloc) = self.cur.string(loc, what)?;
         let params = self.params()?;
+        let params = self.with_defaults(target, params);
         Ok(Entity {
             ty,
             params,
@@ -256,11 +268,21 @@ impl Interpreter {
                 self.attrs.outside = outside;
             }
             "Attribute" => {
-                let e = self.entity(loc, "an attribute target")?;
-                return Err(e.loc.error(format!(
-                    "Attribute \"{}\": default parameters per target are not supported; give them on each statement",
-                    e.ty
-                )));
+                let e = self.entity(loc, "an attribute target", "")?;
+                if !["shape", "light", "material", "medium"].contains(&e.ty.as_str()) {
+                    return Err(e.loc.error(format!(
+                        "Attribute \"{}\": not a target (shape, light, material, medium)",
+                        e.ty
+                    )));
+                }
+                for p in e.params.params {
+                    // As in pbrt, a default nobody uses is no error.
+                    p.mark_used();
+                    self.attrs
+                        .defaults
+                        .retain(|(t, q)| !(t == &e.ty && q.name == p.name));
+                    self.attrs.defaults.push((e.ty.clone(), p));
+                }
             }
             _ => return Ok(false),
         }
@@ -296,7 +318,7 @@ impl Interpreter {
                 return Ok(true);
             }
             "Accelerator" => {
-                let e = self.entity(loc, "an accelerator type")?;
+                let e = self.entity(loc, "an accelerator type", "")?;
                 self.out.warnings.warn(format!(
                     "{}: Accelerator \"{}\" is ignored (fogbank builds its own BVH)",
                     e.loc, e.ty
@@ -330,7 +352,7 @@ impl Interpreter {
         if self.in_world || self.out.camera.is_some() {
             return Err(loc.error("Camera: one, before WorldBegin"));
         }
-        let e = self.entity(loc, "a camera type")?;
+        let e = self.entity(loc, "a camera type", "")?;
         let world_from_camera = self.attrs.ctm.inverse();
         if !world_from_camera.is_finite() {
             return Err(loc.error("Camera: the current transform is singular"));
@@ -357,6 +379,7 @@ impl Interpreter {
             "MakeNamedMedium" => {
                 let (n, nloc) = self.cur.string(loc, "a medium name")?;
                 let params = self.params()?;
+                let params = self.with_defaults("medium", params);
                 let ty = params
                     .string("type")?
                     .ok_or_else(|| {
@@ -389,13 +412,14 @@ impl Interpreter {
     fn scene_statement(&mut self, name: &str, loc: &Loc) -> Result<(), SceneError> {
         match name {
             "Material" => {
-                let e = self.entity(loc, "a material type")?;
+                let e = self.entity(loc, "a material type", "material")?;
                 self.out.materials.push(e);
                 self.attrs.material = MaterialRef::Index(self.out.materials.len());
             }
             "MakeNamedMaterial" => {
                 let (n, nloc) = self.cur.string(loc, "a material name")?;
                 let params = self.params()?;
+                let params = self.with_defaults("material", params);
                 let ty = params
                     .string("type")?
                     .ok_or_else(|| {
@@ -419,7 +443,7 @@ impl Interpreter {
                 self.attrs.material = MaterialRef::Named(n, nloc);
             }
             "LightSource" => {
-                let entity = self.entity(loc, "a light type")?;
+                let entity = self.entity(loc, "a light type", "light")?;
                 if self.object.is_some() {
                     return Err(loc.error("LightSource inside ObjectBegin/End"));
                 }
@@ -431,7 +455,7 @@ impl Interpreter {
                 });
             }
             "AreaLightSource" => {
-                let e = self.entity(loc, "an area light type")?;
+                let e = self.entity(loc, "an area light type", "light")?;
                 self.attrs.area_light = Some(Rc::new((e.ty, e.params, e.loc)));
             }
             "Shape" => self.shape(loc)?,
@@ -449,7 +473,7 @@ impl Interpreter {
     }
 
     fn shape(&mut self, loc: &Loc) -> Result<(), SceneError> {
-        let e = self.entity(loc, "a shape type")?;
+        let e = self.entity(loc, "a shape type", "shape")?;
         let s = ShapeEntity {
             entity: Rc::new(e),
             ctm: self.attrs.ctm,

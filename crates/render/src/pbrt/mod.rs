@@ -25,7 +25,7 @@
 //!
 //! Approximations print a notice once (the pixel filter, the sampler,
 //! `coateddiffuse`, unbounded homogeneous media); anything fogbank cannot
-//! express is refused with its file and line: textures, `Attribute`, motion
+//! express is refused with its file and line: textures, motion
 //! (`ActiveTransform`), lenses, spectral sensors, image and portal infinite
 //! lights, goniometric and projection lights, `rgbgrid` and `cloud`
 //! media, emitting `uniformgrid`s, partial quadrics, inline meshes other than a single

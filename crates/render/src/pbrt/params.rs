@@ -76,6 +76,11 @@ impl Param {
         }
     }
 
+    /// Marks this parameter used (one that may go unused).
+    pub fn mark_used(&self) {
+        self.used.set(true);
+    }
+
     pub fn error(&self, msg: impl std::fmt::Display) -> SceneError {
         self.loc
             .error(format!("parameter \"{} {}\": {msg}", self.ty, self.name))

@@ -1,9 +1,10 @@
 //! The graphics state pbrt-v4 keeps while reading: the current transform
 //! (each transform statement right-multiplies it), the named coordinate
 //! systems, and the attributes AttributeBegin/End save and restore
-//! (transform, orientation, material, area light, media).
+//! (transform, orientation, material, area light, media, `Attribute`
+//! defaults).
 
-use super::params::ParamList;
+use super::params::{Param, ParamList};
 use super::tokenizer::Loc;
 use glam::{DMat4, DVec3};
 use std::rc::Rc;
@@ -27,6 +28,8 @@ pub struct Attributes {
     /// `MediumInterface "inside" "outside"` ("" is vacuum).
     pub inside: String,
     pub outside: String,
+    /// `Attribute "target"` defaults: (target, parameter).
+    pub defaults: Vec<(String, Param)>,
 }
 
 impl Default for Attributes {
@@ -40,6 +43,7 @@ impl Default for Attributes {
             area_light: None,
             inside: String::new(),
             outside: String::new(),
+            defaults: Vec::new(),
         }
     }
 }
