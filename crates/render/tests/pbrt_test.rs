@@ -418,3 +418,20 @@ fn attribute_defaults_apply_within_their_block() {
     let e = error(&format!("{HEAD}Attribute \"camera\" \"float fov\" 2\n"));
     assert!(e.contains("t.pbrt:5:") && e.contains("not a target"), "{e}");
 }
+
+/// Every prefix of a scene, and every one with a byte dropped, is read
+/// without a panic (an error or a scene).
+#[test]
+fn truncated_and_damaged_scenes_never_panic() {
+    let text = std::fs::read_to_string(fixture("offcentre.pbrt")).unwrap()
+        + "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" [0 1]\nShape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0 0 1 0] \"integer indices\" [0 1 2 0 2 3]\n";
+    let path = fixture("t.pbrt");
+    for i in 0..text.len() {
+        if !text.is_char_boundary(i) {
+            continue;
+        }
+        let _ = load_pbrt_str(&text[..i], &path);
+        let damaged = format!("{}{}", &text[..i], &text[(i + 1).min(text.len())..]);
+        let _ = load_pbrt_str(&damaged, &path);
+    }
+}
