@@ -239,6 +239,11 @@ fn nanovdb_medium_reads_its_grids_where_the_file_has_them() {
         (e.scale, e.temperature_offset, e.temperature_scale),
         (2.0, 100.0, 1000.0)
     );
+    // pbrt-v4-scenes' spelling of Lescale.
+    let d2 = desc(&format!(
+        "{HEAD}MakeNamedMedium \"hot\" \"string type\" \"nanovdb\" \"string filename\" \"{file}\" \"string temperaturename\" \"density\" \"float LeScale\" 5\nMediumInterface \"hot\" \"\"\nShape \"sphere\"\n"
+    ));
+    assert_eq!(d2.media[0].emission.as_ref().unwrap().scale, 5.0);
 }
 
 #[test]

@@ -17,7 +17,9 @@
 //!   in the grid's transform, so both place each voxel's value at the same
 //!   point. `temperaturename` ("temperature"), when the file has that grid,
 //!   gives blackbody emission: `Lescale`·B((T − `temperatureoffset` (else
-//!   `temperaturecutoff`))·`temperaturescale`), B normalised to peak 1,
+//!   `temperaturecutoff`))·`temperaturescale`), B normalised to peak 1
+//!   (`LeScale`, as pbrt-v4-scenes' explosion spells it, is read as
+//!   `Lescale` with a notice),
 //!   zero at or below 100 K, as fogbank's `emission.temperature` does.
 //! - `uniformgrid`: `density` (nx·ny·nz values, x fastest) over the box
 //!   `p0`–`p1` (0–1) under the current transform, cell-centred as pbrt
@@ -96,7 +98,7 @@ pub fn medium(
     extinction(ps, &mut t).map_err(|err| e.loc.error(format!("{what}: {}", err.0)))?;
     match e.ty.as_str() {
         "homogeneous" => homogeneous(ps, bounds, &mut t, warnings, &what)?,
-        "nanovdb" => nanovdb(m, top_dir, &mut t)?,
+        "nanovdb" => nanovdb(m, top_dir, &mut t, warnings)?,
         "uniformgrid" => {
             uniform_grid(m, &mut t).map_err(|err| e.loc.error(format!("{what}: {err}")))?
         }
@@ -203,7 +205,12 @@ fn uniform_grid(m: &Placed, t: &mut Table) -> Result<(), String> {
     Ok(())
 }
 
-fn nanovdb(m: &Placed, top_dir: &Path, t: &mut Table) -> Result<(), SceneError> {
+fn nanovdb(
+    m: &Placed,
+    top_dir: &Path,
+    t: &mut Table,
+    warnings: &mut Warnings,
+) -> Result<(), SceneError> {
     let e = &m.entity;
     let ps = &e.params;
     let file = ps
@@ -224,7 +231,15 @@ fn nanovdb(m: &Placed, top_dir: &Path, t: &mut Table) -> Result<(), SceneError> 
     t.insert("to_world".into(), Value::Table(matrix_table(m.ctm)));
     t.insert("filter".into(), "trilinear".into());
     let temp = ps.string("temperaturename")?.unwrap_or("temperature");
-    let le_scale = ps.float("Lescale", 1.0)?;
+    let le_scale = match ps.one("float", "LeScale")? {
+        // pbrt-v4-scenes' explosion spells it so; pbrt-v4 itself reads
+        // only `Lescale`.
+        Some(v) if !ps.has("Lescale") => {
+            warnings.warn(format!("{}: \"LeScale\" is read as \"Lescale\"", e.loc));
+            v
+        }
+        _ => ps.float("Lescale", 1.0)?,
+    };
     // pbrt reads both; `temperatureoffset` wins.
     let cutoff = ps.float("temperaturecutoff", 0.0)?;
     let offset = ps.float("temperatureoffset", cutoff)?;
