@@ -224,6 +224,11 @@ fn nanovdb_medium_reads_its_grids_where_the_file_has_them() {
     assert_eq!(m.density.grid.as_deref(), Some("density"));
     assert_eq!(m.sigma_t_scale.max(), 2.0);
     assert_eq!(m.albedo, Some([0.75; 3]));
+    // A constant sampled spectrum is grey, as in pbrt.
+    let d2 = desc(&format!(
+        "{HEAD}MakeNamedMedium \"s\" \"string type\" \"homogeneous\" \"spectrum sigma_a\" [300 20 830 20] \"spectrum sigma_s\" [300 160 830 160]\nMediumInterface \"s\" \"\"\nShape \"sphere\"\n"
+    ));
+    assert_eq!(format!("{:?}", d2.media[0].sigma_t_scale), "Grey(180.0)");
     assert_eq!(m.to_world.matrix.unwrap()[1][3], 2.0);
     // No "temperature" grid in this file: no emission, as pbrt.
     assert!(m.emission.is_none());

@@ -11,7 +11,8 @@
 //!   `frameaspectratio` and motion (`shutteropen`/`shutterclose`) are
 //!   refused. Other camera types are refused.
 //! - Film `rgb`: `xresolution` × `yresolution` (1280 × 720); `filename`
-//!   is accepted, the output file being the command's; `sensor` only
+//!   is accepted, the output file being the command's; `maxcomponentvalue`
+//!   (pbrt's clamp of sample values) is not applied, with a notice; `sensor` only
 //!   `cie1931`, which fogbank's linear-sRGB rendering is. Exposure, ISO,
 //!   white balance and crop windows are refused.
 //! - Sampler: any type; `pixelsamples` (16) is `render.spp`. fogbank's own
@@ -47,7 +48,7 @@ pub fn camera_and_render(
 ) -> Result<(Table, Table), SceneError> {
     let mut cam = Table::new();
     let mut render = Table::new();
-    let (w, h) = film(p.film.as_ref(), &mut render)?;
+    let (w, h) = film(p.film.as_ref(), &mut render, warnings)?;
     cam.insert("width".into(), w.into());
     cam.insert("height".into(), h.into());
     // The shorter axis takes the field of view.
@@ -102,7 +103,11 @@ fn camera(c: &Placed, cam: &mut Table) -> Result<(), SceneError> {
     Ok(())
 }
 
-fn film(f: Option<&Entity>, render: &mut Table) -> Result<(i64, i64), SceneError> {
+fn film(
+    f: Option<&Entity>,
+    render: &mut Table,
+    warnings: &mut Warnings,
+) -> Result<(i64, i64), SceneError> {
     let Some(f) = f else {
         return Ok((1280, 720));
     };
@@ -119,6 +124,12 @@ fn film(f: Option<&Entity>, render: &mut Table) -> Result<(i64, i64), SceneError
             .error(format!("Film: resolution {w}×{h} outside 1..=16384")));
     }
     ps.string("filename")?;
+    if let Some(m) = ps.one("float", "maxcomponentvalue")? {
+        warnings.warn(format!(
+            "{}: Film: fogbank does not clamp samples (pbrt's maxcomponentvalue {m}): no bias, more fireflies",
+            f.loc
+        ));
+    }
     if let Some(s) = ps.string("sensor")? {
         if s != "cie1931" {
             return Err(f.loc.error(format!(

@@ -59,6 +59,11 @@ pub fn spectrum(
             let c = [c.x as f64, c.y as f64, c.z as f64];
             return normalise(c, role).map(Some).map_err(|m| p.error(m));
         }
+        // A constant sampled spectrum is that constant (the CIE tables'
+        // rounding would tint it slightly).
+        ("spectrum", v) if role != Role::Illuminant && v.chunks(2).all(|c| c[1] == v[1]) => {
+            [v[1]; 3]
+        }
         ("spectrum", v) => {
             let (wl, val): (Vec<f64>, Vec<f64>) = v.chunks(2).map(|c| (c[0], c[1])).unzip();
             let usage = match role {
