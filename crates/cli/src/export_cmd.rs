@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct ExportArgs {
-    /// The scene file (fogbank TOML or Mitsuba XML).
+    /// The scene file (fogbank TOML, Mitsuba XML or pbrt-v4).
     pub scene: PathBuf,
     /// The file to write: `.vdb` (OpenVDB) or `.nvdb` (NanoVDB).
     #[arg(short, long)]

@@ -4,7 +4,8 @@
 //! `error`, `params`, `overrides`, `rebase` (a scene's file names written
 //! for another folder) and `shard` (which part of a render one shard does)
 //! → `world` (camera, film, media and their fields, emission, phase) and
-//! `lights` → `mitsuba` (Mitsuba 3 XML read into the scene schema) →
+//! `lights` → `mitsuba` and `pbrt` (Mitsuba 3 XML and pbrt-v4 scenes read
+//! into the scene schema) →
 //! `integrators` (the shared pieces in `integrators::shared`, one file or
 //! folder per integrator, registered in `integrators/mod.rs`) →
 //! `animation` (keyframes, per-frame files) → `scene` (description, world
@@ -24,6 +25,7 @@ pub mod mitsuba;
 pub mod overrides;
 pub mod params;
 pub mod partial;
+pub mod pbrt;
 pub mod rebase;
 pub mod render;
 pub mod scene;

@@ -338,6 +338,8 @@ pub enum SceneFormat {
     Toml,
     /// A Mitsuba 3 scene (`.xml`).
     MitsubaXml,
+    /// A pbrt-v4 scene (`.pbrt`).
+    Pbrt,
 }
 
 impl SceneFormat {
@@ -345,6 +347,8 @@ impl SceneFormat {
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
         if ext.eq_ignore_ascii_case("xml") {
             SceneFormat::MitsubaXml
+        } else if ext.eq_ignore_ascii_case("pbrt") {
+            SceneFormat::Pbrt
         } else {
             SceneFormat::Toml
         }
@@ -359,8 +363,8 @@ impl SceneFormat {
 
 /// Reads a scene file of any format fogbank reads, by its extension:
 /// `.xml` is a Mitsuba 3 scene (with `defines` overriding its
-/// `<default>`s, Mitsuba's `-D`), converted with its file names made
-/// relative to the working directory; anything else is fogbank's TOML.
+/// `<default>`s, Mitsuba's `-D`) and `.pbrt` a pbrt-v4 scene, converted
+/// with their file names made absolute; anything else is fogbank's TOML.
 /// Every front end loads files through this, so a format added here is
 /// reachable from the command, the viewer and Python alike.
 pub fn read_scene_source(
@@ -371,6 +375,15 @@ pub fn read_scene_source(
     let format = SceneFormat::of(path);
     if format == SceneFormat::MitsubaXml {
         let doc = crate::mitsuba::load_xml(path, defines)?;
+        let text = toml::to_string(&doc).map_err(|e| SceneError(format!("{origin}: {e}")))?;
+        return Ok(SceneSource {
+            text,
+            origin,
+            base: PathBuf::new(),
+        });
+    }
+    if format == SceneFormat::Pbrt && defines.is_empty() {
+        let doc = crate::pbrt::load_pbrt(path)?;
         let text = toml::to_string(&doc).map_err(|e| SceneError(format!("{origin}: {e}")))?;
         return Ok(SceneSource {
             text,

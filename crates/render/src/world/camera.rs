@@ -56,6 +56,16 @@ impl Camera {
         })
     }
 
+    /// This camera's image mirrored left–right: the image's +x runs along
+    /// up × forward instead of forward × up. A left-handed camera frame (pbrt's
+    /// `LookAt`) sees this image; no rotation of the camera gives it.
+    pub fn mirrored(self) -> Camera {
+        Camera {
+            right: -self.right,
+            ..self
+        }
+    }
+
     /// This camera with clip planes at view-axis distances `near` and `far`.
     pub fn with_clip(self, near: f32, far: f32) -> Camera {
         Camera { near, far, ..self }
@@ -134,6 +144,7 @@ impl Camera {
 /// | `fov_axis` | `"x"` | `"x"` or `"y"` |
 /// | `width`, `height` | 512, 512 | image size in pixels |
 /// | `near_clip` | 0 | distance of the near clip plane along the view axis: rays start on it |
+/// | `mirror` | false | mirror the image left–right (a left-handed camera frame, as pbrt-v4's `LookAt` makes: +x of the image along up × view direction) |
 /// | `far_clip` | none | distance of the far clip plane: a camera ray's first segment ends on it (what lies beyond is not seen; the environment is) |
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
@@ -149,6 +160,8 @@ pub struct CameraDesc {
     pub near_clip: f32,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub far_clip: Option<f32>,
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub mirror: bool,
 }
 
 fn is_zero(x: &f32) -> bool {
@@ -167,6 +180,7 @@ impl Default for CameraDesc {
             height: 512,
             near_clip: 0.0,
             far_clip: None,
+            mirror: false,
         }
     }
 }
@@ -212,7 +226,14 @@ impl CameraDesc {
             c.width,
             c.height,
         )
-        .map(|cam| cam.with_clip(c.near_clip, far))
+        .map(|cam| {
+            let cam = cam.with_clip(c.near_clip, far);
+            if c.mirror {
+                cam.mirrored()
+            } else {
+                cam
+            }
+        })
         .ok_or_else(|| {
             SceneError(
                 "camera: `from`, `to` and `up` must span a frame (from ≠ to, up not parallel)"

@@ -1,0 +1,76 @@
+//! Inline voxel grids (a `uniformgrid` medium's `density` array) as
+//! fogbank's in-memory arrays ([`crate::world::arrays`]): the scene
+//! description names them, and this module owns them for the rest of the
+//! process, since the description outlives the reading. An identical grid
+//! read again (a viewer reloading the scene) is the same array, so
+//! re-reading an unchanged file holds no more memory.
+
+use crate::world::arrays;
+use fogbank_math::{DAffine3, DVec3};
+use fogbank_volume::{DenseArray, VoxelArray};
+use std::collections::HashMap;
+use std::hash::{Hash, Hasher};
+use std::sync::{Arc, Mutex};
+
+/// An owned array and the name it is registered under.
+type Owned = (Arc<dyn VoxelArray>, String);
+
+/// Arrays by a hash of their contents and placement.
+static OWNED: Mutex<Option<HashMap<u64, Owned>>> = Mutex::new(None);
+
+/// Registers the `n[0]·n[1]·n[2]` values (x fastest, as pbrt orders
+/// them) spanning the box `p0`–`p1` cell-centred (pbrt's lookup at
+/// (p − p0)/(p1 − p0)·n − ½); returns the name a field gives as `array`.
+pub fn register(
+    n: [u32; 3],
+    values: &[f64],
+    p0: DVec3,
+    p1: DVec3,
+    source: &str,
+) -> Result<String, String> {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    n.hash(&mut h);
+    for v in values
+        .iter()
+        .chain(p0.to_array().iter())
+        .chain(p1.to_array().iter())
+    {
+        v.to_bits().hash(&mut h);
+    }
+    let key = h.finish();
+    let mut owned = OWNED.lock().unwrap_or_else(|e| e.into_inner());
+    let owned = owned.get_or_insert_with(HashMap::new);
+    let size = (p1 - p0) / DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64);
+    let xf = DAffine3::from_translation(p0) * DAffine3::from_scale(size);
+    if let Some((a, name)) = owned.get(&key) {
+        if same(a.as_ref(), n, values, xf) {
+            return Ok(name.clone());
+        }
+    }
+    let data = values.iter().map(|&v| v as f32).collect();
+    let a = DenseArray::new(n, 1, data, xf, source.to_string()).map_err(|e| e.to_string())?;
+    let a: Arc<dyn VoxelArray> = Arc::new(a);
+    let name = arrays::register(&a);
+    owned.insert(key, (a, name.clone()));
+    Ok(name)
+}
+
+/// Whether `a` holds exactly these values so placed (a hash is not proof).
+fn same(a: &dyn VoxelArray, n: [u32; 3], values: &[f64], xf: DAffine3) -> bool {
+    let count = n.iter().map(|&v| v as usize).product::<usize>();
+    if a.dims() != n || a.index_to_world() != xf || values.len() != count {
+        return false;
+    }
+    let mut i = 0;
+    for z in 0..n[2] {
+        for y in 0..n[1] {
+            for x in 0..n[0] {
+                if a.value(x, y, z, 0) != values[i] as f32 {
+                    return false;
+                }
+                i += 1;
+            }
+        }
+    }
+    true
+}

@@ -1,0 +1,72 @@
+//! pbrt-v4 scenes: `fogbank render scene.pbrt` reads a scene written for
+//! pbrt-v4 and renders it as pbrt's `volpath` would, within what fogbank's
+//! scene description holds.
+//!
+//! Reading: [`tokenizer`] (comments, strings, brackets), [`cursor`]
+//! (`Include` splices tokens, so a statement may continue across the end
+//! of an included file; `Import` is read the same way, in the world block
+//! only; relative names resolve beside the including file, then beside the
+//! top-level file), [`params`] (typed parameter lists; an unused parameter
+//! is an error, as in pbrt), [`state`] (transforms and attributes) and
+//! [`interpret`] (the statements). Every error names the file and line.
+//!
+//! Mapping, each module documenting its own: [`options`] (camera, film,
+//! sampler, filter, integrator), [`media`], [`lights`], [`shapes`],
+//! [`materials`] and [`spectra`]; [`convert`] puts them together.
+//!
+//! Conventions that differ, and how they are met:
+//! - pbrt's camera frame is left-handed; fogbank's camera gets
+//!   `mirror = true` so the image is pbrt's, not its mirror image.
+//! - pbrt's media fill space wherever a `MediumInterface` puts them;
+//!   fogbank's are bounded: a homogeneous medium becomes a constant grid over
+//!   the box of the shapes it is inside of, or the scene's box when it is an
+//!   outside or the camera's medium.
+//! - pbrt renders spectrally; fogbank in linear sRGB ([`spectra`]).
+//!
+//! Approximations print a notice once (the pixel filter, the sampler,
+//! `coateddiffuse`, unbounded homogeneous media); anything fogbank cannot
+//! express is refused with its file and line: textures, motion
+//! (`ActiveTransform`), lenses, spectral sensors, image and portal infinite
+//! lights, goniometric and projection lights, `rgbgrid` and `cloud`
+//! media, emitting `uniformgrid`s, partial quadrics, inline meshes other than a single
+//! parallelogram, and integrators other than `volpath` (and `path` without
+//! media).
+
+pub mod convert;
+pub mod cursor;
+pub mod grids;
+pub mod interpret;
+pub mod lights;
+pub mod materials;
+pub mod media;
+pub mod options;
+pub mod params;
+pub mod shapes;
+pub mod spectra;
+pub mod state;
+pub mod tokenizer;
+pub mod warnings;
+
+use crate::error::SceneError;
+use std::path::Path;
+
+/// A pbrt-v4 file as a fogbank scene document (the TOML tables a scene
+/// file would hold), its file names made absolute.
+pub fn load_pbrt(path: &Path) -> Result<toml::Table, SceneError> {
+    if path.extension().is_some_and(|e| e == "gz") {
+        return Err(SceneError(format!(
+            "{}: gzip-compressed scene files are not supported; decompress it",
+            path.display()
+        )));
+    }
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| SceneError(format!("{}: {e}", path.display())))?;
+    load_pbrt_str(&text, path)
+}
+
+/// [`load_pbrt`] of pbrt text; `path` names it in messages and anchors its
+/// relative file names.
+pub fn load_pbrt_str(text: &str, path: &Path) -> Result<toml::Table, SceneError> {
+    let parsed = interpret::interpret(text, path)?;
+    convert::scene_table(parsed)
+}
