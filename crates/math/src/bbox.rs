@@ -15,6 +15,17 @@ impl Aabb {
         Aabb { min, max }
     }
 
+    /// The box that holds nothing; the identity of [`Aabb::union`].
+    pub const EMPTY: Aabb = Aabb {
+        min: Vec3::INFINITY,
+        max: Vec3::NEG_INFINITY,
+    };
+
+    /// The smallest box holding both.
+    pub fn union(self, other: Aabb) -> Aabb {
+        Aabb::new(self.min.min(other.min), self.max.max(other.max))
+    }
+
     pub fn is_empty(&self) -> bool {
         self.min.cmpgt(self.max).any()
     }

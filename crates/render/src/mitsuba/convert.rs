@@ -44,15 +44,10 @@ impl<'a> MediaUse<'a> {
             return i;
         }
         self.media.push(m);
-        self.interior_box
-            .push(Aabb::new(Vec3::INFINITY, Vec3::NEG_INFINITY));
+        self.interior_box.push(Aabb::EMPTY);
         self.open.push(false);
         self.media.len() - 1
     }
-}
-
-fn union(a: Aabb, b: Aabb) -> Aabb {
-    Aabb::new(a.min.min(b.min), a.max.max(b.max))
 }
 
 /// Converts the document; relative file names in it are made absolute.
@@ -63,7 +58,7 @@ pub fn scene_table(doc: &Document) -> Result<Table, SceneError> {
     let mut out = Table::new();
     let (mut lights, mut shapes) = (Vec::new(), Vec::new());
     let mut media = MediaUse::default();
-    let mut scene_box = Aabb::new(Vec3::INFINITY, Vec3::NEG_INFINITY);
+    let mut scene_box = Aabb::EMPTY;
     let mut sensor_medium = None;
     let no_media = ignores_media(root.children.iter().find(|c| c.tag == "integrator"));
     if root.children.iter().all(|c| c.tag != "integrator") {
@@ -112,7 +107,7 @@ pub fn scene_table(doc: &Document) -> Result<Table, SceneError> {
         media.open[i] = true;
     }
     if let Some(p) = camera_position(&out) {
-        scene_box = union(scene_box, Aabb::new(p, p));
+        scene_box = scene_box.union(Aabb::new(p, p));
     }
     // An unbounded medium fills the scene's box, a little enlarged.
     let pad = 0.01 * (scene_box.max - scene_box.min).max_element().max(1e-3);
@@ -146,10 +141,10 @@ fn shape_table<'a>(
     let s = shape(c, ids, doc)?;
     let mut table = s.table;
     let bounds = shape_bounds(&table, index).map_err(|e| c.error(e.0))?;
-    *scene_box = union(*scene_box, bounds);
+    *scene_box = scene_box.union(bounds);
     if let Some(m) = s.interior.filter(|_| !no_media) {
         let i = media.index(m);
-        media.interior_box[i] = union(media.interior_box[i], bounds);
+        media.interior_box[i] = media.interior_box[i].union(bounds);
         table.insert("interior".into(), (i as i64).into());
     }
     if let Some(m) = s.exterior.filter(|_| !no_media) {

@@ -20,14 +20,6 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use toml::{Table, Value};
 
-fn union(a: Aabb, b: Aabb) -> Aabb {
-    Aabb::new(a.min.min(b.min), a.max.max(b.max))
-}
-
-fn empty() -> Aabb {
-    Aabb::new(Vec3::INFINITY, Vec3::NEG_INFINITY)
-}
-
 /// Media in order of first use: per medium, its name, the box of the
 /// shapes it is the inside of, and whether it is open (an outside or the
 /// camera's).
@@ -44,7 +36,7 @@ impl MediaUse {
             return i;
         }
         self.names.push(name.into());
-        self.interior.push(empty());
+        self.interior.push(Aabb::EMPTY);
         self.open.push(false);
         self.names.len() - 1
     }
@@ -97,11 +89,11 @@ pub fn scene_table(mut p: Parsed) -> Result<Table, SceneError> {
     let (camera, mut render) = camera_and_render(&p, &mut warnings)?;
     let materials = Materials::new(&p, &mut warnings)?;
     let mut media = MediaUse::default();
-    let mut scene_box = empty();
+    let mut scene_box = Aabb::EMPTY;
     let mut shapes = Vec::new();
     for (i, s) in p.shapes.iter().enumerate() {
         let (t, b) = shape_table(s, i, &p, &materials, &mut media)?;
-        scene_box = union(scene_box, b);
+        scene_box = scene_box.union(b);
         shapes.push(Value::Table(t));
     }
     let mut lights = Vec::new();
@@ -122,7 +114,7 @@ pub fn scene_table(mut p: Parsed) -> Result<Table, SceneError> {
             .map(|x| x as f32)
             .collect();
         let pt = Vec3::new(v[0], v[1], v[2]);
-        scene_box = union(scene_box, Aabb::new(pt, pt));
+        scene_box = scene_box.union(Aabb::new(pt, pt));
     }
     let pad = 0.01 * (scene_box.max - scene_box.min).max_element().max(1e-3);
     let open_box = Aabb::new(scene_box.min - pad, scene_box.max + pad);
@@ -197,7 +189,7 @@ fn shape_table(
     if !inside.is_empty() && inside != outside {
         check_medium(p, inside, &s.entity.loc)?;
         let i = media.index(inside);
-        media.interior[i] = union(media.interior[i], bounds);
+        media.interior[i] = media.interior[i].union(bounds);
         t.insert("interior".into(), (i as i64).into());
     }
     if !outside.is_empty() {
