@@ -37,6 +37,14 @@ Usage (needs `pip install mitsuba numpy`; never part of CI):
     python3 tools/mitsuba_refs.py --quick             # 16 spp into /tmp/mitsuba_refs_quick
     python3 tools/mitsuba_refs.py --spp 64 --out DIR
     python3 tools/mitsuba_refs.py --make-assets       # regenerate meshes/ and textures/
+    python3 tools/mitsuba_refs.py --pbrt              # the pbrt twins (see below)
+
+`--pbrt` renders the hand-written Mitsuba twins of the pbrt-v4 scenes,
+`scenes/pbrt/mitsuba/<name>.xml`, into `scenes/pbrt/refs/<name>.exr`,
+mirrored left-right: pbrt's look-at builds a left-handed camera frame, so
+its image of the same eye, target and up is Mitsuba's mirrored; the mirrored
+reference is the image pbrt renders (and fogbank renders from the `.pbrt`
+file).
 
 The assets (meshes/*.obj|ply, textures/*.exr|vol) are generated
 deterministically by `--make-assets` (fixed seeds) and kept in the repository.
@@ -75,6 +83,15 @@ SCENES = [
     "users_clip_fog",
     "users_spectral_lights",
     "users_path_include",
+]
+PBRT_DIR = os.path.join(ROOT, "scenes", "pbrt", "mitsuba")
+PBRT_SCENES = [
+    "fog_room",
+    "nanovdb_sun",
+    "uniformgrid_area",
+    "glass_fog",
+    "rgbgrid_envmap",
+    "cloud_distant",
 ]
 TOTAL_SAMPLES = 25_000_000  # per image, default of --samples
 
@@ -287,13 +304,13 @@ def make_assets(mi):
 
 # ------------------------------------------------------------------ render
 
-def load_scene(mi, name):
+def load_scene(mi, name, scene_dir=SCENE_DIR):
     import drjit as dr
 
     n = dr.thread_count()
     dr.set_thread_count(max(n, 4))  # scene loading reads EXRs (see make_assets)
     try:
-        return mi.load_file(os.path.join(SCENE_DIR, f"{name}.xml"))
+        return mi.load_file(os.path.join(scene_dir, f"{name}.xml"))
     finally:
         dr.set_thread_count(n)
 
@@ -383,6 +400,8 @@ def main():
                     help="seeds numpy's generator of the passes' Mitsuba seeds")
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--variant", default="scalar_rgb")
+    ap.add_argument("--pbrt", action="store_true",
+                    help="the Mitsuba twins of scenes/pbrt/, mirrored, into scenes/pbrt/refs")
     ap.add_argument("--make-assets", action="store_true",
                     help="(re)generate meshes/ and textures/ and exit")
     args = ap.parse_args()
@@ -396,12 +415,13 @@ def main():
         make_assets(mi)
         return
 
-    names = args.scenes or SCENES
+    scene_dir = PBRT_DIR if args.pbrt else SCENE_DIR
+    names = args.scenes or (PBRT_SCENES if args.pbrt else SCENES)
     for n in names:
-        if not os.path.exists(os.path.join(SCENE_DIR, f"{n}.xml")):
-            sys.exit(f"no scene {n}.xml in {SCENE_DIR}")
-    out = args.out or ("/tmp/mitsuba_refs_quick" if args.quick
-                       else os.path.join(SCENE_DIR, "refs"))
+        if not os.path.exists(os.path.join(scene_dir, f"{n}.xml")):
+            sys.exit(f"no scene {n}.xml in {scene_dir}")
+    refs = os.path.join(os.path.dirname(PBRT_DIR), "refs") if args.pbrt else os.path.join(SCENE_DIR, "refs")
+    out = args.out or ("/tmp/mitsuba_refs_quick" if args.quick else refs)
     os.makedirs(out, exist_ok=True)
     meta_path = os.path.join(out, "refs.json")
     meta = {}
@@ -427,11 +447,13 @@ def main():
                       "relative standard error of the image mean")
     for name in names:
         t0 = time.perf_counter()
-        scene = load_scene(mi, name)
+        scene = load_scene(mi, name, scene_dir)
         film = scene.sensors()[0].film()
         w, h = (int(v) for v in film.crop_size())
         spp = args.spp or (16 if args.quick else max(2, round(args.samples / (w * h))))
         mean, var, bad = render_moments(mi, scene, spp, args.seed)
+        if args.pbrt:
+            mean, var = mean[:, ::-1], var[:, ::-1]
         secs = time.perf_counter() - t0
         path = os.path.join(out, f"{name}.exr")
         mc.write_exr(mi, path, mean.astype(np.float32), var.astype(np.float32))
@@ -445,6 +467,7 @@ def main():
         meta["scenes"][name] = dict(
             width=w, height=h, spp=spp, samples=samples, seed0=args.seed,
             seconds=round(secs, 1), nonfinite_samples=bad,
+            mirrored=bool(args.pbrt),
             mean_rgb=mean.mean(axis=(0, 1)).tolist(),
             block8_rel_l1_rgb=l1.tolist(),
             block8_rel_l1_x_sqrt_samples_rgb=(l1 * np.sqrt(samples)).tolist(),

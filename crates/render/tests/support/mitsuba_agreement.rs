@@ -1,5 +1,7 @@
 //! The agreement of a render with the Mitsuba 3 `scalar_rgb` reference of
-//! a scene of `scenes/mitsuba/` (shared by the CPU's and the GPU's tests).
+//! a scene of `scenes/mitsuba/` (shared by the CPU's and the GPU's tests),
+//! or of a pbrt-v4 scene of `scenes/pbrt/` with its Mitsuba twin's
+//! (mirrored) reference: the `_in` forms take the folder holding `refs/`.
 
 use fogbank_image::image_io::{read_image, Image};
 use fogbank_image::metrics::ztest::ztest;
@@ -8,6 +10,12 @@ use std::path::{Path, PathBuf};
 
 pub fn scenes() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/mitsuba")
+}
+
+/// `scenes/pbrt`, whose `refs/` hold its Mitsuba twins' references.
+#[allow(dead_code)]
+pub fn pbrt_scenes() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/pbrt")
 }
 
 /// Relative L1 distance of the 8×8 block means of channel `c`.
@@ -43,8 +51,8 @@ pub fn reference_scenes() -> Vec<String> {
 /// A reference's record in `refs/refs.json`: its spp, the noise constant
 /// of its 8×8 block relative L1 (≈ k / √samples) and that of its image
 /// mean's relative standard error (largest channel).
-fn reference_noise(name: &str) -> (f64, f64, f64) {
-    let text = std::fs::read_to_string(scenes().join("refs/refs.json")).unwrap();
+fn reference_noise(dir: &Path, name: &str) -> (f64, f64, f64) {
+    let text = std::fs::read_to_string(dir.join("refs/refs.json")).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     let s = &v["scenes"][name];
     let largest = |key: &str| {
@@ -65,15 +73,21 @@ fn reference_noise(name: &str) -> (f64, f64, f64) {
 
 /// Samples per pixel of a render of scene `name` that [`assert_agrees`]
 /// can judge.
+#[allow(dead_code)]
 pub fn spp_for(name: &str) -> u32 {
-    let reference = read_image(scenes().join(format!("refs/{name}.exr"))).unwrap();
+    spp_for_in(&scenes(), name)
+}
+
+/// [`spp_for`] of a reference in `dir/refs`.
+pub fn spp_for_in(dir: &Path, name: &str) -> u32 {
+    let reference = read_image(dir.join(format!("refs/{name}.exr"))).unwrap();
     let pixels = reference.width * reference.height;
     // At least 2·10⁶ samples (Mitsuba's criterion), more where the scene is
     // so noisy that the other two would fail from noise alone: enough for
     // an expected block L1 of 1 % (half the limit) and for the image mean
     // to sit within 1 % at 3σ, allowing fogbank twice Mitsuba's variance
     // (its light selection differs from Mitsuba's uniform one).
-    let (ref_spp, k_block, k_mean) = reference_noise(name);
+    let (ref_spp, k_block, k_mean) = reference_noise(dir, name);
     let ref_samples = ref_spp * pixels as f64;
     let block = 1.0 / ((0.01 / k_block).powi(2) - 1.0 / ref_samples);
     let mean = 2.0 * (3.0 * k_mean / 0.01).powi(2);
@@ -84,9 +98,15 @@ pub fn spp_for(name: &str) -> u32 {
 /// Scene `name`'s render `film` (at [`spp_for`]'s samples) against its
 /// Mitsuba 3 reference: the per-pixel z-test, channel means within 1 %,
 /// 8×8 block means within 2 %.
+#[allow(dead_code)]
 pub fn assert_agrees(name: &str, film: &Film) {
-    let reference = read_image(scenes().join(format!("refs/{name}.exr"))).unwrap();
-    let (ref_spp, _, _) = reference_noise(name);
+    assert_agrees_in(&scenes(), name, film);
+}
+
+/// [`assert_agrees`] with a reference in `dir/refs`.
+pub fn assert_agrees_in(dir: &Path, name: &str, film: &Film) {
+    let reference = read_image(dir.join(format!("refs/{name}.exr"))).unwrap();
+    let (ref_spp, _, _) = reference_noise(dir, name);
     let spp = film.count.iter().copied().min().unwrap_or(0).max(1);
     assert_eq!(film.nan_samples + film.inf_samples, 0, "{name}");
     // The test's variance of the mean is floored by the reference's
