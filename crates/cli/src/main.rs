@@ -61,7 +61,23 @@ enum Command {
     View(view_cmd::ViewArgs),
 }
 
+/// A reader that closes the pipe early (`fogbank info x.vdb | head`) ends
+/// the program quietly, as it does other Unix tools: Rust ignores SIGPIPE,
+/// so without this `println!` panics on the broken pipe.
+#[cfg(unix)]
+fn quiet_on_closed_pipes() {
+    // SAFETY: restoring a signal's default disposition at startup, before
+    // any thread exists, has no preconditions.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
+#[cfg(not(unix))]
+fn quiet_on_closed_pipes() {}
+
 fn main() -> ExitCode {
+    quiet_on_closed_pipes();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(a) => render_cmd::run(a),

@@ -459,3 +459,22 @@ fn bench_scaling_table_reports_medians_of_paired_rounds() {
         assert!(speedup.is_finite() && speedup > 0.0, "{text}");
     }
 }
+
+/// Output into a pipe whose reader has gone (`fogbank estimators | head
+/// -0`) ends the program quietly instead of with a panic.
+#[cfg(unix)]
+#[test]
+fn a_closed_output_pipe_is_no_panic() {
+    use std::process::Stdio;
+    let mut child = fogbank()
+        .args(["estimators"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Close the read end before the program writes its first line.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
