@@ -123,6 +123,10 @@ fn read_k<const K: usize>(
     }
     let flat = read_tree::<K>(&b, &head)?;
     checksum::verify(&b, &head, &flat)?;
+    // The decoded grid is no longer needed: free it before the leaves are
+    // split into grids (peak memory while loading).
+    drop(b);
+    drop(bytes);
     let mut compression = e.codec.name().to_string();
     if head.kind.is_quantised() {
         compression = format!("{} + {}", type_name(e.grid_type), compression);
@@ -149,29 +153,31 @@ fn usize_len(path: &Path, e: &GridEntry) -> Result<usize> {
 }
 
 /// One float grid per component of `flat`, each made by `base` and given
-/// its component's background, leaves and tiles.
+/// its component's background, leaves and tiles. `flat` is consumed leaf
+/// by leaf, so its values and the grids' never need memory at once beyond
+/// one leaf.
 fn split<const K: usize>(flat: Flat<K>, base: impl Fn(usize) -> VdbGrid) -> [VdbGrid; K] {
-    std::array::from_fn(|c| {
+    let mut grids: [VdbGrid; K] = std::array::from_fn(|c| {
         let mut g = base(c);
         g.background = flat.background[c];
         g.tiles = flat.tiles.iter().map(|t| t.component(c)).collect();
-        g.leaves = flat
-            .leaves
-            .iter()
-            .map(|l| {
-                let mut values = Box::new([0.0f32; 512]);
-                for (v, &src) in values.iter_mut().zip(l.values.iter().skip(c).step_by(K)) {
-                    *v = src;
-                }
-                VdbLeaf {
-                    origin: l.origin,
-                    values,
-                    active: l.active,
-                }
-            })
-            .collect();
+        g.leaves = Vec::with_capacity(flat.leaves.len());
         g
-    })
+    });
+    for l in flat.leaves {
+        for (c, g) in grids.iter_mut().enumerate() {
+            let mut values = Box::new([0.0f32; 512]);
+            for (v, &src) in values.iter_mut().zip(l.values.iter().skip(c).step_by(K)) {
+                *v = src;
+            }
+            g.leaves.push(VdbLeaf {
+                origin: l.origin,
+                values,
+                active: l.active,
+            });
+        }
+    }
+    grids
 }
 
 impl ListedGrid for GridEntry {
