@@ -61,11 +61,15 @@ def make_grid(res=RES, seed=5):
 
 def write_vol(path, grid, bbox=(0.0, 0.0, 0.0, 1.0, 1.0, 1.0)):
     """Mitsuba .vol v3: 'VOL' 3, encoding 1 (float32), xres yres zres,
-    channels 1, bbox (6 f32), data x fastest. `grid` is indexed [z, y, x]."""
-    nz, ny, nx = grid.shape
+    channels, bbox (6 f32: xmin ymin zmin xmax ymax zmax), then float32
+    data[((z * yres + y) * xres + x) * channels + c]. `grid` is indexed
+    [z, y, x] (one channel) or [z, y, x, c]."""
+    if grid.ndim == 3:
+        grid = grid[..., None]
+    nz, ny, nx, nc = grid.shape
     with open(path, "wb") as f:
         f.write(b"VOL" + bytes([3]))
-        f.write(struct.pack("<iiiii", 1, nx, ny, nz, 1))
+        f.write(struct.pack("<iiiii", 1, nx, ny, nz, nc))
         f.write(struct.pack("<6f", *bbox))
         f.write(np.ascontiguousarray(grid, dtype="<f4").tobytes())
 

@@ -176,21 +176,6 @@ def emitter_soup(n=300, seed=23):
     return np.array(V), np.array(F)
 
 
-def write_vol(path, data, bbox):
-    """Mitsuba .vol v3: 'VOL', 3, int32 encoding 1 (float32), int32 xres,
-    yres, zres, channels, 6 float32 bbox (xmin ymin zmin xmax ymax zmax),
-    then float32 data[((z * yres + y) * xres + x) * channels + c].
-    `data` is indexed [z, y, x] or [z, y, x, c]."""
-    if data.ndim == 3:
-        data = data[..., None]
-    nz, ny, nx, nc = data.shape
-    with open(path, "wb") as f:
-        f.write(b"VOL" + bytes([3]))
-        f.write(struct.pack("<iiiii", 1, nx, ny, nz, nc))
-        f.write(struct.pack("<6f", *bbox))
-        f.write(np.ascontiguousarray(data, dtype="<f4").tobytes())
-
-
 def cloud_grid(nx=32, ny=16, nz=24, seed=7):
     """Cloud density in [0, ~1.2] on a 32 x 16 x 24 grid: a flattened union of
     Gaussian puffs, modulated by low-frequency sinusoidal noise, falling to 0
@@ -288,9 +273,9 @@ def make_assets(mi):
     V, F = emitter_soup()
     write_obj_flat(os.path.join(md, "emitters300.obj"), V, F,
                    "300 random triangles (fog_emitters), own vertices each, flat normals")
-    write_vol(os.path.join(td, "cloud_32x16x24.vol"), cloud_grid(),
+    mc.write_vol(os.path.join(td, "cloud_32x16x24.vol"), cloud_grid(),
               (-1.5, 0.5, -1.0, 1.5, 1.5, 1.0))
-    write_vol(os.path.join(td, "chroma_16_rgb.vol"), chroma_grid(), (0, 0, 0, 1, 1, 1))
+    mc.write_vol(os.path.join(td, "chroma_16_rgb.vol"), chroma_grid(), (0, 0, 0, 1, 1, 1))
     sky = sky_envmap()
     n = dr.thread_count()
     dr.set_thread_count(max(n, 4))  # Bitmap EXR I/O deadlocks on a 1-thread pool

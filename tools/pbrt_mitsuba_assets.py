@@ -41,12 +41,14 @@ writing); Debian's python3 sees the venv's packages through PYTHONPATH:
 """
 
 import os
-import struct
 import subprocess
 import sys
 import tempfile
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mitsuba_common import write_vol  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PBRT = os.path.join(ROOT, "scenes", "pbrt")
@@ -54,18 +56,6 @@ MI_DATA = os.path.join(PBRT, "mitsuba", "data")
 
 BLOB_N = 20
 BLOB_VOXEL = 0.1
-
-
-def write_vol(path, data, bbox):
-    """Mitsuba .vol v3 (float32), data indexed [z, y, x] or [z, y, x, c]."""
-    if data.ndim == 3:
-        data = data[..., None]
-    nz, ny, nx, nc = data.shape
-    with open(path, "wb") as f:
-        f.write(b"VOL" + bytes([3]))
-        f.write(struct.pack("<iiiii", 1, nx, ny, nz, nc))
-        f.write(struct.pack("<6f", *bbox))
-        f.write(np.ascontiguousarray(data, dtype="<f4").tobytes())
 
 
 def blob():
