@@ -1,0 +1,53 @@
+//! A scene of any format fogbank reads written as fogbank's TOML: the
+//! document [`read_scene_source`] makes of it, checked by parsing it as a
+//! [`SceneDesc`], with its relative file names rewritten so the file loads
+//! from its new folder ([`rebase_paths`]: absolute unless the folder is the
+//! same). pbrt-v4 and Mitsuba sources already name their files absolutely.
+//! The written text parses to the same [`SceneDesc`] as the source, so it
+//! renders the same image.
+
+use super::output::{write_file, Converted};
+use crate::error::SceneError;
+use crate::rebase::rebase_paths;
+use crate::scene::{parse_scene, read_scene_source, SceneDesc};
+use std::path::Path;
+
+/// The scene `input` as fogbank TOML text for a file in folder `out_dir`,
+/// and its description.
+pub fn scene_toml(input: &Path, out_dir: &Path) -> Result<(String, SceneDesc), SceneError> {
+    let source = read_scene_source(input, &[])?;
+    let desc = parse_scene(&source.text, &source.origin, &[])?;
+    let mut doc: toml::Value =
+        toml::from_str(&source.text).map_err(|e| SceneError(format!("{}: {e}", source.origin)))?;
+    rebase_paths(&mut doc, &source.base, out_dir);
+    let text = toml::to_string(&doc).map_err(|e| SceneError(format!("{}: {e}", source.origin)))?;
+    Ok((text, desc))
+}
+
+/// The folder a file `out` is written in (`.` for a bare name).
+pub fn folder_of(out: &Path) -> &Path {
+    match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
+}
+
+/// Converts the scene `input` to the TOML file `output`.
+pub fn convert(input: &Path, output: &Path) -> Result<Converted, SceneError> {
+    let (text, desc) = scene_toml(input, folder_of(output))?;
+    let header = format!(
+        "# Converted by `fogbank convert` from {}\n\n",
+        input.display()
+    );
+    write_file(output, format!("{header}{text}").as_bytes())?;
+    Ok(Converted {
+        summary: format!(
+            "{}: {} media, {} lights, {} shapes",
+            output.display(),
+            desc.media.len(),
+            desc.lights.len(),
+            desc.shapes.len()
+        ),
+        notes: Vec::new(),
+    })
+}
