@@ -230,14 +230,65 @@ fn mitsuba_scenes_written_again_render_the_same_in_expectation() {
 #[test]
 fn what_mitsuba_cannot_express_is_refused_naming_it() {
     let dir = out_dir("refused");
-    let sky = dir.join("sky.toml");
-    std::fs::write(&sky, fogbank_render::scene::DEFAULT_SCENE).unwrap();
-    let e = convert(&sky, &dir.join("sky.xml"), &ConvertOptions::default()).unwrap_err();
-    assert!(e.0.contains("lights.0") && e.0.contains("sky"), "{e}");
+    let o = ConvertOptions::default();
     let tr = dir.join("tr.toml");
     std::fs::write(&tr, "[integrator]\ntype = \"transmittance\"\n").unwrap();
-    let e = convert(&tr, &dir.join("tr.xml"), &ConvertOptions::default()).unwrap_err();
+    let e = convert(&tr, &dir.join("tr.xml"), &o).unwrap_err();
     assert!(e.0.contains("transmittance"), "{e}");
+    let rgb = dir.join("rgb.toml");
+    let dragon = sample_data::committed("dragon.vdb");
+    let text = format!(
+        "[[media]]\ndensity = {{ vdb = \"{}\" }}\nsigma_t_scale = [1.0, 2.0, 3.0]\n\
+         [integrator]\ntype = \"volpath\"\n",
+        dragon.display()
+    );
+    std::fs::write(&rgb, text).unwrap();
+    let e = convert(&rgb, &dir.join("rgb.xml"), &o).unwrap_err();
+    assert!(e.0.contains("media.0.sigma_t_scale"), "{e}");
+}
+
+const SKY_TOML: &str = r#"
+[camera]
+from = [0.0, -0.5, 2.1]
+to = [0.0, 0.08, 0.0]
+fov = 38.0
+width = 24
+height = 16
+
+[[media]]
+density = { procedural = "cloud", resolution = 32, seed = 7 }
+sigma_t_scale = 10.0
+albedo = [0.95, 0.95, 0.95]
+phase = { type = "hg", g = 0.6 }
+filter = "trilinear"
+precision = "f32"
+
+[[lights]]
+type = "sky"
+zenith = [0.10, 0.25, 0.75]
+horizon = [0.65, 0.78, 0.95]
+ground = [0.25, 0.23, 0.2]
+
+[[lights]]
+type = "directional"
+direction = [-0.8, -0.45, 0.25]
+irradiance = [14.0, 13.0, 11.5]
+
+[integrator]
+type = "volpath"
+max_depth = 8
+"#;
+
+#[test]
+fn a_sky_is_baked_into_an_envmap_and_a_procedural_cloud_voxelised() {
+    let dir = out_dir("sky");
+    let src = dir.join("sky.toml");
+    std::fs::write(&src, SKY_TOML).unwrap();
+    let xml = dir.join("sky.xml");
+    let notes = convert_ok(&src, &xml);
+    assert!(notes.iter().any(|n| n.contains("lights.0")), "{notes:?}");
+    assert!(dir.join("sky_light0.exr").is_file() && dir.join("sky_medium0.vol").is_file());
+    assert_same_in_expectation(&src, &xml, 256);
 }
 
 /// Every leaf (origin, values, active mask) and tile of two grids agree.

@@ -1,20 +1,31 @@
 //! `[[lights]]` as Mitsuba emitters: `constant`, `envmap` (its `rotate` as
 //! the `to_world` rotation), `point`, `directional`, `spot` (a look-at from
 //! its position along its direction). The gradient `sky` has no Mitsuba
-//! counterpart and is refused; a smoothstep spot falloff is written as
+//! counterpart: it is baked into the latitude–longitude map fogbank builds
+//! of it, written beside the XML as `STEM_lightI.exr`, an `envmap` (noted:
+//! Mitsuba looks it up bilinearly). A smoothstep spot falloff is written as
 //! Mitsuba's linear one, with a note.
 
 use super::notes::Notes;
 use super::xml::{num, El};
 use crate::error::SceneError;
+use crate::lights::sky::sky_pixels;
 use crate::lights::{LightDesc, SpotCurve};
+use fogbank_image::image_io::write_exr;
+use std::path::Path;
 
 fn xyz(v: [f32; 3]) -> [f64; 3] {
     v.map(|x| x as f64)
 }
 
-/// Light `i` as an `<emitter>`.
-pub fn emitter(l: &LightDesc, i: usize, notes: &mut Notes) -> Result<El, SceneError> {
+/// Light `i` as an `<emitter>`; files it needs go to `dir` as
+/// `STEM_lightI.exr`.
+pub fn emitter(
+    l: &LightDesc,
+    i: usize,
+    (dir, stem): (&Path, &str),
+    notes: &mut Notes,
+) -> Result<El, SceneError> {
     let key = format!("lights.{i}");
     Ok(match l {
         LightDesc::Constant { radiance } => {
@@ -57,11 +68,23 @@ pub fn emitter(l: &LightDesc, i: usize, notes: &mut Notes) -> Result<El, SceneEr
         } => El::plugin("emitter", "directional")
             .child(El::xyz("vector", "direction", xyz(*direction)))
             .child(El::rgb("irradiance", *irradiance)),
-        LightDesc::Sky { .. } => {
-            return Err(SceneError(format!(
-                "{key}: the gradient `sky` has no Mitsuba counterpart (bake it into an \
-                 environment map)"
-            )))
+        LightDesc::Sky {
+            zenith,
+            horizon,
+            ground,
+            scale,
+        } => {
+            let name = format!("{stem}_light{i}.exr");
+            let (w, h, rgb) = sky_pixels(*zenith, *horizon, *ground);
+            write_exr(&dir.join(&name), w as u32, h as u32, &rgb, None)
+                .map_err(|e| SceneError(format!("{}: {e}", dir.join(&name).display())))?;
+            notes.note(format!(
+                "{key}: the gradient sky baked into {name} ({w}×{h}), an envmap Mitsuba looks up \
+                 bilinearly"
+            ));
+            El::plugin("emitter", "envmap")
+                .child(El::string("filename", &name))
+                .child(El::float("scale", *scale as f64))
         }
         LightDesc::Spot {
             position,

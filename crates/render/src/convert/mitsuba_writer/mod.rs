@@ -15,13 +15,14 @@
 //! | `[[shapes]]` | the same shape types, BSDFs and textures, `area` emitters, see [`shapes`] |
 //!
 //! Refused, with an error naming the key: integrators other than volpath
-//! (Mitsuba has none of fogbank's others), the gradient `sky`, emitting
+//! (Mitsuba has none of fogbank's others), emitting
 //! media, transfer functions, albedo grids, RGB densities, per-channel
 //! scales of a grid, medium instances, non-HG phase functions. Dropped
 //! with a note in [`Converted::notes`]: `pixel_jitter = false`,
 //! exposure/tone curve, the light sampler, an `[animation]` (frame 0 is
 //! written), medium velocity and importance rules, a nearest-neighbour
-//! grid filter or environment lookup, a smoothstep spot falloff, and
+//! grid filter or environment lookup, the gradient sky (baked into an
+//! environment map), a smoothstep spot falloff, and
 //! overlapping media (fogbank adds them, Mitsuba has one medium per region).
 
 mod emitters;
@@ -128,7 +129,7 @@ pub fn scene_xml(
         root.push(m.element.clone());
     }
     for (i, l) in desc.lights.iter().enumerate() {
-        root.push(emitters::emitter(l, i, notes)?);
+        root.push(emitters::emitter(l, i, (dir, stem), notes)?);
     }
     for (i, s) in desc.shapes.iter().enumerate() {
         root.push(shapes::shape(s, i)?);
