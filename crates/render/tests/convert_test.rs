@@ -81,6 +81,39 @@ fn pbrt_to_toml_renders_bit_identically() {
     );
 }
 
+/// A pbrt `uniformgrid` medium (an array in the reading process's memory).
+const UNIFORM_GRID: &str = "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 25\n\
+    Film \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 8\nWorldBegin\nAttributeBegin\n\
+    Translate 0 0 -1\nMakeNamedMedium \"g\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \
+    \"integer ny\" 1 \"integer nz\" 1 \"float density\" [0.25 1] \"point3 p0\" [-1 -1 -1] \
+    \"point3 p1\" [1 1 1] \"rgb sigma_a\" [1 1 1] \"rgb sigma_s\" [0 0 0] \"float scale\" 3\n\
+    AttributeEnd\nAttributeBegin\nMediumInterface \"g\" \"\"\nMaterial \"interface\"\n\
+    Shape \"sphere\"\nAttributeEnd\nLightSource \"infinite\"\n";
+
+#[test]
+fn a_pbrt_uniform_grid_is_written_as_a_vol_beside_the_toml() {
+    let dir = out_dir("uniformgrid");
+    let src = dir.join("grid.pbrt");
+    std::fs::write(&src, UNIFORM_GRID).unwrap();
+    let out = out_dir("uniformgrid-out").join("grid.toml");
+    convert_ok(&src, &out);
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        !text.contains("array:") && text.contains("vol = \"grid_array0.vol\""),
+        "{text}"
+    );
+    assert!(out.with_file_name("grid_array0.vol").is_file());
+    let (a, b) = (film(&src, 64), film(&out, 64));
+    let z = ztest(&image(&a), &image(&b)).unwrap();
+    assert!(
+        z.pass,
+        "{} pixels fail (max |z| {:.2})",
+        z.failing_pixels, z.max_abs_z
+    );
+    let bits = |f: &Film| -> Vec<u32> { f.mean().iter().flatten().map(|v| v.to_bits()).collect() };
+    assert!(bits(&a) == bits(&b), "the images differ");
+}
+
 #[test]
 fn mitsuba_to_toml_renders_bit_identically() {
     for name in ["cloud_ground", "analytic_shapes", "chromatic"] {
@@ -401,6 +434,11 @@ fn bad_input_names_the_file() {
     let unwritable = dir.join("no/such/folder/out.toml");
     let e = convert(&src, &unwritable, &o).unwrap_err().0;
     assert!(e.contains("out.toml"), "{e}");
+    let e = convert(&src, &src, &o).unwrap_err().0;
+    assert!(
+        e.contains("offcentre.pbrt") && e.contains("overwrite"),
+        "{e}"
+    );
     let e = convert(&src, &dir.join("out.png"), &o).unwrap_err().0;
     assert!(e.contains("out.png"), "{e}");
     let e = convert(

@@ -14,6 +14,7 @@
 //! A scene converted to TOML parses to the same [`SceneDesc`](crate::SceneDesc)
 //! as its source, so it renders the same image bit for bit.
 
+mod arrays;
 pub mod mitsuba_writer;
 mod output;
 pub mod scene_toml;
@@ -75,6 +76,12 @@ pub fn convert(
     let (from, to) = (kind(input, "input")?, kind(output, "output")?);
     if !input.is_file() {
         return Err(SceneError(format!("{}: no such file", input.display())));
+    }
+    if output.canonicalize().ok() == input.canonicalize().ok() {
+        return Err(SceneError(format!(
+            "{}: the output would overwrite the input",
+            output.display()
+        )));
     }
     match (from, to) {
         (FileKind::Scene(_), FileKind::Scene(SceneFormat::Toml)) => {

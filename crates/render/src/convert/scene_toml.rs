@@ -2,24 +2,33 @@
 //! document [`read_scene_source`] makes of it, checked by parsing it as a
 //! [`SceneDesc`], with its relative file names rewritten so the file loads
 //! from its new folder ([`rebase_paths`]: absolute unless the folder is the
-//! same). pbrt-v4 and Mitsuba sources already name their files absolutely.
-//! The written text parses to the same [`SceneDesc`] as the source, so it
-//! renders the same image.
+//! same). pbrt-v4 and Mitsuba sources already name their files absolutely;
+//! in-memory arrays (pbrt's uniform grids) become `.vol` files beside it
+//! ([`write_arrays`]). Otherwise the written text parses to the same
+//! [`SceneDesc`] as the source, so it renders the same image.
 
+use super::arrays::write_arrays;
 use super::output::{write_file, Converted};
 use crate::error::SceneError;
 use crate::rebase::rebase_paths;
 use crate::scene::{parse_scene, read_scene_source, SceneDesc};
 use std::path::Path;
 
-/// The scene `input` as fogbank TOML text for a file in folder `out_dir`,
-/// and its description.
-pub fn scene_toml(input: &Path, out_dir: &Path) -> Result<(String, SceneDesc), SceneError> {
+/// The scene `input` as fogbank TOML text for the file `output`, and its
+/// description; its in-memory arrays are written beside `output`
+/// ([`write_arrays`]).
+pub fn scene_toml(input: &Path, output: &Path) -> Result<(String, SceneDesc), SceneError> {
     let source = read_scene_source(input, &[])?;
     let desc = parse_scene(&source.text, &source.origin, &[])?;
     let mut doc: toml::Value =
         toml::from_str(&source.text).map_err(|e| SceneError(format!("{}: {e}", source.origin)))?;
+    let out_dir = folder_of(output);
     rebase_paths(&mut doc, &source.base, out_dir);
+    let stem = output
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("scene");
+    write_arrays(&mut doc, out_dir, stem)?;
     let text = toml::to_string(&doc).map_err(|e| SceneError(format!("{}: {e}", source.origin)))?;
     Ok((text, desc))
 }
@@ -34,7 +43,7 @@ pub fn folder_of(out: &Path) -> &Path {
 
 /// Converts the scene `input` to the TOML file `output`.
 pub fn convert(input: &Path, output: &Path) -> Result<Converted, SceneError> {
-    let (text, desc) = scene_toml(input, folder_of(output))?;
+    let (text, desc) = scene_toml(input, output)?;
     let header = format!(
         "# Converted by `fogbank convert` from {}\n\n",
         input.display()

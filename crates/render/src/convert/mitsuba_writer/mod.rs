@@ -47,7 +47,7 @@ use xml::El;
 pub fn convert(input: &Path, output: &Path) -> Result<Converted, SceneError> {
     let dir = folder_of(output);
     // File names relative to the output's folder, as Mitsuba resolves them.
-    let (text, _) = scene_toml(input, dir)?;
+    let (text, _) = scene_toml(input, output)?;
     let desc = parse_scene(&text, &input.display().to_string(), &[])?;
     let stem = output
         .file_stem()
