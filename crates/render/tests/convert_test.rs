@@ -362,6 +362,29 @@ fn vdb_to_nvdb_to_vdb_keeps_every_active_voxel() {
     }
 }
 
+#[test]
+fn grid_picks_the_grid_of_a_multi_grid_file() {
+    let dir = out_dir("multi");
+    let src = repo("crates/volume/tests/fixtures/nanovdb/density_vel_zip.nvdb");
+    let out = dir.join("density.vdb");
+    let o = ConvertOptions {
+        grid: Some("density".into()),
+        ..Default::default()
+    };
+    convert(&src, &out, &o).unwrap();
+    let want = nanovdb::read_grid(&src, Some("density")).unwrap();
+    assert_same_voxels(&want, &vdb::read_grid(&out, None).unwrap(), "density");
+    let o = ConvertOptions {
+        grid: Some("nope".into()),
+        ..Default::default()
+    };
+    let e = convert(&src, &dir.join("nope.vdb"), &o).unwrap_err().0;
+    assert!(
+        e.contains("density_vel_zip.nvdb") && e.contains("nope"),
+        "{e}"
+    );
+}
+
 /// Every voxel of the field `{ key = "src" }`, as fogbank reads it, sits
 /// with its value at the same world position in the written grid `g`,
 /// whose active voxels are the field's non-zero ones.
