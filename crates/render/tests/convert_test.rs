@@ -135,8 +135,17 @@ fn toml_in_its_own_folder_keeps_relative_names_and_elsewhere_makes_them_absolute
     convert_ok(&src, &other);
     let moved = std::fs::read_to_string(&other).unwrap();
     assert!(!moved.contains("vdb = \"dragon.vdb\""), "{moved}");
-    load(&other).0.media[0].density.vdb.as_ref().unwrap();
     Scene::build(load(&other).0, other.parent().unwrap()).unwrap();
+    // A scene in a subfolder written to the files' folder names them
+    // relative to it.
+    let sub = dir.join("sub");
+    std::fs::create_dir_all(&sub).unwrap();
+    let deep = sub.join("deep.toml");
+    std::fs::write(&deep, "[[media]]\ndensity = { vdb = \"../dragon.vdb\" }\n").unwrap();
+    convert_ok(&deep, &dir.join("up.toml"));
+    let up = std::fs::read_to_string(dir.join("up.toml")).unwrap();
+    assert!(up.contains("vdb = \"dragon.vdb\""), "{up}");
+    Scene::build(load(&dir.join("up.toml")).0, &dir).unwrap();
 }
 
 /// An image with its variance of the mean, for the z-test.

@@ -2,7 +2,7 @@
 //! document [`read_scene_source`] makes of it, checked by parsing it as a
 //! [`SceneDesc`], with its relative file names rewritten so the file loads
 //! from its new folder ([`rebase_paths`]: absolute unless the folder is the
-//! same). pbrt-v4 and Mitsuba sources already name their files absolutely;
+//! same), and the files inside that folder named relative to it. pbrt-v4 and Mitsuba sources already name their files absolutely;
 //! in-memory arrays (pbrt's uniform grids) become `.vol` files beside it
 //! ([`write_arrays`]). Otherwise the written text parses to the same
 //! [`SceneDesc`] as the source, so it renders the same image.
@@ -10,7 +10,7 @@
 use super::arrays::write_arrays;
 use super::output::{write_file, Converted};
 use crate::error::SceneError;
-use crate::rebase::rebase_paths;
+use crate::rebase::{rebase_paths, FILE_KEYS};
 use crate::scene::{parse_scene, read_scene_source, SceneDesc};
 use std::path::Path;
 
@@ -24,6 +24,9 @@ pub fn scene_toml(input: &Path, output: &Path) -> Result<(String, SceneDesc), Sc
         toml::from_str(&source.text).map_err(|e| SceneError(format!("{}: {e}", source.origin)))?;
     let out_dir = folder_of(output);
     rebase_paths(&mut doc, &source.base, out_dir);
+    if let Ok(dir) = out_dir.canonicalize() {
+        relative_inside(&mut doc, &dir);
+    }
     let stem = output
         .file_stem()
         .and_then(|s| s.to_str())
@@ -31,6 +34,31 @@ pub fn scene_toml(input: &Path, output: &Path) -> Result<(String, SceneDesc), Sc
     write_arrays(&mut doc, out_dir, stem)?;
     let text = toml::to_string(&doc).map_err(|e| SceneError(format!("{}: {e}", source.origin)))?;
     Ok((text, desc))
+}
+
+/// Makes the absolute file names of `doc` that lie inside the folder
+/// `dir` (canonical) relative to it, so the scene moves with its files.
+fn relative_inside(v: &mut toml::Value, dir: &Path) {
+    match v {
+        toml::Value::Table(t) => {
+            for (k, x) in t.iter_mut() {
+                match x {
+                    toml::Value::String(s) if FILE_KEYS.contains(&k.as_str()) => {
+                        let p = Path::new(s.as_str());
+                        let p = p.canonicalize().unwrap_or_else(|_| p.to_path_buf());
+                        if let Ok(r) = p.strip_prefix(dir) {
+                            if p.is_absolute() && !r.as_os_str().is_empty() {
+                                *s = r.display().to_string();
+                            }
+                        }
+                    }
+                    _ => relative_inside(x, dir),
+                }
+            }
+        }
+        toml::Value::Array(a) => a.iter_mut().for_each(|x| relative_inside(x, dir)),
+        _ => {}
+    }
 }
 
 /// The folder a file `out` is written in (`.` for a bare name).
