@@ -24,11 +24,27 @@ fn repo(rel: &str) -> PathBuf {
         .join(rel)
 }
 
-/// A fresh folder for test `name` (tests run at once).
-fn out_dir(name: &str) -> PathBuf {
+/// A fresh folder for test `name` (tests run at once), removed when the
+/// test ends.
+struct OutDir(PathBuf);
+
+impl std::ops::Deref for OutDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for OutDir {
+    fn drop(&mut self) {
+        std::fs::remove_dir_all(&self.0).ok();
+    }
+}
+
+fn out_dir(name: &str) -> OutDir {
     let d = std::env::temp_dir().join(format!("fogbank-convert-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
-    d
+    OutDir(d)
 }
 
 fn load(path: &Path) -> (SceneDesc, PathBuf) {
@@ -52,7 +68,8 @@ fn convert_ok(input: &Path, output: &Path) -> Vec<String> {
 /// `source` converted to TOML in another folder parses to the same
 /// description and renders bit for bit as the source.
 fn assert_toml_renders_identically(source: &Path, name: &str) {
-    let out = out_dir(name).join(format!("{name}.toml"));
+    let dir = out_dir(name);
+    let out = dir.join(format!("{name}.toml"));
     assert!(convert_ok(source, &out).is_empty());
     assert_eq!(
         load(source).0,
@@ -95,7 +112,8 @@ fn a_pbrt_uniform_grid_is_written_as_a_vol_beside_the_toml() {
     let dir = out_dir("uniformgrid");
     let src = dir.join("grid.pbrt");
     std::fs::write(&src, UNIFORM_GRID).unwrap();
-    let out = out_dir("uniformgrid-out").join("grid.toml");
+    let out_folder = out_dir("uniformgrid-out");
+    let out = out_folder.join("grid.toml");
     convert_ok(&src, &out);
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(
@@ -131,7 +149,8 @@ fn toml_in_its_own_folder_keeps_relative_names_and_elsewhere_makes_them_absolute
     convert_ok(&src, &dir.join("same.toml"));
     let same = std::fs::read_to_string(dir.join("same.toml")).unwrap();
     assert!(same.contains("vdb = \"dragon.vdb\""), "{same}");
-    let other = out_dir("relative-elsewhere").join("moved.toml");
+    let elsewhere = out_dir("relative-elsewhere");
+    let other = elsewhere.join("moved.toml");
     convert_ok(&src, &other);
     let moved = std::fs::read_to_string(&other).unwrap();
     assert!(!moved.contains("vdb = \"dragon.vdb\""), "{moved}");
