@@ -6,7 +6,7 @@
 //!
 //! | in | out | how |
 //! |---|---|---|
-//! | `.pbrt`, `.xml`, `.toml` | `.toml` | [`scene_toml`]: the scene as fogbank reads it, file names absolute |
+//! | `.pbrt`, `.xml`, `.toml` | `.toml` | [`scene_toml`]: the scene as fogbank reads it, its files named relative to OUT's folder inside it and absolute elsewhere, in-memory arrays written as `.vol` |
 //! | `.pbrt`, `.xml`, `.toml` | `.xml` | [`mitsuba_writer`]: Mitsuba 3 XML, refusing or listing what Mitsuba cannot express |
 //! | `.pbrt`, `.xml`, `.toml` | `.vdb`, `.nvdb` | a medium's grid, as `fogbank export` writes it |
 //! | `.vdb`, `.nvdb`, `.vol`, `.nii`, `.nii.gz`, `.hdr`, `.nrrd`, `.nhdr` | `.vdb`, `.nvdb` | [`volume`]: one grid, every active voxel kept |

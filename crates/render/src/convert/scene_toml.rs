@@ -4,7 +4,7 @@
 //! from its new folder ([`rebase_paths`]: absolute unless the folder is the
 //! same), and the files inside that folder named relative to it. pbrt-v4 and Mitsuba sources already name their files absolutely;
 //! in-memory arrays (pbrt's uniform grids) become `.vol` files beside it
-//! ([`write_arrays`]). Otherwise the written text parses to the same
+//! (`arrays`). Otherwise the written text parses to the same
 //! [`SceneDesc`] as the source, so it renders the same image.
 
 use super::arrays::write_arrays;
@@ -16,7 +16,7 @@ use std::path::Path;
 
 /// The scene `input` as fogbank TOML text for the file `output`, and its
 /// description; its in-memory arrays are written beside `output`
-/// ([`write_arrays`]).
+/// (`arrays`).
 pub fn scene_toml(input: &Path, output: &Path) -> Result<(String, SceneDesc), SceneError> {
     let source = read_scene_source(input, &[])?;
     let desc = parse_scene(&source.text, &source.origin, &[])?;

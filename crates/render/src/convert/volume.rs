@@ -7,7 +7,7 @@
 //! Dense sources (`.vol`, NIfTI, NRRD) are read as a one-medium scene
 //! reads them — placed in world space as fogbank places them, NIfTI and
 //! NRRD values rescaled onto [0, 1] — and written by
-//! [`export_desc`](crate::export::export_desc), as `fogbank export` writes
+//! [`export_desc`], as `fogbank export` writes
 //! a medium.
 
 use super::output::{write_file, ConvertOptions, Converted};

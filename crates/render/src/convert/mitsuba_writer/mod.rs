@@ -10,20 +10,22 @@
 //! | `[camera]` | `perspective` with `fov`, `fov_axis`, a `lookat` `to_world` (a `mirror`ed camera: `scale x=-1` first), `near_clip` (0 becomes 10⁻⁴: Mitsuba needs a positive one, noted), `far_clip` (none becomes 10⁷) |
 //! | `[render]` | `hdrfilm` width/height with a box `rfilter`; `independent` sampler with `sample_count` = spp and `seed` |
 //! | `[integrator]` volpath | `volpath`, `max_depth` + 1 (fogbank counts scattering vertices, Mitsuba segments), `rr_depth` |
-//! | `[[media]]` | `heterogeneous` over a `gridvolume` (`.vol`) inside a null `cube`, see [`media`] |
-//! | `[[lights]]` | `constant`, `envmap`, `point`, `directional`, `spot`, see [`emitters`] |
-//! | `[[shapes]]` | the same shape types, BSDFs and textures, `area` emitters, see [`shapes`] |
+//! | `[[media]]` | `heterogeneous` over a `gridvolume` (`.vol`) inside a null `cube`, see `media` |
+//! | `[[lights]]` | `constant`, `envmap`, `point`, `directional`, `spot`, see `emitters` |
+//! | `[[shapes]]` | the same shape types, BSDFs and textures, `area` emitters, see `shapes` |
 //!
 //! Refused, with an error naming the key: integrators other than volpath
-//! (Mitsuba has none of fogbank's others), emitting
-//! media, transfer functions, albedo grids, RGB densities, per-channel
-//! scales of a grid, medium instances, non-HG phase functions. Dropped
-//! with a note in [`Converted::notes`]: `pixel_jitter = false`,
-//! exposure/tone curve, the light sampler, an `[animation]` (frame 0 is
-//! written), medium velocity and importance rules, a nearest-neighbour
+//! (Mitsuba has none of fogbank's others), emitting media, transfer
+//! functions, albedo grids, RGB densities other than a 3-channel `.vol`,
+//! per-channel scales of a non-constant medium, medium instances, non-HG
+//! phase functions. Changed or dropped with a note in
+//! [`Converted::notes`]: a zero near clip, `pixel_jitter = false`, the
+//! exposure and tone curve, the light sampler, an `[animation]` (frame 0
+//! is written), medium velocity and importance rules, a nearest-neighbour
 //! grid filter or environment lookup, the gradient sky (baked into an
-//! environment map), a smoothstep spot falloff, and
-//! overlapping media (fogbank adds them, Mitsuba has one medium per region).
+//! environment map), a smoothstep spot falloff, procedural fields
+//! (voxelised) and overlapping media (fogbank adds them, Mitsuba has one
+//! medium per region).
 
 mod emitters;
 mod media;
