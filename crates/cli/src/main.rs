@@ -4,6 +4,7 @@ mod bench_cmd;
 mod common;
 mod compare_cmd;
 mod converge_cmd;
+mod convert_cmd;
 mod experiment_cmd;
 mod export_cmd;
 mod frames_cmd;
@@ -41,6 +42,8 @@ enum Command {
     Info(info_cmd::InfoArgs),
     /// Write a scene medium's density (or temperature) grid as .vdb or .nvdb.
     Export(export_cmd::ExportArgs),
+    /// Convert a scene (pbrt-v4, Mitsuba XML, TOML → TOML or Mitsuba XML) or a volume (→ .vdb/.nvdb).
+    Convert(convert_cmd::ConvertArgs),
     /// List the transmittance estimators.
     Estimators,
     /// List the integrators and their parameters (`integrator.type` and keys).
@@ -84,6 +87,7 @@ fn main() -> ExitCode {
         Command::Merge(a) => merge_cmd::run(a),
         Command::Info(a) => info_cmd::run(a),
         Command::Export(a) => export_cmd::run(a),
+        Command::Convert(a) => convert_cmd::run(a),
         Command::Estimators => {
             for e in fogbank_estimators::Estimator::all() {
                 let kind = if e.biased() { "biased" } else { "unbiased" };

@@ -15,6 +15,7 @@
 //! NanoVDB) stands beside `render`; `desc` re-exports every description.
 
 pub mod animation;
+pub mod convert;
 pub mod desc;
 pub mod error;
 pub mod export;

@@ -6,10 +6,11 @@
 use std::path::{Path, PathBuf};
 
 /// Keys whose string values name files: field sources (`vdb`, `nvdb`,
-/// `vol`, `raw`, `nifti`, `nrrd`), ParaView colour maps, and every `file`
-/// (environment maps, velocity and transfer files).
-pub const FILE_KEYS: [&str; 8] = [
-    "vdb", "nvdb", "vol", "raw", "nifti", "nrrd", "paraview", "file",
+/// `vol`, `raw`, `nifti`, `nrrd`), ParaView colour maps, every `file`
+/// (environment maps, meshes, velocity and transfer files) and bitmap
+/// textures' `filename`.
+pub const FILE_KEYS: [&str; 9] = [
+    "vdb", "nvdb", "vol", "raw", "nifti", "nrrd", "paraview", "file", "filename",
 ];
 
 /// Rewrites the relative file names of `scene` (resolved against `from`)

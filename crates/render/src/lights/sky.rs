@@ -27,6 +27,24 @@ pub fn sky_radiance(y: f32, zenith: [f32; 3], horizon: [f32; 3], ground: [f32; 3
     }
 }
 
+/// The sky's latitude–longitude pixels (width, height, rows from the
+/// zenith down), each the gradient at its row's centre: what
+/// [`sky_envmap`] builds, and what `fogbank convert` writes for Mitsuba.
+pub fn sky_pixels(
+    zenith: [f32; 3],
+    horizon: [f32; 3],
+    ground: [f32; 3],
+) -> (usize, usize, Vec<[f32; 3]>) {
+    let (w, h) = (COLUMNS, ROWS);
+    let mut rgb = Vec::with_capacity(w * h);
+    for i in 0..h {
+        let theta = std::f32::consts::PI * (i as f32 + 0.5) / h as f32;
+        let c = sky_radiance(theta.cos(), zenith, horizon, ground);
+        rgb.extend(std::iter::repeat_n(c, w));
+    }
+    (w, h, rgb)
+}
+
 /// The sky as an environment map (radiance × `scale`), each pixel the
 /// gradient at its row's centre.
 pub fn sky_envmap(
@@ -35,13 +53,7 @@ pub fn sky_envmap(
     ground: [f32; 3],
     scale: f32,
 ) -> Result<Envmap, String> {
-    let (w, h) = (COLUMNS, ROWS);
-    let mut rgb = Vec::with_capacity(w * h);
-    for i in 0..h {
-        let theta = std::f32::consts::PI * (i as f32 + 0.5) / h as f32;
-        let c = sky_radiance(theta.cos(), zenith, horizon, ground);
-        rgb.extend(std::iter::repeat_n(c, w));
-    }
+    let (w, h, rgb) = sky_pixels(zenith, horizon, ground);
     Envmap::from_pixels(w, h, rgb, scale, Mat3::IDENTITY)
 }
 

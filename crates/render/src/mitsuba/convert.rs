@@ -334,13 +334,14 @@ fn sensor<'a>(
     let forward = m.transform_vector3(DVec3::Z).normalize_or_zero();
     let up = m.transform_vector3(DVec3::Y).normalize_or_zero();
     let left = m.transform_vector3(DVec3::X);
-    // Mitsuba's camera x points left; a mirrored transform flips the image.
-    if up.cross(forward).dot(left) <= 0.0 {
-        return Err(p_error(
-            e,
-            "the sensor's to_world mirrors the image (not supported)",
-        ));
+    // Mitsuba's camera x points left; a mirrored transform (a negative
+    // scale, as `fogbank convert` writes pbrt's left-handed cameras) flips
+    // the image, which is fogbank's `mirror`.
+    let handed = up.cross(forward).dot(left);
+    if !(handed.is_finite() && handed != 0.0) {
+        return Err(p_error(e, "the sensor's to_world is degenerate"));
     }
+    let mirror = handed < 0.0;
     let v = |d: DVec3| Value::Array(d.to_array().iter().map(|&x| Value::Float(x)).collect());
     let mut camera = Table::new();
     camera.insert("from".into(), v(origin));
@@ -352,6 +353,9 @@ fn sensor<'a>(
     camera.insert("height".into(), h.into());
     camera.insert("near_clip".into(), near.into());
     camera.insert("far_clip".into(), far.into());
+    if mirror {
+        camera.insert("mirror".into(), true.into());
+    }
     Ok((camera, render, medium))
 }
 

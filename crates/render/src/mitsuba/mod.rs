@@ -9,7 +9,8 @@
 //! `translate`, `rotate`, `scale`, `matrix`); `sensor` perspective (`fov`
 //! and `fov_axis`, or `focal_length`, default 50 mm, as Mitsuba's
 //! `parse_fov`; `near_clip` and `far_clip`, default 0.01 and 10⁴: rays
-//! start on the near plane and the first segment ends on the far one),
+//! start on the near plane and the first segment ends on the far one; a
+//! mirroring `to_world` is fogbank's camera `mirror`),
 //! `film` hdrfilm with a box `rfilter`, `sampler` independent; `integrator`
 //! volpath, volpathmis and a `moment` around one (fogbank always writes the
 //! variance); `medium` homogeneous and heterogeneous with `gridvolume`

@@ -1,0 +1,112 @@
+//! `fogbank convert IN -o OUT`: between the scene formats fogbank reads
+//! (pbrt-v4, Mitsuba 3 XML, its own TOML) and those it writes (TOML always,
+//! Mitsuba XML for what Mitsuba can express), and between volume formats
+//! (`.vdb`, `.nvdb`, `.vol`, NIfTI, NRRD → `.vdb`/`.nvdb`). Both files'
+//! kinds are told by their extensions:
+//!
+//! | in | out | how |
+//! |---|---|---|
+//! | `.pbrt`, `.xml`, `.toml` | `.toml` | [`scene_toml`]: the scene as fogbank reads it, its files named relative to OUT's folder inside it and absolute elsewhere, in-memory arrays written as `.vol` |
+//! | `.pbrt`, `.xml`, `.toml` | `.xml` | [`mitsuba_writer`]: Mitsuba 3 XML, refusing or listing what Mitsuba cannot express |
+//! | `.pbrt`, `.xml`, `.toml` | `.vdb`, `.nvdb` | a medium's grid, as `fogbank export` writes it |
+//! | `.vdb`, `.nvdb`, `.vol`, `.nii`, `.nii.gz`, `.hdr`, `.nrrd`, `.nhdr` | `.vdb`, `.nvdb` | [`volume`]: one grid, every active voxel kept |
+//!
+//! A scene converted to TOML parses to the same [`SceneDesc`](crate::SceneDesc)
+//! as its source, so it renders the same image bit for bit.
+
+mod arrays;
+pub mod mitsuba_writer;
+mod output;
+pub mod scene_toml;
+pub mod volume;
+
+pub use output::{ConvertOptions, Converted};
+
+use crate::error::SceneError;
+use crate::scene::SceneFormat;
+use std::path::Path;
+
+/// What a file is, by its extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FileKind {
+    Scene(SceneFormat),
+    /// A volume file: the [`FieldDesc`](crate::world::field::FieldDesc)
+    /// key that reads it (`vdb`, `nvdb`, `vol`, `nifti`, `nrrd`).
+    Volume(&'static str),
+}
+
+impl FileKind {
+    /// The kind of `path`, or `None` for an extension fogbank does not know.
+    pub fn of(path: &Path) -> Option<FileKind> {
+        let name = path.file_name()?.to_str()?.to_ascii_lowercase();
+        let ext = name.rsplit_once('.')?.1;
+        Some(match ext {
+            "toml" => FileKind::Scene(SceneFormat::Toml),
+            "xml" => FileKind::Scene(SceneFormat::MitsubaXml),
+            "pbrt" => FileKind::Scene(SceneFormat::Pbrt),
+            "vdb" => FileKind::Volume("vdb"),
+            "nvdb" => FileKind::Volume("nvdb"),
+            "vol" => FileKind::Volume("vol"),
+            "nii" | "hdr" => FileKind::Volume("nifti"),
+            "gz" if name.ends_with(".nii.gz") => FileKind::Volume("nifti"),
+            "nrrd" | "nhdr" => FileKind::Volume("nrrd"),
+            _ => return None,
+        })
+    }
+}
+
+const KNOWN: &str = ".toml, .xml, .pbrt (scenes); .vdb, .nvdb, .vol, .nii, .nii.gz, .hdr, \
+                     .nrrd, .nhdr (volumes)";
+
+/// Converts `input` to `output`, both told by their extensions (see the
+/// module table).
+pub fn convert(
+    input: &Path,
+    output: &Path,
+    options: &ConvertOptions,
+) -> Result<Converted, SceneError> {
+    let kind = |p: &Path, role: &str| {
+        FileKind::of(p).ok_or_else(|| {
+            SceneError(format!(
+                "{}: the {role}'s extension is not one fogbank converts ({KNOWN})",
+                p.display()
+            ))
+        })
+    };
+    let (from, to) = (kind(input, "input")?, kind(output, "output")?);
+    if !input.is_file() {
+        return Err(SceneError(format!("{}: no such file", input.display())));
+    }
+    if output.canonicalize().ok() == input.canonicalize().ok() {
+        return Err(SceneError(format!(
+            "{}: the output would overwrite the input",
+            output.display()
+        )));
+    }
+    match (from, to) {
+        (FileKind::Scene(_), FileKind::Scene(SceneFormat::Toml)) => {
+            scene_toml::convert(input, output)
+        }
+        (FileKind::Scene(_), FileKind::Scene(SceneFormat::MitsubaXml)) => {
+            mitsuba_writer::convert(input, output)
+        }
+        (FileKind::Scene(_), FileKind::Volume(v)) if v == "vdb" || v == "nvdb" => {
+            volume::from_scene(input, output, options)
+        }
+        (FileKind::Volume(key), FileKind::Volume(v)) if v == "vdb" || v == "nvdb" => {
+            volume::convert(input, key, output, options)
+        }
+        (_, FileKind::Scene(SceneFormat::Pbrt)) => Err(SceneError(format!(
+            "{}: fogbank reads pbrt-v4 scenes but does not write them (write .toml or .xml)",
+            output.display()
+        ))),
+        (FileKind::Volume(_), FileKind::Scene(_)) => Err(SceneError(format!(
+            "{}: a volume file converts to a volume file (.vdb or .nvdb), not a scene",
+            output.display()
+        ))),
+        (_, FileKind::Volume(_)) => Err(SceneError(format!(
+            "{}: volumes are written as .vdb or .nvdb only",
+            output.display()
+        ))),
+    }
+}
