@@ -125,7 +125,6 @@ fn read_k<const K: usize>(
     checksum::verify(&b, &head, &flat)?;
     // The decoded grid is no longer needed: free it before the leaves are
     // split into grids (peak memory while loading).
-    drop(b);
     drop(bytes);
     let mut compression = e.codec.name().to_string();
     if head.kind.is_quantised() {
