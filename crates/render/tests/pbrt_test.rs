@@ -168,9 +168,9 @@ fn errors_name_the_file_and_line() {
     assert!(e.contains("t.pbrt:5:"), "{e}");
     let e = error(&format!("{HEAD}Texture \"t\" \"spectrum\" \"imagemap\"\n"));
     assert!(e.contains("Texture"), "{e}");
-    let e = error(&format!("{HEAD}MakeNamedMedium \"m\" \"string type\" \"cloud\"\nMediumInterface \"m\" \"\"\nShape \"sphere\"\n"));
+    let e = error(&format!("{HEAD}MakeNamedMedium \"m\" \"string type\" \"fog\"\nMediumInterface \"m\" \"\"\nShape \"sphere\"\n"));
     assert!(
-        e.contains("t.pbrt:5:") && e.contains("\"cloud\" medium is not supported"),
+        e.contains("t.pbrt:5:") && e.contains("unknown medium type \"fog\""),
         "{e}"
     );
 }

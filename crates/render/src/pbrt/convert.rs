@@ -98,7 +98,7 @@ pub fn scene_table(mut p: Parsed) -> Result<Table, SceneError> {
     }
     let mut lights = Vec::new();
     for l in &p.lights {
-        lights.push(Value::Table(light(l)?));
+        lights.push(Value::Table(light(l, &p.top_dir, &mut warnings)?));
     }
     if let Some(c) = &p.camera {
         if !c.medium.is_empty() {

@@ -24,16 +24,20 @@
 //! - pbrt renders spectrally; fogbank in linear sRGB ([`spectra`]).
 //!
 //! Approximations print a notice once (the pixel filter, the sampler,
-//! `coateddiffuse`, unbounded homogeneous media); anything fogbank cannot
-//! express is refused with its file and line: textures, motion
-//! (`ActiveTransform`), lenses, spectral sensors, image and portal infinite
-//! lights, goniometric and projection lights, `rgbgrid` and `cloud`
-//! media, emitting `uniformgrid`s, partial quadrics, inline meshes other than a single
-//! parallelogram, and integrators other than `volpath` (and `path` without
-//! media).
+//! `coateddiffuse`, unbounded homogeneous media, `cloud` media baked into
+//! a grid ([`cloud`]), `rgbgrid` albedo interpolated per voxel
+//! ([`rgbgrid`]), image infinite lights resampled to lat-long
+//! ([`envlight`])); anything fogbank cannot express is refused with its
+//! file and line: textures, motion (`ActiveTransform`), lenses, spectral
+//! sensors, portal infinite lights, goniometric and projection lights,
+//! emitting `uniformgrid`s, partial quadrics, inline meshes other than a
+//! single parallelogram, and integrators other than `volpath` (and `path`
+//! without media).
 
+pub mod cloud;
 pub mod convert;
 pub mod cursor;
+pub mod envlight;
 pub mod grids;
 pub mod interpret;
 pub mod lights;
@@ -41,6 +45,7 @@ pub mod materials;
 pub mod media;
 pub mod options;
 pub mod params;
+pub mod rgbgrid;
 pub mod shapes;
 pub mod spectra;
 pub mod state;

@@ -1,0 +1,293 @@
+//! pbrt-v4 features beyond the grammar: `rgbgrid` and `cloud` media,
+//! image infinite lights, named sensors and samplers, general inline
+//! meshes, and the volumetric scenes of pbrt-v4-scenes on stand-in data.
+
+use fogbank_render::pbrt::{envlight, load_pbrt_str};
+use fogbank_render::render::{render, Progress, RenderOptions};
+use fogbank_render::{parse_scene, Scene, SceneDesc};
+use glam::{DVec2, DVec3};
+use std::path::{Path, PathBuf};
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/pbrt")
+        .join(name)
+}
+
+/// A `.pbrt` text read as if it were the file `at`.
+fn desc_at(text: &str, at: &Path) -> SceneDesc {
+    let t = load_pbrt_str(text, at).unwrap_or_else(|e| panic!("{e}"));
+    parse_scene(&toml::to_string(&t).unwrap(), "t.pbrt", &[]).unwrap()
+}
+
+fn desc(text: &str) -> SceneDesc {
+    desc_at(text, &fixture("t.pbrt"))
+}
+
+fn error(text: &str) -> String {
+    match load_pbrt_str(text, &fixture("t.pbrt")) {
+        Ok(_) => panic!("should fail:\n{text}"),
+        Err(e) => e.0,
+    }
+}
+
+fn image(d: SceneDesc, spp: u32) -> Vec<[f32; 3]> {
+    let scene = Scene::build(d, Path::new(".")).unwrap_or_else(|e| panic!("{e}"));
+    render(&scene, &RenderOptions::new(spp, 3), &Progress::default())
+        .film
+        .mean()
+}
+
+fn mean(img: &[[f32; 3]]) -> [f64; 3] {
+    let mut m = [0.0; 3];
+    for p in img {
+        for c in 0..3 {
+            m[c] += p[c] as f64 / img.len() as f64;
+        }
+    }
+    m
+}
+
+/// A fresh folder for files a test writes.
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("fogbank-pbrt-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+macro_rules! cam {
+    () => {
+        "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 30\nFilm \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 8\nWorldBegin\n"
+    };
+}
+const CAM: &str = cam!();
+const HEAD: &str = concat!(cam!(), "LightSource \"infinite\"\n");
+
+fn grid_medium(params: &str) -> String {
+    format!("{HEAD}AttributeBegin\nMakeNamedMedium \"g\" \"string type\" \"rgbgrid\" \"point3 p0\" [-1 -1 -1] \"point3 p1\" [1 1 1] {params}\nAttributeEnd\nAttributeBegin\nMediumInterface \"g\" \"\"\nMaterial \"interface\"\nShape \"sphere\" \"float radius\" 1.8\nAttributeEnd\n")
+}
+
+#[test]
+fn rgbgrid_chromatic_extinction_is_a_three_channel_density() {
+    let d = desc(&grid_medium(
+        "\"integer nx\" 2 \"rgb sigma_a\" [1 2 3 1 2 3] \"rgb sigma_s\" [1 1 1 1 1 1] \"float scale\" 2",
+    ));
+    let m = &d.media[0];
+    assert!(m.density_rgb);
+    assert!(m.density.array.is_some());
+    assert_eq!(m.sigma_t_scale.max(), 2.0);
+    let a = m.albedo.unwrap();
+    assert!(
+        (a[0] - 0.5).abs() < 1e-6 && (a[2] - 0.25).abs() < 1e-6,
+        "{a:?}"
+    );
+    assert!(m.albedo_grid.is_none());
+    // Red (σ_t = 4) passes more of the environment than blue (σ_t = 8).
+    let img = image(d, 16);
+    let c = img[4 * 8 + 4];
+    assert!(c.iter().all(|v| v.is_finite()) && c[0] > c[2], "{c:?}");
+}
+
+#[test]
+fn rgbgrid_varying_albedo_and_emission() {
+    let d = desc(&grid_medium(
+        "\"integer nx\" 2 \"rgb sigma_a\" [1 1 1 3 3 3] \"rgb sigma_s\" [3 3 3 1 1 1] \"rgb Le\" [0 0 0 5 4 3] \"float Lescale\" 2",
+    ));
+    let m = &d.media[0];
+    assert!(!m.density_rgb, "grey σ_t in every voxel");
+    assert_eq!(m.albedo, Some([1.0; 3]));
+    assert!(m.albedo_grid.as_ref().unwrap().array.is_some());
+    let e = m.emission.as_ref().unwrap();
+    assert_eq!(e.scale, 2.0);
+    assert!(e.grid.as_ref().unwrap().array.is_some());
+    assert!(image(d, 4).iter().flatten().all(|v| v.is_finite()));
+    // A missing σ grid is 1, as pbrt's; errors name the line.
+    let d = desc(&grid_medium("\"rgb sigma_s\" [0 0 0]"));
+    assert_eq!(d.media[0].albedo, Some([0.0; 3]));
+    let e = error(&grid_medium("\"rgb sigma_s\" [1 1 1] \"rgb Le\" [1 1 1]"));
+    assert!(
+        e.contains("t.pbrt:7:") && e.contains("\"Le\" needs \"sigma_a\""),
+        "{e}"
+    );
+    let e = error(&grid_medium("\"integer nx\" 2 \"rgb sigma_a\" [1 1 1]"));
+    assert!(e.contains("1 values for 2×1×1"), "{e}");
+}
+
+#[test]
+fn cloud_density_is_pbrts_and_is_baked_over_its_box() {
+    use fogbank_render::pbrt::cloud::{noise, Cloud};
+    // Perlin noise vanishes on the lattice and stays within ±1.
+    assert_eq!(noise(DVec3::new(3.0, -7.0, 12.0)), 0.0);
+    for i in 0..200 {
+        let p = DVec3::new(i as f64 * 0.37, i as f64 * -0.21, i as f64 * 0.13);
+        assert!(noise(p).abs() <= 1.0);
+    }
+    let c = Cloud {
+        density: 1.0,
+        wispiness: 1.0,
+        frequency: 5.0,
+    };
+    // Below the base it is solid, above the top empty.
+    assert_eq!(c.density(DVec3::new(0.3, -0.1, 0.7)), 1.0);
+    assert_eq!(c.density(DVec3::new(0.3, 1.2, 0.7)), 0.0);
+    let text = format!("{HEAD}MakeNamedMedium \"c\" \"string type\" \"cloud\" \"spectrum sigma_a\" [200 .01 900 .01] \"spectrum sigma_s\" [200 10 900 10] \"float density\" 2\nAttributeBegin\nMediumInterface \"c\" \"\"\nMaterial \"interface\"\nTranslate .5 .5 .5\nShape \"sphere\"\nAttributeEnd\n");
+    let t = load_pbrt_str(&text, &fixture("t.pbrt")).unwrap();
+    let d = desc(&text);
+    let m = &d.media[0];
+    assert!(m.density.array.is_some());
+    assert!((m.sigma_t_scale.max() - 10.01).abs() < 1e-3);
+    assert!(t.contains_key("media"));
+    assert!(image(d, 2).iter().flatten().all(|v| v.is_finite()));
+    let e = error(&format!("{HEAD}MakeNamedMedium \"c\" \"string type\" \"cloud\" \"float scale\" 2\nMediumInterface \"c\" \"\"\nShape \"sphere\"\n"));
+    assert!(e.contains("has no \"scale\""), "{e}");
+    assert_eq!(
+        fogbank_render::pbrt::cloud::resolution(DVec3::ZERO, DVec3::ONE, 5.0),
+        [80; 3]
+    );
+}
+
+#[test]
+fn equal_area_square_maps_round_trip() {
+    for i in 0..500 {
+        // Inside the square: its edges fold onto each other.
+        let f = |x: f64| 0.001 + 0.998 * (x % 1.0);
+        let u = DVec2::new(f(i as f64 * 0.618034), f(i as f64 * 0.381966 + 0.1));
+        let d = envlight::square_to_sphere(u);
+        assert!((d.length() - 1.0).abs() < 1e-9);
+        let back = envlight::sphere_to_square(d);
+        assert!((back - u).length() < 1e-9, "{u} → {d} → {back}");
+    }
+    // +z is the square's centre, −z its corners.
+    assert!((envlight::square_to_sphere(DVec2::splat(0.5)) - DVec3::Z).length() < 1e-12);
+    assert!((envlight::square_to_sphere(DVec2::ZERO) + DVec3::Z).length() < 1e-12);
+}
+
+/// An `n`×`n` octahedral map, `bright` within `radius` (radians) of the
+/// light-space direction `centre` and `base` elsewhere, written as EXR.
+fn octahedral(path: &Path, n: usize, centre: DVec3, radius: f64, bright: f32, base: f32) {
+    let mut px = vec![[base; 3]; n * n];
+    for y in 0..n {
+        for x in 0..n {
+            let d = envlight::square_to_sphere(DVec2::new(
+                (x as f64 + 0.5) / n as f64,
+                (y as f64 + 0.5) / n as f64,
+            ));
+            if d.angle_between(centre) < radius {
+                px[y * n + x] = [bright; 3];
+            }
+        }
+    }
+    fogbank_image::image_io::write_exr(path, n as u32, n as u32, &px, None).unwrap();
+}
+
+#[test]
+fn image_infinite_light_puts_light_where_pbrt_does() {
+    use fogbank_render::lights::envmap::Envmap;
+    use fogbank_render::lights::LightDesc;
+    let dir = temp_dir("envlight");
+    let sky = dir.join("sky.exr");
+    // Bright around light-space +x; the light rotated 90° about z puts it
+    // at world +y.
+    octahedral(&sky, 64, DVec3::X, 0.3, 100.0, 0.0);
+    let text = format!("{CAM}AttributeBegin\nRotate 90 0 0 1\nLightSource \"infinite\" \"string filename\" \"sky.exr\" \"float scale\" 2\nAttributeEnd\n");
+    let d = desc_at(&text, &dir.join("t.pbrt"));
+    let LightDesc::Envmap {
+        file,
+        scale,
+        rotate,
+        ..
+    } = &d.lights[0]
+    else {
+        panic!("{:?}", d.lights[0]);
+    };
+    assert_eq!((*scale, *rotate), (2.0, None));
+    let env = Envmap::load(Path::new(file), 1.0, glam::Mat3::IDENTITY).unwrap();
+    let at = |v: [f32; 3]| env.eval(glam::Vec3::from(v).normalize()).x;
+    assert!(at([0.0, 1.0, 0.0]) > 50.0, "{}", at([0.0, 1.0, 0.0]));
+    for v in [
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+    ] {
+        assert_eq!(at(v), 0.0, "{v:?}");
+    }
+    // The power is kept: ∫L dω of the lat-long map is the octahedral one's.
+    let (w, h) = (env.width(), env.height());
+    let mut total = 0.0;
+    for i in 0..h {
+        let (t0, t1) = (
+            i as f64 * std::f64::consts::PI / h as f64,
+            (i + 1) as f64 * std::f64::consts::PI / h as f64,
+        );
+        for j in 0..w {
+            let phi = (j as f64 + 0.5) * 2.0 * std::f64::consts::PI / w as f64;
+            let th = 0.5 * (t0 + t1);
+            let dir = glam::Vec3::new(
+                (th.sin() * phi.sin()) as f32,
+                th.cos() as f32,
+                (-th.sin() * phi.cos()) as f32,
+            );
+            total += env.eval(dir).x as f64 * (t0.cos() - t1.cos()) * 2.0 * std::f64::consts::PI
+                / w as f64;
+        }
+    }
+    let mut expected = 0.0;
+    let n = 64;
+    for y in 0..n {
+        for x in 0..n {
+            let d = envlight::square_to_sphere(DVec2::new(
+                (x as f64 + 0.5) / n as f64,
+                (y as f64 + 0.5) / n as f64,
+            ));
+            if d.angle_between(DVec3::X) < 0.3 {
+                expected += 100.0 * 4.0 * std::f64::consts::PI / (n * n) as f64;
+            }
+        }
+    }
+    assert!(
+        (total / expected - 1.0).abs() < 0.03,
+        "{total} vs {expected}"
+    );
+}
+
+#[test]
+fn a_uniform_image_light_renders_as_a_uniform_light() {
+    let dir = temp_dir("envuniform");
+    octahedral(&dir.join("one.exr"), 16, DVec3::Z, 0.0, 0.0, 0.5);
+    let scene = |light: &str| format!("{CAM}{light}\nShape \"sphere\"\n");
+    let a = mean(&image(
+        desc_at(
+            &scene("LightSource \"infinite\" \"string filename\" \"one.exr\" \"float scale\" 2"),
+            &dir.join("t.pbrt"),
+        ),
+        64,
+    ));
+    let b = mean(&image(
+        desc_at(
+            &scene("LightSource \"infinite\" \"rgb L\" [1 1 1]"),
+            &dir.join("t.pbrt"),
+        ),
+        64,
+    ));
+    for c in 0..3 {
+        assert!((a[c] / b[c] - 1.0).abs() < 0.03, "{a:?} vs {b:?}");
+    }
+    // `illuminance` as pbrt computes it: 2π/N² Σ Y cos θ above the horizon.
+    let d = desc_at(
+        &scene("LightSource \"infinite\" \"string filename\" \"one.exr\" \"float illuminance\" 10"),
+        &dir.join("t.pbrt"),
+    );
+    let fogbank_render::lights::LightDesc::Envmap { scale, .. } = &d.lights[0] else {
+        panic!()
+    };
+    let px = vec![[0.5f32; 3]; 256];
+    let k = envlight::Square { n: 16, rgb: &px }.illuminance();
+    assert!(
+        (*scale as f64 - 10.0 / k).abs() < 1e-4 * (10.0 / k),
+        "{scale} vs {}",
+        10.0 / k
+    );
+}
