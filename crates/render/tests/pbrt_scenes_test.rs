@@ -291,3 +291,23 @@ fn a_uniform_image_light_renders_as_a_uniform_light() {
         10.0 / k
     );
 }
+
+#[test]
+fn named_sensors_iso_and_samplers_are_accepted() {
+    let d = desc("LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float shutterclose\" 0.5\nFilm \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 8 \"string sensor\" \"nikon_d850\" \"float iso\" 400 \"float whitebalance\" 5000 \"float maxcomponentvalue\" 20\nSampler \"halton\" \"integer pixelsamples\" 7\nWorldBegin\n");
+    // Imaging ratio 0.5 · 400 / 100 = 2: one stop.
+    assert_eq!((d.render.exposure, d.render.spp), (1.0, 7));
+    let d = desc("Sampler \"stratified\" \"integer xsamples\" 3 \"integer ysamples\" 2 \"bool jitter\" false\nWorldBegin\n");
+    assert_eq!((d.render.exposure, d.render.spp), (0.0, 6));
+    for s in ["sobol", "zsobol", "pmj02bn", "independent"] {
+        let d = desc(&format!("Sampler \"{s}\" \"integer pixelsamples\" 3 \"string randomization\" \"owen\" \"integer seed\" 5\nWorldBegin\n"));
+        assert_eq!(d.render.spp, 3);
+    }
+    let e = error("Sampler \"magic\"\nWorldBegin\n");
+    assert!(
+        e.contains("t.pbrt:1:") && e.contains("\"magic\" is unknown"),
+        "{e}"
+    );
+    let e = error("Camera \"perspective\" \"float shutteropen\" 1\nWorldBegin\n");
+    assert!(e.contains("imaging ratio"), "{e}");
+}
