@@ -311,3 +311,42 @@ fn named_sensors_iso_and_samplers_are_accepted() {
     let e = error("Camera \"perspective\" \"float shutteropen\" 1\nWorldBegin\n");
     assert!(e.contains("imaging ratio"), "{e}");
 }
+
+#[test]
+fn inline_meshes_become_ply_files() {
+    // Two triangles that are no parallelogram, one with normals: a PLY.
+    let d = desc(&format!("{HEAD}AreaLightSource \"diffuse\" \"float power\" 1\nShape \"trianglemesh\" \"point3 P\" [0 0 0 2 0 0 0 1 0 2 1 1] \"integer indices\" [0 1 2 1 3 2]\nShape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"normal N\" [0 0 1 0 0 1 0 0 1] \"point2 uv\" [0 0 1 0 0 1]\n"));
+    use fogbank_render::world::surfaces::shape::ShapeType;
+    assert_eq!(d.shapes[0].kind, ShapeType::Ply);
+    assert!(d.shapes[0].face_normals && !d.shapes[1].face_normals);
+    // power P over the mesh's area A: radiance P/(πA).
+    let area = 1.0 + 1.5;
+    let l = d.shapes[0].emitter.as_ref().unwrap().radiance[0] as f64;
+    assert!(
+        (l - 1.0 / (std::f64::consts::PI * area)).abs() < 1e-5,
+        "{l}"
+    );
+    let mesh =
+        fogbank_geometry::load_mesh(Path::new(d.shapes[1].file.as_deref().unwrap())).unwrap();
+    assert_eq!(
+        (mesh.triangles.len(), mesh.normals.len(), mesh.uvs.len()),
+        (1, 3, 3)
+    );
+    // Bilinear patches: a planar pair is 4 triangles, a curved one 2·8².
+    let d = desc(&format!("{HEAD}Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0 2 0 0 2 1 0] \"integer indices\" [0 1 2 3 1 4 3 5]\nShape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 1]\n"));
+    let count = |i: usize| {
+        fogbank_geometry::load_mesh(Path::new(d.shapes[i].file.as_deref().unwrap()))
+            .unwrap()
+            .triangles
+            .len()
+    };
+    assert_eq!((count(0), count(1)), (4, 128));
+    // pbrt's facing: the planar patches' normal is +z (∂p/∂u × ∂p/∂v).
+    let m = fogbank_geometry::load_mesh(Path::new(d.shapes[0].file.as_deref().unwrap())).unwrap();
+    let t = m.triangles[0];
+    let [a, b, c] = t.map(|i| m.positions[i as usize]);
+    assert!((b - a).cross(c - a).z > 0.0);
+    assert!(image(d, 2).iter().flatten().all(|v| v.is_finite()));
+    let e = error(&format!("{HEAD}Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 1] \"integer indices\" [0 1 7]\n"));
+    assert!(e.contains("t.pbrt:6:") && e.contains("outside 0..4"), "{e}");
+}

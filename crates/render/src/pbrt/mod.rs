@@ -30,9 +30,11 @@
 //! ([`envlight`])); anything fogbank cannot express is refused with its
 //! file and line: textures, motion (`ActiveTransform`), lenses, spectral
 //! sensors, portal infinite lights, goniometric and projection lights,
-//! emitting `uniformgrid`s, partial quadrics, inline meshes other than a
-//! single parallelogram, and integrators other than `volpath` (and `path`
-//! without media).
+//! emitting `uniformgrid`s, partial quadrics, shading tangents (`S`) on
+//! inline meshes, and integrators other than `volpath` (and `path`
+//! without media). Inline meshes other than a single parallelogram are
+//! written as PLY files into a cache folder ([`meshes`]); curved bilinear
+//! patches are tessellated, with a notice.
 
 pub mod cloud;
 pub mod convert;
@@ -43,6 +45,7 @@ pub mod interpret;
 pub mod lights;
 pub mod materials;
 pub mod media;
+pub mod meshes;
 pub mod options;
 pub mod params;
 pub mod rgbgrid;

@@ -9,9 +9,9 @@
 //!   refused.
 //! - `trianglemesh` and `bilinearmesh`: a single planar parallelogram (two
 //!   triangles over four points, or one bilinear patch whose corners form
-//!   one) → fogbank's rectangle, facing where pbrt's normal faces (the
-//!   first triangle's winding; dp/du × dp/dv of the patch). Other inline
-//!   meshes are refused: fogbank reads meshes from files.
+//!   one) without `N` or `uv` → fogbank's rectangle, facing where pbrt's
+//!   normal faces (the first triangle's winding; dp/du × dp/dv of the
+//!   patch). Other inline meshes become PLY files ([`super::meshes`]).
 //!
 //! `ReverseOrientation` flips the normals (and so which side is inside a
 //! `MediumInterface` and which side an area light lights). A shape
@@ -20,7 +20,9 @@
 use super::cursor::resolve;
 use super::interpret::ShapeEntity;
 use super::media::matrix_table;
+use super::meshes;
 use super::params::ParamList;
+use super::warnings::Warnings;
 use crate::error::SceneError;
 use glam::{DMat3, DMat4, DVec3};
 use std::f64::consts::PI;
@@ -42,7 +44,11 @@ fn area_scale(m: DMat4) -> Option<f64> {
         .then_some(s2)
 }
 
-pub fn shape(s: &ShapeEntity, top_dir: &Path) -> Result<ShapeOut, SceneError> {
+pub fn shape(
+    s: &ShapeEntity,
+    top_dir: &Path,
+    warnings: &mut Warnings,
+) -> Result<ShapeOut, SceneError> {
     let e = &s.entity;
     let ps = &e.params;
     let what = e.what("Shape");
@@ -53,6 +59,7 @@ pub fn shape(s: &ShapeEntity, top_dir: &Path) -> Result<ShapeOut, SceneError> {
         ));
     }
     let mut t = Table::new();
+    let mut world_area = None;
     let (local, area) = match e.ty.as_str() {
         "sphere" => {
             let r = ps.float("radius", 1.0)?;
@@ -80,10 +87,31 @@ pub fn shape(s: &ShapeEntity, top_dir: &Path) -> Result<ShapeOut, SceneError> {
             (DMat4::IDENTITY, None)
         }
         "trianglemesh" | "bilinearmesh" => {
-            let m = parallelogram(ps, e.ty == "bilinearmesh").map_err(err)?;
-            t.insert("type".into(), "rectangle".into());
-            let a = 4.0 * m.x_axis.truncate().cross(m.y_axis.truncate()).length();
-            (m, Some(a))
+            let bilinear = e.ty == "bilinearmesh";
+            let simple = !["N", "uv", "faceIndices", "S"].iter().any(|k| ps.has(k));
+            match simple.then(|| parallelogram(ps, bilinear).ok()).flatten() {
+                Some(m) => {
+                    t.insert("type".into(), "rectangle".into());
+                    let a = 4.0 * m.x_axis.truncate().cross(m.y_axis.truncate()).length();
+                    (m, Some(a))
+                }
+                None => {
+                    let mesh = if bilinear {
+                        meshes::bilinear_mesh(ps, warnings, &e.loc.to_string())
+                    } else {
+                        meshes::triangle_mesh(ps)
+                    }
+                    .map_err(err)?;
+                    let file = meshes::write_cached(&mesh).map_err(err)?;
+                    t.insert("type".into(), "ply".into());
+                    t.insert("file".into(), file.display().to_string().into());
+                    if mesh.n.is_empty() {
+                        t.insert("face_normals".into(), true.into());
+                    }
+                    world_area = Some(mesh.area(s.ctm));
+                    (DMat4::IDENTITY, None)
+                }
+            }
         }
         other => return Err(err(format!("shape \"{other}\" is not supported (sphere, disk, plymesh, trianglemesh and bilinearmesh parallelograms)"))),
     };
@@ -92,7 +120,7 @@ pub fn shape(s: &ShapeEntity, top_dir: &Path) -> Result<ShapeOut, SceneError> {
     }
     t.insert("to_world".into(), Value::Table(matrix_table(s.ctm * local)));
     ps.finish(&what)?;
-    let area = area.and_then(|a| area_scale(s.ctm).map(|k| a * k));
+    let area = world_area.or_else(|| area.and_then(|a| area_scale(s.ctm).map(|k| a * k)));
     Ok(ShapeOut { table: t, area })
 }
 
