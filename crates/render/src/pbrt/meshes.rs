@@ -173,6 +173,48 @@ pub fn bilinear_mesh(ps: &ParamList, warnings: &mut Warnings, loc: &str) -> Resu
     Ok(out)
 }
 
+/// Segments around an ellipsoid's equator (half as many pole to pole).
+pub const ELLIPSOID_SEGMENTS: usize = 96;
+
+/// The unit sphere under `m` as a world-space mesh with smooth normals
+/// (the inverse transpose of `m` applied to the sphere's), its vertices
+/// on the surface.
+pub fn ellipsoid(m: DMat4) -> Mesh {
+    let (nu, nv) = (ELLIPSOID_SEGMENTS, ELLIPSOID_SEGMENTS / 2);
+    let normal_m = glam::DMat3::from_mat4(m).inverse().transpose();
+    let mut out = Mesh::default();
+    for j in 0..=nv {
+        let theta = std::f64::consts::PI * j as f64 / nv as f64;
+        for i in 0..=nu {
+            let phi = 2.0 * std::f64::consts::PI * i as f64 / nu as f64;
+            let d = DVec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
+            out.p.push(m.transform_point3(d));
+            out.n.push((normal_m * d).normalize_or_zero());
+        }
+    }
+    let at = |i: usize, j: usize| (j * (nu + 1) + i) as u32;
+    for j in 0..nv {
+        for i in 0..nu {
+            // Outward: (φ, θ) increasing is counter-clockwise seen from outside.
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            if j > 0 {
+                out.tris.push([a, c, b]);
+            }
+            if j + 1 < nv {
+                out.tris.push([a, d, c]);
+            }
+        }
+    }
+    if glam::DMat3::from_mat4(m).determinant() < 0.0 {
+        out.tris.iter_mut().for_each(|t| t.swap(1, 2));
+    }
+    out
+}
+
 /// The cached PLY file of `mesh`.
 pub fn write_cached(mesh: &Mesh) -> Result<PathBuf, String> {
     let mut bytes = Vec::new();

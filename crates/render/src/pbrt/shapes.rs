@@ -1,8 +1,10 @@
 //! `Shape` statements as `[[shapes]]` tables (without their material,
 //! emitter and media, which the conversion adds).
 //!
-//! - `sphere`: `radius` (1) → fogbank's analytic sphere; partial spheres
-//!   (`zmin`, `zmax`, `phimax`) are refused.
+//! - `sphere`: `radius` (1) → fogbank's analytic sphere; under a
+//!   non-uniform scale (an ellipsoid, which fogbank's one-radius sphere
+//!   cannot be) a tessellated mesh ([`super::meshes::ellipsoid`]), with a
+//!   notice; partial spheres (`zmin`, `zmax`, `phimax`) are refused.
 //! - `disk`: `height` (0), `radius` (1) → the analytic unit disk (normal
 //!   +z, as pbrt's); `innerradius` and `phimax` are refused.
 //! - `plymesh`: `filename` → fogbank's PLY reader; `displacement` is
@@ -68,8 +70,25 @@ pub fn shape(
                     return Err(err(format!("a partial sphere (\"{k}\") is not supported")));
                 }
             }
-            t.insert("type".into(), "sphere".into());
-            (DMat4::from_scale(DVec3::splat(r)), Some(4.0 * PI * r * r))
+            let local = DMat4::from_scale(DVec3::splat(r));
+            if area_scale(s.ctm).is_some() {
+                t.insert("type".into(), "sphere".into());
+                (local, Some(4.0 * PI * r * r))
+            } else {
+                // fogbank's sphere has one radius: an ellipsoid is a mesh.
+                let mesh = meshes::ellipsoid(s.ctm * local);
+                let file = meshes::write_cached(&mesh).map_err(err)?;
+                warnings.warn(format!(
+                    "{}: a sphere under a non-uniform scale (an ellipsoid) is tessellated into {} triangles",
+                    e.loc,
+                    mesh.tris.len()
+                ));
+                t.insert("type".into(), "ply".into());
+                t.insert("file".into(), file.display().to_string().into());
+                world_area = Some(mesh.area(DMat4::IDENTITY));
+                // The mesh is in world space already.
+                (s.ctm.inverse(), None)
+            }
         }
         "disk" => {
             let (h, r) = (ps.float("height", 0.0)?, ps.float("radius", 1.0)?);
