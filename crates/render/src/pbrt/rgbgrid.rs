@@ -1,7 +1,9 @@
 //! `rgbgrid` media (pbrt's `RGBGridMedium`): per-voxel rgb `sigma_a`,
 //! `sigma_s` and optional `Le` over the box `p0`–`p1`, cell-centred as
 //! `SampledGrid::Lookup` reads them (as `uniformgrid`, through
-//! [`super::grids`]).
+//! [`super::grids`]); the medium exists in that box. As for
+//! `uniformgrid`, near the box's faces pbrt interpolates towards zero
+//! outside, fogbank towards the edge voxel (within half a voxel).
 //!
 //! - σ_t = `scale`·(σ_a + σ_s) per voxel (a missing grid is 1 in every
 //!   channel, as pbrt's `SamplePoint`): one density array when every
