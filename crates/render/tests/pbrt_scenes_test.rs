@@ -128,9 +128,13 @@ fn cloud_density_is_pbrts_and_is_baked_over_its_box() {
         wispiness: 1.0,
         frequency: 5.0,
     };
-    // Below the base it is solid, above the top empty.
+    // Below the base it is solid; elsewhere within [0, 1], and not constant.
     assert_eq!(c.density(DVec3::new(0.3, -0.1, 0.7)), 1.0);
-    assert_eq!(c.density(DVec3::new(0.3, 1.2, 0.7)), 0.0);
+    let v: Vec<f64> = (0..50)
+        .map(|i| c.density(DVec3::new(0.3 + 0.01 * i as f64, 0.6, 0.7)))
+        .collect();
+    assert!(v.iter().all(|x| (0.0..=1.0).contains(x)));
+    assert!(v.iter().any(|&x| x != v[0]), "{v:?}");
     let text = format!("{HEAD}MakeNamedMedium \"c\" \"string type\" \"cloud\" \"spectrum sigma_a\" [200 .01 900 .01] \"spectrum sigma_s\" [200 10 900 10] \"float density\" 2\nAttributeBegin\nMediumInterface \"c\" \"\"\nMaterial \"interface\"\nTranslate .5 .5 .5\nShape \"sphere\"\nAttributeEnd\n");
     let t = load_pbrt_str(&text, &fixture("t.pbrt")).unwrap();
     let d = desc(&text);
@@ -526,10 +530,50 @@ fn pbrt_v4_scenes_parse_and_render() {
         ];
         let d = parse_scene(&toml::to_string(&t).unwrap(), file, &sets)
             .unwrap_or_else(|e| panic!("{name}: {e}"));
+        check_scene(name, &d);
         let img = image(d, 2);
         let m = mean(&img);
         assert!(img.iter().flatten().all(|v| v.is_finite()), "{name}");
         assert!(m.iter().sum::<f64>() > 0.0, "{name}: black");
         eprintln!("{name}: mean {m:?}");
+    }
+}
+
+/// What each pbrt-v4-scenes scene's conversion must hold.
+fn check_scene(name: &str, d: &SceneDesc) {
+    use fogbank_render::lights::LightDesc;
+    use fogbank_render::world::surfaces::shape::ShapeType;
+    let envmap = d
+        .lights
+        .iter()
+        .any(|l| matches!(l, LightDesc::Envmap { .. }));
+    assert_eq!(envmap, name != "disney-cloud", "{name}");
+    let m = &d.media[0];
+    match name {
+        // σ_s = σ_a = 10 (a constant spectrum), blackbody emission.
+        "explosion" => {
+            assert_eq!(m.sigma_t_scale.max(), 20.0);
+            let e = m.emission.as_ref().unwrap();
+            assert_eq!(
+                (e.scale, e.temperature_offset, e.temperature_scale),
+                (5.0, 1.0, 100.0)
+            );
+        }
+        "bunny-cloud" => assert!((m.sigma_t_scale.max() - 10.5).abs() < 1e-4),
+        "disney-cloud" => {
+            assert_eq!((m.sigma_t_scale.max(), m.albedo), (4.0, Some([1.0; 3])));
+            assert!(
+                d.shapes.iter().any(|s| s.kind == ShapeType::Ply),
+                "the ellipsoid"
+            );
+        }
+        "clouds" => assert!(m.density.array.is_some()),
+        // The uniformgrid's parameters continue after the Include.
+        "smoke-plume" => {
+            assert!(m.density.array.is_some());
+            assert_eq!(m.sigma_t_scale.max(), 180.0);
+        }
+        "dambreak" => assert!(d.shapes.iter().filter(|s| s.kind == ShapeType::Ply).count() == 8),
+        _ => unreachable!(),
     }
 }

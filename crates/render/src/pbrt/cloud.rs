@@ -17,7 +17,7 @@
 
 use super::grids::register;
 use super::interpret::Placed;
-use super::media::matrix_table;
+use super::tables::matrix_table;
 use super::warnings::Warnings;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -108,6 +108,10 @@ pub struct Cloud {
 impl Cloud {
     /// pbrt's `CloudMedium::Density` at p (medium space).
     pub fn density(&self, p: DVec3) -> f64 {
+        // At or below y = 0 the altitude term alone reaches the clamp.
+        if p.y <= 0.0 {
+            return 1.0;
+        }
         let mut pp = self.frequency * p;
         if self.wispiness > 0.0 {
             let (mut vomega, mut vlambda) = (0.05 * self.wispiness, 10.0);

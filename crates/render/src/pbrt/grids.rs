@@ -6,6 +6,7 @@
 //! read again (a viewer reloading the scene) is the same array, so
 //! re-reading an unchanged file holds no more memory.
 
+use super::params::ParamList;
 use crate::world::arrays;
 use fogbank_math::{DAffine3, DVec3};
 use fogbank_volume::{DenseArray, VoxelArray};
@@ -85,4 +86,28 @@ fn same(a: &dyn VoxelArray, n: [u32; 3], channels: u32, values: &[f64], xf: DAff
         }
     }
     true
+}
+
+/// A grid medium's `nx`, `ny`, `nz` (1) and box `p0`–`p1` (0–1).
+pub fn grid_box(ps: &ParamList) -> Result<([u32; 3], DVec3, DVec3), String> {
+    let mut n = [1u32; 3];
+    for (i, k) in ["nx", "ny", "nz"].iter().enumerate() {
+        let v = ps.int(k, 1).map_err(|e| e.0)?;
+        n[i] = u32::try_from(v)
+            .ok()
+            .filter(|&v| (1..=4096).contains(&v))
+            .ok_or(format!("{k} = {v} outside 1..=4096"))?;
+    }
+    let point = |k: &str, default: DVec3| -> Result<DVec3, String> {
+        Ok(ps
+            .vec3(k)
+            .map_err(|e| e.0)?
+            .map(DVec3::from)
+            .unwrap_or(default))
+    };
+    let (p0, p1) = (point("p0", DVec3::ZERO)?, point("p1", DVec3::ONE)?);
+    if !(p1 - p0).cmpgt(DVec3::ZERO).all() {
+        return Err("needs p0 < p1 on every axis".into());
+    }
+    Ok((n, p0, p1))
 }

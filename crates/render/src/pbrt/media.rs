@@ -33,27 +33,17 @@
 //!   a notice ([`super::cloud`]).
 
 use super::cursor::resolve;
+use super::grids::grid_box;
 use super::interpret::Placed;
 use super::params::ParamList;
 use super::spectra::{spectrum, Role};
+use super::tables::matrix_table;
 use super::warnings::Warnings;
 use crate::error::SceneError;
 use fogbank_math::Aabb;
 use glam::{DMat4, DVec3};
 use std::path::Path;
 use toml::{Table, Value};
-
-/// A matrix as a `to_world = { matrix = [[row], …] }` table.
-pub fn matrix_table(m: DMat4) -> Table {
-    let rows = m.transpose().to_cols_array_2d();
-    let rows = rows
-        .iter()
-        .map(|r| Value::Array(r.iter().map(|&x| Value::Float(x)).collect()))
-        .collect();
-    let mut t = Table::new();
-    t.insert("matrix".into(), Value::Array(rows));
-    t
-}
 
 fn rgb_value(c: [f64; 3]) -> Value {
     Value::Array(c.iter().map(|&x| Value::Float(x)).collect())
@@ -191,30 +181,6 @@ fn uniform_grid(m: &Placed, t: &mut Table) -> Result<(), String> {
     t.insert("to_world".into(), Value::Table(matrix_table(m.ctm)));
     t.insert("filter".into(), "trilinear".into());
     Ok(())
-}
-
-/// A grid medium's `nx`, `ny`, `nz` (1) and box `p0`–`p1` (0–1).
-pub(super) fn grid_box(ps: &ParamList) -> Result<([u32; 3], DVec3, DVec3), String> {
-    let mut n = [1u32; 3];
-    for (i, k) in ["nx", "ny", "nz"].iter().enumerate() {
-        let v = ps.int(k, 1).map_err(|e| e.0)?;
-        n[i] = u32::try_from(v)
-            .ok()
-            .filter(|&v| (1..=4096).contains(&v))
-            .ok_or(format!("{k} = {v} outside 1..=4096"))?;
-    }
-    let point = |k: &str, default: DVec3| -> Result<DVec3, String> {
-        Ok(ps
-            .vec3(k)
-            .map_err(|e| e.0)?
-            .map(DVec3::from)
-            .unwrap_or(default))
-    };
-    let (p0, p1) = (point("p0", DVec3::ZERO)?, point("p1", DVec3::ONE)?);
-    if !(p1 - p0).cmpgt(DVec3::ZERO).all() {
-        return Err("needs p0 < p1 on every axis".into());
-    }
-    Ok((n, p0, p1))
 }
 
 fn nanovdb(

@@ -60,6 +60,7 @@ pub mod rgbgrid;
 pub mod shapes;
 pub mod spectra;
 pub mod state;
+pub mod tables;
 pub mod tokenizer;
 pub mod warnings;
 

@@ -18,9 +18,9 @@
 //! - `Le` × `Lescale` as a 3-channel emission grid; fogbank emits σ_a·L_e
 //!   as pbrt does. `Le` needs `sigma_a` (pbrt's rule).
 
-use super::grids::register;
+use super::grids::{grid_box, register};
 use super::interpret::Placed;
-use super::media::{grid_box, matrix_table};
+use super::tables::matrix_table;
 use super::warnings::Warnings;
 use toml::{Table, Value};
 

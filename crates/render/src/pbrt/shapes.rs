@@ -21,9 +21,9 @@
 
 use super::cursor::resolve;
 use super::interpret::ShapeEntity;
-use super::media::matrix_table;
 use super::meshes;
 use super::params::ParamList;
+use super::tables::matrix_table;
 use super::warnings::Warnings;
 use crate::error::SceneError;
 use glam::{DMat3, DMat4, DVec3};
