@@ -4,7 +4,8 @@
 //! description names them, and this module owns them for the rest of the
 //! process, since the description outlives the reading. An identical grid
 //! read again (a viewer reloading the scene) is the same array, so
-//! re-reading an unchanged file holds no more memory.
+//! re-reading an unchanged file holds no more memory. A grid medium's
+//! resolution and box parameters are read here too ([`grid_box`]).
 
 use super::params::ParamList;
 use crate::world::arrays;

@@ -72,7 +72,12 @@ pub fn camera_and_render(
             1.0
         }
     };
-    imaging_ratio(exposure_time * iso / 100.0, &mut render, warnings)?;
+    let at = p
+        .film
+        .as_ref()
+        .map(|f| format!("{}: ", f.loc))
+        .unwrap_or_default();
+    imaging_ratio(exposure_time * iso / 100.0, &at, &mut render, warnings)?;
     sampler(p.sampler.as_ref(), &mut render, warnings)?;
     filter(p.filter.as_ref(), warnings)?;
     options(&p.options, &mut render)?;
@@ -82,15 +87,20 @@ pub fn camera_and_render(
 /// pbrt's `PixelSensor` imaging ratio (exposure time · ISO / 100) as
 /// `render.exposure` stops, with a notice: fogbank applies exposure to PNG
 /// output and the viewer, not to the linear EXR, which pbrt scales.
-fn imaging_ratio(r: f64, render: &mut Table, warnings: &mut Warnings) -> Result<(), SceneError> {
+fn imaging_ratio(
+    r: f64,
+    at: &str,
+    render: &mut Table,
+    warnings: &mut Warnings,
+) -> Result<(), SceneError> {
     if !(r.is_finite() && r > 0.0) {
         return Err(SceneError(format!(
-            "Film: imaging ratio (exposure time · iso / 100) = {r}: the image would be black or undefined"
+            "{at}Film: imaging ratio (exposure time · iso / 100) = {r}: the image would be black or undefined"
         )));
     }
     if r != 1.0 {
         render.insert("exposure".into(), r.log2().into());
-        warnings.warn(format!("Film: pbrt's imaging ratio (exposure time · iso / 100) {r} is render.exposure {:.3} stops: PNG output and the viewer are scaled by it, the EXR stays unscaled radiance (pbrt's is scaled)", r.log2()));
+        warnings.warn(format!("{at}Film: pbrt's imaging ratio (exposure time · iso / 100) {r} is render.exposure {:.3} stops: PNG output and the viewer are scaled by it, the EXR stays unscaled radiance (pbrt's is scaled)", r.log2()));
     }
     Ok(())
 }
