@@ -109,26 +109,10 @@ pub fn rgb_grid(m: &Placed, t: &mut Table, warnings: &mut Warnings) -> Result<()
         warnings,
         &m.entity.loc.to_string(),
     )?;
+    let scale = ps.float("Lescale", 1.0).map_err(|e| e.0)?;
     if let Some(le) = le.filter(|l| l.iter().flatten().any(|&x| x > 0.0)) {
-        let mut em = Table::new();
-        em.insert(
-            "scale".into(),
-            ps.float("Lescale", 1.0).map_err(|e| e.0)?.into(),
-        );
-        em.insert(
-            "grid".into(),
-            array_field(register(
-                n,
-                3,
-                &le.concat(),
-                p0,
-                p1,
-                &format!("{source} Le"),
-            )?),
-        );
-        t.insert("emission".into(), Value::Table(em));
-    } else {
-        ps.float("Lescale", 1.0).map_err(|e| e.0)?;
+        let grid = register(n, 3, &le.concat(), p0, p1, &format!("{source} Le"))?;
+        t.insert("emission".into(), emission(grid, scale));
     }
     t.insert(
         "sigma_t_scale".into(),
@@ -137,6 +121,14 @@ pub fn rgb_grid(m: &Placed, t: &mut Table, warnings: &mut Warnings) -> Result<()
     t.insert("to_world".into(), Value::Table(matrix_table(m.ctm)));
     t.insert("filter".into(), "trilinear".into());
     Ok(())
+}
+
+/// The emission table of the `Le` grid `grid` times `scale`.
+fn emission(grid: String, scale: f64) -> Value {
+    let mut em = Table::new();
+    em.insert("scale".into(), scale.into());
+    em.insert("grid".into(), array_field(grid));
+    Value::Table(em)
 }
 
 /// A constant `albedo`, or `albedo_grid` when the voxels' albedos differ.

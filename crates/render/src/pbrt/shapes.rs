@@ -61,35 +61,8 @@ pub fn shape(
         ));
     }
     let mut t = Table::new();
-    let mut world_area = None;
     let (local, area) = match e.ty.as_str() {
-        "sphere" => {
-            let r = ps.float("radius", 1.0)?;
-            for k in ["zmin", "zmax", "phimax"] {
-                if ps.has(k) {
-                    return Err(err(format!("a partial sphere (\"{k}\") is not supported")));
-                }
-            }
-            let local = DMat4::from_scale(DVec3::splat(r));
-            if area_scale(s.ctm).is_some() {
-                t.insert("type".into(), "sphere".into());
-                (local, Some(4.0 * PI * r * r))
-            } else {
-                // fogbank's sphere has one radius: an ellipsoid is a mesh.
-                let mesh = meshes::ellipsoid(s.ctm * local);
-                let file = meshes::write_cached(&mesh).map_err(err)?;
-                warnings.warn(format!(
-                    "{}: a sphere under a non-uniform scale (an ellipsoid) is tessellated into {} triangles",
-                    e.loc,
-                    mesh.tris.len()
-                ));
-                t.insert("type".into(), "ply".into());
-                t.insert("file".into(), file.display().to_string().into());
-                world_area = Some(mesh.area(DMat4::IDENTITY));
-                // The mesh is in world space already.
-                (s.ctm.inverse(), None)
-            }
-        }
+        "sphere" => sphere(s, &mut t, warnings).map_err(err)?,
         "disk" => {
             let (h, r) = (ps.float("height", 0.0)?, ps.float("radius", 1.0)?);
             if ps.float("innerradius", 0.0)? != 0.0 || ps.float("phimax", 360.0)? != 360.0 {
@@ -97,41 +70,15 @@ pub fn shape(
             }
             t.insert("type".into(), "disk".into());
             let m = DMat4::from_translation(DVec3::new(0.0, 0.0, h)) * DMat4::from_scale(DVec3::new(r, r, 1.0));
-            (m, Some(PI * r * r))
+            (m, Area::Local(PI * r * r))
         }
         "plymesh" => {
             let f = ps.string("filename")?.ok_or_else(|| err("needs \"string filename\"".into()))?;
             t.insert("type".into(), "ply".into());
             t.insert("file".into(), resolve(f, &e.loc, top_dir).display().to_string().into());
-            (DMat4::IDENTITY, None)
+            (DMat4::IDENTITY, Area::Unknown)
         }
-        "trianglemesh" | "bilinearmesh" => {
-            let bilinear = e.ty == "bilinearmesh";
-            let simple = !["N", "uv", "faceIndices", "S"].iter().any(|k| ps.has(k));
-            match simple.then(|| parallelogram(ps, bilinear).ok()).flatten() {
-                Some(m) => {
-                    t.insert("type".into(), "rectangle".into());
-                    let a = 4.0 * m.x_axis.truncate().cross(m.y_axis.truncate()).length();
-                    (m, Some(a))
-                }
-                None => {
-                    let mesh = if bilinear {
-                        meshes::bilinear_mesh(ps, warnings, &e.loc.to_string())
-                    } else {
-                        meshes::triangle_mesh(ps)
-                    }
-                    .map_err(err)?;
-                    let file = meshes::write_cached(&mesh).map_err(err)?;
-                    t.insert("type".into(), "ply".into());
-                    t.insert("file".into(), file.display().to_string().into());
-                    if mesh.n.is_empty() {
-                        t.insert("face_normals".into(), true.into());
-                    }
-                    world_area = Some(mesh.area(s.ctm));
-                    (DMat4::IDENTITY, None)
-                }
-            }
-        }
+        "trianglemesh" | "bilinearmesh" => inline_mesh(s, &mut t, warnings).map_err(err)?,
         other => return Err(err(format!("shape \"{other}\" is not supported (sphere, disk, plymesh, trianglemesh and bilinearmesh parallelograms)"))),
     };
     if s.attrs.reverse_orientation {
@@ -139,8 +86,81 @@ pub fn shape(
     }
     t.insert("to_world".into(), Value::Table(matrix_table(s.ctm * local)));
     ps.finish(&what)?;
-    let area = world_area.or_else(|| area.and_then(|a| area_scale(s.ctm).map(|k| a * k)));
+    let area = match area {
+        Area::Local(a) => area_scale(s.ctm).map(|k| a * k),
+        Area::World(a) => Some(a),
+        Area::Unknown => None,
+    };
     Ok(ShapeOut { table: t, area })
+}
+
+/// A shape's area: in its own space (scaled by the transform when that
+/// scales uniformly), in world space, or not known.
+enum Area {
+    Local(f64),
+    World(f64),
+    Unknown,
+}
+
+/// A `sphere`: fogbank's analytic one, or under a non-uniform scale (which
+/// its one radius cannot take) a tessellated ellipsoid.
+fn sphere(
+    s: &ShapeEntity,
+    t: &mut Table,
+    warnings: &mut Warnings,
+) -> Result<(DMat4, Area), String> {
+    let ps = &s.entity.params;
+    let r = ps.float("radius", 1.0).map_err(|e| e.0)?;
+    for k in ["zmin", "zmax", "phimax"] {
+        if ps.has(k) {
+            return Err(format!("a partial sphere (\"{k}\") is not supported"));
+        }
+    }
+    let local = DMat4::from_scale(DVec3::splat(r));
+    if area_scale(s.ctm).is_some() {
+        t.insert("type".into(), "sphere".into());
+        return Ok((local, Area::Local(4.0 * PI * r * r)));
+    }
+    let mesh = meshes::ellipsoid(s.ctm * local);
+    let file = meshes::write_cached(&mesh)?;
+    warnings.warn(format!(
+        "{}: a sphere under a non-uniform scale (an ellipsoid) is tessellated into {} triangles",
+        s.entity.loc,
+        mesh.tris.len()
+    ));
+    t.insert("type".into(), "ply".into());
+    t.insert("file".into(), file.display().to_string().into());
+    // The mesh is in world space already.
+    Ok((s.ctm.inverse(), Area::World(mesh.area(DMat4::IDENTITY))))
+}
+
+/// A `trianglemesh` or `bilinearmesh`: fogbank's rectangle when it is one
+/// parallelogram without normals or uvs, else a cached PLY file.
+fn inline_mesh(
+    s: &ShapeEntity,
+    t: &mut Table,
+    warnings: &mut Warnings,
+) -> Result<(DMat4, Area), String> {
+    let (e, ps) = (&s.entity, &s.entity.params);
+    let bilinear = e.ty == "bilinearmesh";
+    let simple = !["N", "uv", "faceIndices", "S"].iter().any(|k| ps.has(k));
+    if let Some(m) = simple.then(|| parallelogram(ps, bilinear).ok()).flatten() {
+        t.insert("type".into(), "rectangle".into());
+        let a = 4.0 * m.x_axis.truncate().cross(m.y_axis.truncate()).length();
+        return Ok((m, Area::Local(a)));
+    }
+    let mesh = if bilinear {
+        meshes::bilinear_mesh(ps, warnings, &e.loc.to_string())?
+    } else {
+        meshes::triangle_mesh(ps)?
+    };
+    let file = meshes::write_cached(&mesh)?;
+    t.insert("type".into(), "ply".into());
+    t.insert("file".into(), file.display().to_string().into());
+    if mesh.n.is_empty() {
+        t.insert("face_normals".into(), true.into());
+    }
+    Ok((DMat4::IDENTITY, Area::World(mesh.area(s.ctm))))
 }
 
 /// The points of `P`.
