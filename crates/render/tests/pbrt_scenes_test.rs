@@ -577,3 +577,23 @@ fn check_scene(name: &str, d: &SceneDesc) {
         _ => unreachable!(),
     }
 }
+
+/// An rgbgrid's voxels sit where pbrt's `SampledGrid::Lookup` puts them:
+/// cell-centred over p0–p1, interpolated between centres.
+#[test]
+fn rgbgrid_voxels_sit_where_pbrt_puts_them() {
+    let d = desc(&grid_medium(
+        "\"integer nx\" 2 \"rgb sigma_a\" [1 1 1 3 3 3] \"rgb sigma_s\" [0 0 0 0 0 0]",
+    ));
+    let scene = Scene::build(d, Path::new(".")).unwrap();
+    let m = &scene.world.media[0].medium;
+    // Lookup coordinate (x + 1)/2 · 2 − ½: voxel centres at x = ∓½.
+    for (x, want) in [(-0.5, 1.0), (0.0, 2.0), (0.5, 3.0), (0.25, 2.5)] {
+        let q = m
+            .world_to_index
+            .transform_point3(DVec3::new(x, 0.3, -0.2))
+            .as_vec3();
+        let got = m.scalar_trilinear(q);
+        assert!((got - want).abs() < 1e-5, "x = {x}: {got} vs {want}");
+    }
+}
