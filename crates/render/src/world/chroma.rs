@@ -18,9 +18,10 @@
 //! (`fogbank_estimators::scaled`).
 //!
 //! With `density_rgb = true` the density is a 3-channel `.vol` (Mitsuba's
-//! RGB `gridvolume`) or in-memory array (pbrt's `rgbgrid`), σ_t,c(x) = s_c · g_c(x): the tracked grid is the
-//! per-voxel maximum of s_c g_c / max s, whose trilinear interpolant bounds
-//! every channel's, and k_c(x) = σ_t,c(x) / σ̄(x) is read at each collision
+//! RGB `gridvolume`) or in-memory array (pbrt's `rgbgrid`),
+//! σ_t,c(x) = s_c · g_c(x): the tracked grid is the per-voxel maximum of
+//! s_c g_c / max s, whose trilinear interpolant bounds every channel's,
+//! and k_c(x) = σ_t,c(x) / σ̄(x) is read at each collision
 //! (trilinear filtering only, so that the ratio is the one of the fields
 //! the collision was sampled in).
 
