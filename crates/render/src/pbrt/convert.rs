@@ -92,13 +92,13 @@ pub fn scene_table(mut p: Parsed) -> Result<Table, SceneError> {
     let mut scene_box = Aabb::EMPTY;
     let mut shapes = Vec::new();
     for (i, s) in p.shapes.iter().enumerate() {
-        let (t, b) = shape_table(s, i, &p, &materials, &mut media)?;
+        let (t, b) = shape_table(s, i, &p, &materials, &mut media, &mut warnings)?;
         scene_box = scene_box.union(b);
         shapes.push(Value::Table(t));
     }
     let mut lights = Vec::new();
     for l in &p.lights {
-        lights.push(Value::Table(light(l)?));
+        lights.push(Value::Table(light(l, &p.top_dir, &mut warnings)?));
     }
     if let Some(c) = &p.camera {
         if !c.medium.is_empty() {
@@ -166,8 +166,9 @@ fn shape_table(
     p: &Parsed,
     materials: &Materials,
     media: &mut MediaUse,
+    warnings: &mut Warnings,
 ) -> Result<(Table, Aabb), SceneError> {
-    let out = shape(s, &p.top_dir)?;
+    let out = shape(s, &p.top_dir, warnings)?;
     let mut t = out.table;
     t.insert(
         "bsdf".into(),

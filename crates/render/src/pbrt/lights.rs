@@ -7,6 +7,7 @@
 //! | `spot` I, from, to, coneangle (30), conedeltaangle (5) | `spot` with pbrt's smoothstep falloff from coneangle − conedeltaangle | I·scale; `power` P: ·P/(2π(1 − cos θ_start + (cos θ_start − cos θ_end)/2)) |
 //! | `distant` L, from (0,0,0), to (0,0,1) | `directional` `irradiance` along to − from | L·scale; `illuminance` E: ·E |
 //! | `infinite` L | `constant` `radiance` | L·scale; `illuminance` E: ·E/π |
+//! | `infinite` filename | `envmap` of the map resampled to lat-long ([`super::envlight`]) | scale; `illuminance` E: ·E/(pbrt's estimate of the map's) |
 //! | area `diffuse` L | shape `emitter.radiance` | L·scale; `power` P: ·P/(π·area) (spheres and disks, whose area is known) |
 //!
 //! Spectra follow [`super::spectra`] (an rgb is its own luminance, other
@@ -14,16 +15,17 @@
 //! gets the colour space's illuminant, white (1, 1, 1) in linear sRGB.
 //! A light's medium (pbrt's outside medium at the statement) needs no
 //! mapping: fogbank's media are regions, and a light is in those that hold
-//! it. Refused: image (`filename`) infinite lights (pbrt's equal-area
-//! octahedral maps), `portal`, `goniometric`, `projection`, two-sided area
+//! it. Refused: `portal` infinite lights, `goniometric`, `projection`, two-sided area
 //! lights.
 
 use super::interpret::Placed;
 use super::params::ParamList;
 use super::spectra::{spectrum, Role};
+use super::warnings::Warnings;
 use crate::error::SceneError;
 use glam::{DMat4, DVec3};
 use std::f64::consts::PI;
+use std::path::Path;
 use toml::{Table, Value};
 
 fn vec3(v: DVec3) -> Value {
@@ -51,8 +53,8 @@ fn positive(ps: &ParamList, name: &str) -> Result<Option<f64>, SceneError> {
     Ok(ps.one("float", name)?.filter(|&x| x > 0.0))
 }
 
-/// A `LightSource`.
-pub fn light(l: &Placed) -> Result<Table, SceneError> {
+/// A `LightSource` (file names resolve against `top_dir`).
+pub fn light(l: &Placed, top_dir: &Path, warnings: &mut Warnings) -> Result<Table, SceneError> {
     let e = &l.entity;
     let ps = &e.params;
     let m: DMat4 = l.ctm;
@@ -77,10 +79,11 @@ pub fn light(l: &Placed) -> Result<Table, SceneError> {
             t.insert("direction".into(), vec3(d));
             t.insert("irradiance".into(), rgb_value(emitted(ps, "L", k)?));
         }
+        "infinite" if ps.has("portal") => {
+            return Err(err("portal infinite lights are not supported".into()))
+        }
+        "infinite" if ps.has("filename") => t = super::envlight::image_light(l, top_dir, warnings)?,
         "infinite" => {
-            if ps.has("filename") || ps.has("portal") {
-                return Err(err("image and portal infinite lights (equal-area octahedral maps) are not supported; give a uniform L".into()));
-            }
             let k = positive(ps, "illuminance")?.map(|e| e / PI).unwrap_or(1.0);
             t.insert("type".into(), "constant".into());
             t.insert("radiance".into(), rgb_value(emitted(ps, "L", k)?));

@@ -12,7 +12,8 @@
 //!   `roughness` (0) → `roughconductor` (α = √roughness unless
 //!   `remaproughness` is false). `reflectance` is refused.
 //! - `dielectric`: `eta` (1.5, a float; or pbrt's `glass-BK7` as fogbank's
-//!   `bk7`, without dispersion, with a notice) →
+//!   `bk7`, its other named glasses as their d-line index, without
+//!   dispersion, with a notice) →
 //!   `dielectric`/`roughdielectric`.
 //! - `interface` (and the deprecated `""`/`"none"`): `null`, a surface
 //!   that only separates media.
@@ -138,14 +139,33 @@ fn coated(e: &Entity, warnings: &mut Warnings) -> Result<Table, SceneError> {
     Ok(twosided(t))
 }
 
+/// pbrt's named glasses other than BK7 (`glass-F5`, `-F10`, `-F11` are its
+/// names for Schott's SF5, SF10 and SF11) and their refractive index at
+/// the d-line.
+const GLASSES: [(&str, f64); 6] = [
+    ("glass-BAF10", 1.67003),
+    ("glass-FK51A", 1.48656),
+    ("glass-LASF9", 1.85025),
+    ("glass-F5", 1.67270),
+    ("glass-F10", 1.72825),
+    ("glass-F11", 1.78472),
+];
+
 /// A dielectric's `eta`: a float, or pbrt's named glasses as fogbank's
-/// (non-dispersive) IOR of the same name.
+/// (non-dispersive) IOR of the same name (BK7) or their d-line index.
 fn dielectric_eta(e: &Entity, warnings: &mut Warnings) -> Result<Value, SceneError> {
     let ps = &e.params;
     if let Some(n) = named(ps, "eta") {
+        if let Some(&(_, nd)) = GLASSES.iter().find(|(g, _)| *g == n) {
+            warnings.warn(format!(
+                "{}: \"{n}\" is its d-line index {nd} (587.6 nm, Schott's catalogue) without dispersion",
+                e.loc
+            ));
+            return Ok(nd.into());
+        }
         if n != "glass-BK7" {
             return Err(SceneError(format!(
-                "named spectrum \"{n}\" for eta: only glass-BK7, or a float"
+                "named spectrum \"{n}\" for eta: only pbrt's named glasses, or a float"
             )));
         }
         let ior = "bk7";

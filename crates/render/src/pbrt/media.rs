@@ -27,31 +27,23 @@
 //!   exists in that box. Near the box's faces pbrt interpolates towards
 //!   zero outside, fogbank towards the edge value (within half a voxel).
 //!   Its emission (`Le`, `Lescale`, `temperature`) is refused.
-//! - `rgbgrid` and `cloud` are refused (fogbank has neither chromatic
-//!   inline grids nor pbrt's cloud noise).
+//! - `rgbgrid`: per-voxel σ_a, σ_s and `Le` as in-memory arrays
+//!   ([`super::rgbgrid`]).
+//! - `cloud`: pbrt's procedural density baked into an in-memory grid, with
+//!   a notice ([`super::cloud`]).
 
 use super::cursor::resolve;
+use super::grids::grid_box;
 use super::interpret::Placed;
 use super::params::ParamList;
 use super::spectra::{spectrum, Role};
+use super::tables::matrix_table;
 use super::warnings::Warnings;
 use crate::error::SceneError;
 use fogbank_math::Aabb;
 use glam::{DMat4, DVec3};
 use std::path::Path;
 use toml::{Table, Value};
-
-/// A matrix as a `to_world = { matrix = [[row], …] }` table.
-pub fn matrix_table(m: DMat4) -> Table {
-    let rows = m.transpose().to_cols_array_2d();
-    let rows = rows
-        .iter()
-        .map(|r| Value::Array(r.iter().map(|&x| Value::Float(x)).collect()))
-        .collect();
-    let mut t = Table::new();
-    t.insert("matrix".into(), Value::Array(rows));
-    t
-}
 
 fn rgb_value(c: [f64; 3]) -> Value {
     Value::Array(c.iter().map(|&x| Value::Float(x)).collect())
@@ -71,6 +63,11 @@ fn extinction(ps: &ParamList, t: &mut Table) -> Result<(), SceneError> {
     };
     t.insert("sigma_t_scale".into(), sigma);
     t.insert("albedo".into(), rgb_value(albedo));
+    phase(ps, t)
+}
+
+/// The HG phase of `g` (0).
+fn phase(ps: &ParamList, t: &mut Table) -> Result<(), SceneError> {
     let g = ps.float("g", 0.0)?;
     if !(-1.0 < g && g < 1.0) {
         return Err(SceneError(format!("g = {g} outside (−1, 1)")));
@@ -95,18 +92,19 @@ pub fn medium(
     let ps = &e.params;
     let what = format!("MakeNamedMedium \"{name}\" (\"{}\")", e.ty);
     let mut t = Table::new();
-    extinction(ps, &mut t).map_err(|err| e.loc.error(format!("{what}: {}", err.0)))?;
+    let located = |err: String| e.loc.error(format!("{what}: {err}"));
+    match e.ty.as_str() {
+        "rgbgrid" => phase(ps, &mut t).map_err(|err| located(err.0))?,
+        // pbrt's cloud reads no `scale` (it would be an unused parameter).
+        "cloud" if ps.has("scale") => return Err(located("has no \"scale\"".into())),
+        _ => extinction(ps, &mut t).map_err(|err| located(err.0))?,
+    }
     match e.ty.as_str() {
         "homogeneous" => homogeneous(ps, bounds, &mut t, warnings, &what)?,
         "nanovdb" => nanovdb(m, top_dir, &mut t, warnings)?,
-        "uniformgrid" => {
-            uniform_grid(m, &mut t).map_err(|err| e.loc.error(format!("{what}: {err}")))?
-        }
-        other @ ("rgbgrid" | "cloud") => {
-            return Err(e.loc.error(format!(
-                "{what}: the \"{other}\" medium is not supported yet (homogeneous, nanovdb)"
-            )))
-        }
+        "uniformgrid" => uniform_grid(m, &mut t).map_err(located)?,
+        "rgbgrid" => super::rgbgrid::rgb_grid(m, &mut t, warnings).map_err(located)?,
+        "cloud" => super::cloud::cloud(m, &mut t, warnings).map_err(located)?,
         other => {
             return Err(e
                 .loc
@@ -161,14 +159,7 @@ fn uniform_grid(m: &Placed, t: &mut Table) -> Result<(), String> {
             ));
         }
     }
-    let mut n = [1u32; 3];
-    for (i, k) in ["nx", "ny", "nz"].iter().enumerate() {
-        let v = ps.int(k, 1).map_err(|e| e.0)?;
-        n[i] = u32::try_from(v)
-            .ok()
-            .filter(|&v| (1..=4096).contains(&v))
-            .ok_or(format!("{k} = {v} outside 1..=4096"))?;
-    }
+    let (n, p0, p1) = grid_box(ps)?;
     let d = ps
         .nums("float", "density")
         .ok_or("needs \"float density\"")?;
@@ -182,21 +173,8 @@ fn uniform_grid(m: &Placed, t: &mut Table) -> Result<(), String> {
             n[2]
         ));
     }
-    let p0 = ps
-        .vec3("p0")
-        .map_err(|e| e.0)?
-        .map(DVec3::from)
-        .unwrap_or(DVec3::ZERO);
-    let p1 = ps
-        .vec3("p1")
-        .map_err(|e| e.0)?
-        .map(DVec3::from)
-        .unwrap_or(DVec3::ONE);
-    if !(p1 - p0).cmpgt(DVec3::ZERO).all() {
-        return Err("needs p0 < p1 on every axis".into());
-    }
     let source = format!("{} uniformgrid", m.entity.loc);
-    let name = super::grids::register(n, d, p0, p1, &source)?;
+    let name = super::grids::register(n, 1, d, p0, p1, &source)?;
     let mut f = Table::new();
     f.insert("array".into(), name.into());
     t.insert("density".into(), Value::Table(f));

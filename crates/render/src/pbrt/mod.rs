@@ -11,7 +11,9 @@
 //! [`interpret`] (the statements). Every error names the file and line.
 //!
 //! Mapping, each module documenting its own: [`options`] (camera, film,
-//! sampler, filter, integrator), [`media`], [`lights`], [`shapes`],
+//! sensor, sampler, filter, integrator), [`media`] (with [`rgbgrid`],
+//! [`cloud`] and the in-memory arrays of [`grids`]), [`lights`] (with
+//! [`envlight`] for image infinite lights), [`shapes`] (with [`meshes`]),
 //! [`materials`] and [`spectra`]; [`convert`] puts them together.
 //!
 //! Conventions that differ, and how they are met:
@@ -22,28 +24,43 @@
 //!   the box of the shapes it is inside of, or the scene's box when it is an
 //!   outside or the camera's medium.
 //! - pbrt renders spectrally; fogbank in linear sRGB ([`spectra`]).
+//! - What fogbank reads from files but pbrt gives inline or in its own
+//!   layout (inline meshes, equal-area octahedral environment maps) is
+//!   written into cache folders in the system's temporary folder
+//!   (`fogbank-pbrt-meshes`, `fogbank-pbrt-envmaps`), files named by a hash
+//!   of what they hold, so reading a scene again reuses them.
 //!
-//! Approximations print a notice once (the pixel filter, the sampler,
-//! `coateddiffuse`, unbounded homogeneous media); anything fogbank cannot
-//! express is refused with its file and line: textures, motion
-//! (`ActiveTransform`), lenses, spectral sensors, image and portal infinite
-//! lights, goniometric and projection lights, `rgbgrid` and `cloud`
-//! media, emitting `uniformgrid`s, partial quadrics, inline meshes other than a single
-//! parallelogram, and integrators other than `volpath` (and `path` without
-//! media).
+//! Approximations print a notice once: the pixel filter, the sampler,
+//! named spectral sensors (the CIE 1931 observer), `whitebalance`,
+//! `maxcomponentvalue`, the imaging ratio (as `render.exposure`),
+//! `coateddiffuse`, named glasses (their d-line index), unbounded
+//! homogeneous media, `cloud` media baked into a grid ([`cloud`]),
+//! `rgbgrid`'s albedo interpolated per voxel ([`rgbgrid`]), image infinite
+//! lights resampled to lat-long ([`envlight`]), curved bilinear patches
+//! and ellipsoids (non-uniformly scaled spheres) tessellated ([`meshes`]).
+//! Anything fogbank cannot express is refused with its file and line:
+//! textures, motion (`ActiveTransform`), lenses, portal infinite lights,
+//! goniometric and projection lights, emitting `uniformgrid`s, partial
+//! quadrics, shading tangents (`S`) on inline meshes, and integrators other
+//! than `volpath` (and `path` without media).
 
+pub mod cloud;
 pub mod convert;
 pub mod cursor;
+pub mod envlight;
 pub mod grids;
 pub mod interpret;
 pub mod lights;
 pub mod materials;
 pub mod media;
+pub mod meshes;
 pub mod options;
 pub mod params;
+pub mod rgbgrid;
 pub mod shapes;
 pub mod spectra;
 pub mod state;
+pub mod tables;
 pub mod tokenizer;
 pub mod warnings;
 

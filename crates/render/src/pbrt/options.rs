@@ -7,17 +7,24 @@
 //!   world-from-camera transform keeps orientation becomes fogbank's
 //!   camera with `mirror = true`, and one that flips it (`Scale -1 1 1`
 //!   before `LookAt`) becomes an unmirrored one: either way the image is
-//!   pbrt's. `lensradius` must be 0 (a pinhole); `screenwindow`,
-//!   `frameaspectratio` and motion (`shutteropen`/`shutterclose`) are
-//!   refused. Other camera types are refused.
+//!   pbrt's. `lensradius` must be 0 (a pinhole); `screenwindow` and
+//!   `frameaspectratio` are refused; `shutteropen`/`shutterclose` (0, 1)
+//!   only give the exposure time (motion, `ActiveTransform`, is refused).
+//!   Other camera types are refused.
 //! - Film `rgb`: `xresolution` × `yresolution` (1280 × 720); `filename`
 //!   is accepted, the output file being the command's; `maxcomponentvalue`
-//!   (pbrt's clamp of sample values) is not applied, with a notice; `sensor` only
-//!   `cie1931`, which fogbank's linear-sRGB rendering is. Exposure, ISO,
-//!   white balance and crop windows are refused.
-//! - Sampler: any type; `pixelsamples` (16) is `render.spp`. fogbank's own
-//!   sampler draws the samples (same expectation, different noise; a
-//!   notice says so).
+//!   (pbrt's clamp of sample values) is not applied, with a notice. A named
+//!   `sensor` (`nikon_d850`, …) is approximated by the CIE 1931 observer
+//!   (fogbank's linear sRGB), and an explicit `whitebalance` is not applied,
+//!   each with a notice. pbrt's imaging ratio (exposure time · `iso` / 100,
+//!   `PixelSensor::Create`) becomes `render.exposure` = log2 of it, with a
+//!   notice: fogbank scales PNG output and the viewer by it, not the EXR.
+//!   Crop windows are refused.
+//! - Sampler `halton`, `sobol`, `zsobol`, `paddedsobol`, `pmj02bn`,
+//!   `independent`: `pixelsamples` (16) is `render.spp`; `stratified`:
+//!   `xsamples` × `ysamples` (4 × 4). `randomization`, `seed` and `jitter`
+//!   are read; fogbank's own sampler draws the samples (same expectation,
+//!   different noise; a notice says so).
 //! - PixelFilter: fogbank integrates each pixel with a box filter of one
 //!   pixel (`box` with radius 0.5, exact); pbrt's default gaussian and any
 //!   other filter are approximated by it, with a notice.
@@ -48,12 +55,12 @@ pub fn camera_and_render(
 ) -> Result<(Table, Table), SceneError> {
     let mut cam = Table::new();
     let mut render = Table::new();
-    let (w, h) = film(p.film.as_ref(), &mut render, warnings)?;
+    let (w, h, iso) = film(p.film.as_ref(), warnings)?;
     cam.insert("width".into(), w.into());
     cam.insert("height".into(), h.into());
     // The shorter axis takes the field of view.
     cam.insert("fov_axis".into(), if w < h { "x" } else { "y" }.into());
-    match &p.camera {
+    let exposure_time = match &p.camera {
         Some(c) => camera(c, &mut cam)?,
         None => {
             // pbrt's default camera: at the origin looking along +z, +y up.
@@ -62,15 +69,44 @@ pub fn camera_and_render(
             cam.insert("up".into(), vec3(DVec3::Y));
             cam.insert("fov".into(), 90.0.into());
             cam.insert("mirror".into(), true.into());
+            1.0
         }
-    }
+    };
+    let at = p
+        .film
+        .as_ref()
+        .map(|f| format!("{}: ", f.loc))
+        .unwrap_or_default();
+    imaging_ratio(exposure_time * iso / 100.0, &at, &mut render, warnings)?;
     sampler(p.sampler.as_ref(), &mut render, warnings)?;
     filter(p.filter.as_ref(), warnings)?;
     options(&p.options, &mut render)?;
     Ok((cam, render))
 }
 
-fn camera(c: &Placed, cam: &mut Table) -> Result<(), SceneError> {
+/// pbrt's `PixelSensor` imaging ratio (exposure time · ISO / 100) as
+/// `render.exposure` stops, with a notice: fogbank applies exposure to PNG
+/// output and the viewer, not to the linear EXR, which pbrt scales.
+fn imaging_ratio(
+    r: f64,
+    at: &str,
+    render: &mut Table,
+    warnings: &mut Warnings,
+) -> Result<(), SceneError> {
+    if !(r.is_finite() && r > 0.0) {
+        return Err(SceneError(format!(
+            "{at}Film: imaging ratio (exposure time · iso / 100) = {r}: the image would be black or undefined"
+        )));
+    }
+    if r != 1.0 {
+        render.insert("exposure".into(), r.log2().into());
+        warnings.warn(format!("{at}Film: pbrt's imaging ratio (exposure time · iso / 100) {r} is render.exposure {:.3} stops: PNG output and the viewer are scaled by it, the EXR stays unscaled radiance (pbrt's is scaled)", r.log2()));
+    }
+    Ok(())
+}
+
+/// The camera table; returns pbrt's exposure time (shutter close − open).
+fn camera(c: &Placed, cam: &mut Table) -> Result<f64, SceneError> {
     let e = &c.entity;
     if e.ty != "perspective" {
         return Err(e.loc.error(format!(
@@ -86,6 +122,8 @@ fn camera(c: &Placed, cam: &mut Table) -> Result<(), SceneError> {
             .error("Camera \"perspective\": a lens (lensradius > 0) is not supported"));
     }
     ps.float("focaldistance", 1e6)?;
+    // Without ActiveTransform (refused) the shutter only sets the exposure.
+    let exposure_time = ps.float("shutterclose", 1.0)? - ps.float("shutteropen", 0.0)?;
     ps.finish(&e.what("Camera"))?;
     let m = c.ctm;
     let r = DMat3::from_mat4(m);
@@ -100,16 +138,13 @@ fn camera(c: &Placed, cam: &mut Table) -> Result<(), SceneError> {
     if r.determinant() > 0.0 {
         cam.insert("mirror".into(), true.into());
     }
-    Ok(())
+    Ok(exposure_time)
 }
 
-fn film(
-    f: Option<&Entity>,
-    render: &mut Table,
-    warnings: &mut Warnings,
-) -> Result<(i64, i64), SceneError> {
+/// The resolution and ISO of the film.
+fn film(f: Option<&Entity>, warnings: &mut Warnings) -> Result<(i64, i64, f64), SceneError> {
     let Some(f) = f else {
-        return Ok((1280, 720));
+        return Ok((1280, 720, 100.0));
     };
     if f.ty != "rgb" {
         return Err(f
@@ -130,16 +165,34 @@ fn film(
             f.loc
         ));
     }
-    if let Some(s) = ps.string("sensor")? {
-        if s != "cie1931" {
-            return Err(f.loc.error(format!(
-                "Film: sensor \"{s}\" needs spectral sensor curves; only cie1931"
-            )));
-        }
-    }
+    sensor(f, warnings)?;
+    let iso = ps.float("iso", 100.0)?;
     ps.finish(&f.what("Film"))?;
-    let _ = render;
-    Ok((w, h))
+    Ok((w, h, iso))
+}
+
+/// `sensor` and `whitebalance`, accepted with notices: fogbank renders
+/// linear sRGB, which is pbrt's default `cie1931` sensor without white
+/// balance.
+fn sensor(f: &Entity, warnings: &mut Warnings) -> Result<(), SceneError> {
+    let ps = &f.params;
+    let name = ps.string("sensor")?.unwrap_or("cie1931");
+    // pbrt white-balances named sensors to 6500 K unless told otherwise.
+    let default_wb = if name == "cie1931" { 0.0 } else { 6500.0 };
+    let wb = ps.float("whitebalance", default_wb)?;
+    if name != "cie1931" {
+        warnings.warn(format!(
+            "{}: Film: the spectral sensor \"{name}\" is approximated by the CIE 1931 observer (fogbank renders linear sRGB)",
+            f.loc
+        ));
+    }
+    if ps.has("whitebalance") && wb != 0.0 {
+        warnings.warn(format!(
+            "{}: Film: white balance to {wb} K is not applied (fogbank renders linear sRGB with D65 white)",
+            f.loc
+        ));
+    }
+    Ok(())
 }
 
 fn sampler(
@@ -150,24 +203,25 @@ fn sampler(
     let spp = match s {
         None => 16,
         Some(s) => {
-            let n = s.params.int("pixelsamples", 16)?;
-            for k in [
-                "randomize",
-                "seed",
-                "dimension",
-                "jitter",
-                "xsamples",
-                "ysamples",
-            ] {
-                if s.params.has(k) {
-                    return Err(s.loc.error(format!(
-                        "Sampler: \"{k}\" is not supported (fogbank's sampler is its own)"
-                    )));
+            let ps = &s.params;
+            let n = match s.ty.as_str() {
+                "halton" | "sobol" | "zsobol" | "paddedsobol" | "pmj02bn" | "independent" => {
+                    ps.int("pixelsamples", 16)?
                 }
-            }
-            s.params.finish(&s.what("Sampler"))?;
+                // pbrt's stratified sampler takes xsamples × ysamples.
+                "stratified" => {
+                    ps.bool("jitter", true)?;
+                    ps.int("xsamples", 4)? * ps.int("ysamples", 4)?
+                }
+                other => return Err(s.loc.error(format!("Sampler \"{other}\" is unknown"))),
+            };
+            // Randomisation and seeds only change which noise pbrt's
+            // samples have; fogbank's sampler draws its own.
+            ps.string("randomization")?;
+            ps.int("seed", 0)?;
+            ps.finish(&s.what("Sampler"))?;
             warnings.warn(format!(
-                "{}: Sampler \"{}\": fogbank's own sampler draws the {n} samples per pixel",
+                "{}: Sampler \"{}\": fogbank's own sampler draws the {n} samples per pixel (same expectation, different noise)",
                 s.loc, s.ty
             ));
             n

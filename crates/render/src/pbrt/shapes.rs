@@ -1,17 +1,19 @@
 //! `Shape` statements as `[[shapes]]` tables (without their material,
 //! emitter and media, which the conversion adds).
 //!
-//! - `sphere`: `radius` (1) → fogbank's analytic sphere; partial spheres
-//!   (`zmin`, `zmax`, `phimax`) are refused.
+//! - `sphere`: `radius` (1) → fogbank's analytic sphere; under a
+//!   non-uniform scale (an ellipsoid, which fogbank's one-radius sphere
+//!   cannot be) a tessellated mesh ([`super::meshes::ellipsoid`]), with a
+//!   notice; partial spheres (`zmin`, `zmax`, `phimax`) are refused.
 //! - `disk`: `height` (0), `radius` (1) → the analytic unit disk (normal
 //!   +z, as pbrt's); `innerradius` and `phimax` are refused.
 //! - `plymesh`: `filename` → fogbank's PLY reader; `displacement` is
 //!   refused.
 //! - `trianglemesh` and `bilinearmesh`: a single planar parallelogram (two
 //!   triangles over four points, or one bilinear patch whose corners form
-//!   one) → fogbank's rectangle, facing where pbrt's normal faces (the
-//!   first triangle's winding; dp/du × dp/dv of the patch). Other inline
-//!   meshes are refused: fogbank reads meshes from files.
+//!   one) without `N` or `uv` → fogbank's rectangle, facing where pbrt's
+//!   normal faces (the first triangle's winding; dp/du × dp/dv of the
+//!   patch). Other inline meshes become PLY files ([`super::meshes`]).
 //!
 //! `ReverseOrientation` flips the normals (and so which side is inside a
 //! `MediumInterface` and which side an area light lights). A shape
@@ -19,8 +21,10 @@
 
 use super::cursor::resolve;
 use super::interpret::ShapeEntity;
-use super::media::matrix_table;
+use super::meshes;
 use super::params::ParamList;
+use super::tables::matrix_table;
+use super::warnings::Warnings;
 use crate::error::SceneError;
 use glam::{DMat3, DMat4, DVec3};
 use std::f64::consts::PI;
@@ -42,7 +46,11 @@ fn area_scale(m: DMat4) -> Option<f64> {
         .then_some(s2)
 }
 
-pub fn shape(s: &ShapeEntity, top_dir: &Path) -> Result<ShapeOut, SceneError> {
+pub fn shape(
+    s: &ShapeEntity,
+    top_dir: &Path,
+    warnings: &mut Warnings,
+) -> Result<ShapeOut, SceneError> {
     let e = &s.entity;
     let ps = &e.params;
     let what = e.what("Shape");
@@ -54,16 +62,7 @@ pub fn shape(s: &ShapeEntity, top_dir: &Path) -> Result<ShapeOut, SceneError> {
     }
     let mut t = Table::new();
     let (local, area) = match e.ty.as_str() {
-        "sphere" => {
-            let r = ps.float("radius", 1.0)?;
-            for k in ["zmin", "zmax", "phimax"] {
-                if ps.has(k) {
-                    return Err(err(format!("a partial sphere (\"{k}\") is not supported")));
-                }
-            }
-            t.insert("type".into(), "sphere".into());
-            (DMat4::from_scale(DVec3::splat(r)), Some(4.0 * PI * r * r))
-        }
+        "sphere" => sphere(s, &mut t, warnings).map_err(err)?,
         "disk" => {
             let (h, r) = (ps.float("height", 0.0)?, ps.float("radius", 1.0)?);
             if ps.float("innerradius", 0.0)? != 0.0 || ps.float("phimax", 360.0)? != 360.0 {
@@ -71,20 +70,15 @@ pub fn shape(s: &ShapeEntity, top_dir: &Path) -> Result<ShapeOut, SceneError> {
             }
             t.insert("type".into(), "disk".into());
             let m = DMat4::from_translation(DVec3::new(0.0, 0.0, h)) * DMat4::from_scale(DVec3::new(r, r, 1.0));
-            (m, Some(PI * r * r))
+            (m, Area::Local(PI * r * r))
         }
         "plymesh" => {
             let f = ps.string("filename")?.ok_or_else(|| err("needs \"string filename\"".into()))?;
             t.insert("type".into(), "ply".into());
             t.insert("file".into(), resolve(f, &e.loc, top_dir).display().to_string().into());
-            (DMat4::IDENTITY, None)
+            (DMat4::IDENTITY, Area::Unknown)
         }
-        "trianglemesh" | "bilinearmesh" => {
-            let m = parallelogram(ps, e.ty == "bilinearmesh").map_err(err)?;
-            t.insert("type".into(), "rectangle".into());
-            let a = 4.0 * m.x_axis.truncate().cross(m.y_axis.truncate()).length();
-            (m, Some(a))
-        }
+        "trianglemesh" | "bilinearmesh" => inline_mesh(s, &mut t, warnings).map_err(err)?,
         other => return Err(err(format!("shape \"{other}\" is not supported (sphere, disk, plymesh, trianglemesh and bilinearmesh parallelograms)"))),
     };
     if s.attrs.reverse_orientation {
@@ -92,8 +86,81 @@ pub fn shape(s: &ShapeEntity, top_dir: &Path) -> Result<ShapeOut, SceneError> {
     }
     t.insert("to_world".into(), Value::Table(matrix_table(s.ctm * local)));
     ps.finish(&what)?;
-    let area = area.and_then(|a| area_scale(s.ctm).map(|k| a * k));
+    let area = match area {
+        Area::Local(a) => area_scale(s.ctm).map(|k| a * k),
+        Area::World(a) => Some(a),
+        Area::Unknown => None,
+    };
     Ok(ShapeOut { table: t, area })
+}
+
+/// A shape's area: in its own space (scaled by the transform when that
+/// scales uniformly), in world space, or not known.
+enum Area {
+    Local(f64),
+    World(f64),
+    Unknown,
+}
+
+/// A `sphere`: fogbank's analytic one, or under a non-uniform scale (which
+/// its one radius cannot take) a tessellated ellipsoid.
+fn sphere(
+    s: &ShapeEntity,
+    t: &mut Table,
+    warnings: &mut Warnings,
+) -> Result<(DMat4, Area), String> {
+    let ps = &s.entity.params;
+    let r = ps.float("radius", 1.0).map_err(|e| e.0)?;
+    for k in ["zmin", "zmax", "phimax"] {
+        if ps.has(k) {
+            return Err(format!("a partial sphere (\"{k}\") is not supported"));
+        }
+    }
+    let local = DMat4::from_scale(DVec3::splat(r));
+    if area_scale(s.ctm).is_some() {
+        t.insert("type".into(), "sphere".into());
+        return Ok((local, Area::Local(4.0 * PI * r * r)));
+    }
+    let mesh = meshes::ellipsoid(s.ctm * local);
+    let file = meshes::write_cached(&mesh)?;
+    warnings.warn(format!(
+        "{}: a sphere under a non-uniform scale (an ellipsoid) is tessellated into {} triangles",
+        s.entity.loc,
+        mesh.tris.len()
+    ));
+    t.insert("type".into(), "ply".into());
+    t.insert("file".into(), file.display().to_string().into());
+    // The mesh is in world space already.
+    Ok((s.ctm.inverse(), Area::World(mesh.area(DMat4::IDENTITY))))
+}
+
+/// A `trianglemesh` or `bilinearmesh`: fogbank's rectangle when it is one
+/// parallelogram without normals or uvs, else a cached PLY file.
+fn inline_mesh(
+    s: &ShapeEntity,
+    t: &mut Table,
+    warnings: &mut Warnings,
+) -> Result<(DMat4, Area), String> {
+    let (e, ps) = (&s.entity, &s.entity.params);
+    let bilinear = e.ty == "bilinearmesh";
+    let simple = !["N", "uv", "faceIndices", "S"].iter().any(|k| ps.has(k));
+    if let Some(m) = simple.then(|| parallelogram(ps, bilinear).ok()).flatten() {
+        t.insert("type".into(), "rectangle".into());
+        let a = 4.0 * m.x_axis.truncate().cross(m.y_axis.truncate()).length();
+        return Ok((m, Area::Local(a)));
+    }
+    let mesh = if bilinear {
+        meshes::bilinear_mesh(ps, warnings, &e.loc.to_string())?
+    } else {
+        meshes::triangle_mesh(ps)?
+    };
+    let file = meshes::write_cached(&mesh)?;
+    t.insert("type".into(), "ply".into());
+    t.insert("file".into(), file.display().to_string().into());
+    if mesh.n.is_empty() {
+        t.insert("face_normals".into(), true.into());
+    }
+    Ok((DMat4::IDENTITY, Area::World(mesh.area(s.ctm))))
 }
 
 /// The points of `P`.

@@ -18,9 +18,10 @@
 //! (`fogbank_estimators::scaled`).
 //!
 //! With `density_rgb = true` the density is a 3-channel `.vol` (Mitsuba's
-//! RGB `gridvolume`), σ_t,c(x) = s_c · g_c(x): the tracked grid is the
-//! per-voxel maximum of s_c g_c / max s, whose trilinear interpolant bounds
-//! every channel's, and k_c(x) = σ_t,c(x) / σ̄(x) is read at each collision
+//! RGB `gridvolume`) or in-memory array (pbrt's `rgbgrid`),
+//! σ_t,c(x) = s_c · g_c(x): the tracked grid is the per-voxel maximum of
+//! s_c g_c / max s, whose trilinear interpolant bounds every channel's,
+//! and k_c(x) = σ_t,c(x) / σ̄(x) is read at each collision
 //! (trilinear filtering only, so that the ratio is the one of the fields
 //! the collision was sampled in).
 
@@ -174,6 +175,49 @@ impl Chroma {
     }
 }
 
+/// The three channel grids of a 3-channel `.vol` or in-memory array,
+/// their dims, index → world map and a name for messages.
+type Channels = (
+    [BrickGrid<f32>; 3],
+    [u32; 3],
+    fogbank_math::DAffine3,
+    String,
+);
+
+fn rgb_channels(d: &FieldDesc, key: &str, base: &Path) -> Result<Channels, SceneError> {
+    let err = |e: fogbank_volume::VolumeError| SceneError(format!("{key}: {e}"));
+    match (&d.vol, &d.array, d.channel) {
+        (Some(f), None, None) => {
+            let path = base.join(f);
+            let v = vol::read_vol(&path).map_err(err)?;
+            if v.channels != 3 {
+                return Err(SceneError(format!(
+                    "{key}: density_rgb needs a 3-channel .vol, {} has {}",
+                    path.display(),
+                    v.channels
+                )));
+            }
+            let g = [v.channel_grid(0).map_err(err)?, v.channel_grid(1).map_err(err)?, v.channel_grid(2).map_err(err)?];
+            Ok((g, v.dims, v.index_to_world(), path.display().to_string()))
+        }
+        (None, Some(name), None) => {
+            let a = super::arrays::get(name, key)?;
+            if a.channels() != 3 {
+                return Err(SceneError(format!(
+                    "{key}: density_rgb needs a 3-channel array, {} has {}",
+                    a.describe(),
+                    a.channels()
+                )));
+            }
+            let g = [a.channel_grid(0).map_err(err)?, a.channel_grid(1).map_err(err)?, a.channel_grid(2).map_err(err)?];
+            Ok((g, a.dims(), a.index_to_world(), a.describe()))
+        }
+        _ => Err(SceneError(format!(
+            "{key}: density_rgb reads the three channels of a `.vol` or an in-memory `array` (no `channel`)"
+        ))),
+    }
+}
+
 /// The density of `density_rgb = true`: the tracked grid (the per-voxel
 /// maximum of s_c g_c / max s, in f32 so that it bounds every channel) as
 /// the medium's field, and the three channel grids g_c.
@@ -183,28 +227,10 @@ pub fn rgb_density(
     base: &Path,
     scales: [f32; 3],
 ) -> Result<(FieldData, [DensityData; 3]), SceneError> {
-    let (Some(f), None) = (&d.vol, d.channel) else {
-        return Err(SceneError(format!(
-            "{key}: density_rgb reads the three channels of a `.vol` (no `channel`)"
-        )));
-    };
-    let path = base.join(f);
-    let v = vol::read_vol(&path).map_err(|e| SceneError(format!("{key}: {e}")))?;
-    if v.channels != 3 {
-        return Err(SceneError(format!(
-            "{key}: density_rgb needs a 3-channel .vol, {} has {}",
-            path.display(),
-            v.channels
-        )));
-    }
-    let grid = |c| {
-        v.channel_grid(c)
-            .map_err(|e| SceneError(format!("{key}: {e}")))
-    };
-    let g = [grid(0)?, grid(1)?, grid(2)?];
+    let (g, dims, index_to_world, source) = rgb_channels(d, key, base)?;
     let max = scales[0].max(scales[1]).max(scales[2]);
     let k = scales.map(|s| if max > 0.0 { s / max } else { 1.0 });
-    let tracked = BrickGrid::from_fn(v.dims, |i, j, l| {
+    let tracked = BrickGrid::from_fn(dims, |i, j, l| {
         let (i, j, l) = (i as i32, j as i32, l as i32);
         (0..3)
             .map(|c| k[c] * g[c].fetch(i, j, l).max(0.0))
@@ -213,8 +239,8 @@ pub fn rgb_density(
     .map_err(|e| SceneError(format!("{key}: {e}")))?;
     let data = FieldData {
         data: DensityData::from_f32(tracked, Precision::F32),
-        to_world: v.index_to_world(),
-        source: format!("{} (RGB)", path.display()),
+        to_world: index_to_world,
+        source: format!("{source} (RGB)"),
         units: None,
     };
     Ok((data, g.map(|g| DensityData::from_f32(g, Precision::F32))))

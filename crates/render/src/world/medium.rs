@@ -20,7 +20,7 @@ use std::path::Path;
 /// |---|---|---|
 /// | `density` | — | data source, see [`FieldDesc`] |
 /// | `sigma_t_scale` | 1 | σ_t = scale · density (per world unit); `[r, g, b]` for chromatic extinction, see [`Chroma`] (volpath, direct and transmittance, CPU and GPU) |
-/// | `density_rgb` | false | the `density` is a 3-channel `.vol` (Mitsuba's RGB `gridvolume`): σ_t of channel c = `sigma_t_scale`_c · channel c (chromatic; `trilinear` filter, f32) |
+/// | `density_rgb` | false | the `density` is a 3-channel `.vol` (Mitsuba's RGB `gridvolume`) or in-memory `array`: σ_t of channel c = `sigma_t_scale`_c · channel c (chromatic; `trilinear` filter, f32) |
 /// | `albedo` | (0.8, 0.8, 0.8); (1, 1, 1) with a `transfer` | single-scattering albedo σ_s/σ_t, each channel in [0, 1] (with a `transfer`, a tint of its colours) |
 /// | `importance` | none | ordered rules mapping points to importance in [0, 1] for `visopt` (seed 003 §4.2), see [`ImportanceRuleDesc`] |
 /// | `importance_pre` | none (post-interpolative) | classify the importance per voxel instead, see [`ImportancePreDesc`] (seed 003 Figs. 3, 11) |
