@@ -9,11 +9,13 @@
 //! means within 2 %), and the per-pixel z-test against an independent
 //! render (another seed) of the TOML twin.
 //!
-//! Together the scenes cover pbrt's media `homogeneous` (as the camera's
-//! medium and behind a dielectric), `uniformgrid` and `nanovdb`; the
-//! lights `point`, `spot`, `distant`, uniform `infinite` and `diffuse`
-//! area lights; `interface` materials, `MediumInterface` on shapes and
-//! before the camera, and shapes without media keeping the ray's medium.
+//! Together the scenes cover every pbrt medium type — `homogeneous` (as
+//! the camera's medium and behind a dielectric), `uniformgrid`, `rgbgrid`,
+//! `nanovdb` and `cloud` — and every light type fogbank maps: `point`,
+//! `spot`, `distant`, uniform and image (equal-area octahedral) `infinite`
+//! and `diffuse` area lights; `interface` materials, `MediumInterface` on
+//! shapes and before the camera, and shapes without media keeping the
+//! ray's medium. `scenes/pbrt/README.md` lists them.
 
 use fogbank_image::metrics::ztest::ztest;
 use fogbank_render::{load_scene, render, Film, Progress, RenderOptions};
@@ -58,4 +60,14 @@ fn uniform_grid_medium_lit_by_an_area_light_agrees_with_mitsuba() {
 #[test]
 fn homogeneous_medium_behind_a_dielectric_agrees_with_mitsuba() {
     agree("glass_fog");
+}
+
+#[test]
+fn rgb_grid_medium_under_an_octahedral_image_sky_agrees_with_mitsuba() {
+    agree("rgbgrid_envmap");
+}
+
+#[test]
+fn procedural_cloud_medium_agrees_with_mitsuba() {
+    agree("cloud_distant");
 }
