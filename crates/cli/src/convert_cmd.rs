@@ -2,9 +2,9 @@
 //! TOML, volumes to .vdb/.nvdb (the work is `fogbank_render::convert`).
 
 use crate::common::CliResult;
+use crate::volume_write_args::VolumeWriteArgs;
 use clap::Args;
 use fogbank_render::convert::{convert, ConvertOptions};
-use fogbank_volume::writers::{Codec, NanoValue};
 use std::path::PathBuf;
 
 #[derive(Args)]
@@ -24,30 +24,16 @@ pub struct ConvertArgs {
     /// For a scene written as a volume: index of the medium in `[[media]]`.
     #[arg(long, default_value_t = 0)]
     pub medium: usize,
-    /// `.vdb` only: store values as half floats.
-    #[arg(long)]
-    pub half: bool,
-    /// none, zip or blosc.
-    #[arg(long, default_value = "none")]
-    pub codec: String,
-    /// `.nvdb` only: quantise leaves to fp8 or fp16 (default: float).
-    #[arg(long)]
-    pub quantise: Option<String>,
+    #[command(flatten)]
+    pub write: VolumeWriteArgs,
 }
 
 pub fn run(a: ConvertArgs) -> CliResult {
-    let codec = Codec::parse(&a.codec)
-        .ok_or_else(|| format!("--codec {}: expected none, zip or blosc", a.codec))?;
-    let value = match a.quantise.as_deref() {
-        None => NanoValue::Float,
-        Some(q) => NanoValue::parse(q)
-            .filter(|v| *v != NanoValue::Float)
-            .ok_or_else(|| format!("--quantise {q}: expected fp8 or fp16"))?,
-    };
+    let (codec, value) = a.write.parse()?;
     let options = ConvertOptions {
         grid: a.grid,
         medium: a.medium,
-        half: a.half,
+        half: a.write.half,
         codec,
         value,
     };

@@ -2,9 +2,9 @@
 //! as a volume file (the work is `fogbank_render::export`).
 
 use crate::common::CliResult;
+use crate::volume_write_args::VolumeWriteArgs;
 use clap::Args;
 use fogbank_render::export::{export, ExportGrid, ExportOptions};
-use fogbank_volume::writers::{Codec, NanoValue};
 use std::path::PathBuf;
 
 #[derive(Args)]
@@ -20,15 +20,8 @@ pub struct ExportArgs {
     /// `density`, or `temperature` (of the medium's emission).
     #[arg(long, default_value = "density")]
     pub grid: String,
-    /// `.vdb` only: store values as half floats.
-    #[arg(long)]
-    pub half: bool,
-    /// none, zip or blosc.
-    #[arg(long, default_value = "none")]
-    pub codec: String,
-    /// `.nvdb` only: quantise leaves to fp8 or fp16 (default: float).
-    #[arg(long)]
-    pub quantise: Option<String>,
+    #[command(flatten)]
+    pub write: VolumeWriteArgs,
 }
 
 pub fn run(a: ExportArgs) -> CliResult {
@@ -37,18 +30,11 @@ pub fn run(a: ExportArgs) -> CliResult {
         "temperature" => ExportGrid::Temperature,
         g => return Err(format!("--grid {g}: expected density or temperature").into()),
     };
-    let codec = Codec::parse(&a.codec)
-        .ok_or_else(|| format!("--codec {}: expected none, zip or blosc", a.codec))?;
-    let value = match a.quantise.as_deref() {
-        None => NanoValue::Float,
-        Some(q) => NanoValue::parse(q)
-            .filter(|v| *v != NanoValue::Float)
-            .ok_or_else(|| format!("--quantise {q}: expected fp8 or fp16"))?,
-    };
+    let (codec, value) = a.write.parse()?;
     let options = ExportOptions {
         medium: a.medium,
         grid,
-        half: a.half,
+        half: a.write.half,
         codec,
         value,
     };

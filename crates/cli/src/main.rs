@@ -17,6 +17,7 @@ mod run_args;
 mod shard_args;
 mod stats_cmd;
 mod view_cmd;
+mod volume_write_args;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

@@ -76,6 +76,27 @@ pub fn export_desc(
     out: &Path,
     options: &ExportOptions,
 ) -> Result<Exported, SceneError> {
+    let grid = medium_grid(desc, base, options)?;
+    let bytes = encode(&grid, out, options.half, options.codec, options.value)?;
+    std::fs::write(out, &bytes).map_err(|e| SceneError(format!("{}: {e}", out.display())))?;
+    Ok(Exported {
+        grid: grid.name.clone(),
+        leaves: grid.leaves.len(),
+        active_voxels: grid.active_voxel_count(),
+        bytes: bytes.len(),
+    })
+}
+
+/// `grid` as the bytes of the volume file `out`: OpenVDB for `.vdb` (float,
+/// or `half`), NanoVDB for `.nvdb` (float or quantised to `value`), with
+/// `codec`; an option the format lacks is an error.
+pub fn encode(
+    grid: &VdbGrid,
+    out: &Path,
+    half: bool,
+    codec: Codec,
+    value: NanoValue,
+) -> Result<Vec<u8>, SceneError> {
     let nvdb = match out.extension().and_then(|e| e.to_str()) {
         Some(e) if e.eq_ignore_ascii_case("vdb") => false,
         Some(e) if e.eq_ignore_ascii_case("nvdb") => true,
@@ -86,40 +107,29 @@ pub fn export_desc(
             )))
         }
     };
-    if nvdb && options.half {
+    if nvdb && half {
         return Err(SceneError(
             "half floats are an OpenVDB (.vdb) option; NanoVDB quantises with fp8 or fp16".into(),
         ));
     }
-    if !nvdb && options.value != NanoValue::Float {
+    if !nvdb && value != NanoValue::Float {
         return Err(SceneError(
             "quantisation (fp8, fp16) is a NanoVDB (.nvdb) option; OpenVDB stores float or half"
                 .into(),
         ));
     }
-    let grid = medium_grid(desc, base, options)?;
+    let grids = std::slice::from_ref(grid);
     let bytes = if nvdb {
-        let o = NanoOptions {
-            value: options.value,
-            codec: options.codec,
-        };
-        writers::nanovdb::to_bytes(std::slice::from_ref(&grid), o)
+        writers::nanovdb::to_bytes(grids, NanoOptions { value, codec })
     } else {
         let o = VdbOptions {
-            half: options.half,
-            codec: options.codec,
-            active_mask: options.codec != Codec::None,
+            half,
+            codec,
+            active_mask: codec != Codec::None,
         };
-        writers::vdb::to_bytes(std::slice::from_ref(&grid), o)
-    }
-    .map_err(|e| SceneError(format!("{}: {e}", out.display())))?;
-    std::fs::write(out, &bytes).map_err(|e| SceneError(format!("{}: {e}", out.display())))?;
-    Ok(Exported {
-        grid: grid.name.clone(),
-        leaves: grid.leaves.len(),
-        active_voxels: grid.active_voxel_count(),
-        bytes: bytes.len(),
-    })
+        writers::vdb::to_bytes(grids, o)
+    };
+    bytes.map_err(|e| SceneError(format!("{}: {e}", out.display())))
 }
 
 /// The chosen grid of medium `options.medium`, in world space.

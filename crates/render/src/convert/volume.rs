@@ -16,15 +16,7 @@ use crate::export::{export_desc, ExportGrid, ExportOptions, Exported};
 use crate::scene::parse_scene;
 use fogbank_volume::loaders::vdb::VdbGrid;
 use fogbank_volume::loaders::{nanovdb, vdb};
-use fogbank_volume::writers::{self, Codec, NanoOptions, NanoValue, VdbOptions};
 use std::path::Path;
-
-/// Whether `out` names a NanoVDB file (else OpenVDB).
-fn is_nvdb(out: &Path) -> bool {
-    out.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("nvdb"))
-}
 
 /// The sparse grid `name` (default: `density`, else the first float grid)
 /// of the `.vdb` or `.nvdb` file `input`.
@@ -37,36 +29,9 @@ pub fn read_sparse(input: &Path, key: &str, name: Option<&str>) -> Result<VdbGri
     grid.map_err(|e| SceneError(format!("{}: {e}", input.display())))
 }
 
-/// `grid` encoded for `out` with `options` (checked as `fogbank export`
-/// checks them).
+/// `grid` encoded for `out` with `options` (as `fogbank export` encodes).
 pub fn encode(grid: &VdbGrid, out: &Path, options: &ConvertOptions) -> Result<Vec<u8>, SceneError> {
-    let nvdb = is_nvdb(out);
-    if nvdb && options.half {
-        return Err(SceneError(
-            "half floats are an OpenVDB (.vdb) option; NanoVDB quantises with fp8 or fp16".into(),
-        ));
-    }
-    if !nvdb && options.value != NanoValue::Float {
-        return Err(SceneError(
-            "quantisation (fp8, fp16) is a NanoVDB (.nvdb) option; OpenVDB stores float or half"
-                .into(),
-        ));
-    }
-    let bytes = if nvdb {
-        let o = NanoOptions {
-            value: options.value,
-            codec: options.codec,
-        };
-        writers::nanovdb::to_bytes(std::slice::from_ref(grid), o)
-    } else {
-        let o = VdbOptions {
-            half: options.half,
-            codec: options.codec,
-            active_mask: options.codec != Codec::None,
-        };
-        writers::vdb::to_bytes(std::slice::from_ref(grid), o)
-    };
-    bytes.map_err(|e| SceneError(format!("{}: {e}", out.display())))
+    crate::export::encode(grid, out, options.half, options.codec, options.value)
 }
 
 /// Converts the volume file `input`, read with field key `key` (`vdb`,

@@ -17,11 +17,11 @@
 
 use super::grids::register;
 use super::interpret::Placed;
-use super::tables::matrix_table;
+use super::tables::set_array_density;
 use super::warnings::Warnings;
 use glam::DVec3;
 use rayon::prelude::*;
-use toml::{Table, Value};
+use toml::Table;
 
 /// The most voxels along an axis.
 pub const MAX_RES: u32 = 128;
@@ -180,10 +180,6 @@ pub fn cloud(m: &Placed, t: &mut Table, warnings: &mut Warnings) -> Result<(), S
         "{}: cloud: pbrt's procedural density is baked into a {}×{}×{} grid over its box and interpolated trilinearly (an approximation: detail finer than a voxel is smoothed)",
         m.entity.loc, n[0], n[1], n[2]
     ));
-    let mut f = Table::new();
-    f.insert("array".into(), name.into());
-    t.insert("density".into(), Value::Table(f));
-    t.insert("to_world".into(), Value::Table(matrix_table(m.ctm)));
-    t.insert("filter".into(), "trilinear".into());
+    set_array_density(t, name, m.ctm);
     Ok(())
 }

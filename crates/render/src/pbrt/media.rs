@@ -37,7 +37,7 @@ use super::grids::grid_box;
 use super::interpret::Placed;
 use super::params::ParamList;
 use super::spectra::{spectrum, Role};
-use super::tables::matrix_table;
+use super::tables::{matrix_table, set_array_density};
 use super::warnings::Warnings;
 use crate::error::SceneError;
 use fogbank_math::Aabb;
@@ -175,11 +175,7 @@ fn uniform_grid(m: &Placed, t: &mut Table) -> Result<(), String> {
     }
     let source = format!("{} uniformgrid", m.entity.loc);
     let name = super::grids::register(n, 1, d, p0, p1, &source)?;
-    let mut f = Table::new();
-    f.insert("array".into(), name.into());
-    t.insert("density".into(), Value::Table(f));
-    t.insert("to_world".into(), Value::Table(matrix_table(m.ctm)));
-    t.insert("filter".into(), "trilinear".into());
+    set_array_density(t, name, m.ctm);
     Ok(())
 }
 

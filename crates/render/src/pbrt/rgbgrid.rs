@@ -20,7 +20,7 @@
 
 use super::grids::{grid_box, register};
 use super::interpret::Placed;
-use super::tables::matrix_table;
+use super::tables::{array_field, set_array_density};
 use super::warnings::Warnings;
 use toml::{Table, Value};
 
@@ -41,12 +41,6 @@ fn triples(m: &Placed, name: &str) -> Result<Option<Vec<[f64; 3]>>, String> {
         ));
     }
     Ok(Some(v.chunks(3).map(|c| [c[0], c[1], c[2]]).collect()))
-}
-
-fn array_field(name: String) -> Value {
-    let mut f = Table::new();
-    f.insert("array".into(), name.into());
-    Value::Table(f)
 }
 
 fn rgb_value(c: [f64; 3]) -> Value {
@@ -94,7 +88,6 @@ pub fn rgb_grid(m: &Placed, t: &mut Table, warnings: &mut Warnings) -> Result<()
         t.insert("density_rgb".into(), true.into());
         register(n, 3, &st.concat(), p0, p1, &format!("{source} σ_t"))?
     };
-    t.insert("density".into(), array_field(density));
     let albedo: Vec<Option<[f64; 3]>> = (0..count)
         .map(|i| {
             (st[i].iter().all(|&x| x > 0.0))
@@ -118,8 +111,7 @@ pub fn rgb_grid(m: &Placed, t: &mut Table, warnings: &mut Warnings) -> Result<()
         "sigma_t_scale".into(),
         ps.float("scale", 1.0).map_err(|e| e.0)?.into(),
     );
-    t.insert("to_world".into(), Value::Table(matrix_table(m.ctm)));
-    t.insert("filter".into(), "trilinear".into());
+    set_array_density(t, density, m.ctm);
     Ok(())
 }
 
