@@ -9,6 +9,7 @@ use fogbank_image::image_io::Image;
 use fogbank_image::metrics::ztest::ztest;
 use fogbank_math::{sample_data, testdata::external_data};
 use fogbank_render::convert::{convert, ConvertOptions};
+use fogbank_render::overrides::apply_override;
 use fogbank_render::render::{render, Progress, RenderOptions};
 use fogbank_render::world::field::{field_data, FieldDesc};
 use fogbank_render::{parse_scene, read_scene_source, Film, Scene, SceneDesc};
@@ -308,43 +309,32 @@ fn what_mitsuba_cannot_express_is_refused_naming_it() {
     assert!(e.0.contains("media.0.sigma_t_scale"), "{e}");
 }
 
-const SKY_TOML: &str = r#"
-[camera]
-from = [0.0, -0.5, 2.1]
-to = [0.0, 0.08, 0.0]
-fov = 38.0
-width = 24
-height = 16
-
-[[media]]
-density = { procedural = "cloud", resolution = 32, seed = 7 }
-sigma_t_scale = 10.0
-albedo = [0.95, 0.95, 0.95]
-phase = { type = "hg", g = 0.6 }
-filter = "trilinear"
-precision = "f32"
-
-[[lights]]
-type = "sky"
-zenith = [0.10, 0.25, 0.75]
-horizon = [0.65, 0.78, 0.95]
-ground = [0.25, 0.23, 0.2]
-
-[[lights]]
-type = "directional"
-direction = [-0.8, -0.45, 0.25]
-irradiance = [14.0, 13.0, 11.5]
-
-[integrator]
-type = "volpath"
-max_depth = 8
-"#;
+/// The built-in scene (a procedural cumulus under the gradient sky and a
+/// sun), made small: 24×16 pixels, a 32³ cloud of f32 voxels, σ_t scale 10,
+/// `volpath` to depth 8 with its default estimator.
+fn sky_toml() -> String {
+    let mut doc: toml::Table = toml::from_str(fogbank_render::scene::DEFAULT_SCENE).unwrap();
+    let set: [(&str, toml::Value); 6] = [
+        ("camera.width", 24.into()),
+        ("camera.height", 16.into()),
+        ("media.0.density.resolution", 32.into()),
+        ("media.0.precision", "f32".into()),
+        ("media.0.sigma_t_scale", 10.0.into()),
+        ("integrator.max_depth", 8.into()),
+    ];
+    for (path, value) in set {
+        apply_override(&mut doc, path, value).unwrap();
+    }
+    doc["integrator"].as_table_mut().unwrap().remove("estimator");
+    doc.remove("render");
+    toml::to_string(&doc).unwrap()
+}
 
 #[test]
 fn a_sky_is_baked_into_an_envmap_and_a_procedural_cloud_voxelised() {
     let dir = out_dir("sky");
     let src = dir.join("sky.toml");
-    std::fs::write(&src, SKY_TOML).unwrap();
+    std::fs::write(&src, sky_toml()).unwrap();
     let xml = dir.join("sky.xml");
     let notes = convert_ok(&src, &xml);
     assert!(notes.iter().any(|n| n.contains("lights.0")), "{notes:?}");
