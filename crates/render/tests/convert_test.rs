@@ -5,7 +5,6 @@
 //! placement round through text and `lookat`, so the images differ in the
 //! last bits, not in their means); volumes keep every active voxel.
 
-use fogbank_image::image_io::Image;
 use fogbank_image::metrics::ztest::ztest;
 use fogbank_math::{sample_data, testdata::external_data};
 use fogbank_render::convert::{convert, ConvertOptions};
@@ -123,7 +122,7 @@ fn a_pbrt_uniform_grid_is_written_as_a_vol_beside_the_toml() {
     );
     assert!(out.with_file_name("grid_array0.vol").is_file());
     let (a, b) = (film(&src, 64), film(&out, 64));
-    let z = ztest(&image(&a), &image(&b)).unwrap();
+    let z = ztest(&a.mean_image(), &b.mean_image()).unwrap();
     assert!(
         z.pass,
         "{} pixels fail (max |z| {:.2})",
@@ -168,21 +167,10 @@ fn toml_in_its_own_folder_keeps_relative_names_and_elsewhere_makes_them_absolute
     Scene::build(load(&dir.join("up.toml")).0, &dir).unwrap();
 }
 
-/// An image with its variance of the mean, for the z-test.
-fn image(f: &Film) -> Image {
-    Image {
-        width: f.width as usize,
-        height: f.height as usize,
-        rgb: f.mean(),
-        variance: Some(f.variance_of_mean()),
-        is_srgb8: false,
-    }
-}
-
 /// The renders of `a` and `b` (`spp` samples) pass the per-pixel z-test.
 fn assert_same_in_expectation(a: &Path, b: &Path, spp: u32) {
     let (fa, fb) = (film(a, spp), film(b, spp));
-    let z = ztest(&image(&fa), &image(&fb)).unwrap();
+    let z = ztest(&fa.mean_image(), &fb.mean_image()).unwrap();
     assert!(
         z.pass,
         "{} vs {}: {} pixels fail (max |z| {:.2} at {:?}, threshold {:.2})",
@@ -325,7 +313,10 @@ fn sky_toml() -> String {
     for (path, value) in set {
         apply_override(&mut doc, path, value).unwrap();
     }
-    doc["integrator"].as_table_mut().unwrap().remove("estimator");
+    doc["integrator"]
+        .as_table_mut()
+        .unwrap()
+        .remove("estimator");
     doc.remove("render");
     toml::to_string(&doc).unwrap()
 }
