@@ -188,6 +188,24 @@ impl<T: Voxel> BrickGrid<T> {
         BrickGrid::assemble(dims, bdims, bricks)
     }
 
+    /// A grid from its table, constants and data, as [`Self::assemble`]
+    /// lays them out (the caller keeps that layout).
+    pub(crate) fn from_parts(
+        dims: [u32; 3],
+        bdims: [u32; 3],
+        table: Vec<u32>,
+        constants: Vec<f32>,
+        data: Arc<[T]>,
+    ) -> Self {
+        BrickGrid {
+            dims,
+            bdims,
+            table: table.into(),
+            constants: constants.into(),
+            data,
+        }
+    }
+
     pub(crate) fn assemble(dims: [u32; 3], bdims: [u32; 3], bricks: Vec<BrickContent<T>>) -> Self {
         let mut table = Vec::with_capacity(bricks.len());
         let mut constants: Vec<f32> = Vec::new();
@@ -253,6 +271,21 @@ impl<T: Voxel> BrickGrid<T> {
             }
         }
         value.map(f32::from_bits)
+    }
+
+    /// Whether `other` stores the same bits: dimensions, brick table,
+    /// constants and voxel data in the same order.
+    pub fn bit_identical(&self, other: &Self) -> bool {
+        let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        self.dims == other.dims
+            && self.table == other.table
+            && bits(&self.constants) == bits(&other.constants)
+            && self.data.len() == other.data.len()
+            && self
+                .data
+                .iter()
+                .zip(other.data.iter())
+                .all(|(a, b)| a.load().to_bits() == b.load().to_bits())
     }
 
     /// The raw storage for the SIMD lanes of `lanes.rs`: (brick dims, brick

@@ -116,11 +116,7 @@ impl BrickGridBuilder {
     /// writes it voxel by voxel with [`Self::set`]. Either way the result
     /// is what 512 `set` calls give.
     pub fn adopt(&mut self, lo: [i64; 3], values: Box<[f32; BRICK_VOXELS]>) {
-        let aligned = (0..3).all(|a| {
-            lo[a] >= 0 && lo[a] % BRICK as i64 == 0 && lo[a] + BRICK as i64 <= self.dims[a] as i64
-        });
-        if aligned {
-            let b = self.brick_index(lo.map(|v| (v >> BRICK_LOG2) as u32));
+        if let Some(b) = self.aligned_brick(lo) {
             self.bricks[b] = Some(values);
             return;
         }
@@ -145,25 +141,58 @@ impl BrickGridBuilder {
             .into_par_iter()
             .zip(self.constant.into_par_iter())
             .enumerate()
-            .map(|(b, (brick, c))| {
-                let Some(values) = brick else {
-                    return BrickContent::Constant(T::store(f(c)).load());
-                };
-                // finish: 512 equal values are a constant (then mapped and stored).
-                let v0 = values[0];
-                if values.iter().all(|v| v.to_bits() == v0.to_bits()) {
-                    return BrickContent::Constant(T::store(f(v0)).load());
-                }
-                // to_voxel of the mapped grid: voxels past the grid's edge
-                // read the clamped border, which lies in the same brick.
-                let mapped = values.map(&f);
-                classify::<T>(&brick_values(b, dims, bdims, &|i, j, k| {
-                    mapped[local_index(i, j, k)]
-                }))
-            })
+            .map(|(b, (brick, c))| convert_brick(b, dims, bdims, brick.as_deref(), c, &f))
             .collect();
         BrickGrid::assemble(dims, bdims, contents)
     }
+
+    /// The brick that an 8³ block at voxel `lo` fills exactly ([`Self::adopt`]
+    /// without a copy), if it does.
+    pub(crate) fn aligned_brick(&self, lo: [i64; 3]) -> Option<usize> {
+        let aligned = (0..3).all(|a| {
+            lo[a] >= 0 && lo[a] % BRICK as i64 == 0 && lo[a] + BRICK as i64 <= self.dims[a] as i64
+        });
+        aligned.then(|| self.brick_index(lo.map(|v| (v >> BRICK_LOG2) as u32)))
+    }
+
+    /// Sizes, the bricks written in f32 so far, and every brick's constant.
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn into_parts(
+        self,
+    ) -> (
+        [u32; 3],
+        [u32; 3],
+        Vec<Option<Box<[f32; BRICK_VOXELS]>>>,
+        Vec<f32>,
+    ) {
+        (self.dims, self.bdims, self.bricks, self.constant)
+    }
+}
+
+/// Brick `b` of a builder as [`BrickGridBuilder::finish_converted`] stores
+/// it: `f` of its constant `c`, or of its f32 values `brick`.
+pub(crate) fn convert_brick<T: Voxel>(
+    b: usize,
+    dims: [u32; 3],
+    bdims: [u32; 3],
+    brick: Option<&[f32; BRICK_VOXELS]>,
+    c: f32,
+    f: &impl Fn(f32) -> f32,
+) -> BrickContent<T> {
+    let Some(values) = brick else {
+        return BrickContent::Constant(T::store(f(c)).load());
+    };
+    // finish: 512 equal values are a constant (then mapped and stored).
+    let v0 = values[0];
+    if values.iter().all(|v| v.to_bits() == v0.to_bits()) {
+        return BrickContent::Constant(T::store(f(v0)).load());
+    }
+    // to_voxel of the mapped grid: voxels past the grid's edge read the
+    // clamped border, which lies in the same brick.
+    let mapped = values.map(f);
+    classify::<T>(&brick_values(b, dims, bdims, &|i, j, k| {
+        mapped[local_index(i, j, k)]
+    }))
 }
 
 #[cfg(test)]

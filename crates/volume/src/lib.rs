@@ -30,6 +30,7 @@ pub mod explosion;
 pub mod grid;
 pub mod grid_builder;
 pub mod lanes;
+mod leaf_bricks;
 pub mod loaders;
 pub mod medium;
 pub mod mip;

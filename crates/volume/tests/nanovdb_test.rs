@@ -12,9 +12,12 @@ use std::process::Command;
 
 use fogbank_math::sample_data;
 use fogbank_math::testdata::{external_data, tool_on_path};
+use fogbank_volume::grid::{BrickGrid, Voxel};
 use fogbank_volume::loaders::nanovdb;
 use fogbank_volume::loaders::vdb::{self, GridClass, VdbGrid};
+use fogbank_volume::loaders::vdb_grid;
 use fogbank_volume::VolumeError;
+use half::f16;
 
 fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -31,6 +34,37 @@ fn assert_same_grid(nv: &VdbGrid, v: &VdbGrid, ctx: &str) {
     assert_eq!(nv.tiles, v.tiles, "{ctx}");
     assert_eq!(nv.leaves.len(), v.leaves.len(), "{ctx}");
     assert_eq!(nv.leaves, v.leaves, "{ctx}: leaves (values, masks, order)");
+}
+
+/// The brick grid that `read_grid_bricks` streams from `file` holds, bit
+/// for bit, what the grid `read_grid` collects becomes through the
+/// builder, in `T` (level sets as fog, as the renderer maps them).
+fn streamed_equals_collected<T: Voxel>(file: &Path, ctx: &str) {
+    let g = nanovdb::read_grid(file, None).unwrap();
+    let level_set = vdb_grid::is_level_set(&g);
+    let fog = vdb_grid::level_set_fog(g.background);
+    let map = move |v: f32| if level_set { fog(v) } else { v.max(0.0) };
+    let (builder, want_xf) = vdb_grid::to_builder(g).unwrap();
+    let want: BrickGrid<T> = builder.finish_converted(map);
+    let (got, xf, outline) = nanovdb::read_grid_bricks::<T, _>(file, None, |_| map).unwrap();
+    assert!(outline.leaves.is_empty(), "{ctx}");
+    assert_eq!(xf, want_xf, "{ctx}");
+    assert!(got.bit_identical(&want), "{ctx}: streamed bricks differ");
+}
+
+#[test]
+fn streamed_bricks_equal_the_collected_grid() {
+    for f in [
+        "fog_zip.nvdb",
+        "fog_blosc.nvdb",
+        "fog_double_zip.nvdb",
+        "fog_fp8_zip.nvdb",
+        "density_vel_zip.nvdb",
+    ] {
+        let path = fixture("nanovdb").join(f);
+        streamed_equals_collected::<f16>(&path, f);
+        streamed_equals_collected::<f32>(&path, f);
+    }
 }
 
 #[test]
@@ -299,6 +333,7 @@ fn converted_real_files_match_openvdb_and_nanovdb_print() {
                 let nv = nanovdb::read_grid(&out, None).unwrap();
                 let ctx = format!("{stem} {args:?}");
                 check_against_print(&nv, &printed_grids(&print_tool, &out), &ctx);
+                streamed_equals_collected::<f16>(&out, &ctx);
                 if codec.is_empty() {
                     same_as_nanovdb_values(&convert_tool, &nv, &out, &ctx);
                 }

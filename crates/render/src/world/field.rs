@@ -301,10 +301,10 @@ pub fn field_data(
         )));
     }
     if let Some(f) = &d.vdb {
-        return vdb_field(d, f, vdb::read_grid, key, base, precision);
+        return vdb_field(d, f, key, base, precision);
     }
     if let Some(f) = &d.nvdb {
-        return vdb_field(d, f, nanovdb::read_grid, key, base, precision);
+        return nvdb_field(d, f, key, base, precision);
     }
     if let Some(f) = &d.vol {
         return vol_field(d, f, key, base, precision);
@@ -329,38 +329,24 @@ fn volume_error(key: &str) -> impl Fn(fogbank_volume::VolumeError) -> SceneError
     move |e| SceneError(format!("{key}: {e}"))
 }
 
-/// The reader of an OpenVDB or a NanoVDB file's float grid.
-type GridReader = fn(&Path, Option<&str>) -> fogbank_volume::Result<vdb::VdbGrid>;
-
-/// An OpenVDB or NanoVDB grid (read by `read`), its leaves the bricks
-/// (level sets as fog unless `raw`).
+/// An OpenVDB grid, its leaves the bricks (level sets as fog unless `raw`).
 fn vdb_field(
     d: &FieldDesc,
     f: &str,
-    read: GridReader,
     key: &str,
     base: &Path,
     precision: Precision,
 ) -> Result<FieldData, SceneError> {
     let err = volume_error(key);
     let path = base.join(f);
-    let g = read(&path, d.grid.as_deref()).map_err(err)?;
-    let (level_set, background, name) = (vdb_grid::is_level_set(&g), g.background, g.name.clone());
-    let mode = d.level_set.as_deref().unwrap_or("fog");
-    if level_set && mode != "fog" && mode != "raw" {
-        return Err(SceneError(format!(
-            "{key}.level_set: `{mode}` is not `fog` or `raw`"
-        )));
-    }
+    let g = vdb::read_grid(&path, d.grid.as_deref()).map_err(err)?;
+    let mode = level_set_mode(d, &g, key)?;
+    let name = g.name.clone();
+    let map = value_map(&g, mode);
     // The file's leaves become the builder's bricks, and each brick is
     // mapped and stored in the medium's precision as it is finished:
     // the voxels exist in f32 once.
     let (builder, xf) = vdb_grid::to_builder(g).map_err(err)?;
-    let (fog, to_fog) = (
-        vdb_grid::level_set_fog(background),
-        level_set && mode == "fog",
-    );
-    let map = move |v: f32| if to_fog { fog(v) } else { v.max(0.0) };
     let data = match precision {
         Precision::F16 => DensityData::F16(builder.finish_converted(map)),
         Precision::F32 => DensityData::F32(builder.finish_converted(map)),
@@ -370,6 +356,62 @@ fn vdb_field(
         xf,
         format!("{} ({})", path.display(), name),
     ))
+}
+
+/// A NanoVDB file's float grid, its leaves streamed from the file into
+/// bricks of the medium's precision (the same bricks [`vdb_field`] makes
+/// of the grid, without ever holding the file's voxels).
+fn nvdb_field(
+    d: &FieldDesc,
+    f: &str,
+    key: &str,
+    base: &Path,
+    precision: Precision,
+) -> Result<FieldData, SceneError> {
+    let err = volume_error(key);
+    let path = base.join(f);
+    let grid = d.grid.as_deref();
+    let mut mode = Ok(false);
+    let choose = |g: &vdb::VdbGrid| {
+        mode = level_set_mode(d, g, key);
+        value_map(g, *mode.as_ref().unwrap_or(&false))
+    };
+    let (data, xf, g) = match precision {
+        Precision::F16 => {
+            let (b, xf, g) = nanovdb::read_grid_bricks(&path, grid, choose).map_err(err)?;
+            (DensityData::F16(b), xf, g)
+        }
+        Precision::F32 => {
+            let (b, xf, g) = nanovdb::read_grid_bricks(&path, grid, choose).map_err(err)?;
+            (DensityData::F32(b), xf, g)
+        }
+    };
+    mode?;
+    Ok(FieldData::new(
+        data,
+        xf,
+        format!("{} ({})", path.display(), g.name),
+    ))
+}
+
+/// Whether a grid is read as a fog volume from a level set (`level_set =
+/// "fog"`, the default) rather than as its raw values (`"raw"`).
+fn level_set_mode(d: &FieldDesc, g: &vdb::VdbGrid, key: &str) -> Result<bool, SceneError> {
+    let level_set = vdb_grid::is_level_set(g);
+    let mode = d.level_set.as_deref().unwrap_or("fog");
+    if level_set && mode != "fog" && mode != "raw" {
+        return Err(SceneError(format!(
+            "{key}.level_set: `{mode}` is not `fog` or `raw`"
+        )));
+    }
+    Ok(level_set && mode == "fog")
+}
+
+/// The map of a grid's values to densities: a level set's fog, or the
+/// values clamped to be non-negative.
+fn value_map(g: &vdb::VdbGrid, to_fog: bool) -> impl Fn(f32) -> f32 + Sync + Copy {
+    let fog = vdb_grid::level_set_fog(g.background);
+    move |v: f32| if to_fog { fog(v) } else { v.max(0.0) }
 }
 
 /// A Mitsuba `.vol` file's channel.

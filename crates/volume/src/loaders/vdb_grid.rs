@@ -25,6 +25,22 @@ pub fn to_brick_grid(g: VdbGrid) -> Result<(BrickGrid<f32>, DAffine3)> {
 /// the voxels exist once; finish it with the values' map and precision
 /// ([`BrickGridBuilder::finish_converted`]).
 pub fn to_builder(g: VdbGrid) -> Result<(BrickGridBuilder, DAffine3)> {
+    let (mut b, origin, xf) = outline_builder(&g, g.leaves.iter().map(|l| l.origin))?;
+    for leaf in g.leaves {
+        let mut values = leaf.values;
+        brick_order(&mut values);
+        b.adopt(leaf_lo(leaf.origin, origin), values);
+    }
+    Ok((b, xf))
+}
+
+/// The builder of the brick grid of `g`'s tiles and of leaves at
+/// `leaf_origins` (`g.leaves` is not read), with the tiles written; the
+/// OpenVDB index of the grid's voxel 0 and the index→world map.
+pub(crate) fn outline_builder(
+    g: &VdbGrid,
+    leaf_origins: impl Iterator<Item = [i32; 3]>,
+) -> Result<(BrickGridBuilder, [i64; 3], DAffine3)> {
     let mut lo = [i64::MAX; 3];
     let mut hi = [i64::MIN; 3];
     let mut grow = |a: [i32; 3], size: i64| {
@@ -33,8 +49,8 @@ pub fn to_builder(g: VdbGrid) -> Result<(BrickGridBuilder, DAffine3)> {
             hi[k] = hi[k].max(a[k] as i64 + size - 1);
         }
     };
-    for leaf in &g.leaves {
-        grow(leaf.origin, BRICK as i64);
+    for origin in leaf_origins {
+        grow(origin, BRICK as i64);
     }
     for t in &g.tiles {
         if t.active || t.value != g.background {
@@ -51,8 +67,7 @@ pub fn to_builder(g: VdbGrid) -> Result<(BrickGridBuilder, DAffine3)> {
     let dims: [u64; 3] = std::array::from_fn(|k| (hi[k] + 1 - origin[k] + 1) as u64);
     let mut b = BrickGridBuilder::new(dims, g.background)
         .map_err(|e| VolumeError::Invalid(format!("grid `{}`: {e}", g.name)))?;
-    // Tiles first (coarse to fine order does not matter: tiles and leaves
-    // never overlap in a valid tree), then leaves.
+    // Tiles and leaves never overlap in a valid tree; tiles go first.
     for t in &g.tiles {
         if t.value != g.background {
             let a = std::array::from_fn(|k| t.origin[k] as i64 - origin[k]);
@@ -60,17 +75,18 @@ pub fn to_builder(g: VdbGrid) -> Result<(BrickGridBuilder, DAffine3)> {
             b.fill(a, z, t.value);
         }
     }
-    let xf = index_to_world(&g.index_to_world, origin);
-    for leaf in g.leaves {
-        let o: [i64; 3] = std::array::from_fn(|k| leaf.origin[k] as i64 - origin[k]);
-        b.adopt(o, brick_order(leaf.values));
-    }
-    Ok((b, xf))
+    Ok((b, origin, index_to_world(&g.index_to_world, origin)))
+}
+
+/// The builder voxel of an OpenVDB leaf origin, in a grid whose voxel 0 is
+/// OpenVDB index `origin`.
+pub(crate) fn leaf_lo(leaf: [i32; 3], origin: [i64; 3]) -> [i64; 3] {
+    std::array::from_fn(|k| leaf[k] as i64 - origin[k])
 }
 
 /// An OpenVDB leaf's values (z fastest, index x·64 + y·8 + z) in brick
-/// order (x fastest), non-finite values zeroed, in the same allocation.
-fn brick_order(mut v: Box<[f32; 512]>) -> Box<[f32; 512]> {
+/// order (x fastest), non-finite values zeroed, in place.
+pub(crate) fn brick_order(v: &mut [f32; 512]) {
     for x in 0..8 {
         for y in 0..8 {
             for z in x + 1..8 {
@@ -83,7 +99,6 @@ fn brick_order(mut v: Box<[f32; 512]>) -> Box<[f32; 512]> {
             *x = 0.0;
         }
     }
-    v
 }
 
 /// The OpenVDB index→world map of rows `m`, from fogbank's voxel centres

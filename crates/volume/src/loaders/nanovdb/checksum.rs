@@ -17,7 +17,8 @@
 
 use super::gridbuf::GridBuf;
 use super::griddata::GridHead;
-use super::layout::{Layout, ValueKind, FP_CODES};
+use super::layout::Layout;
+use super::leaves::crc32;
 use super::tree::Flat;
 use crate::error::Result;
 
@@ -25,19 +26,20 @@ const EMPTY: u32 = u32::MAX;
 /// The only minor version whose checksum was confirmed against its source.
 const CHECKED_MINOR: u32 = 4;
 
-fn crc32(bytes: &[u8]) -> u32 {
-    let mut c = flate2::Crc::new();
-    c.update(bytes);
-    c.sum()
-}
-
 /// Whether the grid's checksum can be and is to be verified.
 pub(super) fn applies(head: &GridHead) -> bool {
     (head.version >> 10) & 0x7ff == CHECKED_MINOR && head.checksum != u64::MAX
 }
 
-/// Checks the stored checksum of the grid in `b` whose tree is `flat`.
-pub(super) fn verify<const K: usize>(b: &GridBuf, head: &GridHead, flat: &Flat<K>) -> Result<()> {
+/// Checks the stored checksum of the grid whose internal nodes `b` holds,
+/// whose tree is `flat` and whose leaves' CRC32s, in buffer order, are
+/// `leaf_crcs`.
+pub(super) fn verify<const K: usize>(
+    b: &GridBuf,
+    head: &GridHead,
+    flat: &Flat<K>,
+    leaf_crcs: &[u32],
+) -> Result<()> {
     if !applies(head) {
         return Ok(());
     }
@@ -60,18 +62,16 @@ pub(super) fn verify<const K: usize>(b: &GridBuf, head: &GridHead, flat: &Flat<K
         return Ok(());
     }
     let mut list = Vec::new();
-    for (level, nodes) in flat.nodes.iter().enumerate() {
+    for nodes in &flat.nodes {
         let mut nodes = nodes.clone();
         nodes.sort_unstable();
         for (at, size) in nodes {
-            let size = if level == 2 && head.kind == ValueKind::FpN {
-                FP_CODES
-            } else {
-                size
-            };
             let crc = crc32(b.bytes(at, size, "checksummed node")?);
             list.extend_from_slice(&(crc as u64).to_le_bytes());
         }
+    }
+    for &crc in leaf_crcs {
+        list.extend_from_slice(&(crc as u64).to_le_bytes());
     }
     let nodes_crc = crc32(&list);
     if stored[1] != nodes_crc {

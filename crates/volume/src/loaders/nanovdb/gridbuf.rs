@@ -1,5 +1,7 @@
-//! The bounds-checked view of one decoded grid buffer that every part of
-//! the tree reader goes through. Offsets are byte offsets into the grid
+//! The bounds-checked view of a window of one decoded grid buffer that
+//! every part of the tree reader goes through: the internal nodes before
+//! the first leaf, or a run of leaves, as the buffer streams past (the
+//! whole buffer is never held). Offsets are byte offsets into the grid
 //! buffer, as NanoVDB's own node offsets are; errors name them, and the
 //! file offset too when the buffer is stored uncompressed.
 
@@ -8,22 +10,45 @@ use std::path::Path;
 use crate::error::{Result, VolumeError};
 
 pub(super) struct GridBuf<'a> {
+    /// The window's bytes: buffer bytes `base..base + data.len()`.
     pub(super) data: &'a [u8],
+    pub(super) base: usize,
+    /// The whole buffer's size, which offsets to nodes are checked against.
+    pub(super) total: usize,
     pub(super) path: &'a Path,
     pub(super) grid: &'a str,
-    /// File offset of byte 0 when the buffer is stored as is.
-    pub(super) file_pos: Option<u64>,
+    /// File offset of byte 0 when the buffer is stored as is, else the
+    /// codec it was decoded from (a corrupt stream shows as nonsense here).
+    pub(super) stored: std::result::Result<u64, &'static str>,
 }
 
 impl<'a> GridBuf<'a> {
+    /// The whole buffer's size.
     pub(super) fn len(&self) -> usize {
-        self.data.len()
+        self.total
+    }
+
+    /// The same buffer's window `data` starting at buffer byte `base`.
+    pub(super) fn window<'b>(&self, data: &'b [u8], base: usize) -> GridBuf<'b>
+    where
+        'a: 'b,
+    {
+        GridBuf {
+            data,
+            base,
+            total: self.total,
+            path: self.path,
+            grid: self.grid,
+            stored: self.stored,
+        }
     }
 
     pub(super) fn fail(&self, at: usize, msg: impl std::fmt::Display) -> VolumeError {
-        let place = match self.file_pos {
-            Some(p) => format!("offset {} (byte {at} of the grid buffer)", p + at as u64),
-            None => format!("byte {at} of the decompressed grid buffer"),
+        let place = match self.stored {
+            Ok(p) => format!("offset {} (byte {at} of the grid buffer)", p + at as u64),
+            Err(codec) => {
+                format!("byte {at} of the grid buffer decompressed from its {codec} data")
+            }
         };
         VolumeError::format(
             self.path,
@@ -33,16 +58,29 @@ impl<'a> GridBuf<'a> {
 
     /// `n` bytes at `at`.
     pub(super) fn bytes(&self, at: usize, n: usize, what: &str) -> Result<&'a [u8]> {
-        match at.checked_add(n) {
-            Some(end) if end <= self.data.len() => Ok(&self.data[at..end]),
-            _ => Err(self.fail(
+        let end = match at.checked_add(n) {
+            Some(end) if end <= self.total => end,
+            _ => {
+                return Err(self.fail(
+                    at,
+                    format!(
+                        "{what} ({n} bytes) runs past the end of the {}-byte grid buffer",
+                        self.total
+                    ),
+                ))
+            }
+        };
+        let window_end = self.base + self.data.len();
+        if at < self.base || end > window_end {
+            return Err(self.fail(
                 at,
                 format!(
-                    "{what} ({n} bytes) runs past the end of the {}-byte grid buffer",
-                    self.data.len()
+                    "{what} ({n} bytes) lies outside bytes {}..{window_end}, where NanoVDB puts it",
+                    self.base
                 ),
-            )),
+            ));
         }
+        Ok(&self.data[at - self.base..end - self.base])
     }
 
     pub(super) fn array<const N: usize>(&self, at: usize, what: &str) -> Result<[u8; N]> {
@@ -84,13 +122,13 @@ impl<'a> GridBuf<'a> {
         let at = (from as i64)
             .checked_add(offset)
             .and_then(|a| usize::try_from(a).ok())
-            .filter(|&a| a.checked_add(size).is_some_and(|e| e <= self.data.len()));
+            .filter(|&a| a.checked_add(size).is_some_and(|e| e <= self.total));
         at.ok_or_else(|| {
             self.fail(
                 from,
                 format!(
                     "{what} offset {offset} points outside the {}-byte grid buffer",
-                    self.data.len()
+                    self.total
                 ),
             )
         })

@@ -19,6 +19,8 @@ const GRID_TYPE: usize = 636;
 /// `TreeData` follows `GridData`.
 pub(super) const TREE: usize = GRID_DATA_LEN;
 const TREE_LEN: usize = 64;
+/// `GridData` and `TreeData`: what [`parse_head`] reads.
+pub(super) const HEAD_LEN: usize = GRID_DATA_LEN + TREE_LEN;
 
 /// What the tree reader needs from `GridData` and `TreeData`.
 pub(super) struct GridHead {

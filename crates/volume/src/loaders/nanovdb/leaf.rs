@@ -14,18 +14,8 @@ use crate::error::Result;
 /// Byte offset of the leaf flags (after the origin and the bbox extent).
 const LEAF_FLAGS: usize = 15;
 
-/// The size of the leaf at `at`: fixed for all types but FpN, whose code
-/// width its flags give. The whole leaf must lie in the buffer.
-pub(super) fn leaf_size(b: &GridBuf, lay: &Layout, at: usize) -> Result<usize> {
-    let size = match lay.kind {
-        ValueKind::FpN => FP_CODES + 64 * fpn_bits(b, at)? as usize,
-        _ => lay.leaf_size,
-    };
-    b.bytes(at, size, "leaf node")?;
-    Ok(size)
-}
-
-fn fpn_bits(b: &GridBuf, at: usize) -> Result<u32> {
+/// The code width of the FpN leaf at `at`, from its flags.
+pub(super) fn fpn_bits(b: &GridBuf, at: usize) -> Result<u32> {
     let flags = b.u8(at + LEAF_FLAGS, "FpN leaf flags")?;
     let log2 = flags >> 5;
     if log2 > 4 {

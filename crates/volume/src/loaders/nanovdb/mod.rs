@@ -37,20 +37,21 @@
 //! | several grids and segments per file | yes; selected by name (default `density`, else the first float grid) |
 //! | checksum | verified (partial and full CRC32) for NanoVDB 32.4 grids; grids of other minor versions are read without it |
 //! | raw grid buffers (no segment header, 32.6+) | yes (`NanoVDB1` grid magic, or `NanoVDB0` with the version where a grid has it); tested with 32.4 grids stored that way, no 32.6 writer at hand |
-//! | large files | only the segment headers and the chosen grid's bytes are read |
+//! | large files | only the segment headers and the chosen grid's bytes are read, front to back: the internal nodes in front of the first leaf are held, the leaves stream past a run at a time (ZIP inflated and BLOSC frames decoded block by block as they are read); [`read_grid_bricks`] stores each leaf in fogbank's brick grid as it passes, so loading peaks at about 1.3× the grid it makes |
 
 mod checksum;
-mod codec;
 mod gridbuf;
 mod griddata;
 pub(crate) mod layout;
 mod leaf;
+mod leaves;
 mod read;
 mod segment;
+mod stream;
 mod tree;
 
 pub use read::{
-    list_grids, list_grids_from_bytes, read_grid, read_grid_from_bytes, read_vec3_grid,
-    read_vec3_grid_from_bytes,
+    list_grids, list_grids_from_bytes, read_grid, read_grid_bricks, read_grid_from_bytes,
+    read_vec3_grid, read_vec3_grid_from_bytes,
 };
 pub use segment::version_string;

@@ -105,6 +105,36 @@ impl<'a> Source<'a> {
     }
 }
 
+impl<'a> Source<'a> {
+    /// A reader of the `len` bytes at `pos`, which must lie in the file.
+    pub(super) fn reader<'s>(
+        &'s mut self,
+        path: &Path,
+        pos: u64,
+        len: usize,
+    ) -> Result<Box<dyn std::io::Read + 's>> {
+        let end = pos.checked_add(len as u64).filter(|&e| e <= self.len());
+        if end.is_none() {
+            return Err(VolumeError::format(
+                path,
+                format!("{len} bytes at offset {pos} run past the end of the file"),
+            ));
+        }
+        match self {
+            Source::Bytes(b) => Ok(Box::new(&b[pos as usize..pos as usize + len])),
+            Source::File(f, _) => {
+                use std::io::{Read, Seek, SeekFrom};
+                f.seek(SeekFrom::Start(pos))
+                    .map_err(|e| VolumeError::io(path, e))?;
+                Ok(Box::new(std::io::BufReader::with_capacity(
+                    1 << 16,
+                    (&*f).take(len as u64),
+                )))
+            }
+        }
+    }
+}
+
 fn u16_at(b: &[u8], at: usize) -> u16 {
     u16::from_le_bytes([b[at], b[at + 1]])
 }

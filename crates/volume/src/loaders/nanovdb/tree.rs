@@ -11,25 +11,25 @@ use std::collections::HashSet;
 
 use super::gridbuf::GridBuf;
 use super::griddata::GridHead;
-use super::layout::{Layout, NodeLayout, FP_CODES, LEAF_MASK};
-use super::leaf::{leaf_size, read_values};
+use super::layout::{Layout, NodeLayout, FP_CODES};
 use crate::error::Result;
 use crate::loaders::vdb::Tile;
 
-/// A leaf before it is split into components: 512 values of `K` floats.
-pub(super) struct Leaf {
+/// Where a leaf lies in the buffer, and its origin.
+#[derive(Clone, Copy)]
+pub(super) struct LeafAt {
+    pub(super) at: usize,
     pub(super) origin: [i32; 3],
-    pub(super) active: [u64; 8],
-    pub(super) values: Vec<f32>,
 }
 
 /// The flattened tree, and where each node lies (for the full checksum).
 pub(super) struct Flat<const K: usize> {
     pub(super) background: [f32; K],
     pub(super) tiles: Vec<Tile<K>>,
-    pub(super) leaves: Vec<Leaf>,
-    /// Buffer offsets (and sizes) of the upper, lower and leaf nodes.
-    pub(super) nodes: [Vec<(usize, usize)>; 3],
+    /// In the walk's order.
+    pub(super) leaves: Vec<LeafAt>,
+    /// Buffer offsets and sizes of the upper and lower nodes.
+    pub(super) nodes: [Vec<(usize, usize)>; 2],
 }
 
 /// Tree walk state: the buffer, the layout, and the nodes reached so far,
@@ -80,7 +80,7 @@ pub(super) fn read_tree<const K: usize>(b: &GridBuf, head: &GridHead) -> Result<
             background: value::<K>(b, root + lay.root_background, elem, "background")?,
             tiles: Vec::new(),
             leaves: Vec::new(),
-            nodes: [Vec::new(), Vec::new(), Vec::new()],
+            nodes: [Vec::new(), Vec::new()],
         },
     };
     let mut entries = Vec::with_capacity(table);
@@ -152,8 +152,11 @@ impl<const K: usize> Walk<'_, '_, K> {
         if !self.seen.insert(at) {
             return Err(self.b.fail(at, format!("{what} is reached twice")));
         }
-        let list = &mut self.flat.nodes[level];
-        if list.len() >= self.counts[level] as usize {
+        let reached = match level {
+            2 => self.flat.leaves.len(),
+            _ => self.flat.nodes[level].len(),
+        };
+        if reached >= self.counts[level] as usize {
             return Err(self.b.fail(
                 at,
                 format!(
@@ -162,7 +165,9 @@ impl<const K: usize> Walk<'_, '_, K> {
                 ),
             ));
         }
-        list.push((at, size));
+        if level < 2 {
+            self.flat.nodes[level].push((at, size));
+        }
         Ok(())
     }
 
@@ -209,16 +214,8 @@ impl<const K: usize> Walk<'_, '_, K> {
     }
 
     fn leaf(&mut self, at: usize, origin: [i32; 3]) -> Result<()> {
-        let size = leaf_size(self.b, &self.lay, at)?;
-        self.reach(at, size, 2, "leaf")?;
-        let mask = self.b.mask(at + LEAF_MASK, 8, "leaf value mask")?;
-        let mut values = vec![0.0f32; 512 * K];
-        read_values(self.b, &self.lay, at, &mut values)?;
-        self.flat.leaves.push(Leaf {
-            origin,
-            active: std::array::from_fn(|w| mask[w]),
-            values,
-        });
+        self.reach(at, 0, 2, "leaf")?;
+        self.flat.leaves.push(LeafAt { at, origin });
         Ok(())
     }
 }

@@ -56,12 +56,16 @@ struct FrameHeader {
 }
 
 impl FrameHeader {
-    /// The header of `src`; `None` for an empty payload.
-    fn parse(src: &[u8], expected: usize) -> Result<Option<FrameHeader>, BloscError> {
-        if src.len() < HEADER_LEN {
+    /// The header at the start of `src`, of a frame of `frame_len` bytes;
+    /// `None` for an empty payload.
+    fn parse(
+        src: &[u8],
+        frame_len: usize,
+        expected: usize,
+    ) -> Result<Option<FrameHeader>, BloscError> {
+        if src.len() < HEADER_LEN || frame_len < HEADER_LEN {
             return err(format!(
-                "Blosc frame of {} bytes is shorter than its 16-byte header",
-                src.len()
+                "Blosc frame of {frame_len} bytes is shorter than its 16-byte header"
             ));
         }
         let version = src[0];
@@ -95,10 +99,9 @@ impl FrameHeader {
                 "Blosc frame has invalid block size {blocksize} for {nbytes} bytes"
             ));
         }
-        if cbytes < HEADER_LEN || cbytes > src.len() {
+        if cbytes < HEADER_LEN || cbytes > frame_len {
             return err(format!(
-                "Blosc frame claims {cbytes} compressed bytes but {} are available",
-                src.len()
+                "Blosc frame claims {cbytes} compressed bytes but {frame_len} are available"
             ));
         }
         Ok(Some(FrameHeader {
@@ -115,53 +118,161 @@ impl FrameHeader {
 /// the caller knows the size a node needs, so a frame claiming any other
 /// size is rejected before anything is allocated from its header.
 pub fn decompress(src: &[u8], expected: usize) -> Result<Vec<u8>, BloscError> {
-    let Some(FrameHeader {
-        flags,
-        typesize,
-        nbytes,
-        blocksize,
-        cbytes,
-    }) = FrameHeader::parse(src, expected)?
-    else {
+    let Some(mut frame) = FrameStream::parse(src, src.len(), expected)? else {
         return Ok(Vec::new());
     };
-    let src = &src[..cbytes];
-    let nblocks = nbytes.div_ceil(blocksize);
-    let leftover = nbytes % blocksize;
-    let mut out = vec![0u8; nbytes];
-
-    if flags & FLAG_MEMCPYED != 0 {
-        if cbytes != nbytes + HEADER_LEN {
-            return err(format!(
-                "uncompressed Blosc frame has {cbytes} bytes, expected {}",
-                nbytes + HEADER_LEN
-            ));
-        }
-        out.copy_from_slice(&src[HEADER_LEN..]);
-        return Ok(out);
-    }
-
-    let codec = Codec::from_flags(flags)?;
-    if nblocks > (cbytes - HEADER_LEN) / 4 {
-        return err(format!(
-            "Blosc frame too short for its {nblocks} block offsets"
-        ));
-    }
-    let format = BlockFormat {
-        flags,
-        typesize,
-        codec,
-    };
-    let mut tmp = vec![0u8; blocksize];
-    for j in 0..nblocks {
-        let is_leftover = j == nblocks - 1 && leftover > 0;
-        let bsize = if is_leftover { leftover } else { blocksize };
-        let start = read_u32(src, HEADER_LEN + 4 * j).unwrap_or(u32::MAX) as usize;
-        let dest = &mut out[j * blocksize..j * blocksize + bsize];
-        decode_block(src, start, &format, is_leftover, dest, &mut tmp[..bsize])
-            .map_err(|e| BloscError(format!("Blosc block {j}: {e}")))?;
+    let src = &src[..frame.cbytes];
+    frame.set_offsets(&src[HEADER_LEN..HEADER_LEN + frame.offsets_len()], false)?;
+    let mut out = vec![0u8; expected];
+    let mut tmp = vec![0u8; frame.block_size()];
+    for j in 0..frame.blocks() {
+        // A block's splits delimit themselves: it may run to the frame's end.
+        let bytes = match frame.format {
+            Some(_) => frame.starts[j]..frame.cbytes,
+            None => frame.block_bytes(j),
+        };
+        let at = j * frame.blocksize;
+        let len = frame.block_len(j);
+        frame.decode_block(j, &src[bytes], &mut out[at..at + len], &mut tmp)?;
     }
     Ok(out)
+}
+
+/// A frame read front to back, for readers that do not hold it: its
+/// header, then its block offsets, then each block's bytes in turn (which
+/// must follow one another, as c-blosc writes them).
+pub struct FrameStream {
+    nbytes: usize,
+    blocksize: usize,
+    cbytes: usize,
+    /// `None` for a frame stored as a plain copy.
+    format: Option<BlockFormat>,
+    starts: Vec<usize>,
+}
+
+impl FrameStream {
+    /// The frame whose first 16 bytes are `head`, stored in `stored`
+    /// bytes, whose payload must be `expected` bytes; `None` for an empty
+    /// payload.
+    pub fn parse(
+        head: &[u8],
+        stored: usize,
+        expected: usize,
+    ) -> Result<Option<FrameStream>, BloscError> {
+        let Some(h) = FrameHeader::parse(head, stored, expected)? else {
+            return Ok(None);
+        };
+        let nblocks = h.nbytes.div_ceil(h.blocksize);
+        let format = if h.flags & FLAG_MEMCPYED != 0 {
+            if h.cbytes != h.nbytes + HEADER_LEN {
+                return err(format!(
+                    "uncompressed Blosc frame has {} bytes, expected {}",
+                    h.cbytes,
+                    h.nbytes + HEADER_LEN
+                ));
+            }
+            None
+        } else {
+            if nblocks > (h.cbytes - HEADER_LEN) / 4 {
+                return err(format!(
+                    "Blosc frame too short for its {nblocks} block offsets"
+                ));
+            }
+            Some(BlockFormat {
+                flags: h.flags,
+                typesize: h.typesize,
+                codec: Codec::from_flags(h.flags)?,
+            })
+        };
+        Ok(Some(FrameStream {
+            nbytes: h.nbytes,
+            blocksize: h.blocksize,
+            cbytes: h.cbytes,
+            format,
+            starts: Vec::new(),
+        }))
+    }
+
+    /// Bytes of block offsets after the header (none for a plain copy).
+    pub fn offsets_len(&self) -> usize {
+        match self.format {
+            Some(_) => 4 * self.blocks(),
+            None => 0,
+        }
+    }
+
+    /// Reads the block offsets (`offsets_len` bytes), which must lie
+    /// inside the frame and, when the blocks are to be read in turn
+    /// (`increasing`), after the offsets and each after the one before.
+    pub fn set_offsets(&mut self, b: &[u8], increasing: bool) -> Result<(), BloscError> {
+        let mut last = HEADER_LEN + self.offsets_len();
+        self.starts = Vec::with_capacity(self.blocks());
+        for (j, c) in b.chunks_exact(4).enumerate() {
+            let s = u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as usize;
+            if s >= self.cbytes || (increasing && s < last) {
+                return err(format!(
+                    "Blosc block {j} starts at byte {s}, {} the {}-byte frame",
+                    if increasing {
+                        format!("not after byte {last} inside")
+                    } else {
+                        "outside".to_string()
+                    },
+                    self.cbytes
+                ));
+            }
+            self.starts.push(s);
+            last = s + 1;
+        }
+        Ok(())
+    }
+
+    pub fn blocks(&self) -> usize {
+        self.nbytes.div_ceil(self.blocksize)
+    }
+
+    pub fn block_size(&self) -> usize {
+        self.blocksize
+    }
+
+    /// The frame's compressed size (bytes after it in its chunk are unused).
+    pub fn cbytes(&self) -> usize {
+        self.cbytes
+    }
+
+    /// Block `j`'s length in the payload.
+    pub fn block_len(&self, j: usize) -> usize {
+        self.blocksize.min(self.nbytes - j * self.blocksize)
+    }
+
+    /// Where block `j`'s stored bytes lie in the frame.
+    pub fn block_bytes(&self, j: usize) -> std::ops::Range<usize> {
+        match self.format {
+            None => {
+                let at = HEADER_LEN + j * self.blocksize;
+                at..at + self.block_len(j)
+            }
+            Some(_) => self.starts[j]..self.starts.get(j + 1).copied().unwrap_or(self.cbytes),
+        }
+    }
+
+    /// Decodes block `j` from its stored bytes `bytes` ([`Self::block_bytes`])
+    /// into `dest` ([`Self::block_len`] bytes), with `tmp` of at least
+    /// [`Self::block_size`] bytes as scratch.
+    pub fn decode_block(
+        &self,
+        j: usize,
+        bytes: &[u8],
+        dest: &mut [u8],
+        tmp: &mut [u8],
+    ) -> Result<(), BloscError> {
+        let Some(format) = &self.format else {
+            dest.copy_from_slice(bytes);
+            return Ok(());
+        };
+        let is_leftover = dest.len() < self.blocksize;
+        decode_block(bytes, 0, format, is_leftover, dest, &mut tmp[..dest.len()])
+            .map_err(|e| BloscError(format!("Blosc block {j}: {e}")))
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
