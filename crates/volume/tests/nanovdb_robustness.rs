@@ -243,3 +243,28 @@ fn corrupted_bytes_never_panic() {
     }
     assert!(largest() < ALLOC_LIMIT, "largest allocation {}", largest());
 }
+
+/// The reader streams a BLOSC frame block by block, so the frame's block
+/// offsets must increase as c-blosc writes them, and nothing may follow the
+/// last chunk: both are errors naming the codec.
+#[test]
+fn streamed_blosc_frames_are_checked() {
+    let (_, blosc) = fixture("fog_blosc.nvdb");
+    let frame = first_grid_start(&blosc) + 8;
+    // Block 0 said to start inside the frame's own header.
+    let mut behind = blosc.clone();
+    behind[frame + 16..frame + 20].copy_from_slice(&8u32.to_le_bytes());
+    let e = read_err(&behind);
+    assert!(
+        e.contains("BLOSC") && e.contains("block 0 starts at byte 8"),
+        "{e}"
+    );
+
+    // Five stored bytes more than the chunks hold.
+    let mut longer = blosc.clone();
+    let stored = u64::from_le_bytes(longer[16 + 8..16 + 16].try_into().unwrap());
+    longer[16 + 8..16 + 16].copy_from_slice(&(stored + 5).to_le_bytes());
+    longer.extend_from_slice(&[0; 5]);
+    let e = read_err(&longer);
+    assert!(e.contains("after the last BLOSC chunk"), "{e}");
+}
