@@ -50,7 +50,7 @@ pub(super) fn stream_leaves<const K: usize, R: Send>(
     order.sort_unstable_by_key(|&i| leaves[i].at);
     let mut run = Vec::new();
     let mut placed = Vec::new();
-    for &index in &order {
+    for (n, &index) in order.iter().enumerate() {
         let at = leaves[index].at;
         if at < stream.pos() {
             return Err(b.fail(at, "leaf overlaps the node before it"));
@@ -72,7 +72,7 @@ pub(super) fn stream_leaves<const K: usize, R: Send>(
             start,
             size,
         });
-        if run.len() >= RUN_BYTES {
+        if run.len() >= RUN_BYTES || n + 1 == order.len() {
             flush::<K, R>(
                 b,
                 lay,
@@ -85,16 +85,7 @@ pub(super) fn stream_leaves<const K: usize, R: Send>(
             )?;
         }
     }
-    flush::<K, R>(
-        b,
-        lay,
-        leaves,
-        &mut run,
-        &mut placed,
-        &mut crcs,
-        &make,
-        &mut keep,
-    )
+    Ok(())
 }
 
 /// Decodes the run's leaves in parallel and keeps them in order.
