@@ -1,12 +1,19 @@
-//! A triangle mesh and analytic shapes with one BVH over them all:
+//! A triangle mesh and analytic shapes with one hierarchy over them all:
 //! closest-hit and any-hit queries. Primitive `i` is triangle `i` of the
 //! mesh below `mesh.len()`, analytic shape `i − mesh.len()` from there.
+//!
+//! The CPU traces the compressed wide BVH ([`WideBvh`]); the GPU's binary
+//! BVH ([`Bvh`], the layout its WGSL walk reads) is built only when a GPU
+//! backend asks for it ([`MeshAccel::gpu`]).
+
+use std::sync::OnceLock;
 
 use crate::analytic::AnalyticShape;
 use crate::bvh::Bvh;
 use crate::mesh::TriangleMesh;
 use crate::triangle::{intersect, RayFrame, TriangleHit};
-use fogbank_math::{Ray, Vec3};
+use crate::wide::WideBvh;
+use fogbank_math::{Aabb, Ray, Vec3};
 
 /// The closest primitive a ray meets (on an analytic shape `b1 = b2 = 0`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -19,11 +26,20 @@ pub struct MeshHit {
 pub struct MeshAccel {
     pub mesh: TriangleMesh,
     pub analytic: Vec<AnalyticShape>,
-    pub bvh: Bvh,
-    /// The corners of each triangle in the BVH's leaf order: a leaf's
+    pub wide: WideBvh,
+    /// The corners of each triangle in the wide BVH's leaf order: a leaf's
     /// triangles lie side by side, read without going through the indices
     /// (zero for analytic shapes).
     corners: Vec<[Vec3; 3]>,
+    gpu: OnceLock<GpuBvh>,
+}
+
+/// The binary BVH the GPU traverses, and the triangles' corners in its leaf
+/// order (what the GPU's `surface_triangles` holds, slot for slot).
+#[derive(Clone, Debug)]
+pub struct GpuBvh {
+    pub bvh: Bvh,
+    pub corners: Vec<[Vec3; 3]>,
 }
 
 impl MeshAccel {
@@ -32,25 +48,24 @@ impl MeshAccel {
     }
 
     pub fn with_analytic(mesh: TriangleMesh, analytic: Vec<AnalyticShape>) -> MeshAccel {
-        let bounds: Vec<_> = (0..mesh.len())
-            .map(|i| mesh.triangle_bounds(i))
-            .chain(analytic.iter().map(|a| a.bounds()))
-            .collect();
-        let bvh = Bvh::new(&bounds);
-        let corners = bvh
-            .order
-            .iter()
-            .map(|&i| match (i as usize) < mesh.len() {
-                true => mesh.corners(i as usize),
-                false => [Vec3::ZERO; 3],
-            })
-            .collect();
+        let wide = WideBvh::new(&primitive_bounds(&mesh, &analytic));
+        let corners = leaf_corners(&mesh, wide.order());
         MeshAccel {
             mesh,
             analytic,
-            bvh,
+            wide,
             corners,
+            gpu: OnceLock::new(),
         }
+    }
+
+    /// The GPU's binary BVH, built on first use.
+    pub fn gpu(&self) -> &GpuBvh {
+        self.gpu.get_or_init(|| {
+            let bvh = Bvh::new(&primitive_bounds(&self.mesh, &self.analytic));
+            let corners = leaf_corners(&self.mesh, &bvh.order);
+            GpuBvh { bvh, corners }
+        })
     }
 
     /// The analytic shape primitive `i` is, if it is one.
@@ -58,12 +73,6 @@ impl MeshAccel {
         (primitive as usize)
             .checked_sub(self.mesh.len())
             .map(|k| &self.analytic[k])
-    }
-
-    /// The triangles' corners in leaf order (what the GPU's
-    /// `surface_triangles` holds, slot for slot).
-    pub fn leaf_corners(&self) -> &[[Vec3; 3]] {
-        &self.corners
     }
 
     /// The hit of `primitive`, in leaf slot `slot`, below `t_max`.
@@ -103,8 +112,8 @@ impl MeshAccel {
     ) -> Option<MeshHit> {
         let frame = RayFrame::new(ray);
         let mut best = None;
-        self.bvh.closest_hit(ray, t_max, |slot, t_max| {
-            let primitive = self.bvh.order[slot as usize];
+        self.wide.closest_hit(ray, t_max, |slot, t_max| {
+            let primitive = self.wide.order()[slot as usize];
             if !keep(primitive) {
                 return None;
             }
@@ -123,12 +132,31 @@ impl MeshAccel {
     /// Whether any primitive `keep` accepts lies on the ray in `(0, t_max)`.
     pub fn occluded_where(&self, ray: &Ray, t_max: f32, keep: impl Fn(u32) -> bool) -> bool {
         let frame = RayFrame::new(ray);
-        self.bvh.any_hit(ray, t_max, |slot, t_max| {
-            let primitive = self.bvh.order[slot as usize];
+        self.wide.any_hit(ray, t_max, |slot, t_max| {
+            let primitive = self.wide.order()[slot as usize];
             if !keep(primitive) {
                 return None;
             }
             self.test(ray, &frame, slot, primitive, t_max).map(|h| h.t)
         })
     }
+}
+
+/// The boxes of the mesh's triangles, then of the analytic shapes.
+fn primitive_bounds(mesh: &TriangleMesh, analytic: &[AnalyticShape]) -> Vec<Aabb> {
+    (0..mesh.len())
+        .map(|i| mesh.triangle_bounds(i))
+        .chain(analytic.iter().map(|a| a.bounds()))
+        .collect()
+}
+
+/// Each leaf slot's triangle corners (zero for analytic shapes).
+fn leaf_corners(mesh: &TriangleMesh, order: &[u32]) -> Vec<[Vec3; 3]> {
+    order
+        .iter()
+        .map(|&i| match (i as usize) < mesh.len() {
+            true => mesh.corners(i as usize),
+            false => [Vec3::ZERO; 3],
+        })
+        .collect()
 }

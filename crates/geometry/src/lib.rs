@@ -17,10 +17,12 @@ pub mod loaders;
 pub mod mesh;
 pub mod shapes;
 pub mod triangle;
+pub mod wide;
 
-pub use accel::{MeshAccel, MeshHit};
+pub use accel::{GpuBvh, MeshAccel, MeshHit};
 pub use analytic::{AnalyticHit, AnalyticShape, Quadric};
 pub use bvh::{Bvh, BvhNode};
 pub use loaders::load_mesh;
 pub use mesh::TriangleMesh;
 pub use triangle::{intersect, RayFrame, TriangleHit};
+pub use wide::WideBvh;

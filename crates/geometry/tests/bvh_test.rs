@@ -1,8 +1,9 @@
-//! The BVH against brute force: on a mesh of 10⁵ triangles (a tessellated
+//! The BVHs against brute force: on a mesh of 10⁵ triangles (a tessellated
 //! sphere with small random triangles inside and around it, including
 //! degenerate and NaN ones), every ray's closest hit — triangle and
 //! distance — and its any-hit answer equal those of testing every
-//! triangle. CI runs 5000 rays; `cargo test -p fogbank-geometry --release
+//! triangle, through the CPU's wide BVH (`MeshAccel`) and through the
+//! GPU's binary one (`MeshAccel::gpu`, traversed on the CPU). CI runs 5000 rays; `cargo test -p fogbank-geometry --release
 //! -- --ignored` runs the 10⁵.
 
 use fogbank_geometry::shapes::{quad_grid, uv_sphere};
@@ -63,15 +64,35 @@ fn check_range(accel: &MeshAccel, range: std::ops::Range<usize>) -> usize {
             want.is_some(),
             "any-hit, ray {k}"
         );
+        let (got, occluded) = binary(accel, &ray, t_max);
+        assert_eq!(got, want, "binary BVH, ray {k}: {ray:?}");
+        assert_eq!(occluded, want.is_some(), "binary BVH any-hit, ray {k}");
         hits += want.is_some() as usize;
     }
     hits
 }
 
+/// The closest hit and any-hit answer through the GPU's binary BVH.
+fn binary(accel: &MeshAccel, ray: &Ray, t_max: f32) -> (Option<(u32, f32)>, bool) {
+    let gpu = accel.gpu();
+    let f = RayFrame::new(ray);
+    let test = |slot: u32, t_max: f32| {
+        let [a, b, c] = gpu.corners[slot as usize];
+        intersect(&f, a, b, c, t_max).map(|h| h.t)
+    };
+    let closest = gpu
+        .bvh
+        .closest_hit(ray, t_max, test)
+        .map(|(slot, t)| (gpu.bvh.order[slot as usize], t));
+    (closest, gpu.bvh.any_hit(ray, t_max, test))
+}
+
 fn check(rays: usize) {
     let accel = MeshAccel::new(test_mesh());
     assert!(accel.mesh.len() >= 100_000);
-    assert!(accel.bvh.depth() < 64, "depth {}", accel.bvh.depth());
+    let depth = accel.gpu().bvh.depth();
+    assert!(depth < 64, "binary depth {depth}");
+    assert!(accel.wide.depth() < 16, "wide depth {}", accel.wide.depth());
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
     let chunk = rays.div_ceil(threads);
     let hits: usize = std::thread::scope(|s| {
@@ -107,7 +128,8 @@ fn empty_and_all_degenerate_meshes_hit_nothing() {
     let nan =
         TriangleMesh::new("nan", vec![Vec3::NAN; 3], vec![[0, 1, 2]], vec![], vec![]).unwrap();
     let a = MeshAccel::new(nan);
-    assert!(a.bvh.nodes.is_empty());
+    assert_eq!(a.wide.node_count(), 0);
+    assert!(a.gpu().bvh.nodes.is_empty());
     assert!(a.intersect(&ray, f32::INFINITY).is_none());
 }
 
@@ -141,4 +163,90 @@ fn axis_parallel_rays_on_box_planes_find_the_edges_they_graze() {
     }
     // Every ray lands on the grid [0, 8]² (edges and corners included).
     assert_eq!(checked, 17 * 17 * 4);
+}
+
+/// No ray leaks through a shared edge or vertex, near the origin or far
+/// from it: a 64 × 64 grid of unit quads (two triangles each, so every
+/// quad has a diagonal shared edge too, and each square a coplanar
+/// duplicate shifted by nothing), placed at 0 and at (10⁴, −10⁴, 5·10³),
+/// is shot from random points above at its vertices and at the midpoints
+/// of its edges and diagonals. Every ray hits, through both hierarchies,
+/// at the brute-force distance to within rounding: triangles meeting at
+/// the aimed point give it distances an ulp or two apart, and which of them
+/// is found first (by brute force or a traversal) decides which is kept.
+#[test]
+fn rays_at_shared_edges_and_vertices_never_leak() {
+    for offset in [Vec3::ZERO, Vec3::new(1.0e4, -1.0e4, 5.0e3)] {
+        let grid = quad_grid(64);
+        let positions: Vec<Vec3> = grid.positions.iter().map(|&p| p + offset).collect();
+        // Every triangle twice: coplanar, overlapping primitives.
+        let mut triangles = grid.triangles.clone();
+        triangles.extend_from_slice(&grid.triangles);
+        let mesh = TriangleMesh::new("grid", positions, triangles, vec![], vec![]).unwrap();
+        let accel = MeshAccel::new(mesh.clone());
+        let mut rng = Pcg32::new(23, 9);
+        let mut rays = 0;
+        for i in 1..64 {
+            for j in 1..64 {
+                // A vertex, an edge midpoint, a diagonal midpoint.
+                for (dx, dy) in [(0.0, 0.0), (0.5, 0.0), (0.5, 0.5)] {
+                    let target = offset + Vec3::new(i as f32 + dx, j as f32 + dy, 0.0);
+                    let from = Vec3::new(
+                        rng.next_f32() * 64.0,
+                        rng.next_f32() * 64.0,
+                        1.0 + rng.next_f32() * 30.0,
+                    );
+                    let ray = Ray::new(offset + from, target - (offset + from));
+                    let want = brute(&mesh, &ray, f32::INFINITY).expect("brute force hits");
+                    let got = accel.intersect(&ray, f32::INFINITY);
+                    let got = got.unwrap_or_else(|| panic!("leak at {target:?}: {ray:?}"));
+                    let close = |t: f32| (t - want.1).abs() <= 4.0 * f32::EPSILON * want.1;
+                    assert!(
+                        close(got.hit.t),
+                        "{} against {}: {ray:?}",
+                        got.hit.t,
+                        want.1
+                    );
+                    assert!(accel.occluded(&ray, f32::INFINITY), "{ray:?}");
+                    let (binary, occluded) = binary(&accel, &ray, f32::INFINITY);
+                    let binary = binary.unwrap_or_else(|| panic!("binary BVH leak: {ray:?}"));
+                    assert!(
+                        close(binary.1),
+                        "binary BVH {} against {}",
+                        binary.1,
+                        want.1
+                    );
+                    assert!(occluded, "binary BVH any-hit, {ray:?}");
+                    rays += 1;
+                }
+            }
+        }
+        assert_eq!(rays, 63 * 63 * 3);
+    }
+}
+
+/// A render is a function of scene, seed and sample index only: the wide
+/// BVH, built in parallel, must come out the same whatever the thread
+/// count. 6·10⁵ boxes (above obvhs's thresholds for parallel sorting and
+/// PLOC passes), built on one and on three threads.
+#[test]
+fn wide_bvh_is_the_same_on_any_thread_count() {
+    let mut rng = Pcg32::new(41, 7);
+    let mut v = || Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+    let boxes: Vec<fogbank_math::Aabb> = (0..600_000)
+        .map(|_| {
+            let c = v() * 100.0;
+            fogbank_math::Aabb::new(c, c + v())
+        })
+        .collect();
+    let build = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| fogbank_geometry::WideBvh::new(&boxes))
+    };
+    let one = build(1);
+    assert!(one.node_count() > 0);
+    assert!(one == build(3), "the build depends on the thread count");
 }

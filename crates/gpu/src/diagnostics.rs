@@ -212,13 +212,14 @@ pub fn bvh_queries(
     // An empty hierarchy is one node with count 0 and index 0 (bindings
     // cannot be empty), which bvh_trace recognises: nothing is hit.
     let empty = [fogbank_geometry::BvhNode::EMPTY];
-    let nodes = if accel.bvh.nodes.is_empty() {
+    let nodes = if accel.gpu().bvh.nodes.is_empty() {
         &empty[..]
     } else {
-        &accel.bvh.nodes[..]
+        &accel.gpu().bvh.nodes[..]
     };
     let mut tris: Vec<[f32; 12]> = accel
-        .leaf_corners()
+        .gpu()
+        .corners
         .iter()
         .map(|c| {
             let mut t = [0.0f32; 12];

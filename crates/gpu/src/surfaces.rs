@@ -43,11 +43,11 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
     let Some(s) = scene.world.surfaces.as_ref() else {
         return (vec![empty], vec![[0.0; 4], [0.0; 4]]);
     };
-    let accel = s.accel();
-    let nodes = if accel.bvh.nodes.is_empty() {
+    let gpu = s.accel().gpu();
+    let nodes = if gpu.bvh.nodes.is_empty() {
         vec![empty]
     } else {
-        accel.bvh.nodes.clone()
+        gpu.bvh.nodes.clone()
     };
     let media = scene.world.media.len() as u32;
     let mut data = vec![[0.0f32; 4]; 2 + media.div_ceil(4) as usize];
@@ -56,7 +56,7 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
     }
     let shape_base = data.len() as u32;
     let coating_base =
-        shape_base + SHAPE_STRIDE * s.shapes.len() as u32 + 7 * accel.bvh.order.len() as u32;
+        shape_base + SHAPE_STRIDE * s.shapes.len() as u32 + 7 * gpu.bvh.order.len() as u32;
     let mut tables = Tables {
         rows: Vec::new(),
         base: coating_base,
@@ -64,7 +64,7 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
     };
     pack_shapes(s, &mut data, &mut tables);
     let tri_base = data.len() as u32;
-    let shading_base = tri_base + 3 * accel.bvh.order.len() as u32;
+    let shading_base = tri_base + 3 * gpu.bvh.order.len() as u32;
     pack_primitives(s, &mut data);
     pack_shading(s, &mut data);
     debug_assert_eq!(data.len() as u32, coating_base);
@@ -116,8 +116,9 @@ fn pack_shapes(s: &Surfaces, data: &mut Vec<[f32; 4]>, tables: &mut Tables) {
 /// shape's centre and radius.
 fn pack_primitives(s: &Surfaces, data: &mut Vec<[f32; 4]>) {
     let accel = s.accel();
-    for (slot, &t) in accel.bvh.order.iter().enumerate() {
-        let corners = accel.leaf_corners()[slot];
+    let gpu = accel.gpu();
+    for (slot, &t) in gpu.bvh.order.iter().enumerate() {
+        let corners = gpu.corners[slot];
         let shape = s.shape_of()[t as usize];
         let passes = u(s.shape_passes_light(shape as usize) as u32);
         if let Some(a) = accel.analytic_of(t) {
@@ -145,7 +146,7 @@ fn pack_primitives(s: &Surfaces, data: &mut Vec<[f32; 4]>) {
 fn pack_shading(s: &Surfaces, data: &mut Vec<[f32; 4]>) {
     let accel = s.accel();
     let mesh = &accel.mesh;
-    for &t in &accel.bvh.order {
+    for &t in &accel.gpu().bvh.order {
         if let Some(a) = accel.analytic_of(t) {
             // The world → object map's rows, then the quadric and flip.
             let m = a.to_object;

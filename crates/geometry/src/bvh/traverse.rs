@@ -14,16 +14,25 @@ const STACK: usize = 64;
 /// A ray prepared for box tests: origin and reciprocal direction in SIMD
 /// lanes (x, y, z; the fourth is ignored), and the rounding allowance that
 /// keeps a box containing a hit from being missed.
-pub(super) struct Traversal {
+pub(crate) struct Traversal {
     o: Vec3A,
     inv_d: Vec3A,
 }
 
 /// 1 + 2γ₃ (pbrt-v4 §6.8.2): the far slab distance grows by this factor.
-const SLAB_GROW: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+pub(crate) const SLAB_GROW: f32 =
+    1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+
+/// `t_max` with the rounding allowance: a box whose entry rounds just past
+/// a hit already found (a neighbouring triangle across a shared edge gives
+/// the same point a t one ulp apart) is still entered. Finite.
+#[inline(always)]
+pub(crate) fn grown(t_max: f32) -> f32 {
+    (t_max * SLAB_GROW).min(f32::MAX)
+}
 
 impl Traversal {
-    fn new(ray: &Ray) -> Traversal {
+    pub(crate) fn new(ray: &Ray) -> Traversal {
         Traversal {
             o: Vec3A::from(ray.o),
             inv_d: Vec3A::ONE / Vec3A::from(ray.d),
@@ -40,15 +49,71 @@ impl Traversal {
     /// (entry at +∞) through.
     #[inline(always)]
     fn enter(&self, node: &BvhNode, t_max: f32) -> Option<f32> {
-        let ta = (Vec3A::from_array(node.min) - self.o) * self.inv_d;
-        let tb = (Vec3A::from_array(node.max) - self.o) * self.inv_d;
+        self.enter_box(
+            Vec3A::from_array(node.min),
+            Vec3A::from_array(node.max),
+            t_max,
+        )
+    }
+
+    /// [`Self::enter`] for the box `min ..= max`.
+    #[inline(always)]
+    pub(crate) fn enter_box(&self, min: Vec3A, max: Vec3A, t_max: f32) -> Option<f32> {
+        let ta = (min - self.o) * self.inv_d;
+        let tb = (max - self.o) * self.inv_d;
         let free = ta.is_nan_mask() | tb.is_nan_mask();
         let near = Vec3A::select(free, Vec3A::ZERO, ta.min(tb));
         let far = Vec3A::select(free, Vec3A::splat(t_max), ta.max(tb) * SLAB_GROW);
         let t0 = near.max_element().max(0.0);
-        let t1 = far.min_element().min(t_max);
+        let t1 = far.min_element().min(grown(t_max));
         (t0 <= t1).then_some(t0)
     }
+}
+
+/// A hierarchy that visits the leaf slots a ray may hit: the one method
+/// the closest-hit and any-hit queries of both BVHs are written over.
+pub(crate) trait Walk {
+    /// Visits the slots of every leaf the ray enters before `t_max`;
+    /// `visit` may lower `t_max` and returns true to stop.
+    fn walk(&self, ray: &Ray, t_max: &mut f32, visit: impl FnMut(u32, &mut f32) -> bool);
+}
+
+/// The closest hit in `(0, t_max)` through `h`: `test(slot, t_max)` returns
+/// the hit distance of the primitive in leaf slot `slot` if it is below
+/// `t_max`. Returns the slot and the distance.
+pub(crate) fn closest_hit(
+    h: &impl Walk,
+    ray: &Ray,
+    t_max: f32,
+    mut test: impl FnMut(u32, f32) -> Option<f32>,
+) -> Option<(u32, f32)> {
+    let mut best: Option<(u32, f32)> = None;
+    let mut t_max = t_max;
+    h.walk(ray, &mut t_max, |slot, t_max| {
+        if let Some(t) = test(slot, *t_max) {
+            *t_max = t;
+            best = Some((slot, t));
+        }
+        false
+    });
+    best
+}
+
+/// Whether anything is hit in `(0, t_max)` through `h` (`test` as for
+/// [`closest_hit`]).
+pub(crate) fn any_hit(
+    h: &impl Walk,
+    ray: &Ray,
+    t_max: f32,
+    mut test: impl FnMut(u32, f32) -> Option<f32>,
+) -> bool {
+    let mut t = t_max;
+    let mut hit = false;
+    h.walk(ray, &mut t, |slot, t_max| {
+        hit = test(slot, *t_max).is_some();
+        hit
+    });
+    hit
 }
 
 impl Bvh {
@@ -61,18 +126,9 @@ impl Bvh {
         &self,
         ray: &Ray,
         t_max: f32,
-        mut test: impl FnMut(u32, f32) -> Option<f32>,
+        test: impl FnMut(u32, f32) -> Option<f32>,
     ) -> Option<(u32, f32)> {
-        let mut best: Option<(u32, f32)> = None;
-        let mut t_max = t_max;
-        self.walk(ray, &mut t_max, |prim, t_max| {
-            if let Some(t) = test(prim, *t_max) {
-                *t_max = t;
-                best = Some((prim, t));
-            }
-            false
-        });
-        best
+        closest_hit(self, ray, t_max, test)
     }
 
     /// Whether anything is hit in `(0, t_max)` (`test` as for
@@ -81,19 +137,14 @@ impl Bvh {
         &self,
         ray: &Ray,
         t_max: f32,
-        mut test: impl FnMut(u32, f32) -> Option<f32>,
+        test: impl FnMut(u32, f32) -> Option<f32>,
     ) -> bool {
-        let mut t = t_max;
-        let mut hit = false;
-        self.walk(ray, &mut t, |prim, t_max| {
-            hit = test(prim, *t_max).is_some();
-            hit
-        });
-        hit
+        any_hit(self, ray, t_max, test)
     }
+}
 
-    /// Visits the slots of every leaf the ray enters before `t_max`, nearer
-    /// child first; `visit` may lower `t_max` and returns true to stop.
+impl Walk for Bvh {
+    /// Nearer child first; far children wait with their entry distance.
     fn walk(&self, ray: &Ray, t_max: &mut f32, mut visit: impl FnMut(u32, &mut f32) -> bool) {
         if self.nodes.is_empty() {
             return;
@@ -147,7 +198,7 @@ impl Bvh {
                 }
                 top -= 1;
                 let (next, t_enter) = stack[top];
-                if t_enter <= *t_max {
+                if t_enter <= grown(*t_max) {
                     node = next as usize;
                     break;
                 }

@@ -130,10 +130,12 @@ const SLAB_GROW: f32 = 1.0000003576;
 // may assume NaN and infinities away (an NVIDIA H100 folded such a NaN
 // test and missed rays grazing box planes that lavapipe hit). Directions
 // below 1e-30 count as parallel (their 1/d would overflow). `t_max` is
-// finite (F32_INF is f32::MAX).
+// finite (at most f32::MAX); it grows by the rounding allowance too, so
+// that a box whose entry rounds just past a hit found in a neighbouring
+// triangle (a shared edge: the same point, t one ulp apart) is still entered.
 fn node_enter(o: vec3<f32>, d: vec3<f32>, inv_d: vec3<f32>, n: BvhNode, t_max: f32) -> f32 {
     var t0 = 0.0;
-    var t1 = t_max;
+    var t1 = min(t_max * SLAB_GROW, 3.4028235e38);
     for (var a = 0u; a < 3u; a++) {
         if (abs(d[a]) < 1e-30) {
             if (o[a] < n.min[a] || o[a] > n.max[a]) {

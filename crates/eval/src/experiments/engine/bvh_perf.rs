@@ -1,14 +1,18 @@
-//! Surfaces' acceleration structure: BVH build time and closest-hit / any-hit
-//! rays per second on a generated mesh of over 10⁶ triangles — a bumpy,
-//! finely tessellated sphere with 10⁵ small triangles scattered inside
-//! and around it, so rays meet both large coherent surfaces and clutter.
-//! Rays run on rayon's pool (2 threads on the development machine); build
-//! on one thread. `--trials` sets the ray count (default 10⁶).
+//! Surfaces' acceleration structures side by side: build time, memory and
+//! closest-hit / any-hit rays per second of the binary BVH (binned SAH,
+//! what the GPU traverses) and of the compressed 8-wide BVH (PLOC, what the
+//! CPU traverses) on one generated mesh of over 10⁶ triangles — a bumpy,
+//! finely tessellated sphere with 10⁵ small triangles scattered inside and
+//! around it, so rays meet both large coherent surfaces and clutter. Both
+//! use the same watertight triangle test on corners stored in leaf order.
+//! Rays run on rayon's pool (2 threads on the development machine); the
+//! binary BVH builds on one thread, the wide one on the pool. `--trials`
+//! sets the ray count (default 10⁶).
 
 use crate::experiments::harness::timing::clocked;
 use crate::experiments::harness::Writer;
 use fogbank_geometry::shapes::uv_sphere;
-use fogbank_geometry::{MeshAccel, TriangleMesh};
+use fogbank_geometry::{intersect, Bvh, RayFrame, TriangleMesh, WideBvh};
 use fogbank_math::{Pcg32, Ray, Vec3};
 use rayon::prelude::*;
 
@@ -43,62 +47,202 @@ fn ray(k: u64) -> Ray {
     Ray::new(o, target - o)
 }
 
+/// One structure's figures on one mesh.
+struct Measured {
+    name: &'static str,
+    triangles: usize,
+    build_s: f64,
+    build_threads: usize,
+    nodes: usize,
+    depth: usize,
+    /// Nodes and leaf slots, per triangle.
+    bytes_per_triangle: f64,
+    hits: u64,
+    closest_s: f64,
+    occluded: u64,
+    any_s: f64,
+}
+
+/// The triangle test of one leaf slot: `(slot, t_max)` → hit distance.
+type SlotTest<'a> = dyn FnMut(u32, f32) -> Option<f32> + 'a;
+/// A query of a ray against a structure with a slot test.
+type Query<'a> = dyn Fn(&Ray, &mut SlotTest) -> bool + Sync + 'a;
+
+/// The two queries of every ray against one structure: `closest(ray,
+/// test)` and `any(ray, test)` with `test(slot, t_max)`, the triangle in
+/// leaf slot `slot` (corners in `corners`).
+fn trace<C, A>(rays: u64, corners: &[[Vec3; 3]], closest: C, any: A) -> (u64, f64, u64, f64)
+where
+    C: Fn(&Ray, &mut SlotTest) -> bool + Sync,
+    A: Fn(&Ray, &mut SlotTest) -> bool + Sync,
+{
+    let run = |query: &Query| {
+        clocked(|| {
+            (0..rays)
+                .into_par_iter()
+                .map(|k| {
+                    let r = ray(k);
+                    let frame = RayFrame::new(&r);
+                    let mut test = |slot: u32, t_max: f32| {
+                        let [a, b, c] = corners[slot as usize];
+                        intersect(&frame, a, b, c, t_max).map(|h| h.t)
+                    };
+                    query(&r, &mut test) as u64
+                })
+                .sum::<u64>()
+        })
+    };
+    let (hits, closest_s) = run(&closest);
+    let (occluded, any_s) = run(&any);
+    (hits, closest_s, occluded, any_s)
+}
+
+fn corners_of(mesh: &TriangleMesh, order: &[u32]) -> Vec<[Vec3; 3]> {
+    order.iter().map(|&i| mesh.corners(i as usize)).collect()
+}
+
+fn measure_binary(mesh: &TriangleMesh, bounds: &[fogbank_math::Aabb], rays: u64) -> Measured {
+    let (bvh, build_s) = clocked(|| Bvh::new(bounds));
+    let corners = corners_of(mesh, &bvh.order);
+    let (hits, closest_s, occluded, any_s) = trace(
+        rays,
+        &corners,
+        |r, test| bvh.closest_hit(r, f32::INFINITY, test).is_some(),
+        |r, test| bvh.any_hit(r, f32::INFINITY, test),
+    );
+    Measured {
+        name: "binary (binned SAH, GPU)",
+        triangles: mesh.len(),
+        build_s,
+        build_threads: 1,
+        nodes: bvh.nodes.len(),
+        depth: bvh.depth(),
+        bytes_per_triangle: (bvh.nodes.len() * 32 + bvh.order.len() * 4) as f64 / mesh.len() as f64,
+        hits,
+        closest_s,
+        occluded,
+        any_s,
+    }
+}
+
+fn measure_wide(mesh: &TriangleMesh, bounds: &[fogbank_math::Aabb], rays: u64) -> Measured {
+    let (bvh, build_s) = clocked(|| WideBvh::new(bounds));
+    let corners = corners_of(mesh, bvh.order());
+    let (hits, closest_s, occluded, any_s) = trace(
+        rays,
+        &corners,
+        |r, test| bvh.closest_hit(r, f32::INFINITY, test).is_some(),
+        |r, test| bvh.any_hit(r, f32::INFINITY, test),
+    );
+    Measured {
+        name: "wide (PLOC + CWBVH8, CPU)",
+        triangles: mesh.len(),
+        build_s,
+        build_threads: rayon::current_num_threads(),
+        nodes: bvh.node_count(),
+        depth: bvh.depth(),
+        bytes_per_triangle: bvh.memory_bytes() as f64 / mesh.len() as f64,
+        hits,
+        closest_s,
+        occluded,
+        any_s,
+    }
+}
+
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let rays = trials.unwrap_or(DEFAULT_RAYS);
-    let mesh = generated_mesh(700, 100_000);
-    let triangles = mesh.len();
-    let (accel, build) = clocked(|| MeshAccel::new(mesh));
     let threads = rayon::current_num_threads();
-
-    let (hits, closest): (u64, f64) = clocked(|| {
-        (0..rays)
-            .into_par_iter()
-            .map(|k| accel.intersect(&ray(k), f32::INFINITY).is_some() as u64)
-            .sum()
-    });
-    let (occluded, any): (u64, f64) = clocked(|| {
-        (0..rays)
-            .into_par_iter()
-            .map(|k| accel.occluded(&ray(k), f32::INFINITY) as u64)
-            .sum()
-    });
-    if hits != occluded {
-        return Err(format!("closest hit found {hits} hits, any hit {occluded}"));
+    // The issue's 2.06 M triangles, and a small mesh (7,885 triangles, the
+    // size of the Mitsuba comparison scenes' meshes) that stays in cache.
+    let mut all = Vec::new();
+    let mut hit_share = Vec::new();
+    for (n, clutter) in [(700, 100_000), (30, 4_285)] {
+        let mesh = generated_mesh(n, clutter);
+        let bounds: Vec<_> = (0..mesh.len()).map(|i| mesh.triangle_bounds(i)).collect();
+        let pair = [
+            measure_binary(&mesh, &bounds, rays),
+            measure_wide(&mesh, &bounds, rays),
+        ];
+        for m in &pair {
+            if m.hits != pair[0].hits || m.occluded != pair[0].hits {
+                return Err(format!(
+                    "{} on {} triangles: {} closest hits and {} any hits where the binary BVH's closest hits are {}",
+                    m.name, m.triangles, m.hits, m.occluded, pair[0].hits
+                ));
+            }
+        }
+        hit_share.push(pair[0].hits as f64 / rays as f64);
+        all.extend(pair);
     }
     let mrays = |s: f64| rays as f64 / s / 1e6;
+    let rows: Vec<Vec<String>> = all
+        .iter()
+        .map(|m| {
+            vec![
+                m.name.to_string(),
+                m.triangles.to_string(),
+                m.nodes.to_string(),
+                m.depth.to_string(),
+                format!("{:.1}", m.bytes_per_triangle),
+                format!("{:.3}", m.build_s),
+                m.build_threads.to_string(),
+                threads.to_string(),
+                rays.to_string(),
+                format!("{:.3}", m.hits as f64 / rays as f64),
+                format!("{:.3}", mrays(m.closest_s)),
+                format!("{:.3}", mrays(m.any_s)),
+            ]
+        })
+        .collect();
     w.csv(
         "bvh_perf.csv",
         &[
+            "structure",
             "triangles",
             "nodes",
             "depth",
+            "bytes_per_triangle",
             "build_s",
+            "build_threads",
             "threads",
             "rays",
             "hit_share",
             "closest_mrays_s",
             "any_mrays_s",
         ],
-        &[vec![
-            triangles.to_string(),
-            accel.bvh.nodes.len().to_string(),
-            accel.bvh.depth().to_string(),
-            format!("{build:.3}"),
-            threads.to_string(),
-            rays.to_string(),
-            format!("{:.3}", hits as f64 / rays as f64),
-            format!("{:.3}", mrays(closest)),
-            format!("{:.3}", mrays(any)),
-        ]],
+        &rows,
     )?;
-    Ok(format!(
-        "BVH on a generated mesh of {triangles} triangles (bumpy sphere + 10⁵ scattered triangles): {} nodes, \
-         depth {}, built in {build:.2} s on one thread. {rays} rays from around the mesh towards its inside \
-         ({:.0} % hit), {threads} threads: closest hit {:.2} Mrays/s, any hit {:.2} Mrays/s.",
-        accel.bvh.nodes.len(),
-        accel.bvh.depth(),
-        100.0 * hits as f64 / rays as f64,
-        mrays(closest),
-        mrays(any)
-    ))
+    let mut text = format!(
+        "Generated meshes (a bumpy sphere with small triangles scattered inside and around it), {rays} rays \
+         from around each mesh towards its inside ({:.0} % and {:.0} % hit), {threads} threads; both \
+         structures give the same hits.\n\n\
+         | triangles | structure | build s (threads) | nodes | depth | bytes/triangle | closest Mrays/s | any Mrays/s |\n\
+         |---|---|---|---|---|---|---|---|\n",
+        100.0 * hit_share[0],
+        100.0 * hit_share[1]
+    );
+    for m in &all {
+        text += &format!(
+            "| {} | {} | {:.3} ({}) | {} | {} | {:.1} | {:.2} | {:.2} |\n",
+            m.triangles,
+            m.name,
+            m.build_s,
+            m.build_threads,
+            m.nodes,
+            m.depth,
+            m.bytes_per_triangle,
+            mrays(m.closest_s),
+            mrays(m.any_s)
+        );
+    }
+    for pair in all.chunks(2) {
+        text += &format!(
+            "\n{} triangles, wide / binary: build {:.2}× faster, closest hit {:.2}×, any hit {:.2}×.",
+            pair[0].triangles,
+            pair[0].build_s / pair[1].build_s,
+            pair[0].closest_s / pair[1].closest_s,
+            pair[0].any_s / pair[1].any_s
+        );
+    }
+    Ok(text)
 }
