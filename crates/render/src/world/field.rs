@@ -300,11 +300,16 @@ pub fn field_data(
             "{key}.time: only used with procedural = \"plume\""
         )));
     }
-    if let Some(f) = &d.vdb {
-        return vdb_field(d, f, key, base, precision);
-    }
-    if let Some(f) = &d.nvdb {
-        return nvdb_field(d, f, key, base, precision);
+    if let Some(f) = d.vdb.as_ref().or(d.nvdb.as_ref()) {
+        let path = base.join(f);
+        let read = if d.vdb.is_some() {
+            vdb_field
+        } else {
+            nvdb_field
+        };
+        let (data, xf, name) = read(d, &path, key, precision)?;
+        let what = format!("{} ({name})", path.display());
+        return Ok(FieldData::new(data, xf, what));
     }
     if let Some(f) = &d.vol {
         return vol_field(d, f, key, base, precision);
@@ -329,17 +334,18 @@ fn volume_error(key: &str) -> impl Fn(fogbank_volume::VolumeError) -> SceneError
     move |e| SceneError(format!("{key}: {e}"))
 }
 
+/// A grid's voxels, its index → world map and its name.
+type GridField = (DensityData, DAffine3, String);
+
 /// An OpenVDB grid, its leaves the bricks (level sets as fog unless `raw`).
 fn vdb_field(
     d: &FieldDesc,
-    f: &str,
+    path: &Path,
     key: &str,
-    base: &Path,
     precision: Precision,
-) -> Result<FieldData, SceneError> {
+) -> Result<GridField, SceneError> {
     let err = volume_error(key);
-    let path = base.join(f);
-    let g = vdb::read_grid(&path, d.grid.as_deref()).map_err(err)?;
+    let g = vdb::read_grid(path, d.grid.as_deref()).map_err(err)?;
     let mode = level_set_mode(d, &g, key)?;
     let name = g.name.clone();
     let map = value_map(&g, mode);
@@ -351,11 +357,7 @@ fn vdb_field(
         Precision::F16 => DensityData::F16(builder.finish_converted(map)),
         Precision::F32 => DensityData::F32(builder.finish_converted(map)),
     };
-    Ok(FieldData::new(
-        data,
-        xf,
-        format!("{} ({})", path.display(), name),
-    ))
+    Ok((data, xf, name))
 }
 
 /// A NanoVDB file's float grid, its leaves streamed from the file into
@@ -363,13 +365,11 @@ fn vdb_field(
 /// of the grid, without ever holding the file's voxels).
 fn nvdb_field(
     d: &FieldDesc,
-    f: &str,
+    path: &Path,
     key: &str,
-    base: &Path,
     precision: Precision,
-) -> Result<FieldData, SceneError> {
+) -> Result<GridField, SceneError> {
     let err = volume_error(key);
-    let path = base.join(f);
     let grid = d.grid.as_deref();
     let mut mode = Ok(false);
     let choose = |g: &vdb::VdbGrid| {
@@ -378,20 +378,16 @@ fn nvdb_field(
     };
     let (data, xf, g) = match precision {
         Precision::F16 => {
-            let (b, xf, g) = nanovdb::read_grid_bricks(&path, grid, choose).map_err(err)?;
+            let (b, xf, g) = nanovdb::read_grid_bricks(path, grid, choose).map_err(err)?;
             (DensityData::F16(b), xf, g)
         }
         Precision::F32 => {
-            let (b, xf, g) = nanovdb::read_grid_bricks(&path, grid, choose).map_err(err)?;
+            let (b, xf, g) = nanovdb::read_grid_bricks(path, grid, choose).map_err(err)?;
             (DensityData::F32(b), xf, g)
         }
     };
     mode?;
-    Ok(FieldData::new(
-        data,
-        xf,
-        format!("{} ({})", path.display(), g.name),
-    ))
+    Ok((data, xf, g.name))
 }
 
 /// Whether a grid is read as a fog volume from a level set (`level_set =
