@@ -9,7 +9,7 @@
 use std::sync::OnceLock;
 
 use crate::analytic::AnalyticShape;
-use crate::bvh::Bvh;
+use crate::bvh::{Bvh, Walk};
 use crate::mesh::TriangleMesh;
 use crate::triangle::{intersect, RayFrame, TriangleHit};
 use crate::wide::WideBvh;

@@ -21,7 +21,7 @@ pub mod wide;
 
 pub use accel::{GpuBvh, MeshAccel, MeshHit};
 pub use analytic::{AnalyticHit, AnalyticShape, Quadric};
-pub use bvh::{Bvh, BvhNode};
+pub use bvh::{Bvh, BvhNode, Walk};
 pub use loaders::load_mesh;
 pub use mesh::TriangleMesh;
 pub use triangle::{intersect, RayFrame, TriangleHit};

@@ -7,7 +7,7 @@
 //! -- --ignored` runs the 10⁵.
 
 use fogbank_geometry::shapes::{quad_grid, uv_sphere};
-use fogbank_geometry::{intersect, MeshAccel, RayFrame, TriangleMesh};
+use fogbank_geometry::{intersect, MeshAccel, RayFrame, TriangleMesh, Walk};
 use fogbank_math::testdata::probe_ray;
 use fogbank_math::{Pcg32, Ray, Vec3};
 

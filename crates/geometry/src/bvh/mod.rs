@@ -10,6 +10,7 @@ mod node;
 pub(crate) mod traverse;
 
 pub use node::{Bvh, BvhNode};
+pub use traverse::Walk;
 
 use fogbank_math::Aabb;
 

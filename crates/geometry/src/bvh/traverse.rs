@@ -70,76 +70,52 @@ impl Traversal {
     }
 }
 
-/// A hierarchy that visits the leaf slots a ray may hit: the one method
-/// the closest-hit and any-hit queries of both BVHs are written over.
-pub(crate) trait Walk {
+/// A hierarchy that visits the leaf slots a ray may hit, and the
+/// closest-hit and any-hit queries written once over that walk (for the
+/// GPU's binary [`Bvh`] and the CPU's [`crate::WideBvh`] alike).
+pub trait Walk {
     /// Visits the slots of every leaf the ray enters before `t_max`;
     /// `visit` may lower `t_max` and returns true to stop.
     fn walk(&self, ray: &Ray, t_max: &mut f32, visit: impl FnMut(u32, &mut f32) -> bool);
-}
 
-/// The closest hit in `(0, t_max)` through `h`: `test(slot, t_max)` returns
-/// the hit distance of the primitive in leaf slot `slot` if it is below
-/// `t_max`. Returns the slot and the distance.
-pub(crate) fn closest_hit(
-    h: &impl Walk,
-    ray: &Ray,
-    t_max: f32,
-    mut test: impl FnMut(u32, f32) -> Option<f32>,
-) -> Option<(u32, f32)> {
-    let mut best: Option<(u32, f32)> = None;
-    let mut t_max = t_max;
-    h.walk(ray, &mut t_max, |slot, t_max| {
-        if let Some(t) = test(slot, *t_max) {
-            *t_max = t;
-            best = Some((slot, t));
-        }
-        false
-    });
-    best
-}
-
-/// Whether anything is hit in `(0, t_max)` through `h` (`test` as for
-/// [`closest_hit`]).
-pub(crate) fn any_hit(
-    h: &impl Walk,
-    ray: &Ray,
-    t_max: f32,
-    mut test: impl FnMut(u32, f32) -> Option<f32>,
-) -> bool {
-    let mut t = t_max;
-    let mut hit = false;
-    h.walk(ray, &mut t, |slot, t_max| {
-        hit = test(slot, *t_max).is_some();
-        hit
-    });
-    hit
-}
-
-impl Bvh {
     /// The closest hit in `(0, t_max)`: `test(slot, t_max)` returns the hit
-    /// distance of the primitive in leaf slot `slot` (primitive
-    /// `order[slot]`) if it is below `t_max`. Returns the slot and the
-    /// distance. Slots let callers keep primitive data in leaf order, one
-    /// indirection and cache miss fewer per test.
-    pub fn closest_hit(
+    /// distance of the primitive in leaf slot `slot` if it is below
+    /// `t_max`. Returns the slot and the distance. Slots let callers keep
+    /// primitive data in leaf order, one indirection and cache miss fewer
+    /// per test.
+    fn closest_hit(
         &self,
         ray: &Ray,
         t_max: f32,
-        test: impl FnMut(u32, f32) -> Option<f32>,
+        mut test: impl FnMut(u32, f32) -> Option<f32>,
     ) -> Option<(u32, f32)> {
-        closest_hit(self, ray, t_max, test)
+        let mut best: Option<(u32, f32)> = None;
+        let mut t_max = t_max;
+        self.walk(ray, &mut t_max, |slot, t_max| {
+            if let Some(t) = test(slot, *t_max) {
+                *t_max = t;
+                best = Some((slot, t));
+            }
+            false
+        });
+        best
     }
 
     /// Whether anything is hit in `(0, t_max)` (`test` as for
-    /// [`Bvh::closest_hit`]).
-    pub fn any_hit(
+    /// [`Walk::closest_hit`]).
+    fn any_hit(
         &self,
         ray: &Ray,
         t_max: f32,
-        test: impl FnMut(u32, f32) -> Option<f32>,
+        mut test: impl FnMut(u32, f32) -> Option<f32>,
     ) -> bool {
-        any_hit(self, ray, t_max, test)
+        let mut t = t_max;
+        let mut hit = false;
+        self.walk(ray, &mut t, |slot, t_max| {
+            hit = test(slot, *t_max).is_some();
+            hit
+        });
+        hit
     }
 }
 

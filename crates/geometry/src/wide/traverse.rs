@@ -6,7 +6,7 @@
 //! are found; any hit stops at the first.
 
 use super::WideBvh;
-use crate::bvh::traverse::{any_hit, closest_hit, grown, Walk, SLAB_GROW};
+use crate::bvh::traverse::{grown, Walk, SLAB_GROW};
 use fogbank_math::Ray;
 use obvhs::cwbvh::node::CwBvhNode;
 
@@ -154,32 +154,6 @@ impl Stack {
         }
         self.top = self.top.checked_sub(1)?;
         Some(self.fixed[self.top])
-    }
-}
-
-impl WideBvh {
-    /// The closest hit in `(0, t_max)`: `test(slot, t_max)` returns the hit
-    /// distance of the primitive in leaf slot `slot` (primitive
-    /// `order()[slot]`) if it is below `t_max`. Returns the slot and the
-    /// distance (as [`crate::Bvh::closest_hit`]).
-    pub fn closest_hit(
-        &self,
-        ray: &Ray,
-        t_max: f32,
-        test: impl FnMut(u32, f32) -> Option<f32>,
-    ) -> Option<(u32, f32)> {
-        closest_hit(self, ray, t_max, test)
-    }
-
-    /// Whether anything is hit in `(0, t_max)` (`test` as for
-    /// [`Self::closest_hit`]).
-    pub fn any_hit(
-        &self,
-        ray: &Ray,
-        t_max: f32,
-        test: impl FnMut(u32, f32) -> Option<f32>,
-    ) -> bool {
-        any_hit(self, ray, t_max, test)
     }
 }
 

@@ -12,7 +12,7 @@
 use crate::experiments::harness::timing::clocked;
 use crate::experiments::harness::Writer;
 use fogbank_geometry::shapes::uv_sphere;
-use fogbank_geometry::{intersect, Bvh, RayFrame, TriangleMesh, WideBvh};
+use fogbank_geometry::{intersect, Bvh, RayFrame, TriangleMesh, Walk, WideBvh};
 use fogbank_math::{Pcg32, Ray, Vec3};
 use rayon::prelude::*;
 
@@ -63,90 +63,88 @@ struct Measured {
     any_s: f64,
 }
 
-/// The triangle test of one leaf slot: `(slot, t_max)` → hit distance.
-type SlotTest<'a> = dyn FnMut(u32, f32) -> Option<f32> + 'a;
-/// A query of a ray against a structure with a slot test.
-type Query<'a> = dyn Fn(&Ray, &mut SlotTest) -> bool + Sync + 'a;
+/// What a structure is besides its walk: for the table.
+struct Shape {
+    name: &'static str,
+    build_s: f64,
+    build_threads: usize,
+    nodes: usize,
+    depth: usize,
+    bytes: usize,
+    order: Vec<u32>,
+}
 
-/// The two queries of every ray against one structure: `closest(ray,
-/// test)` and `any(ray, test)` with `test(slot, t_max)`, the triangle in
-/// leaf slot `slot` (corners in `corners`).
-fn trace<C, A>(rays: u64, corners: &[[Vec3; 3]], closest: C, any: A) -> (u64, f64, u64, f64)
-where
-    C: Fn(&Ray, &mut SlotTest) -> bool + Sync,
-    A: Fn(&Ray, &mut SlotTest) -> bool + Sync,
-{
-    let run = |query: &Query| {
+/// Every ray's closest hit and any hit through `bvh`, whose leaf slots hold
+/// the triangles `shape.order`; their counts and times.
+fn measure(mesh: &TriangleMesh, bvh: &(impl Walk + Sync), shape: Shape, rays: u64) -> Measured {
+    let corners: Vec<[Vec3; 3]> = shape
+        .order
+        .iter()
+        .map(|&i| mesh.corners(i as usize))
+        .collect();
+    let run = |any: bool| {
         clocked(|| {
             (0..rays)
                 .into_par_iter()
                 .map(|k| {
                     let r = ray(k);
                     let frame = RayFrame::new(&r);
-                    let mut test = |slot: u32, t_max: f32| {
+                    let test = |slot: u32, t_max: f32| {
                         let [a, b, c] = corners[slot as usize];
                         intersect(&frame, a, b, c, t_max).map(|h| h.t)
                     };
-                    query(&r, &mut test) as u64
+                    let hit = match any {
+                        false => bvh.closest_hit(&r, f32::INFINITY, test).is_some(),
+                        true => bvh.any_hit(&r, f32::INFINITY, test),
+                    };
+                    hit as u64
                 })
                 .sum::<u64>()
         })
     };
-    let (hits, closest_s) = run(&closest);
-    let (occluded, any_s) = run(&any);
-    (hits, closest_s, occluded, any_s)
-}
-
-fn corners_of(mesh: &TriangleMesh, order: &[u32]) -> Vec<[Vec3; 3]> {
-    order.iter().map(|&i| mesh.corners(i as usize)).collect()
+    let (hits, closest_s) = run(false);
+    let (occluded, any_s) = run(true);
+    Measured {
+        name: shape.name,
+        triangles: mesh.len(),
+        build_s: shape.build_s,
+        build_threads: shape.build_threads,
+        nodes: shape.nodes,
+        depth: shape.depth,
+        bytes_per_triangle: shape.bytes as f64 / mesh.len() as f64,
+        hits,
+        closest_s,
+        occluded,
+        any_s,
+    }
 }
 
 fn measure_binary(mesh: &TriangleMesh, bounds: &[fogbank_math::Aabb], rays: u64) -> Measured {
     let (bvh, build_s) = clocked(|| Bvh::new(bounds));
-    let corners = corners_of(mesh, &bvh.order);
-    let (hits, closest_s, occluded, any_s) = trace(
-        rays,
-        &corners,
-        |r, test| bvh.closest_hit(r, f32::INFINITY, test).is_some(),
-        |r, test| bvh.any_hit(r, f32::INFINITY, test),
-    );
-    Measured {
+    let shape = Shape {
         name: "binary (binned SAH, GPU)",
-        triangles: mesh.len(),
         build_s,
         build_threads: 1,
         nodes: bvh.nodes.len(),
         depth: bvh.depth(),
-        bytes_per_triangle: (bvh.nodes.len() * 32 + bvh.order.len() * 4) as f64 / mesh.len() as f64,
-        hits,
-        closest_s,
-        occluded,
-        any_s,
-    }
+        bytes: bvh.nodes.len() * 32 + bvh.order.len() * 4,
+        order: bvh.order.clone(),
+    };
+    measure(mesh, &bvh, shape, rays)
 }
 
 fn measure_wide(mesh: &TriangleMesh, bounds: &[fogbank_math::Aabb], rays: u64) -> Measured {
     let (bvh, build_s) = clocked(|| WideBvh::new(bounds));
-    let corners = corners_of(mesh, bvh.order());
-    let (hits, closest_s, occluded, any_s) = trace(
-        rays,
-        &corners,
-        |r, test| bvh.closest_hit(r, f32::INFINITY, test).is_some(),
-        |r, test| bvh.any_hit(r, f32::INFINITY, test),
-    );
-    Measured {
+    let shape = Shape {
         name: "wide (PLOC + CWBVH8, CPU)",
-        triangles: mesh.len(),
         build_s,
         build_threads: rayon::current_num_threads(),
         nodes: bvh.node_count(),
         depth: bvh.depth(),
-        bytes_per_triangle: bvh.memory_bytes() as f64 / mesh.len() as f64,
-        hits,
-        closest_s,
-        occluded,
-        any_s,
-    }
+        bytes: bvh.memory_bytes(),
+        order: bvh.order().to_vec(),
+    };
+    measure(mesh, &bvh, shape, rays)
 }
 
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
