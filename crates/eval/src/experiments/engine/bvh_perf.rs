@@ -61,6 +61,8 @@ struct Measured {
     closest_s: f64,
     occluded: u64,
     any_s: f64,
+    /// Triangle tests per ray for closest hit and any hit.
+    tests: [f64; 2],
 }
 
 /// What a structure is besides its walk: for the table.
@@ -82,28 +84,44 @@ fn measure(mesh: &TriangleMesh, bvh: &(impl Walk + Sync), shape: Shape, rays: u6
         .iter()
         .map(|&i| mesh.corners(i as usize))
         .collect();
+    // Ray k's hit (1 or 0) and, when `count`, how many triangles it tested
+    // (counted in a pass of its own, so the timed ones count nothing).
+    let trace = |k: u64, any: bool, count: bool| {
+        let r = ray(k);
+        let frame = RayFrame::new(&r);
+        let mut tests = 0u64;
+        let test = |slot: u32, t_max: f32| {
+            if count {
+                tests += 1;
+            }
+            let [a, b, c] = corners[slot as usize];
+            intersect(&frame, a, b, c, t_max).map(|h| h.t)
+        };
+        let hit = match any {
+            false => bvh.closest_hit(&r, f32::INFINITY, test).is_some(),
+            true => bvh.any_hit(&r, f32::INFINITY, test),
+        };
+        (hit as u64, tests)
+    };
     let run = |any: bool| {
         clocked(|| {
             (0..rays)
                 .into_par_iter()
-                .map(|k| {
-                    let r = ray(k);
-                    let frame = RayFrame::new(&r);
-                    let test = |slot: u32, t_max: f32| {
-                        let [a, b, c] = corners[slot as usize];
-                        intersect(&frame, a, b, c, t_max).map(|h| h.t)
-                    };
-                    let hit = match any {
-                        false => bvh.closest_hit(&r, f32::INFINITY, test).is_some(),
-                        true => bvh.any_hit(&r, f32::INFINITY, test),
-                    };
-                    hit as u64
-                })
+                .map(|k| trace(k, any, false).0)
                 .sum::<u64>()
         })
     };
+    let tests_per_ray = |any: bool| {
+        let counted = rays.min(100_000);
+        let tests: u64 = (0..counted)
+            .into_par_iter()
+            .map(|k| trace(k, any, true).1)
+            .sum();
+        tests as f64 / counted as f64
+    };
     let (hits, closest_s) = run(false);
     let (occluded, any_s) = run(true);
+    let tests = [tests_per_ray(false), tests_per_ray(true)];
     Measured {
         name: shape.name,
         triangles: mesh.len(),
@@ -116,6 +134,7 @@ fn measure(mesh: &TriangleMesh, bvh: &(impl Walk + Sync), shape: Shape, rays: u6
         closest_s,
         occluded,
         any_s,
+        tests,
     }
 }
 
@@ -189,6 +208,8 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
                 format!("{:.3}", m.hits as f64 / rays as f64),
                 format!("{:.3}", mrays(m.closest_s)),
                 format!("{:.3}", mrays(m.any_s)),
+                format!("{:.2}", m.tests[0]),
+                format!("{:.2}", m.tests[1]),
             ]
         })
         .collect();
@@ -207,6 +228,8 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             "hit_share",
             "closest_mrays_s",
             "any_mrays_s",
+            "closest_tests_per_ray",
+            "any_tests_per_ray",
         ],
         &rows,
     )?;
@@ -214,14 +237,14 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         "Generated meshes (a bumpy sphere with small triangles scattered inside and around it), {rays} rays \
          from around each mesh towards its inside ({:.0} % and {:.0} % hit), {threads} threads; both \
          structures give the same hits.\n\n\
-         | triangles | structure | build s (threads) | nodes | depth | bytes/triangle | closest Mrays/s | any Mrays/s |\n\
-         |---|---|---|---|---|---|---|---|\n",
+         | triangles | structure | build s (threads) | nodes | depth | bytes/triangle | closest Mrays/s | any Mrays/s | triangle tests per ray (closest, any) |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
         100.0 * hit_share[0],
         100.0 * hit_share[1]
     );
     for m in &all {
         text += &format!(
-            "| {} | {} | {:.3} ({}) | {} | {} | {:.1} | {:.2} | {:.2} |\n",
+            "| {} | {} | {:.3} ({}) | {} | {} | {:.1} | {:.2} | {:.2} | {:.1}, {:.1} |\n",
             m.triangles,
             m.name,
             m.build_s,
@@ -230,7 +253,9 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             m.depth,
             m.bytes_per_triangle,
             mrays(m.closest_s),
-            mrays(m.any_s)
+            mrays(m.any_s),
+            m.tests[0],
+            m.tests[1]
         );
     }
     for pair in all.chunks(2) {
