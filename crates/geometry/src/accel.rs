@@ -2,14 +2,12 @@
 //! closest-hit and any-hit queries. Primitive `i` is triangle `i` of the
 //! mesh below `mesh.len()`, analytic shape `i − mesh.len()` from there.
 //!
-//! The CPU traces the compressed wide BVH ([`WideBvh`]); the GPU's binary
-//! BVH ([`Bvh`], the layout its WGSL walk reads) is built only when a GPU
-//! backend asks for it ([`MeshAccel::gpu`]).
-
-use std::sync::OnceLock;
+//! The CPU and the GPU trace the same compressed wide BVH ([`WideBvh`]):
+//! the GPU's WGSL walk reads its nodes as [`WideBvh::node_words`] and the
+//! corners in its leaf order ([`MeshAccel::leaf_corners`]).
 
 use crate::analytic::AnalyticShape;
-use crate::bvh::{Bvh, Walk};
+use crate::bvh::Walk;
 use crate::mesh::TriangleMesh;
 use crate::triangle::{intersect, RayFrame, TriangleHit};
 use crate::wide::WideBvh;
@@ -31,15 +29,6 @@ pub struct MeshAccel {
     /// triangles lie side by side, read without going through the indices
     /// (zero for analytic shapes).
     corners: Vec<[Vec3; 3]>,
-    gpu: OnceLock<GpuBvh>,
-}
-
-/// The binary BVH the GPU traverses, and the triangles' corners in its leaf
-/// order (what the GPU's `surface_triangles` holds, slot for slot).
-#[derive(Clone, Debug)]
-pub struct GpuBvh {
-    pub bvh: Bvh,
-    pub corners: Vec<[Vec3; 3]>,
 }
 
 impl MeshAccel {
@@ -55,17 +44,19 @@ impl MeshAccel {
             analytic,
             wide,
             corners,
-            gpu: OnceLock::new(),
         }
     }
 
-    /// The GPU's binary BVH, built on first use.
-    pub fn gpu(&self) -> &GpuBvh {
-        self.gpu.get_or_init(|| {
-            let bvh = Bvh::new(&primitive_bounds(&self.mesh, &self.analytic));
-            let corners = leaf_corners(&self.mesh, &bvh.order);
-            GpuBvh { bvh, corners }
-        })
+    /// The corners of the triangle in each of the wide BVH's leaf slots
+    /// (zero for analytic shapes): what the GPU's triangle array holds.
+    pub fn leaf_corners(&self) -> &[[Vec3; 3]] {
+        &self.corners
+    }
+
+    /// The boxes the hierarchy is built over: triangles, then analytic
+    /// shapes (for building another hierarchy over the same primitives).
+    pub fn primitive_bounds(&self) -> Vec<Aabb> {
+        primitive_bounds(&self.mesh, &self.analytic)
     }
 
     /// The analytic shape primitive `i` is, if it is one.

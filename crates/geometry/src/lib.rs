@@ -19,7 +19,7 @@ pub mod shapes;
 pub mod triangle;
 pub mod wide;
 
-pub use accel::{GpuBvh, MeshAccel, MeshHit};
+pub use accel::{MeshAccel, MeshHit};
 pub use analytic::{AnalyticHit, AnalyticShape, Quadric};
 pub use bvh::{Bvh, BvhNode, Walk};
 pub use loaders::load_mesh;

@@ -7,7 +7,7 @@
 //! -- --ignored` runs the 10⁵.
 
 use fogbank_geometry::shapes::{quad_grid, uv_sphere};
-use fogbank_geometry::{intersect, MeshAccel, RayFrame, TriangleMesh, Walk};
+use fogbank_geometry::{intersect, Bvh, MeshAccel, RayFrame, TriangleMesh, Walk};
 use fogbank_math::testdata::probe_ray;
 use fogbank_math::{Pcg32, Ray, Vec3};
 
@@ -52,7 +52,7 @@ fn brute(mesh: &TriangleMesh, ray: &Ray, t_max: f32) -> Option<(u32, f32)> {
 
 /// Rays from around the sphere towards random points inside the mesh's
 /// box (a seventh of them axis-parallel, a third with a finite `t_max`).
-fn check_range(accel: &MeshAccel, range: std::ops::Range<usize>) -> usize {
+fn check_range(accel: &MeshAccel, bvh: &Bvh, range: std::ops::Range<usize>) -> usize {
     let mut hits = 0;
     for k in range {
         let (ray, t_max) = probe_ray(&mut Pcg32::new(5, k as u64), k);
@@ -64,7 +64,7 @@ fn check_range(accel: &MeshAccel, range: std::ops::Range<usize>) -> usize {
             want.is_some(),
             "any-hit, ray {k}"
         );
-        let (got, occluded) = binary(accel, &ray, t_max);
+        let (got, occluded) = binary(accel, bvh, &ray, t_max);
         assert_eq!(got, want, "binary BVH, ray {k}: {ray:?}");
         assert_eq!(occluded, want.is_some(), "binary BVH any-hit, ray {k}");
         hits += want.is_some() as usize;
@@ -72,25 +72,24 @@ fn check_range(accel: &MeshAccel, range: std::ops::Range<usize>) -> usize {
     hits
 }
 
-/// The closest hit and any-hit answer through the GPU's binary BVH.
-fn binary(accel: &MeshAccel, ray: &Ray, t_max: f32) -> (Option<(u32, f32)>, bool) {
-    let gpu = accel.gpu();
+/// The closest hit and any-hit answer through the binary BVH.
+fn binary(accel: &MeshAccel, bvh: &Bvh, ray: &Ray, t_max: f32) -> (Option<(u32, f32)>, bool) {
     let f = RayFrame::new(ray);
     let test = |slot: u32, t_max: f32| {
-        let [a, b, c] = gpu.corners[slot as usize];
+        let [a, b, c] = accel.mesh.corners(bvh.order[slot as usize] as usize);
         intersect(&f, a, b, c, t_max).map(|h| h.t)
     };
-    let closest = gpu
-        .bvh
+    let closest = bvh
         .closest_hit(ray, t_max, test)
-        .map(|(slot, t)| (gpu.bvh.order[slot as usize], t));
-    (closest, gpu.bvh.any_hit(ray, t_max, test))
+        .map(|(slot, t)| (bvh.order[slot as usize], t));
+    (closest, bvh.any_hit(ray, t_max, test))
 }
 
 fn check(rays: usize) {
     let accel = MeshAccel::new(test_mesh());
     assert!(accel.mesh.len() >= 100_000);
-    let depth = accel.gpu().bvh.depth();
+    let bvh = Bvh::new(&accel.primitive_bounds());
+    let depth = bvh.depth();
     assert!(depth < 64, "binary depth {depth}");
     assert!(accel.wide.depth() < 16, "wide depth {}", accel.wide.depth());
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
@@ -98,8 +97,8 @@ fn check(rays: usize) {
     let hits: usize = std::thread::scope(|s| {
         let handles: Vec<_> = (0..threads)
             .map(|i| {
-                let a = &accel;
-                s.spawn(move || check_range(a, i * chunk..((i + 1) * chunk).min(rays)))
+                let (a, b) = (&accel, &bvh);
+                s.spawn(move || check_range(a, b, i * chunk..((i + 1) * chunk).min(rays)))
             })
             .collect();
         handles.into_iter().map(|h| h.join().unwrap()).sum()
@@ -129,7 +128,7 @@ fn empty_and_all_degenerate_meshes_hit_nothing() {
         TriangleMesh::new("nan", vec![Vec3::NAN; 3], vec![[0, 1, 2]], vec![], vec![]).unwrap();
     let a = MeshAccel::new(nan);
     assert_eq!(a.wide.node_count(), 0);
-    assert!(a.gpu().bvh.nodes.is_empty());
+    assert!(Bvh::new(&a.primitive_bounds()).nodes.is_empty());
     assert!(a.intersect(&ray, f32::INFINITY).is_none());
 }
 
@@ -184,6 +183,7 @@ fn rays_at_shared_edges_and_vertices_never_leak() {
         triangles.extend_from_slice(&grid.triangles);
         let mesh = TriangleMesh::new("grid", positions, triangles, vec![], vec![]).unwrap();
         let accel = MeshAccel::new(mesh.clone());
+        let bvh = Bvh::new(&accel.primitive_bounds());
         let mut rng = Pcg32::new(23, 9);
         let mut rays = 0;
         for i in 1..64 {
@@ -208,7 +208,7 @@ fn rays_at_shared_edges_and_vertices_never_leak() {
                         want.1
                     );
                     assert!(accel.occluded(&ray, f32::INFINITY), "{ray:?}");
-                    let (binary, occluded) = binary(&accel, &ray, f32::INFINITY);
+                    let (binary, occluded) = binary(&accel, &bvh, &ray, f32::INFINITY);
                     let binary = binary.unwrap_or_else(|| panic!("binary BVH leak: {ray:?}"));
                     assert!(
                         close(binary.1),

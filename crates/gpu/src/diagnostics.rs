@@ -209,17 +209,9 @@ pub fn bvh_queries(
     accel: &fogbank_geometry::MeshAccel,
     queries: &[BvhQuery],
 ) -> Result<Vec<[u32; 4]>, GpuError> {
-    // An empty hierarchy is one node with count 0 and index 0 (bindings
-    // cannot be empty), which bvh_trace recognises: nothing is hit.
-    let empty = [fogbank_geometry::BvhNode::EMPTY];
-    let nodes = if accel.gpu().bvh.nodes.is_empty() {
-        &empty[..]
-    } else {
-        &accel.gpu().bvh.nodes[..]
-    };
+    let nodes = crate::surfaces::node_words(accel)?;
     let mut tris: Vec<[f32; 12]> = accel
-        .gpu()
-        .corners
+        .leaf_corners()
         .iter()
         .map(|c| {
             let mut t = [0.0f32; 12];
@@ -235,7 +227,7 @@ pub fn bvh_queries(
     if tris.is_empty() {
         tris.push([0.0; 12]);
     }
-    let n = gpu.storage_buffer("bvh_nodes", bytemuck::cast_slice(nodes));
+    let n = gpu.storage_buffer("bvh_nodes", bytemuck::cast_slice(&nodes));
     let t = gpu.storage_buffer("surface_triangles", bytemuck::cast_slice(&tris));
     // Finite t_max, as the kernels pass (F32_INF): shader compilers may
     // assume infinities away.

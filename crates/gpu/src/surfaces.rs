@@ -16,7 +16,7 @@
 
 use crate::contract::{bsdf_id, texture_id, v4, PRIMITIVE_ANALYTIC, SHAPE_STRIDE};
 use crate::{Gpu, GpuError};
-use fogbank_geometry::BvhNode;
+use fogbank_geometry::MeshAccel;
 use fogbank_render::world::bsdf::{Bsdf, Distribution, Microfacet};
 use fogbank_render::world::surfaces::material::Side;
 use fogbank_render::world::surfaces::Surfaces;
@@ -35,28 +35,45 @@ fn u(x: u32) -> f32 {
     f32::from_bits(x)
 }
 
+/// The wide BVH's nodes as the WGSL walk reads them: the CPU's, or for an
+/// empty hierarchy one node of zeros (bindings cannot be empty; a node
+/// without children hits nothing). Errors when the tree is deeper than the
+/// walk's stack (bvh.wgsl's BVH_STACK) could hold.
+pub(crate) fn node_words(accel: &MeshAccel) -> Result<Vec<[u32; 20]>, GpuError> {
+    let depth = accel.wide.depth();
+    if depth > BVH_STACK {
+        return Err(GpuError(format!(
+            "[[shapes]]: the surfaces' BVH is {depth} levels deep; the GPU's walk holds {BVH_STACK}"
+        )));
+    }
+    Ok(match accel.wide.node_words() {
+        [] => vec![[0; 20]],
+        words => words.to_vec(),
+    })
+}
+
+/// Levels of the wide BVH the WGSL walk's stack holds (bvh.wgsl).
+const BVH_STACK: usize = 32;
+
+/// The nodes (as [`node_words`]) and the data array of one scene's surfaces.
+pub(crate) type Packed = (Vec<[u32; 20]>, Vec<[f32; 4]>);
+
 /// The packed nodes and data of `scene`'s surfaces; without any, an empty
-/// hierarchy (one node with count 0 and index 0, which bvh_trace returns
-/// on) and a header saying there are no shapes.
-pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
-    let empty = BvhNode::EMPTY;
+/// hierarchy and a header saying there are no shapes.
+pub(crate) fn pack(scene: &Scene) -> Result<Packed, GpuError> {
     let Some(s) = scene.world.surfaces.as_ref() else {
-        return (vec![empty], vec![[0.0; 4], [0.0; 4]]);
+        return Ok((vec![[0; 20]], vec![[0.0; 4], [0.0; 4]]));
     };
-    let gpu = s.accel().gpu();
-    let nodes = if gpu.bvh.nodes.is_empty() {
-        vec![empty]
-    } else {
-        gpu.bvh.nodes.clone()
-    };
+    let accel = s.accel();
+    let nodes = node_words(accel)?;
+    let slots = accel.wide.order().len() as u32;
     let media = scene.world.media.len() as u32;
     let mut data = vec![[0.0f32; 4]; 2 + media.div_ceil(4) as usize];
     for i in 0..media {
         data[2 + i as usize / 4][i as usize % 4] = u(s.bounds_medium(i as usize) as u32);
     }
     let shape_base = data.len() as u32;
-    let coating_base =
-        shape_base + SHAPE_STRIDE * s.shapes.len() as u32 + 7 * gpu.bvh.order.len() as u32;
+    let coating_base = shape_base + SHAPE_STRIDE * s.shapes.len() as u32 + 7 * slots;
     let mut tables = Tables {
         rows: Vec::new(),
         base: coating_base,
@@ -64,7 +81,7 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
     };
     pack_shapes(s, &mut data, &mut tables);
     let tri_base = data.len() as u32;
-    let shading_base = tri_base + 3 * gpu.bvh.order.len() as u32;
+    let shading_base = tri_base + 3 * slots;
     pack_primitives(s, &mut data);
     pack_shading(s, &mut data);
     debug_assert_eq!(data.len() as u32, coating_base);
@@ -81,7 +98,7 @@ pub(crate) fn pack(scene: &Scene) -> (Vec<BvhNode>, Vec<[f32; 4]>) {
         0.0,
         0.0,
     ];
-    (nodes, data)
+    Ok((nodes, data))
 }
 
 /// Per shape (`SHAPE_STRIDE` vec4s): its media, first light and
@@ -116,9 +133,8 @@ fn pack_shapes(s: &Surfaces, data: &mut Vec<[f32; 4]>, tables: &mut Tables) {
 /// shape's centre and radius.
 fn pack_primitives(s: &Surfaces, data: &mut Vec<[f32; 4]>) {
     let accel = s.accel();
-    let gpu = accel.gpu();
-    for (slot, &t) in gpu.bvh.order.iter().enumerate() {
-        let corners = gpu.corners[slot];
+    for (slot, &t) in accel.wide.order().iter().enumerate() {
+        let corners = accel.leaf_corners()[slot];
         let shape = s.shape_of()[t as usize];
         let passes = u(s.shape_passes_light(shape as usize) as u32);
         if let Some(a) = accel.analytic_of(t) {
@@ -146,7 +162,7 @@ fn pack_primitives(s: &Surfaces, data: &mut Vec<[f32; 4]>) {
 fn pack_shading(s: &Surfaces, data: &mut Vec<[f32; 4]>) {
     let accel = s.accel();
     let mesh = &accel.mesh;
-    for &t in &accel.gpu().bvh.order {
+    for &t in accel.wide.order() {
         if let Some(a) = accel.analytic_of(t) {
             // The world → object map's rows, then the quadric and flip.
             let m = a.to_object;
@@ -277,10 +293,10 @@ fn pack_side(side: &Side, data: &mut Vec<[f32; 4]>, tables: &mut Tables) {
 
 impl SurfaceBuffers {
     pub(crate) fn upload(gpu: &Gpu, scene: &Scene) -> Result<SurfaceBuffers, GpuError> {
-        let (nodes, data) = pack(scene);
+        let (nodes, data) = pack(scene)?;
         let limit = gpu.device.limits().max_storage_buffer_binding_size;
         for (what, bytes) in [
-            ("BVH nodes", nodes.len() * 32),
+            ("BVH nodes", nodes.len() * 80),
             ("surface data", data.len() * 16),
         ] {
             if bytes as u64 > limit {
@@ -323,8 +339,8 @@ mod surfaces_test {
             "{ type = \"bitmap\", filename = \"mitsuba/textures/tiles_24x16.png\", filter_type = \"nearest\" }",
         );
         let plain = scene("0.5");
-        let (_, a) = pack(&shared);
-        let (_, b) = pack(&plain);
+        let (_, a) = pack(&shared).unwrap();
+        let (_, b) = pack(&plain).unwrap();
         assert_eq!(a.len(), b.len());
     }
 }

@@ -73,7 +73,7 @@ fn gpu_bvh_matches_the_cpu_ray_by_ray() {
                     "ray {k}: t {t} vs {}",
                     h.hit.t
                 );
-                let tri = accel.gpu().bvh.order[a[0] as usize];
+                let tri = accel.wide.order()[a[0] as usize];
                 if tri != h.primitive {
                     // Only on an edge or vertex shared at the same distance.
                     ties += 1;

@@ -1,9 +1,9 @@
 //! A binary bounding-volume hierarchy over any primitives that have boxes,
 //! built once on the CPU with the binned surface-area heuristic and stored
-//! as one flat array of 32-byte nodes that the CPU traversal here and the
-//! WGSL one read alike (the layout is the contract; see [`BvhNode`]). The
-//! GPU traces surfaces through it, and the renderer finds media through
-//! it; the CPU traces surfaces through the wide BVH ([`crate::wide`]).
+//! as one flat array of 32-byte nodes ([`BvhNode`]). The renderer finds
+//! media through it, and `bvh-perf` measures it as the baseline; surfaces
+//! are traced, on the CPU and the GPU alike, through the wide BVH
+//! ([`crate::wide`]).
 
 mod build;
 mod node;

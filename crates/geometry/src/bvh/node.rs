@@ -1,12 +1,12 @@
-//! The BVH's data: the flat node array (the CPU/GPU contract) and the
-//! primitive order of its leaves.
+//! The BVH's data: the flat node array and the primitive order of its
+//! leaves.
 
 use bytemuck::{Pod, Zeroable};
 use fogbank_math::{Aabb, Vec3};
 
 /// One node: its box, and either two children (`count == 0`: at
 /// `index` and `index + 1`) or `count` primitives (leaf: entries
-/// `index .. index + count` of [`Bvh::order`]). Two `vec4` on the GPU.
+/// `index .. index + count` of [`Bvh::order`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct BvhNode {
@@ -17,17 +17,6 @@ pub struct BvhNode {
 }
 
 impl BvhNode {
-    /// What a GPU binding holds for a hierarchy with nothing to hit
-    /// (bindings cannot be empty): an inner node (count 0) whose children
-    /// would start at 0, which no built hierarchy has (an inner root's start
-    /// at 1). The WGSL walk returns on it before testing its empty box.
-    pub const EMPTY: BvhNode = BvhNode {
-        min: [f32::INFINITY; 3],
-        count: 0,
-        max: [f32::NEG_INFINITY; 3],
-        index: 0,
-    };
-
     pub fn bounds(&self) -> Aabb {
         Aabb::new(Vec3::from(self.min), Vec3::from(self.max))
     }

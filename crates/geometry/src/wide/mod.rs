@@ -77,6 +77,14 @@ impl WideBvh {
         }
     }
 
+    /// The nodes as the GPU reads them: 20 little-endian words each, in
+    /// `obvhs`'s `CwBvhNode` layout (origin p, exponents and inner mask,
+    /// child and primitive bases, child meta, then the quantised child
+    /// boxes' min x, max x, min y, max y, min z, max z, a byte per child).
+    pub fn node_words(&self) -> &[[u32; 20]] {
+        bytemuck::cast_slice(&self.nodes)
+    }
+
     /// The primitive in each leaf slot.
     pub fn order(&self) -> &[u32] {
         &self.order

@@ -1,20 +1,14 @@
-// Surfaces: watertight ray–triangle intersection and BVH traversal, the
-// mirror of fogbank_geometry (triangle.rs, bvh/traverse.rs; analytic
-// shapes in analytic_shapes.wgsl). The node array
-// is the same 32-byte layout the CPU builds; triangles are their corners in
-// the BVH's leaf order (slot i holds the triangle of leaf entry i). WGSL has
+// Surfaces: watertight ray–triangle intersection and the walk of the
+// compressed wide BVH, the mirror of fogbank_geometry (triangle.rs,
+// wide/traverse.rs; analytic shapes in analytic_shapes.wgsl). The node
+// array is the CPU's own (WideBvh::node_words: 80 bytes, five vec4<u32> a
+// node); triangles are their corners in its leaf order (slot i holds the
+// triangle of leaf slot i). WGSL has
 // no f64, so the CPU's double-precision recomputation of edge functions
 // that round to exactly zero is absent here: on such rays (a vertex or edge
 // hit dead on) the two may pick different triangles of the same fan.
 // Triangles with a non-finite corner, which the CPU never hits, are
 // uploaded collapsed to a point, so no NaN reaches these tests.
-
-struct BvhNode {
-    min: vec3<f32>,
-    count: u32,
-    max: vec3<f32>,
-    index: u32,
-}
 
 
 struct TriHit {
@@ -40,7 +34,8 @@ struct SurfaceHit {
     b2: f32,
 }
 
-const BVH_STACK: u32 = 64u;
+// Node groups waiting: one per level at most (surfaces.rs checks depth).
+const BVH_STACK: u32 = 32u;
 
 fn ray_frame(o: vec3<f32>, d: vec3<f32>) -> RayFrame {
     let a = abs(d);
@@ -123,116 +118,143 @@ fn intersect_triangle(f: RayFrame, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, 
 // 1 + 2γ₃ rounded to f32, as the CPU's SLAB_GROW.
 const SLAB_GROW: f32 = 1.0000003576;
 
-// Entry distance into the node's box within (0, t_max), or -1 (Traversal::
-// enter). An axis the ray runs parallel to (d = ±0) constrains nothing when
-// the origin lies in the closed slab and excludes the box otherwise; it is
-// decided from d itself, never from 0·∞ = NaN as on the CPU: GPU compilers
-// may assume NaN and infinities away (an NVIDIA H100 folded such a NaN
-// test and missed rays grazing box planes that lavapipe hit). Directions
-// below 1e-30 count as parallel (their 1/d would overflow). `t_max` is
-// finite (at most f32::MAX); it grows by the rounding allowance too, so
-// that a box whose entry rounds just past a hit found in a neighbouring
-// triangle (a shared edge: the same point, t one ulp apart) is still entered.
-fn node_enter(o: vec3<f32>, d: vec3<f32>, inv_d: vec3<f32>, n: BvhNode, t_max: f32) -> f32 {
-    var t0 = 0.0;
-    var t1 = min(t_max * SLAB_GROW, 3.4028235e38);
-    for (var a = 0u; a < 3u; a++) {
-        if (abs(d[a]) < 1e-30) {
-            if (o[a] < n.min[a] || o[a] > n.max[a]) {
-                return -1.0;
-            }
-            continue;
-        }
-        let ta = (n.min[a] - o[a]) * inv_d[a];
-        let tb = (n.max[a] - o[a]) * inv_d[a];
-        t0 = max(t0, min(ta, tb));
-        t1 = min(t1, max(ta, tb) * SLAB_GROW);
-    }
-    return select(-1.0, t0, t0 <= t1);
+// Byte k of a node's child_meta (words 6 and 7) or of a quantised plane
+// (words 8 … 19, two words per plane set).
+fn node_byte(lo: u32, hi: u32, c: u32) -> u32 {
+    return (select(lo, hi, c >= 4u) >> (8u * (c & 3u))) & 0xffu;
 }
 
-// Stack traversal, nearer child first (fogbank_geometry's Bvh::walk, which
-// also keeps each waiting far child's entry distance to drop it once a
-// nearer hit is found; here that would double the stack's registers):
-// the closest hit in (0, t_max), or with `any` the first hit found; with
-// `opaque`, triangles that let light through (surface_passes) are skipped.
-// The kernel that includes this file declares `bvh_nodes` and provides
-// surface_corner(slot, k), surface_passes(slot), surface_is_analytic(slot)
-// and surface_analytic(slot) (analytic_shapes.wgsl).
+// The hit mask of node `i`'s children whose boxes the ray enters in
+// (0, t_max) (WideBvh's node_hits): an entered inner child sets bit 24 +
+// (its slot ^ the ray's octant), an entered leaf its primitives' bits from
+// its first slot offset. Each box is decoded as p + q·e and widened by the
+// CPU's bound on decoding and quantisation, so neither misses a box the
+// other enters. An axis the ray runs parallel to (|d| < 1e-30) is decided
+// by the origin lying in the slab, never from 0·∞ = NaN: GPU compilers may
+// assume NaN and infinities away (an NVIDIA H100 folded such a NaN test and
+// missed rays grazing box planes that lavapipe hit).
+fn wide_node_hits(o: vec3<f32>, d: vec3<f32>, inv_d: vec3<f32>, w0: vec4<u32>, w1: vec4<u32>,
+                  planes: array<vec2<u32>, 6>, oct_inv: u32, t_max: f32) -> u32 {
+    let p = bitcast<vec3<f32>>(w0.xyz);
+    var hits = 0u;
+    for (var c = 0u; c < 8u; c++) {
+        let child = node_byte(w1.z, w1.w, c);
+        if (child == 0u) {
+            continue;
+        }
+        var near = 0.0;
+        var far = min(t_max * SLAB_GROW, 3.4028235e38);
+        var parallel_miss = false;
+        for (var a = 0u; a < 3u; a++) {
+            let e = bitcast<f32>(((w0.w >> (8u * a)) & 0xffu) << 23u);
+            let margin = (abs(p[a]) + 256.0 * e) * (4.0 * 1.1920929e-7);
+            let q_lo = f32(node_byte(planes[2u * a].x, planes[2u * a].y, c));
+            let q_hi = f32(node_byte(planes[2u * a + 1u].x, planes[2u * a + 1u].y, c));
+            if (abs(d[a]) < 1e-30) {
+                let lo = q_lo * e + (p[a] - margin);
+                let hi = q_hi * e + (p[a] + margin);
+                parallel_miss = parallel_miss || o[a] < lo || o[a] > hi;
+                continue;
+            }
+            let ta = (q_lo * e + (p[a] - margin - o[a])) * inv_d[a];
+            let tb = (q_hi * e + (p[a] + margin - o[a])) * inv_d[a];
+            near = max(near, min(ta, tb));
+            far = min(far, max(ta, tb) * SLAB_GROW);
+        }
+        if (parallel_miss || near > far) {
+            continue;
+        }
+        // Inner children's meta is 0b001_11xxx (24 + slot); a leaf's is its
+        // primitive count in unary above its first slot offset.
+        var index = child & 0x1fu;
+        if ((child & 0x18u) == 0x18u) {
+            index = index ^ oct_inv;
+        }
+        hits |= (child >> 5u) << index;
+    }
+    return hits;
+}
+
+// The stack walk of the wide BVH (Ylitie et al. 2017, Algorithm 1, as
+// WideBvh::walk): hit leaves' primitives are tested first, then the inner
+// children in the order the ray's octant gives, node groups with children
+// left waiting on the stack. The closest hit in (0, t_max), or with `any`
+// the first hit found; with `opaque`, triangles that let light through
+// (surface_passes) are skipped. The kernel that includes this file declares
+// `bvh_nodes` (array<vec4<u32>>) and provides surface_corner(slot, k),
+// surface_passes(slot), surface_is_analytic(slot) and
+// surface_analytic(slot) (analytic_shapes.wgsl). An empty hierarchy is one
+// node of zeros: no children, nothing hit.
 fn bvh_trace(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any: bool, opaque: bool) -> SurfaceHit {
     var best = SurfaceHit(0xffffffffu, 0.0, 0.0, 0.0);
-    if (arrayLength(&bvh_nodes) == 0u) {
-        return best;
-    }
-    // An empty hierarchy (no triangles: the binding still holds one node)
-    // is a root with count 0 and index 0, which no built hierarchy has (an
-    // inner root's children start at 1). Its box, of infinities, is never
-    // tested: GPU compilers may assume infinities away, and on an NVIDIA
-    // H100 the root then "entered" and the walk descended into node 0
-    // forever.
-    let root = bvh_nodes[0];
-    if (root.count == 0u && root.index == 0u) {
+    if (arrayLength(&bvh_nodes) < 5u) {
         return best;
     }
     var t_max = t_max_in;
     let f = ray_frame(o, d);
     let inv_d = vec3<f32>(1.0) / d;
-    if (node_enter(o, d, inv_d, root, t_max) < 0.0) {
-        return best;
-    }
-    var stack: array<u32, 64>;
+    let oct_inv = select(4u, 0u, d.x < 0.0) | select(2u, 0u, d.y < 0.0) | select(1u, 0u, d.z < 0.0);
+    // Node groups: x the first inner child's node, y the children still to
+    // visit in bits 24-31 over the node's inner mask in bits 0-7.
+    var stack: array<vec2<u32>, 32>;
     var top = 0u;
-    var node = 0u;
+    // The root as the one inner child of a virtual node at index 0.
+    var nodes = vec2<u32>(0u, 0x80000000u);
+    var prims = vec2<u32>(0u, 0u);
     loop {
-        let n = bvh_nodes[node];
-        var descend = false;
-        if (n.count > 0u) {
-            for (var slot = n.index; slot < n.index + n.count; slot++) {
-                if (opaque && surface_passes(slot)) {
-                    continue;
-                }
-                var h: TriHit;
-                if (surface_is_analytic(slot)) {
-                    h = intersect_analytic(surface_analytic(slot), o, d, t_max);
-                } else {
-                    h = intersect_triangle(f, surface_corner(slot, 0u), surface_corner(slot, 1u),
-                                           surface_corner(slot, 2u), t_max);
-                }
-                if (h.hit) {
-                    t_max = h.t;
-                    best = SurfaceHit(slot, h.t, h.b1, h.b2);
-                    if (any) {
-                        return best;
-                    }
+        while (prims.y != 0u) {
+            let k = firstLeadingBit(prims.y);
+            prims.y &= ~(1u << k);
+            let slot = prims.x + k;
+            if (opaque && surface_passes(slot)) {
+                continue;
+            }
+            var h: TriHit;
+            if (surface_is_analytic(slot)) {
+                h = intersect_analytic(surface_analytic(slot), o, d, t_max);
+            } else {
+                h = intersect_triangle(f, surface_corner(slot, 0u), surface_corner(slot, 1u),
+                                       surface_corner(slot, 2u), t_max);
+            }
+            if (h.hit) {
+                t_max = h.t;
+                best = SurfaceHit(slot, h.t, h.b1, h.b2);
+                if (any) {
+                    return best;
                 }
             }
-        } else {
-            let l = n.index;
-            let r = n.index + 1u;
-            let tl = node_enter(o, d, inv_d, bvh_nodes[l], t_max);
-            let tr = node_enter(o, d, inv_d, bvh_nodes[r], t_max);
-            if (tl >= 0.0 && tr >= 0.0) {
-                let near_left = tl <= tr;
-                stack[top] = select(l, r, near_left);
+        }
+        if ((nodes.y & 0xff000000u) != 0u) {
+            let hits_imask = nodes.y;
+            let k = firstLeadingBit(hits_imask);
+            nodes.y &= ~(1u << k);
+            if ((nodes.y & 0xff000000u) != 0u && top < BVH_STACK) {
+                stack[top] = nodes;
                 top += 1u;
-                node = select(r, l, near_left);
-                descend = true;
-            } else if (tl >= 0.0) {
-                node = l;
-                descend = true;
-            } else if (tr >= 0.0) {
-                node = r;
-                descend = true;
             }
+            // The child's slot, and its place among the inner children.
+            let slot = (k - 24u) ^ oct_inv;
+            let below = countOneBits(hits_imask & ~(0xffffffffu << slot));
+            let n = 5u * (nodes.x + below);
+            let w0 = bvh_nodes[n];
+            let w1 = bvh_nodes[n + 1u];
+            let w2 = bvh_nodes[n + 2u];
+            let w3 = bvh_nodes[n + 3u];
+            let w4 = bvh_nodes[n + 4u];
+            let planes = array<vec2<u32>, 6>(w2.xy, w2.zw, w3.xy, w3.zw, w4.xy, w4.zw);
+            let hits = wide_node_hits(o, d, inv_d, w0, w1, planes, oct_inv, t_max);
+            nodes = vec2<u32>(w1.x, (hits & 0xff000000u) | (w0.w >> 24u));
+            prims = vec2<u32>(w1.y, hits & 0x00ffffffu);
+        } else {
+            nodes = vec2<u32>(0u, 0u);
         }
-        if (descend) {
-            continue;
+        if (prims.y == 0u && (nodes.y & 0xff000000u) == 0u) {
+            if (top == 0u) {
+                break;
+            }
+            top -= 1u;
+            nodes = stack[top];
         }
-        if (top == 0u) {
-            break;
-        }
-        top -= 1u;
-        node = stack[top];
     }
     return best;
 }

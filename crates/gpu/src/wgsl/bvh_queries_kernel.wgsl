@@ -9,7 +9,7 @@ struct BvhQuery {
     d: vec4<f32>,
 }
 
-@group(0) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
+@group(0) @binding(0) var<storage, read> bvh_nodes: array<vec4<u32>>;
 // Per leaf slot its three corners.
 @group(0) @binding(1) var<storage, read> surface_triangles: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read> bvh_queries: array<BvhQuery>;

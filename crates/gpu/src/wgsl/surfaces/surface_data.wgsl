@@ -3,7 +3,7 @@
 // (layout: fogbank-gpu's surfaces.rs), each triangle's corners and each
 // analytic shape's map.
 
-@group(2) @binding(5) var<storage, read> bvh_nodes: array<BvhNode>;
+@group(2) @binding(5) var<storage, read> bvh_nodes: array<vec4<u32>>;
 @group(2) @binding(6) var<storage, read> surface_data: array<vec4<f32>>;
 
 fn surface_word(i: u32, k: u32) -> u32 {
