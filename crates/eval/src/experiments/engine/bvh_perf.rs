@@ -141,7 +141,7 @@ fn measure(mesh: &TriangleMesh, bvh: &(impl Walk + Sync), shape: Shape, rays: u6
 fn measure_binary(mesh: &TriangleMesh, bounds: &[fogbank_math::Aabb], rays: u64) -> Measured {
     let (bvh, build_s) = clocked(|| Bvh::new(bounds));
     let shape = Shape {
-        name: "binary (binned SAH, GPU)",
+        name: "binary (binned SAH, baseline)",
         build_s,
         build_threads: 1,
         nodes: bvh.nodes.len(),
@@ -155,7 +155,7 @@ fn measure_binary(mesh: &TriangleMesh, bounds: &[fogbank_math::Aabb], rays: u64)
 fn measure_wide(mesh: &TriangleMesh, bounds: &[fogbank_math::Aabb], rays: u64) -> Measured {
     let (bvh, build_s) = clocked(|| WideBvh::new(bounds));
     let shape = Shape {
-        name: "wide (PLOC + CWBVH8, CPU)",
+        name: "wide (PLOC + CWBVH8, CPU and GPU)",
         build_s,
         build_threads: rayon::current_num_threads(),
         nodes: bvh.node_count(),
