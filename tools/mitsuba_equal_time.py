@@ -4,6 +4,7 @@ on the Mitsuba XML scenes of scenes/mitsuba/,
 and fogbank's GPU backend (`fogbank_gpu`) versus `cuda_ad_rgb`.
 
 Reference: the high-sample Mitsuba references scenes/mitsuba/refs/<name>.exr
+(for a scene given as a path, refs/<name>.exr beside it: scenes/street/refs/)
 (R, G, B + variance.R/G/B = variance of the mean, ~2.5e7 samples). The error
 of an image is
 
@@ -74,8 +75,9 @@ def scene_path(name):
 
 
 def ref_path(name):
+    """The reference beside the scene: refs/<name>.exr in the scene's folder."""
     base = os.path.splitext(os.path.basename(name))[0]
-    return os.path.join(SCENE_DIR, "refs", base + ".exr")
+    return os.path.join(os.path.dirname(scene_path(name)), "refs", base + ".exr")
 
 
 def mse_of(img, ref, ref_var):

@@ -38,6 +38,7 @@ Usage (needs `pip install mitsuba numpy`; never part of CI):
     python3 tools/mitsuba_refs.py --spp 64 --out DIR
     python3 tools/mitsuba_refs.py --make-assets       # regenerate meshes/ and textures/
     python3 tools/mitsuba_refs.py --pbrt              # the pbrt twins (see below)
+    python3 tools/mitsuba_refs.py --scene-dir scenes/street window_street
 
 `--pbrt` renders the hand-written Mitsuba twins of the pbrt-v4 scenes,
 `scenes/pbrt/mitsuba/<name>.xml`, into `scenes/pbrt/refs/<name>.exr`,
@@ -385,6 +386,8 @@ def main():
                     help="seeds numpy's generator of the passes' Mitsuba seeds")
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--variant", default="scalar_rgb")
+    ap.add_argument("--scene-dir", help="read the named scenes from this folder instead "
+                    "(references then go to its refs/, e.g. scenes/street)")
     ap.add_argument("--pbrt", action="store_true",
                     help="the Mitsuba twins of scenes/pbrt/, mirrored, into scenes/pbrt/refs")
     ap.add_argument("--make-assets", action="store_true",
@@ -400,12 +403,12 @@ def main():
         make_assets(mi)
         return
 
-    scene_dir = PBRT_DIR if args.pbrt else SCENE_DIR
+    scene_dir = args.scene_dir or (PBRT_DIR if args.pbrt else SCENE_DIR)
     names = args.scenes or (PBRT_SCENES if args.pbrt else SCENES)
     for n in names:
         if not os.path.exists(os.path.join(scene_dir, f"{n}.xml")):
             sys.exit(f"no scene {n}.xml in {scene_dir}")
-    refs = os.path.join(os.path.dirname(PBRT_DIR), "refs") if args.pbrt else os.path.join(SCENE_DIR, "refs")
+    refs = os.path.join(os.path.dirname(PBRT_DIR), "refs") if args.pbrt else os.path.join(scene_dir, "refs")
     out = args.out or ("/tmp/mitsuba_refs_quick" if args.quick else refs)
     os.makedirs(out, exist_ok=True)
     meta_path = os.path.join(out, "refs.json")
