@@ -288,6 +288,10 @@ fn enumeration(out: &mut String, prefix: &str, names: &[&str]) {
 /// (surfaces.rs): the slot holds a sphere or disk, not a triangle.
 pub const PRIMITIVE_ANALYTIC: u32 = 1 << 31;
 
+/// Node groups the WGSL wide-BVH walk (bvh.wgsl) keeps waiting: one per
+/// level at most, so surfaces.rs refuses deeper trees.
+pub const BVH_STACK: u32 = 32;
+
 /// Samples one invocation takes in a row and merges into the pixel's
 /// moments at once: the unit of the device's accumulation order, so images
 /// are the same however many chunks a dispatch runs side by side.
@@ -309,7 +313,7 @@ pub fn wgsl_prelude() -> String {
     enumeration(&mut s, "LIGHT", &light_kinds());
     enumeration(&mut s, "QUADRIC", &fogbank_geometry::Quadric::NAMES);
     s.push_str(&format!(
-        "const PRIMITIVE_ANALYTIC: u32 = {PRIMITIVE_ANALYTIC}u;\n"
+        "const PRIMITIVE_ANALYTIC: u32 = {PRIMITIVE_ANALYTIC}u;\nconst BVH_STACK: u32 = {BVH_STACK}u;\n"
     ));
     enumeration(&mut s, "BSDF", &Bsdf::NAMES);
     enumeration(&mut s, "TEXTURE", &Texture::NAMES);

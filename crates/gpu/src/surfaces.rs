@@ -14,7 +14,7 @@
 //! | shading | per leaf slot four `vec4`: vertex normals and UVs (an analytic shape: its world → object rows, quadric and flip) |
 //! | tables | 64 + 1 floats per rough plastic (tabulated transmittance, internal reflectance); bitmap texels (`channels` floats each, rows in file order, padded to a `vec4`) |
 
-use crate::contract::{bsdf_id, texture_id, v4, PRIMITIVE_ANALYTIC, SHAPE_STRIDE};
+use crate::contract::{bsdf_id, texture_id, v4, BVH_STACK, PRIMITIVE_ANALYTIC, SHAPE_STRIDE};
 use crate::{Gpu, GpuError};
 use fogbank_geometry::MeshAccel;
 use fogbank_render::world::bsdf::{Bsdf, Distribution, Microfacet};
@@ -38,10 +38,10 @@ fn u(x: u32) -> f32 {
 /// The wide BVH's nodes as the WGSL walk reads them: the CPU's, or for an
 /// empty hierarchy one node of zeros (bindings cannot be empty; a node
 /// without children hits nothing). Errors when the tree is deeper than the
-/// walk's stack (bvh.wgsl's BVH_STACK) could hold.
+/// walk's stack ([`BVH_STACK`]) could hold.
 pub(crate) fn node_words(accel: &MeshAccel) -> Result<Vec<[u32; 20]>, GpuError> {
     let depth = accel.wide.depth();
-    if depth > BVH_STACK {
+    if depth > BVH_STACK as usize {
         return Err(GpuError(format!(
             "[[shapes]]: the surfaces' BVH is {depth} levels deep; the GPU's walk holds {BVH_STACK}"
         )));
@@ -51,9 +51,6 @@ pub(crate) fn node_words(accel: &MeshAccel) -> Result<Vec<[u32; 20]>, GpuError> 
         words => words.to_vec(),
     })
 }
-
-/// Levels of the wide BVH the WGSL walk's stack holds (bvh.wgsl).
-const BVH_STACK: usize = 32;
 
 /// The nodes (as [`node_words`]) and the data array of one scene's surfaces.
 pub(crate) type Packed = (Vec<[u32; 20]>, Vec<[f32; 4]>);

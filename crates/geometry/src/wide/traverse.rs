@@ -126,6 +126,13 @@ fn node_hits(n: &CwBvhNode, r: &WideRay, t_max: f32) -> u32 {
     mask
 }
 
+/// The node of node `n`'s inner child in slot `slot`: inner children are
+/// stored consecutively from `child_base_idx`, in slot order.
+#[inline(always)]
+fn inner_child(n: &CwBvhNode, slot: u32) -> u32 {
+    n.child_base_idx + (n.imask as u32 & !(u32::MAX << slot)).count_ones()
+}
+
 /// Highest set bit of a non-zero word.
 fn top_bit(x: u32) -> u32 {
     31 - x.leading_zeros()
@@ -179,13 +186,13 @@ impl WideBvh {
     /// stalls on every node it reads.
     #[inline(always)]
     fn prefetch_children(&self, n: &CwBvhNode, mut entered: u32, oct_inv: u32) {
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = (n, &mut entered, oct_inv);
         #[cfg(target_arch = "x86_64")]
         while entered != 0 {
             let k = entered.trailing_zeros();
             entered &= entered - 1;
-            let slot = k ^ oct_inv;
-            let below = (n.imask as u32 & !(u32::MAX << slot)).count_ones();
-            if let Some(c) = self.nodes.get((n.child_base_idx + below) as usize) {
+            if let Some(c) = self.nodes.get(inner_child(n, k ^ oct_inv) as usize) {
                 use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
                 let p = c as *const CwBvhNode as *const i8;
                 // SAFETY: a prefetch is a hint that never faults; both

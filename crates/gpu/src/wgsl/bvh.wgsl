@@ -34,8 +34,6 @@ struct SurfaceHit {
     b2: f32,
 }
 
-// Node groups waiting: one per level at most (surfaces.rs checks depth).
-const BVH_STACK: u32 = 32u;
 
 fn ray_frame(o: vec3<f32>, d: vec3<f32>) -> RayFrame {
     let a = abs(d);
@@ -196,7 +194,7 @@ fn bvh_trace(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any: bool, opaque: bool)
     let oct_inv = select(4u, 0u, d.x < 0.0) | select(2u, 0u, d.y < 0.0) | select(1u, 0u, d.z < 0.0);
     // Node groups: x the first inner child's node, y the children still to
     // visit in bits 24-31 over the node's inner mask in bits 0-7.
-    var stack: array<vec2<u32>, 32>;
+    var stack: array<vec2<u32>, BVH_STACK>;
     var top = 0u;
     // The root as the one inner child of a virtual node at index 0.
     var nodes = vec2<u32>(0u, 0x80000000u);
