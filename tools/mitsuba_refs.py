@@ -78,6 +78,7 @@ SCENES = [
     "spot_fog",
     "bitmap_textures",
     "analytic_shapes",
+    "instances",
     "users_beckmann_conductor",
     "users_beckmann_dielectric",
     "users_beckmann_plastic",

@@ -59,6 +59,20 @@ impl MeshAccel {
         primitive_bounds(&self.mesh, &self.analytic)
     }
 
+    /// Bytes of the mesh (positions, index triples, normals, UVs), the
+    /// analytic shapes, the hierarchy and the leaf-order corners.
+    pub fn memory_bytes(&self) -> usize {
+        use std::mem::size_of;
+        let m = &self.mesh;
+        m.positions.len() * size_of::<Vec3>()
+            + m.triangles.len() * size_of::<[u32; 3]>()
+            + m.normals.len() * size_of::<Vec3>()
+            + m.uvs.len() * size_of::<glam::Vec2>()
+            + self.analytic.len() * size_of::<AnalyticShape>()
+            + self.wide.memory_bytes()
+            + self.corners.len() * size_of::<[Vec3; 3]>()
+    }
+
     /// The analytic shape primitive `i` is, if it is one.
     pub fn analytic_of(&self, primitive: u32) -> Option<&AnalyticShape> {
         (primitive as usize)

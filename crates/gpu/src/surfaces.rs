@@ -2,7 +2,9 @@
 //! `wgsl/surfaces.wgsl`): the BVH nodes as the CPU built them, and one
 //! `vec4` array holding a header, the bounded-media flags, the shape
 //! records with their materials, the triangles in the BVH's leaf order and
-//! their shading data, and the rough plastics' coating tables.
+//! their shading data, and the rough plastics' coating tables. Shape
+//! groups' instances are copied into the one hierarchy
+//! ([`Surfaces::flattened`]): the WGSL walk has no top level yet.
 //!
 //! | range | contents |
 //! |---|---|
@@ -61,6 +63,9 @@ pub(crate) fn pack(scene: &Scene) -> Result<Packed, GpuError> {
     let Some(s) = scene.world.surfaces.as_ref() else {
         return Ok((vec![[0; 20]], vec![[0.0; 4], [0.0; 4]]));
     };
+    // The WGSL walk has one level: instances' shapes are copied in.
+    let flat = s.flattened();
+    let s = flat.as_ref();
     let accel = s.accel();
     let nodes = node_words(accel)?;
     let slots = accel.wide.order().len() as u32;

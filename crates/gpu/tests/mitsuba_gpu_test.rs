@@ -57,6 +57,14 @@ fn dielectrics_and_textured_plastics_match_the_cpu() {
     matches_cpu("bitmap_textures", 48);
 }
 
+/// Shape groups placed by instances: the GPU walks one level, so the
+/// instances' shapes are copied in (`Surfaces::flattened`) and must render
+/// as the CPU's two-level walk does.
+#[test]
+fn instanced_shape_groups_match_the_cpu() {
+    matches_cpu("instances", 48);
+}
+
 /// Analytic spheres and disks (analytic_shapes.wgsl) and their lights
 /// (shape_lights.wgsl: cone-sampled sphere, elliptical disk).
 /// And a furnace: a sphere emitting inward around the camera (sampled by

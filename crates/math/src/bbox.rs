@@ -30,6 +30,23 @@ impl Aabb {
         self.min.cmpgt(self.max).any()
     }
 
+    /// The box holding this one's image under `m` (its eight corners
+    /// mapped, in f64); empty stays empty.
+    pub fn transformed(&self, m: &glam::DAffine3) -> Aabb {
+        if self.is_empty() {
+            return *self;
+        }
+        (0..8).fold(Aabb::EMPTY, |b, k| {
+            let pick = |i: usize| match k >> i & 1 {
+                0 => self.min[i],
+                _ => self.max[i],
+            };
+            let c = glam::DVec3::new(pick(0) as f64, pick(1) as f64, pick(2) as f64);
+            let p = m.transform_point3(c).as_vec3();
+            b.union(Aabb::new(p, p))
+        })
+    }
+
     /// Parameter interval `[t0, t1]` ∩ `[t_lo, t_hi]` where the ray is inside
     /// the closed box, or `None`. Axis-parallel components are handled without
     /// dividing by zero, so `0 · ∞ = NaN` never enters the comparison.

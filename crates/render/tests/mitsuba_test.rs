@@ -87,6 +87,13 @@ fn analytic_spheres_and_disks_agree_with_mitsuba() {
     agree("analytic_shapes");
 }
 
+/// `shapegroup`s placed by `instance`s (a top-level BVH over the
+/// instances; turned, stretched, mirrored; meshes and analytic spheres).
+#[test]
+fn instanced_shape_groups_agree_with_mitsuba() {
+    agree("instances");
+}
+
 #[test]
 fn bitmap_textures_agree_with_mitsuba() {
     agree("bitmap_textures");

@@ -331,12 +331,14 @@ fn a_parallelogram_triangle_mesh_is_a_rectangle_facing_like_pbrt() {
 }
 
 #[test]
-fn object_instances_are_flattened() {
+fn object_instances_are_a_shape_group_and_its_instances() {
     let d = desc(&format!(
         "{HEAD}ObjectBegin \"ball\"\nShape \"sphere\" \"float radius\" 0.25\nObjectEnd\nTranslate 1 0 0\nObjectInstance \"ball\"\nTranslate 1 0 0\nObjectInstance \"ball\"\n"
     ));
-    assert_eq!(d.shapes.len(), 2);
-    assert_eq!(d.shapes[1].to_world.matrix.unwrap()[0][3], 2.0);
+    assert_eq!(d.shapes.len(), 3);
+    assert_eq!(d.shapes[0].group.as_deref(), Some("ball"));
+    assert_eq!(d.shapes[2].kind, fogbank_render::desc::ShapeType::Instance);
+    assert_eq!(d.shapes[2].to_world.matrix.unwrap()[0][3], 2.0);
 }
 
 #[test]

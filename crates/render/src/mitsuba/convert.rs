@@ -59,6 +59,7 @@ pub fn scene_table(doc: &Document) -> Result<Table, SceneError> {
     let (mut lights, mut shapes) = (Vec::new(), Vec::new());
     let mut media = MediaUse::default();
     let mut scene_box = Aabb::EMPTY;
+    let mut groups = ShapeGroups::default();
     let mut sensor_medium = None;
     let no_media = ignores_media(root.children.iter().find(|c| c.tag == "integrator"));
     if root.children.iter().all(|c| c.tag != "integrator") {
@@ -89,9 +90,20 @@ pub fn scene_table(doc: &Document) -> Result<Table, SceneError> {
                 out.insert("render".into(), Value::Table(render));
             }
             "emitter" => lights.push(Value::Table(light(c, &ids, doc)?)),
+            // Converted where an instance places it.
+            "shape" if c.attr("type") == Some("shapegroup") => {}
+            "shape" if c.attr("type") == Some("instance") => {
+                let (t, b) = groups.instance(c, (&ids, doc), no_media, &mut media, &mut shapes)?;
+                scene_box = scene_box.union(b);
+                shapes.push(Value::Table(t));
+            }
             "shape" => {
-                let (i, bounds) = (shapes.len(), &mut scene_box);
-                let table = shape_table(c, (&ids, doc), i, no_media, &mut media, bounds)?;
+                let i = shapes.len();
+                let (table, b, inside) = shape_table(c, (&ids, doc), i, no_media, &mut media)?;
+                scene_box = scene_box.union(b);
+                if let Some(m) = inside {
+                    media.interior_box[m] = media.interior_box[m].union(b);
+                }
                 shapes.push(Value::Table(table));
             }
             // Named objects are converted where they are referenced.
@@ -127,24 +139,22 @@ pub fn scene_table(doc: &Document) -> Result<Table, SceneError> {
     Ok(out)
 }
 
-/// A top-level `<shape>` (the `index`-th) as a `[[shapes]]` table, its bounds added to
-/// `scene_box` and its interior and exterior media recorded in `media`
-/// (unless the integrator ignores media).
+/// A `<shape>` (the `index`-th) as a `[[shapes]]` table with its bounds
+/// and the medium it is the inside of (whose box the caller grows: a
+/// group's shapes lie where its instances place them); its exterior
+/// medium is recorded as open (unless the integrator ignores media).
 fn shape_table<'a>(
     c: &'a Element,
     (ids, doc): (&'a Ids<'a>, &'a Document),
     index: usize,
     no_media: bool,
     media: &mut MediaUse<'a>,
-    scene_box: &mut Aabb,
-) -> Result<Table, SceneError> {
+) -> Result<(Table, Aabb, Option<usize>), SceneError> {
     let s = shape(c, ids, doc)?;
     let mut table = s.table;
     let bounds = shape_bounds(&table, index).map_err(|e| c.error(e.0))?;
-    *scene_box = scene_box.union(bounds);
-    if let Some(m) = s.interior.filter(|_| !no_media) {
-        let i = media.index(m);
-        media.interior_box[i] = media.interior_box[i].union(bounds);
+    let interior = s.interior.filter(|_| !no_media).map(|m| media.index(m));
+    if let Some(i) = interior {
         table.insert("interior".into(), (i as i64).into());
     }
     if let Some(m) = s.exterior.filter(|_| !no_media) {
@@ -152,7 +162,88 @@ fn shape_table<'a>(
         media.open[i] = true;
         table.insert("exterior".into(), (i as i64).into());
     }
-    Ok(table)
+    Ok((table, bounds, interior))
+}
+
+/// The `shapegroup`s that instances place, converted at their first
+/// instance: per group (by id) the box of its shapes and of each medium
+/// they are the inside of, in the group's space.
+#[derive(Default)]
+struct ShapeGroups {
+    boxes: std::collections::BTreeMap<String, (Aabb, Vec<(usize, Aabb)>)>,
+}
+
+impl ShapeGroups {
+    /// An `instance` as a `[[shapes]]` table and its world box; its group's
+    /// shapes are appended to `shapes` the first time.
+    fn instance<'a>(
+        &mut self,
+        c: &'a Element,
+        (ids, doc): (&'a Ids<'a>, &'a Document),
+        no_media: bool,
+        media: &mut MediaUse<'a>,
+        shapes: &mut Vec<Value>,
+    ) -> Result<(Table, Aabb), SceneError> {
+        let p = Plugin::new(c, ids)?;
+        let group = p
+            .object("shape", "")?
+            .filter(|g| g.attr("type") == Some("shapegroup"))
+            .ok_or_else(|| c.error("an instance needs a <ref id> to a shapegroup"))?;
+        let m = p.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
+        p.finish()?;
+        let id = group
+            .attr("id")
+            .ok_or_else(|| group.error("a shapegroup needs an `id` to be instanced"))?;
+        if !self.boxes.contains_key(id) {
+            let placed = self.members(group, (ids, doc), no_media, media, shapes)?;
+            self.boxes.insert(id.to_string(), placed);
+        }
+        let affine = glam::DAffine3::from_mat4(m);
+        if !affine.is_finite() || affine.matrix3.determinant() == 0.0 {
+            return Err(c.error("to_world: not invertible"));
+        }
+        let (group_box, insides) = &self.boxes[id];
+        for (i, b) in insides {
+            media.interior_box[*i] = media.interior_box[*i].union(b.transformed(&affine));
+        }
+        let mut t = Table::new();
+        t.insert("type".into(), "instance".into());
+        t.insert("group".into(), id.into());
+        t.insert(
+            "to_world".into(),
+            Value::Table(super::shapes::matrix_table(m)),
+        );
+        Ok((t, group_box.transformed(&affine)))
+    }
+
+    /// A shapegroup's shapes, appended to `shapes` as members of group `id`.
+    fn members<'a>(
+        &mut self,
+        group: &'a Element,
+        (ids, doc): (&'a Ids<'a>, &'a Document),
+        no_media: bool,
+        media: &mut MediaUse<'a>,
+        shapes: &mut Vec<Value>,
+    ) -> Result<(Aabb, Vec<(usize, Aabb)>), SceneError> {
+        let id = group.attr("id").unwrap_or_default();
+        let g = Plugin::new(group, ids)?;
+        let (mut group_box, mut insides) = (Aabb::EMPTY, Vec::new());
+        for s in g.objects("shape")? {
+            if matches!(s.attr("type"), Some("shapegroup" | "instance")) {
+                return Err(s.error("shapegroups and instances do not nest (as in Mitsuba 3)"));
+            }
+            let (mut t, b, inside) = shape_table(s, (ids, doc), shapes.len(), no_media, media)?;
+            if t.contains_key("emitter") {
+                return Err(s.error("a shapegroup's shapes cannot emit (as in Mitsuba 3)"));
+            }
+            group_box = group_box.union(b);
+            insides.extend(inside.map(|i| (i, b)));
+            t.insert("group".into(), id.into());
+            shapes.push(Value::Table(t));
+        }
+        g.finish()?;
+        Ok((group_box, insides))
+    }
 }
 
 /// The converted camera's position (`camera.from`), which the box of

@@ -12,6 +12,7 @@ use super::media::medium;
 use super::options::{camera_and_render, integrator};
 use super::shapes::shape;
 use super::state::MaterialRef;
+use super::tables::matrix_table;
 use super::warnings::Warnings;
 use crate::error::SceneError;
 use crate::world::surfaces::ShapeDesc;
@@ -91,9 +92,32 @@ pub fn scene_table(mut p: Parsed) -> Result<Table, SceneError> {
     let mut media = MediaUse::default();
     let mut scene_box = Aabb::EMPTY;
     let mut shapes = Vec::new();
-    for (i, s) in p.shapes.iter().enumerate() {
-        let (t, b) = shape_table(s, i, &p, &materials, &mut media, &mut warnings)?;
+    for s in &p.shapes {
+        let (t, b, inside) =
+            shape_table(s, shapes.len(), &p, &materials, &mut media, &mut warnings)?;
         scene_box = scene_box.union(b);
+        if let Some(i) = inside {
+            media.interior[i] = media.interior[i].union(b);
+        }
+        shapes.push(Value::Table(t));
+    }
+    let groups = object_groups(&p, &materials, &mut media, &mut warnings, &mut shapes)?;
+    for (name, to_world, loc) in &p.instances {
+        let m = glam::DAffine3::from_mat4(*to_world);
+        if !m.is_finite() || m.matrix3.determinant() == 0.0 {
+            return Err(loc.error(format!(
+                "ObjectInstance \"{name}\": the transform is not invertible"
+            )));
+        }
+        let (group_box, insides) = &groups[name];
+        scene_box = scene_box.union(group_box.transformed(&m));
+        for (i, b) in insides {
+            media.interior[*i] = media.interior[*i].union(b.transformed(&m));
+        }
+        let mut t = Table::new();
+        t.insert("type".into(), "instance".into());
+        t.insert("group".into(), name.as_str().into());
+        t.insert("to_world".into(), Value::Table(matrix_table(*to_world)));
         shapes.push(Value::Table(t));
     }
     let mut lights = Vec::new();
@@ -159,7 +183,39 @@ fn check_medium(p: &Parsed, name: &str, loc: &super::tokenizer::Loc) -> Result<(
     }
 }
 
-/// The `index`-th shape's table and bounds, its media recorded.
+/// Per instanced object, the box of its shapes and of each medium they
+/// are the inside of (in the object's space).
+type GroupBoxes = BTreeMap<String, (Aabb, Vec<(usize, Aabb)>)>;
+
+/// The shapes of every object some `ObjectInstance` places, appended to
+/// `shapes` as members of a shape group of the object's name.
+fn object_groups(
+    p: &Parsed,
+    materials: &Materials,
+    media: &mut MediaUse,
+    warnings: &mut Warnings,
+    shapes: &mut Vec<Value>,
+) -> Result<GroupBoxes, SceneError> {
+    let mut groups = GroupBoxes::new();
+    for (name, _, _) in &p.instances {
+        if groups.contains_key(name) {
+            continue;
+        }
+        let (mut group_box, mut insides) = (Aabb::EMPTY, Vec::new());
+        for s in &p.objects[name] {
+            let (mut t, b, inside) = shape_table(s, shapes.len(), p, materials, media, warnings)?;
+            group_box = group_box.union(b);
+            insides.extend(inside.map(|i| (i, b)));
+            t.insert("group".into(), name.as_str().into());
+            shapes.push(Value::Table(t));
+        }
+        groups.insert(name.clone(), (group_box, insides));
+    }
+    Ok(groups)
+}
+
+/// The `index`-th shape's table, its bounds and the medium it is the
+/// inside of (whose box the caller grows); the open media recorded.
 fn shape_table(
     s: &ShapeEntity,
     index: usize,
@@ -167,7 +223,7 @@ fn shape_table(
     materials: &Materials,
     media: &mut MediaUse,
     warnings: &mut Warnings,
-) -> Result<(Table, Aabb), SceneError> {
+) -> Result<(Table, Aabb, Option<usize>), SceneError> {
     let out = shape(s, &p.top_dir, warnings)?;
     let mut t = out.table;
     t.insert(
@@ -187,10 +243,11 @@ fn shape_table(
     }
     let bounds = shape_bounds(&t, index).map_err(|e| s.entity.loc.error(e.0))?;
     let (inside, outside) = (&s.attrs.inside, &s.attrs.outside);
+    let mut interior = None;
     if !inside.is_empty() && inside != outside {
         check_medium(p, inside, &s.entity.loc)?;
         let i = media.index(inside);
-        media.interior[i] = media.interior[i].union(bounds);
+        interior = Some(i);
         t.insert("interior".into(), (i as i64).into());
     }
     if !outside.is_empty() {
@@ -199,7 +256,7 @@ fn shape_table(
         media.open[i] = true;
         t.insert("exterior".into(), (i as i64).into());
     }
-    Ok((t, bounds))
+    Ok((t, bounds, interior))
 }
 
 fn shape_bounds(t: &Table, i: usize) -> Result<Aabb, SceneError> {

@@ -4,9 +4,9 @@
 //! with the transforms and attributes current where they appear. The
 //! mapping onto fogbank's description comes after, from these.
 //!
-//! Object instancing is flattened: each `ObjectInstance` copies the
-//! object's shapes under the instance's transform (the same geometry; only
-//! memory differs from pbrt's shared instances).
+//! Object instancing stays instancing: an object's shapes become a shape
+//! group (built once) and each `ObjectInstance` an `instance` placing it
+//! with the transform current there, as pbrt-v4 shares them.
 
 use super::cursor::Cursor;
 use super::params::{Param, ParamList};
@@ -63,6 +63,12 @@ pub struct Parsed {
     pub materials: Vec<Entity>,
     pub named_materials: BTreeMap<String, Entity>,
     pub shapes: Vec<ShapeEntity>,
+    /// `ObjectBegin` … `ObjectEnd`: each object's shapes, each under its own
+    /// transform in the object's space.
+    pub objects: BTreeMap<String, Vec<ShapeEntity>>,
+    /// `ObjectInstance`s in order: the object, the current transform, and
+    /// where.
+    pub instances: Vec<(String, DMat4, Loc)>,
     pub warnings: Warnings,
     /// The top-level file's folder, against which file names resolve.
     pub top_dir: std::path::PathBuf,
@@ -77,7 +83,6 @@ struct Interpreter {
     in_world: bool,
     /// Inside `ObjectBegin`: its name, place and shapes so far.
     object: Option<(String, Loc, Vec<ShapeEntity>)>,
-    objects: BTreeMap<String, Vec<ShapeEntity>>,
 }
 
 /// Reads every statement of the scene text `text` (the file `file`).
@@ -90,7 +95,6 @@ pub fn interpret(text: &str, file: &std::path::Path) -> Result<Parsed, SceneErro
         coord_systems: BTreeMap::new(),
         in_world: false,
         object: None,
-        objects: BTreeMap::new(),
     };
     while let Some(t) = it.cur.next_token() {
         let TokenKind::Word(name) = &t.kind else {
@@ -512,23 +516,23 @@ impl Interpreter {
                     .stack
                     .pop()
                     .ok_or_else(|| loc.error("ObjectEnd without ObjectBegin"))?;
-                self.objects.insert(n, shapes);
+                self.out.objects.insert(n, shapes);
                 self.attrs = saved;
             }
             _ => {
                 let (n, nloc) = self.cur.string(loc, "an object name")?;
-                let shapes = self
-                    .objects
-                    .get(&n)
-                    .ok_or_else(|| nloc.error(format!("ObjectInstance: no object \"{n}\"")))?;
-                if self.out.shapes.len() + shapes.len() > 1 << 20 {
-                    return Err(nloc.error("more than 2²⁰ shapes after flattening instances"));
+                if self.object.is_some() {
+                    return Err(nloc.error(
+                        "ObjectInstance inside ObjectBegin (pbrt-v4 does not nest instances)",
+                    ));
                 }
-                for s in shapes {
-                    let mut s = s.clone();
-                    s.ctm = self.attrs.ctm * s.ctm;
-                    self.out.shapes.push(s);
+                if !self.out.objects.contains_key(&n) {
+                    return Err(nloc.error(format!("ObjectInstance: no object \"{n}\"")));
                 }
+                if self.out.instances.len() >= 1 << 24 {
+                    return Err(nloc.error("more than 2²⁴ object instances"));
+                }
+                self.out.instances.push((n, self.attrs.ctm, nloc));
             }
         }
         Ok(())

@@ -7,7 +7,8 @@
 //! use the same watertight triangle test on corners stored in leaf order.
 //! Rays run on rayon's pool (2 threads on the development machine); the
 //! binary BVH builds on one thread, the wide one on the pool. `--trials`
-//! sets the ray count (default 10⁶).
+//! sets the ray count (default 10⁶). A second table sets instancing
+//! against copying ([`super::bvh_instances`]).
 
 use crate::experiments::harness::timing::clocked;
 use crate::experiments::harness::Writer;
@@ -267,5 +268,72 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
             pair[0].any_s / pair[1].any_s
         );
     }
+    text += &instances_table(w, rays, threads)?;
+    Ok(text)
+}
+
+/// The instanced-against-copied table (`bvh_instances.csv`) as markdown.
+fn instances_table(w: &mut Writer, rays: u64, threads: usize) -> Result<String, String> {
+    let rows = super::bvh_instances::measure(&generated_mesh(30, 4_285), rays)?;
+    let mrays = |s: f64| rays as f64 / s / 1e6;
+    let mut text = format!(
+        "\n\nInstancing against copying: the {}-triangle mesh placed 256 times ({} triangles), \
+         {rays} rays from above and around the field toward it, {threads} threads.\n\n\
+         | structure | triangles | build s | MiB | bytes/triangle placed | hit share | closest Mrays/s | any Mrays/s |\n\
+         |---|---|---|---|---|---|---|---|\n",
+        rows[0].triangles / 256,
+        rows[0].triangles
+    );
+    let mut csv = Vec::new();
+    for r in &rows {
+        let per = r.bytes as f64 / r.triangles as f64;
+        text += &format!(
+            "| {} | {} | {:.3} | {:.1} | {:.2} | {:.3} | {:.2} | {:.2} |\n",
+            r.name,
+            r.triangles,
+            r.build_s,
+            r.bytes as f64 / (1 << 20) as f64,
+            per,
+            r.hits as f64 / rays as f64,
+            mrays(r.closest_s),
+            mrays(r.any_s)
+        );
+        csv.push(vec![
+            r.name.to_string(),
+            r.triangles.to_string(),
+            format!("{:.4}", r.build_s),
+            r.bytes.to_string(),
+            rays.to_string(),
+            threads.to_string(),
+            r.hits.to_string(),
+            r.occluded.to_string(),
+            format!("{:.3}", mrays(r.closest_s)),
+            format!("{:.3}", mrays(r.any_s)),
+        ]);
+    }
+    w.csv(
+        "bvh_instances.csv",
+        &[
+            "structure",
+            "triangles",
+            "build_s",
+            "bytes",
+            "rays",
+            "threads",
+            "hits",
+            "occluded",
+            "closest_mrays_s",
+            "any_mrays_s",
+        ],
+        &csv,
+    )?;
+    let [i, c] = &rows;
+    text += &format!(
+        "\nInstanced / copied: memory {:.4}×, build {:.3}×, closest-hit rate {:.2}×, any-hit rate {:.2}×.",
+        i.bytes as f64 / c.bytes as f64,
+        i.build_s / c.build_s,
+        c.closest_s / i.closest_s,
+        c.any_s / i.any_s
+    );
     Ok(text)
 }

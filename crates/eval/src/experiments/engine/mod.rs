@@ -8,5 +8,6 @@
 //! - `light_bvh`: the light BVH against picking lights by power, at equal
 //!   spp and equal time, in scenes of many small emitters (`light-bvh`).
 
+pub mod bvh_instances;
 pub mod bvh_perf;
 pub mod light_bvh;

@@ -133,8 +133,8 @@ pub fn scene_xml(
     for (i, l) in desc.lights.iter().enumerate() {
         root.push(emitters::emitter(l, i, (dir, stem), notes)?);
     }
-    for (i, s) in desc.shapes.iter().enumerate() {
-        root.push(shapes::shape(s, i)?);
+    for e in shapes::shapes(&desc.shapes)? {
+        root.push(e);
     }
     for (i, m) in media.into_iter().enumerate() {
         if !desc.shapes.iter().any(|s| s.interior == Some(i)) {

@@ -5,17 +5,64 @@
 //! (`world::surfaces::bsdf_desc`), so each key is written as the property
 //! of its value's type. fogbank's rough models default to GGX where
 //! Mitsuba's default to Beckmann, so the distribution is always written.
+//! Shape groups become `shapegroup`s (written first: an instance refers to
+//! an earlier id) and instances Mitsuba's `instance`.
 
 use super::notes::medium_id;
 use super::xml::El;
 use crate::error::SceneError;
 use crate::world::medium::transform;
-use crate::world::surfaces::ShapeDesc;
+use crate::world::surfaces::{ShapeDesc, ShapeType};
 use toml::{Table, Value};
 
+/// Every shape: the groups' `shapegroup`s, then the other shapes and the
+/// instances in order.
+pub fn shapes(descs: &[ShapeDesc]) -> Result<Vec<El>, SceneError> {
+    let mut groups: Vec<(&str, El)> = Vec::new();
+    let mut rest = Vec::new();
+    for (i, s) in descs.iter().enumerate() {
+        match (&s.group, s.kind) {
+            (Some(g), ShapeType::Instance) => {
+                s.check_instance(&format!("shapes.{i}"))?;
+                let mut e = El::plugin("shape", "instance");
+                e.push(El::new("ref").attr("id", group_id(g)));
+                e.push(El::matrix(
+                    "to_world",
+                    super::media::rows(transform(&s.to_world)),
+                ));
+                rest.push(e);
+            }
+            (Some(g), _) => {
+                let at = match groups.iter().position(|(name, _)| name == g) {
+                    Some(k) => k,
+                    None => {
+                        let e = El::plugin("shape", "shapegroup").attr("id", group_id(g));
+                        groups.push((g.as_str(), e));
+                        groups.len() - 1
+                    }
+                };
+                groups[at].1.push(shape(s, i)?);
+            }
+            (None, _) => rest.push(shape(s, i)?),
+        }
+    }
+    Ok(groups.into_iter().map(|(_, e)| e).chain(rest).collect())
+}
+
+/// The XML id of shape group `name`.
+fn group_id(name: &str) -> String {
+    format!("group_{name}")
+}
+
 /// Shape `i` as a `<shape>`.
-pub fn shape(s: &ShapeDesc, i: usize) -> Result<El, SceneError> {
+fn shape(s: &ShapeDesc, i: usize) -> Result<El, SceneError> {
     let key = format!("shapes.{i}");
+    if s.kind == ShapeType::Instance {
+        s.check_instance(&key)?;
+        return Err(SceneError(format!(
+            "{key}.group: an instance needs a group"
+        )));
+    }
     s.to_world.check(&format!("{key}.to_world"))?;
     let ty = Value::try_from(s.kind)
         .ok()

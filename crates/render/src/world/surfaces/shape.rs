@@ -2,7 +2,8 @@
 //!
 //! | key | default | meaning |
 //! |---|---|---|
-//! | `type` | — | `obj`, `ply` (with `file`), `rectangle`, `cube`, `sphere`, `disk` (Mitsuba's unit shapes) |
+//! | `type` | — | `obj`, `ply` (with `file`), `rectangle`, `cube`, `sphere`, `disk` (Mitsuba's unit shapes), `instance` (a placement of a shape group) |
+//! | `group` | none | of an `instance`: the shape group it places (required); of any other shape: the group it belongs to — then it is drawn only where instances place the group |
 //! | `file` | — | mesh file of `obj` and `ply`, relative to the scene |
 //! | `to_world` | identity | `translate`, `rotate` (`[x, y, z, degrees]`), `scale`, as for media |
 //! | `flip_normals` | false | turns the shape inside out (Mitsuba's `flip_normals`) |
@@ -18,6 +19,16 @@
 //! whatever the shapes. A shape whose `interior` and `exterior` differ is a
 //! medium transition: a ray that crosses it, or refracts through it,
 //! continues in the medium on the side it leaves toward, as in Mitsuba.
+//!
+//! Shape groups and instances are pbrt-v4's `ObjectBegin`/`ObjectInstance`
+//! and Mitsuba 3's `shapegroup`/`instance`: a group's shapes (in the
+//! group's space: their own `to_world` places them there) are built once,
+//! and each `instance` places them with its `to_world` without copying
+//! triangles (a top-level BVH over the instances,
+//! [`fogbank_geometry::Instances`]). An `instance` takes only `group` and
+//! `to_world`; a group's shapes cannot emit (as in pbrt-v4 and Mitsuba 3),
+//! and instances do not nest (an instance belongs to no group). A group
+//! with a `sphere` takes only instances that scale uniformly.
 //!
 //! `sphere` and `disk` are analytic (exact intersection, Mitsuba's normals
 //! and UVs; emitting ones are sampled as in Mitsuba: the sphere by the cone
@@ -42,6 +53,7 @@ pub enum ShapeType {
     Cube,
     Sphere,
     Disk,
+    Instance,
 }
 
 /// Mitsuba's `area` emitter.
@@ -58,6 +70,8 @@ pub struct ShapeDesc {
     pub kind: ShapeType,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub file: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub group: Option<String>,
     #[serde(default)]
     pub to_world: TransformDesc,
     #[serde(default)]
@@ -88,18 +102,38 @@ impl ShapeDesc {
         }
     }
 
-    /// The shape in world space; `i` is its `[[shapes]]` index.
-    pub fn geometry(&self, i: usize, base: &Path) -> Result<Geometry, SceneError> {
-        let key = format!("shapes.{i}");
-        self.check_emitter(&key)?;
+    /// Its `to_world`, checked: finite and invertible.
+    pub fn placement(&self, key: &str) -> Result<DAffine3, SceneError> {
         self.to_world.check(&format!("{key}.to_world"))?;
         let m = transform(&self.to_world);
         if !m.is_finite() || m.matrix3.determinant() == 0.0 {
             return Err(SceneError(format!("{key}.to_world: not invertible")));
         }
+        Ok(m)
+    }
+
+    /// The shape in world space (a group's shape: in its group's space);
+    /// `i` is its `[[shapes]]` index. An `instance` has no geometry of its
+    /// own (see [`ShapeDesc::check_instance`]).
+    pub fn geometry(&self, i: usize, base: &Path) -> Result<Geometry, SceneError> {
+        let key = format!("shapes.{i}");
+        self.check_emitter(&key)?;
+        if self.group.is_some() && self.emitter.is_some() {
+            return Err(SceneError(format!(
+                "{key}.emitter: a shape of a group (instanced) cannot emit, as in pbrt-v4 and \
+                 Mitsuba 3; place emitting shapes on their own"
+            )));
+        }
+        let m = self.placement(&key)?;
         let quadric = match self.kind {
             ShapeType::Sphere => Quadric::Sphere,
             ShapeType::Disk => Quadric::Disk,
+            ShapeType::Instance => {
+                return Err(SceneError(format!(
+                    "{key}: an instance has no geometry of its own (it places group {:?})",
+                    self.group.as_deref().unwrap_or("")
+                )))
+            }
             _ => return Ok(Geometry::Mesh(self.mesh(&key, base, m)?)),
         };
         for (set, name) in [
@@ -147,6 +181,32 @@ impl ShapeDesc {
         })
     }
 
+    /// An `instance`'s keys: `group` (required) and `to_world`, nothing
+    /// else; returns the group's name and the placement.
+    pub fn check_instance(&self, key: &str) -> Result<(&str, DAffine3), SceneError> {
+        let group = self
+            .group
+            .as_deref()
+            .ok_or_else(|| SceneError(format!("{key}: an instance needs `group`")))?;
+        let set = [
+            (self.file.is_some(), "file"),
+            (self.flip_normals, "flip_normals"),
+            (self.face_normals, "face_normals"),
+            (self.flip_tex_coords, "flip_tex_coords"),
+            (self.bsdf.is_some(), "bsdf"),
+            (self.emitter.is_some(), "emitter"),
+            (self.interior.is_some(), "interior"),
+            (self.exterior.is_some(), "exterior"),
+        ];
+        if let Some((_, name)) = set.iter().find(|(s, _)| *s) {
+            return Err(SceneError(format!(
+                "{key}.{name}: an instance takes only `group` and `to_world` (its group's \
+                 shapes carry materials, emission and media)"
+            )));
+        }
+        Ok((group, self.placement(key)?))
+    }
+
     fn check_emitter(&self, key: &str) -> Result<(), SceneError> {
         match &self.emitter {
             Some(e) if !e.radiance.iter().all(|v| v.is_finite() && *v >= 0.0) => {
@@ -175,8 +235,8 @@ impl ShapeDesc {
             }
             (ShapeType::Rectangle, None) => shapes::rectangle(),
             (ShapeType::Cube, None) => shapes::cube(),
-            (ShapeType::Sphere | ShapeType::Disk, None) => {
-                unreachable!("geometry() builds analytic shapes")
+            (ShapeType::Sphere | ShapeType::Disk | ShapeType::Instance, None) => {
+                unreachable!("geometry() builds analytic shapes and refuses instances")
             }
         };
         if self.face_normals {
@@ -204,7 +264,7 @@ pub enum Geometry {
 
 /// Whether `m` is a rotation (or reflection) times one scale: orthogonal
 /// columns of equal length, to a relative 10⁻⁴.
-fn scales_uniformly(m: &glam::DMat3) -> bool {
+pub(crate) fn scales_uniformly(m: &glam::DMat3) -> bool {
     let c = [m.x_axis, m.y_axis, m.z_axis];
     let l2 = c.map(|v| v.length_squared());
     let tol = 1e-4 * l2[0];
