@@ -289,8 +289,14 @@ fn enumeration(out: &mut String, prefix: &str, names: &[&str]) {
 pub const PRIMITIVE_ANALYTIC: u32 = 1 << 31;
 
 /// Node groups the WGSL wide-BVH walk (bvh.wgsl) keeps waiting: one per
-/// level at most, so surfaces.rs refuses deeper trees.
+/// level at most (through an instance: the top level's, one for the
+/// instance's leaf, then the group's), so surfaces.rs refuses deeper trees.
 pub const BVH_STACK: u32 = 32;
+
+/// `vec4`s per instance record in the surface data (surfaces.rs): the
+/// world → group rows, the group → world rows, then the group's node and
+/// slot bases, whether it mirrors, and the instance's index.
+pub const INSTANCE_STRIDE: u32 = 7;
 
 /// Samples one invocation takes in a row and merges into the pixel's
 /// moments at once: the unit of the device's accumulation order, so images
@@ -313,7 +319,8 @@ pub fn wgsl_prelude() -> String {
     enumeration(&mut s, "LIGHT", &light_kinds());
     enumeration(&mut s, "QUADRIC", &fogbank_geometry::Quadric::NAMES);
     s.push_str(&format!(
-        "const PRIMITIVE_ANALYTIC: u32 = {PRIMITIVE_ANALYTIC}u;\nconst BVH_STACK: u32 = {BVH_STACK}u;\n"
+        "const PRIMITIVE_ANALYTIC: u32 = {PRIMITIVE_ANALYTIC}u;\nconst BVH_STACK: u32 = {BVH_STACK}u;\n\
+         const INSTANCE_STRIDE: u32 = {INSTANCE_STRIDE}u;\n"
     ));
     enumeration(&mut s, "BSDF", &Bsdf::NAMES);
     enumeration(&mut s, "TEXTURE", &Texture::NAMES);

@@ -2,23 +2,27 @@
 //! `wgsl/surfaces.wgsl`): the BVH nodes as the CPU built them, and one
 //! `vec4` array holding a header, the bounded-media flags, the shape
 //! records with their materials, the triangles in the BVH's leaf order and
-//! their shading data, and the rough plastics' coating tables. Shape
-//! groups' instances are copied into the one hierarchy
-//! ([`Surfaces::flattened`]): the WGSL walk has no top level yet.
+//! their shading data, the instance records, and the rough plastics'
+//! coating tables. The nodes are the world's hierarchy, each shape group's
+//! (in its own space), then the top level over the instances, one after
+//! the other; leaf slots (triangle and shading records) likewise.
 //!
 //! | range | contents |
 //! |---|---|
 //! | 0 | header: shape records, triangles, shading data (bases), camera medium + 1 |
-//! | 1 | `walk` (shadow rays walk surface to surface), shape count |
+//! | 1 | `walk` (shadow rays walk surface to surface), shape count, instance records (0: none), the top level's first node |
 //! | 2 … | per world medium, 1 when shapes bound it (four per `vec4`) |
 //! | shapes | [`SHAPE_STRIDE`] `vec4` per shape: media, lights, flags, emission, two sides of [`crate::contract::SIDE_STRIDE`] |
 //! | triangles | per leaf slot three corners; `w`: shape, primitive, passes light (an analytic shape: centre, radius; its primitive with [`PRIMITIVE_ANALYTIC`]) |
 //! | shading | per leaf slot four `vec4`: vertex normals and UVs (an analytic shape: its world → object rows, quadric and flip) |
+//! | instances | per top-level leaf slot [`INSTANCE_STRIDE`] `vec4`: world → group rows, group → world rows, the group's node and slot bases, mirrors, instance index |
 //! | tables | 64 + 1 floats per rough plastic (tabulated transmittance, internal reflectance); bitmap texels (`channels` floats each, rows in file order, padded to a `vec4`) |
 
-use crate::contract::{bsdf_id, texture_id, v4, BVH_STACK, PRIMITIVE_ANALYTIC, SHAPE_STRIDE};
+use crate::contract::{
+    bsdf_id, texture_id, v4, BVH_STACK, INSTANCE_STRIDE, PRIMITIVE_ANALYTIC, SHAPE_STRIDE,
+};
 use crate::{Gpu, GpuError};
-use fogbank_geometry::MeshAccel;
+use fogbank_geometry::{Instances, MeshAccel, WideBvh};
 use fogbank_render::world::bsdf::{Bsdf, Distribution, Microfacet};
 use fogbank_render::world::surfaces::material::Side;
 use fogbank_render::world::surfaces::Surfaces;
@@ -42,20 +46,85 @@ fn u(x: u32) -> f32 {
 /// without children hits nothing). Errors when the tree is deeper than the
 /// walk's stack ([`BVH_STACK`]) could hold.
 pub(crate) fn node_words(accel: &MeshAccel) -> Result<Vec<[u32; 20]>, GpuError> {
-    let depth = accel.wide.depth();
+    check_depth(accel.wide.depth())?;
+    Ok(tree_words(&accel.wide))
+}
+
+/// A hierarchy's nodes, or one node of zeros for an empty one.
+fn tree_words(wide: &WideBvh) -> Vec<[u32; 20]> {
+    match wide.node_words() {
+        [] => vec![[0; 20]],
+        words => words.to_vec(),
+    }
+}
+
+/// Errors when a walk `depth` levels deep could overflow the stack.
+fn check_depth(depth: usize) -> Result<(), GpuError> {
     if depth > BVH_STACK as usize {
         return Err(GpuError(format!(
             "[[shapes]]: the surfaces' BVH is {depth} levels deep; the GPU's walk holds {BVH_STACK}"
         )));
     }
-    Ok(match accel.wide.node_words() {
-        [] => vec![[0; 20]],
-        words => words.to_vec(),
-    })
+    Ok(())
 }
 
 /// The nodes (as [`node_words`]) and the data array of one scene's surfaces.
 pub(crate) type Packed = (Vec<[u32; 20]>, Vec<[f32; 4]>);
+
+/// One hierarchy the walk reads: the world's or a group's, with per
+/// primitive its shape, and where its nodes and leaf slots start in the
+/// concatenated arrays.
+struct Tree<'a> {
+    accel: &'a MeshAccel,
+    shape_of: &'a [u32],
+    node_base: u32,
+    slot_base: u32,
+}
+
+/// The hierarchies, their nodes one after the other, and where the top
+/// level's nodes start.
+type Trees<'a> = (Vec<Tree<'a>>, Vec<[u32; 20]>, u32);
+
+/// The world's hierarchy, then each group's, their nodes concatenated;
+/// with instances, the top level's nodes last.
+fn trees(s: &Surfaces) -> Result<Trees<'_>, GpuError> {
+    let mut trees = vec![(s.accel(), s.shape_of())];
+    let mut depth = s.accel().wide.depth();
+    if let Some((instances, shape_of)) = s.groups() {
+        let groups = instances
+            .groups
+            .iter()
+            .map(|g| g.wide.depth())
+            .max()
+            .unwrap_or(0);
+        // The top level's groups, the instance's leaf group, then the group's.
+        depth = depth.max(instances.tlas().depth() + 1 + groups);
+        trees.extend(
+            instances
+                .groups
+                .iter()
+                .zip(shape_of)
+                .map(|(g, o)| (g, o.as_slice())),
+        );
+    }
+    check_depth(depth)?;
+    let (mut nodes, mut slots, mut out) = (Vec::new(), 0u32, Vec::new());
+    for (accel, shape_of) in trees {
+        out.push(Tree {
+            accel,
+            shape_of,
+            node_base: nodes.len() as u32,
+            slot_base: slots,
+        });
+        nodes.extend(tree_words(&accel.wide));
+        slots += accel.wide.order().len() as u32;
+    }
+    let tlas_base = nodes.len() as u32;
+    if let Some((instances, _)) = s.groups() {
+        nodes.extend(tree_words(instances.tlas()));
+    }
+    Ok((out, nodes, tlas_base))
+}
 
 /// The packed nodes and data of `scene`'s surfaces; without any, an empty
 /// hierarchy and a header saying there are no shapes.
@@ -63,19 +132,22 @@ pub(crate) fn pack(scene: &Scene) -> Result<Packed, GpuError> {
     let Some(s) = scene.world.surfaces.as_ref() else {
         return Ok((vec![[0; 20]], vec![[0.0; 4], [0.0; 4]]));
     };
-    // The WGSL walk has one level: instances' shapes are copied in.
-    let flat = s.flattened();
-    let s = flat.as_ref();
-    let accel = s.accel();
-    let nodes = node_words(accel)?;
-    let slots = accel.wide.order().len() as u32;
+    let (trees, nodes, tlas_base) = trees(s)?;
+    let slots: u32 = trees
+        .iter()
+        .map(|t| t.accel.wide.order().len() as u32)
+        .sum();
+    let instance_slots = s.groups().map_or(0, |(i, _)| i.tlas().order().len() as u32);
     let media = scene.world.media.len() as u32;
     let mut data = vec![[0.0f32; 4]; 2 + media.div_ceil(4) as usize];
     for i in 0..media {
         data[2 + i as usize / 4][i as usize % 4] = u(s.bounds_medium(i as usize) as u32);
     }
     let shape_base = data.len() as u32;
-    let coating_base = shape_base + SHAPE_STRIDE * s.shapes.len() as u32 + 7 * slots;
+    let coating_base = shape_base
+        + SHAPE_STRIDE * s.shapes.len() as u32
+        + 7 * slots
+        + INSTANCE_STRIDE * instance_slots;
     let mut tables = Tables {
         rows: Vec::new(),
         base: coating_base,
@@ -84,8 +156,16 @@ pub(crate) fn pack(scene: &Scene) -> Result<Packed, GpuError> {
     pack_shapes(s, &mut data, &mut tables);
     let tri_base = data.len() as u32;
     let shading_base = tri_base + 3 * slots;
-    pack_primitives(s, &mut data);
-    pack_shading(s, &mut data);
+    for t in &trees {
+        pack_primitives(s, t, &mut data);
+    }
+    for t in &trees {
+        pack_shading(t.accel, &mut data);
+    }
+    let instance_base = data.len() as u32;
+    if let Some((instances, _)) = s.groups() {
+        pack_instances(instances, &trees, &mut data);
+    }
     debug_assert_eq!(data.len() as u32, coating_base);
     data.extend(tables.rows);
     data[0] = [
@@ -97,10 +177,32 @@ pub(crate) fn pack(scene: &Scene) -> Result<Packed, GpuError> {
     data[1] = [
         u(s.shadows_walk() as u32),
         u(s.shapes.len() as u32),
-        0.0,
-        0.0,
+        u(if instance_slots > 0 { instance_base } else { 0 }),
+        u(tlas_base),
     ];
     Ok((nodes, data))
+}
+
+/// Per top-level leaf slot ([`INSTANCE_STRIDE`] vec4s): the instance's
+/// world → group rows, group → world rows, and its group's node and slot
+/// bases, whether it mirrors, and its index.
+fn pack_instances(instances: &Instances, trees: &[Tree], data: &mut Vec<[f32; 4]>) {
+    for &i in instances.tlas().order() {
+        let inst = &instances.instances[i as usize];
+        for m in [inst.to_object, inst.to_world] {
+            for r in 0..3 {
+                data.push(v4(m.matrix3.row(r).as_vec3(), m.translation[r] as f32));
+            }
+        }
+        // The world's tree is first; group g's is tree g + 1.
+        let tree = &trees[inst.group as usize + 1];
+        data.push([
+            u(tree.node_base),
+            u(tree.slot_base),
+            u(inst.reflects() as u32),
+            u(i),
+        ]);
+    }
 }
 
 /// Per shape (`SHAPE_STRIDE` vec4s): its media, first light and
@@ -130,30 +232,30 @@ fn pack_shapes(s: &Surfaces, data: &mut Vec<[f32; 4]>, tables: &mut Tables) {
     }
 }
 
-/// Per primitive in BVH leaf order, three vec4s: a triangle's corners
-/// (with its shape, index and whether it passes light), or an analytic
-/// shape's centre and radius.
-fn pack_primitives(s: &Surfaces, data: &mut Vec<[f32; 4]>) {
-    let accel = s.accel();
-    for (slot, &t) in accel.wide.order().iter().enumerate() {
+/// Per primitive of tree `t` in BVH leaf order, three vec4s: a triangle's
+/// corners (with its shape, index and whether it passes light), or an
+/// analytic shape's centre and radius.
+fn pack_primitives(s: &Surfaces, t: &Tree, data: &mut Vec<[f32; 4]>) {
+    let accel = t.accel;
+    for (slot, &p) in accel.wide.order().iter().enumerate() {
         let corners = accel.leaf_corners()[slot];
-        let shape = s.shape_of()[t as usize];
+        let shape = t.shape_of[p as usize];
         let passes = u(s.shape_passes_light(shape as usize) as u32);
-        if let Some(a) = accel.analytic_of(t) {
+        if let Some(a) = accel.analytic_of(p) {
             // Centre and radius (what hits are put back onto).
             let centre = a.to_world.translation.as_vec3();
             let radius = a.to_world.matrix3.x_axis.length() as f32;
             data.push(v4(centre, u(shape)));
-            data.push([radius, 0.0, 0.0, u(t | PRIMITIVE_ANALYTIC)]);
+            data.push([radius, 0.0, 0.0, u(p | PRIMITIVE_ANALYTIC)]);
             data.push([0.0, 0.0, 0.0, passes]);
             continue;
         }
         // A non-finite corner: a point, never hit (as on the CPU).
         let finite = corners.iter().all(|p| p.is_finite());
-        let w = [u(shape), u(t), passes];
+        let w = [u(shape), u(p), passes];
         for k in 0..3 {
-            let p = if finite { corners[k] } else { glam::Vec3::ZERO };
-            data.push(v4(p, w[k]));
+            let c = if finite { corners[k] } else { glam::Vec3::ZERO };
+            data.push(v4(c, w[k]));
         }
     }
 }
@@ -161,8 +263,7 @@ fn pack_primitives(s: &Surfaces, data: &mut Vec<[f32; 4]>) {
 /// Per primitive in BVH leaf order, four vec4s: a triangle's vertex
 /// normals and uvs, or an analytic shape's world → object rows, quadric
 /// and flip.
-fn pack_shading(s: &Surfaces, data: &mut Vec<[f32; 4]>) {
-    let accel = s.accel();
+fn pack_shading(accel: &MeshAccel, data: &mut Vec<[f32; 4]>) {
     let mesh = &accel.mesh;
     for &t in accel.wide.order() {
         if let Some(a) = accel.analytic_of(t) {

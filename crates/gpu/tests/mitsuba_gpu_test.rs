@@ -57,9 +57,9 @@ fn dielectrics_and_textured_plastics_match_the_cpu() {
     matches_cpu("bitmap_textures", 48);
 }
 
-/// Shape groups placed by instances: the GPU walks one level, so the
-/// instances' shapes are copied in (`Surfaces::flattened`) and must render
-/// as the CPU's two-level walk does.
+/// Shape groups placed by instances: the two-level walk (bvh.wgsl: the
+/// top level's leaves are instances, each group walked in its own space)
+/// and hits placed back in the world, as on the CPU.
 #[test]
 fn instanced_shape_groups_match_the_cpu() {
     matches_cpu("instances", 48);

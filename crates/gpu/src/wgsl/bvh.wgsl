@@ -32,6 +32,23 @@ struct SurfaceHit {
     t: f32,
     b1: f32,
     b2: f32,
+    // The top-level leaf slot of the instance hit (u32 max: a shape of
+    // the world's own hierarchy).
+    instance: u32,
+}
+
+// A ray as a hierarchy's walk reads it.
+struct WalkRay {
+    o: vec3<f32>,
+    d: vec3<f32>,
+    inv_d: vec3<f32>,
+    f: RayFrame,
+    oct_inv: u32,
+}
+
+fn walk_ray(o: vec3<f32>, d: vec3<f32>) -> WalkRay {
+    let oct_inv = select(4u, 0u, d.x < 0.0) | select(2u, 0u, d.y < 0.0) | select(1u, 0u, d.z < 0.0);
+    return WalkRay(o, d, vec3<f32>(1.0) / d, ray_frame(o, d), oct_inv);
 }
 
 
@@ -178,22 +195,38 @@ fn wide_node_hits(o: vec3<f32>, d: vec3<f32>, inv_d: vec3<f32>, w0: vec4<u32>, w
 // children in the order the ray's octant gives, node groups with children
 // left waiting on the stack. The closest hit in (0, t_max), or with `any`
 // the first hit found; with `opaque`, triangles that let light through
-// (surface_passes) are skipped. The kernel that includes this file declares
-// `bvh_nodes` (array<vec4<u32>>) and provides surface_corner(slot, k),
-// surface_passes(slot), surface_is_analytic(slot) and
-// surface_analytic(slot) (analytic_shapes.wgsl). An empty hierarchy is one
-// node of zeros: no children, nothing hit.
+// (surface_passes) are skipped. The world's hierarchy is walked first
+// (nodes from 0); with instances (surface_instance_base() != 0) then the
+// top level (Instances::intersect_where), whose leaf slots are instances:
+// at each, the top level's waiting node and leaf groups go on the stack
+// above a floor, the ray is carried into the group's space and the group's
+// hierarchy walked down to that floor, then the world ray resumes (the
+// nodes of every hierarchy in one array from their bases, leaf slots
+// likewise). The kernel that includes this file declares `bvh_nodes`
+// (array<vec4<u32>>) and provides surface_corner(slot, k),
+// surface_passes(slot), surface_is_analytic(slot), surface_analytic(slot)
+// (analytic_shapes.wgsl), surface_instance_base(), surface_tlas_base(),
+// instance_bases(i) and instance_object_ray(i, o, d). An empty hierarchy
+// is one node of zeros: no children, nothing hit.
 fn bvh_trace(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any: bool, opaque: bool) -> SurfaceHit {
-    var best = SurfaceHit(0xffffffffu, 0.0, 0.0, 0.0);
+    let none = 0xffffffffu;
+    var best = SurfaceHit(none, 0.0, 0.0, 0.0, none);
     if (arrayLength(&bvh_nodes) < 5u) {
         return best;
     }
     var t_max = t_max_in;
-    let f = ray_frame(o, d);
-    let inv_d = vec3<f32>(1.0) / d;
-    let oct_inv = select(4u, 0u, d.x < 0.0) | select(2u, 0u, d.y < 0.0) | select(1u, 0u, d.z < 0.0);
+    let world = walk_ray(o, d);
+    var r = world;
+    // 0: the world's hierarchy, 1: the top level, 2: an instance's group.
+    var tree = 0u;
+    var node_base = 0u;
+    var slot_base = 0u;
+    var instance = none;
+    var floor = 0u;
     // Node groups: x the first inner child's node, y the children still to
-    // visit in bits 24-31 over the node's inner mask in bits 0-7.
+    // visit in bits 24-31 over the node's inner mask in bits 0-7. Leaf
+    // groups (waiting only at an instance): x the first slot, y the slots
+    // left in bits 0-23.
     var stack: array<vec2<u32>, BVH_STACK>;
     var top = 0u;
     // The root as the one inner child of a virtual node at index 0.
@@ -203,20 +236,41 @@ fn bvh_trace(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any: bool, opaque: bool)
         while (prims.y != 0u) {
             let k = firstLeadingBit(prims.y);
             prims.y &= ~(1u << k);
-            let slot = prims.x + k;
+            if (tree == 1u) {
+                // An instance: its group's hierarchy, in the group's space.
+                if ((nodes.y & 0xff000000u) != 0u && top < BVH_STACK) {
+                    stack[top] = nodes;
+                    top += 1u;
+                }
+                if (prims.y != 0u && top < BVH_STACK) {
+                    stack[top] = prims;
+                    top += 1u;
+                }
+                floor = top;
+                instance = prims.x + k;
+                let bases = instance_bases(instance);
+                r = instance_object_ray(instance, o, d);
+                tree = 2u;
+                node_base = bases.x;
+                slot_base = bases.y;
+                nodes = vec2<u32>(0u, 0x80000000u);
+                prims = vec2<u32>(0u, 0u);
+                break;
+            }
+            let slot = slot_base + prims.x + k;
             if (opaque && surface_passes(slot)) {
                 continue;
             }
             var h: TriHit;
             if (surface_is_analytic(slot)) {
-                h = intersect_analytic(surface_analytic(slot), o, d, t_max);
+                h = intersect_analytic(surface_analytic(slot), r.o, r.d, t_max);
             } else {
-                h = intersect_triangle(f, surface_corner(slot, 0u), surface_corner(slot, 1u),
+                h = intersect_triangle(r.f, surface_corner(slot, 0u), surface_corner(slot, 1u),
                                        surface_corner(slot, 2u), t_max);
             }
             if (h.hit) {
                 t_max = h.t;
-                best = SurfaceHit(slot, h.t, h.b1, h.b2);
+                best = SurfaceHit(slot, h.t, h.b1, h.b2, select(none, instance, tree == 2u));
                 if (any) {
                     return best;
                 }
@@ -231,27 +285,46 @@ fn bvh_trace(o: vec3<f32>, d: vec3<f32>, t_max_in: f32, any: bool, opaque: bool)
                 top += 1u;
             }
             // The child's slot, and its place among the inner children.
-            let slot = (k - 24u) ^ oct_inv;
+            let slot = (k - 24u) ^ r.oct_inv;
             let below = countOneBits(hits_imask & ~(0xffffffffu << slot));
-            let n = 5u * (nodes.x + below);
+            let n = 5u * (node_base + nodes.x + below);
             let w0 = bvh_nodes[n];
             let w1 = bvh_nodes[n + 1u];
             let w2 = bvh_nodes[n + 2u];
             let w3 = bvh_nodes[n + 3u];
             let w4 = bvh_nodes[n + 4u];
             let planes = array<vec2<u32>, 6>(w2.xy, w2.zw, w3.xy, w3.zw, w4.xy, w4.zw);
-            let hits = wide_node_hits(o, d, inv_d, w0, w1, planes, oct_inv, t_max);
+            let hits = wide_node_hits(r.o, r.d, r.inv_d, w0, w1, planes, r.oct_inv, t_max);
             nodes = vec2<u32>(w1.x, (hits & 0xff000000u) | (w0.w >> 24u));
             prims = vec2<u32>(w1.y, hits & 0x00ffffffu);
         } else {
             nodes = vec2<u32>(0u, 0u);
         }
         if (prims.y == 0u && (nodes.y & 0xff000000u) == 0u) {
+            if (tree == 2u && top == floor) {
+                // The group is done: back to the top level's world ray.
+                tree = 1u;
+                r = world;
+                node_base = surface_tlas_base();
+                slot_base = 0u;
+                instance = none;
+            }
             if (top == 0u) {
-                break;
+                if (tree != 0u || surface_instance_base() == 0u) {
+                    break;
+                }
+                tree = 1u;
+                node_base = surface_tlas_base();
+                nodes = vec2<u32>(0u, 0x80000000u);
+                continue;
             }
             top -= 1u;
-            nodes = stack[top];
+            let e = stack[top];
+            if ((e.y & 0xff000000u) != 0u) {
+                nodes = e;
+            } else {
+                prims = e;
+            }
         }
     }
     return best;

@@ -44,3 +44,20 @@ fn surface_analytic(slot: u32) -> Analytic {
     let z = vec4<f32>(0.0);
     return Analytic(z, z, z, 0u, false, z.xyz, 0.0);
 }
+
+// The queries' meshes are one hierarchy: no instances.
+fn surface_instance_base() -> u32 {
+    return 0u;
+}
+
+fn surface_tlas_base() -> u32 {
+    return 0u;
+}
+
+fn instance_bases(i: u32) -> vec2<u32> {
+    return vec2<u32>(0u);
+}
+
+fn instance_object_ray(i: u32, o: vec3<f32>, d: vec3<f32>) -> WalkRay {
+    return walk_ray(o, d);
+}

@@ -36,3 +36,44 @@ fn surface_analytic(slot: u32) -> Analytic {
                     bitcast<u32>(k.x), bitcast<u32>(k.y) != 0u, surface_data[c].xyz,
                     surface_data[c + 1u].x);
 }
+
+// Where the instance records start (0: no instances) and the top level's
+// first node.
+fn surface_instance_base() -> u32 {
+    return surface_word(1u, 2u);
+}
+
+fn surface_tlas_base() -> u32 {
+    return surface_word(1u, 3u);
+}
+
+fn instance_record(i: u32) -> u32 {
+    return surface_instance_base() + INSTANCE_STRIDE * i;
+}
+
+// The instance's group's first node and leaf slot.
+fn instance_bases(i: u32) -> vec2<u32> {
+    let b = instance_record(i);
+    return vec2<u32>(surface_word(b + 6u, 0u), surface_word(b + 6u, 1u));
+}
+
+// An affine map stored as three rows (xyz linear, w translation) from
+// `base`, applied to a point and to a vector.
+fn affine_point(base: u32, p: vec3<f32>) -> vec3<f32> {
+    let r0 = surface_data[base];
+    let r1 = surface_data[base + 1u];
+    let r2 = surface_data[base + 2u];
+    return vec3<f32>(dot(r0.xyz, p) + r0.w, dot(r1.xyz, p) + r1.w, dot(r2.xyz, p) + r2.w);
+}
+
+fn affine_vector(base: u32, v: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(dot(surface_data[base].xyz, v), dot(surface_data[base + 1u].xyz, v),
+                     dot(surface_data[base + 2u].xyz, v));
+}
+
+// Instance::object_ray: the ray in the group's space (direction not
+// renormalised: the same t reaches the same point).
+fn instance_object_ray(i: u32, o: vec3<f32>, d: vec3<f32>) -> WalkRay {
+    let b = instance_record(i);
+    return walk_ray(affine_point(b, o), affine_vector(b, d));
+}

@@ -50,16 +50,20 @@ struct Hit {
     uv: vec2<f32>,
     shape: u32,
     // The primitive's index (triangle of the scene mesh, or analytic
-    // shape after them), for its light.
+    // shape after them; of its group's for a shape of a group, which
+    // never emits), for its light.
     primitive: u32,
+    // Its leaf slot in the concatenated records.
+    slot: u32,
 }
 
 fn no_hit() -> Hit {
-    return Hit(false, 0.0, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec2<f32>(0.0), 0u, 0u);
+    return Hit(false, 0.0, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec2<f32>(0.0), 0u, 0u, 0u);
 }
 
 // Surfaces::intersect (opaque = false) and intersect_opaque: the closest
-// surface in (0, t_max) with its shading data (Surfaces::hit).
+// surface in (0, t_max) with its shading data (Surfaces::hit), a hit in an
+// instance's group placed in the world (shape_groups::to_world).
 fn intersect_surfaces(o: vec3<f32>, d: vec3<f32>, t_max: f32, opaque: bool) -> Hit {
     if (!has_surfaces()) {
         return no_hit();
@@ -68,11 +72,48 @@ fn intersect_surfaces(o: vec3<f32>, d: vec3<f32>, t_max: f32, opaque: bool) -> H
     if (s.slot == 0xffffffffu) {
         return no_hit();
     }
+    if (s.instance == 0xffffffffu) {
+        return surface_hit(s, o, d);
+    }
+    let r = instance_object_ray(s.instance, o, d);
+    return instance_to_world(s.instance, surface_hit(s, r.o, r.d));
+}
+
+// The group → world placement of a hit in an instance's group: the point by
+// the instance's map, normals by the inverse transpose, the winding's
+// normal turned when the map mirrors (an analytic shape's normal is its
+// surface normal, placed as such).
+fn instance_to_world(i: u32, h_in: Hit) -> Hit {
+    var h = h_in;
+    let b = instance_record(i);
+    h.p = affine_point(b + 3u, h.p);
+    let r0 = surface_data[b].xyz;
+    let r1 = surface_data[b + 1u].xyz;
+    let r2 = surface_data[b + 2u].xyz;
+    let ng = normalize(h.ng.x * r0 + h.ng.y * r1 + h.ng.z * r2);
+    if (surface_is_analytic(h.slot)) {
+        h.ng = ng;
+        h.ns = ng;
+        return h;
+    }
+    h.ng = select(ng, -ng, surface_word(b + 6u, 2u) != 0u);
+    let ns = h.ns.x * r0 + h.ns.y * r1 + h.ns.z * r2;
+    if ((shape_flags(h.shape) & SHAPE_NORMALS) != 0u && dot(ns, ns) > 0.0) {
+        h.ns = normalize(ns);
+    } else {
+        h.ns = h.ng;
+    }
+    return h;
+}
+
+// Surfaces::hit of the walk's hit `s` on the ray (o, d) in the space of
+// the hierarchy it was found in.
+fn surface_hit(s: SurfaceHit, o: vec3<f32>, d: vec3<f32>) -> Hit {
     let base = surface_word(0u, 1u) + 3u * s.slot;
     if (surface_is_analytic(s.slot)) {
         let a = analytic_hit(surface_analytic(s.slot), o, d, s.t);
         return Hit(true, s.t, a.p, a.n, a.n, a.uv, bitcast<u32>(surface_data[base].w),
-                   surface_word(base + 1u, 3u) & ~PRIMITIVE_ANALYTIC);
+                   surface_word(base + 1u, 3u) & ~PRIMITIVE_ANALYTIC, s.slot);
     }
     let c0 = surface_data[base];
     let c1 = surface_data[base + 1u];
@@ -81,6 +122,7 @@ fn intersect_surfaces(o: vec3<f32>, d: vec3<f32>, t_max: f32, opaque: bool) -> H
     var h: Hit;
     h.valid = true;
     h.t = s.t;
+    h.slot = s.slot;
     h.shape = bitcast<u32>(c0.w);
     h.primitive = bitcast<u32>(c1.w);
     // The barycentric point, not o + t d: it lies on the triangle.

@@ -14,9 +14,8 @@ use crate::error::SceneError;
 use crate::lights::Light;
 use crate::world::bitmap::BitmapFiles;
 use crate::world::medium::SceneMedium;
-use fogbank_geometry::{MeshAccel, MeshHit};
+use fogbank_geometry::{Instances, MeshAccel, MeshHit};
 use fogbank_math::{Aabb, Ray, Vec3};
-use std::borrow::Cow;
 use std::path::Path;
 
 #[derive(Clone, Debug)]
@@ -186,6 +185,13 @@ impl Surfaces {
         &self.accel
     }
 
+    /// The shape groups' hierarchies (each in its group's space) with
+    /// their instances, and per group, per primitive its shape; `None`
+    /// without instances.
+    pub fn groups(&self) -> Option<(&Instances, &[Vec<u32>])> {
+        self.groups.as_ref().map(|g| (&g.instances, g.shape_of()))
+    }
+
     /// Per primitive (triangles in mesh order, then analytic shapes), the
     /// index of its shape.
     pub fn shape_of(&self) -> &[u32] {
@@ -263,27 +269,6 @@ impl Surfaces {
     /// is a medium transition or passes only part of the light.
     pub fn shadows_walk(&self) -> bool {
         self.walk
-    }
-
-    /// The surfaces with every instance's shapes copied into the world's
-    /// hierarchy (the GPU's walk has one level); the surfaces themselves
-    /// when there are no instances.
-    pub fn flattened(&self) -> Cow<'_, Surfaces> {
-        let Some(groups) = &self.groups else {
-            return Cow::Borrowed(self);
-        };
-        let mut shapes = self.shapes.clone();
-        let (accel, shape_of) = groups.flatten(&self.accel, &self.shape_of, &mut shapes);
-        Cow::Owned(Surfaces {
-            accel,
-            shape_of,
-            shapes,
-            groups: None,
-            bounded: self.bounded.clone(),
-            camera_medium: self.camera_medium,
-            passes: self.passes.clone(),
-            walk: self.walk,
-        })
     }
 
     fn hit(&self, ray: &Ray, h: MeshHit) -> SurfaceHit {

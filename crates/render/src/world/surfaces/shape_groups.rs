@@ -11,7 +11,7 @@ use super::gathered::Gathered;
 use super::shape::{scales_uniformly, Geometry};
 use super::surface_hit::{surface_hit, Shape, SurfaceHit};
 use crate::SceneError;
-use fogbank_geometry::{AnalyticShape, Instance, Instances, MeshAccel, Quadric, TriangleMesh};
+use fogbank_geometry::{Instance, Instances, MeshAccel, Quadric};
 use fogbank_math::{DAffine3, Ray};
 use std::collections::HashMap;
 
@@ -97,6 +97,11 @@ pub(super) struct ShapeGroups {
 }
 
 impl ShapeGroups {
+    /// Per group, per primitive: its shape.
+    pub(super) fn shape_of(&self) -> &[Vec<u32>] {
+        &self.shape_of
+    }
+
     /// The closest hit in `(0, t_max)` on a shape that `keep` accepts (by
     /// shape index), carried to the world.
     pub(super) fn intersect(
@@ -148,57 +153,4 @@ fn to_world(inst: &Instance, shape: &Shape, mut h: SurfaceHit) -> SurfaceHit {
         h.ng
     };
     h
-}
-
-impl ShapeGroups {
-    /// The world's hierarchy with every instance's shapes copied in: its
-    /// mesh and analytic shapes (`world`, whose primitives' shapes are
-    /// `world_shape_of`) followed by each instance's, and per primitive its
-    /// shape. The world's analytic shapes' first primitives in `shapes`
-    /// move past the added triangles.
-    pub(super) fn flatten(
-        &self,
-        world: &MeshAccel,
-        world_shape_of: &[u32],
-        shapes: &mut [Shape],
-    ) -> (MeshAccel, Vec<u32>) {
-        let mut mesh = world.mesh.clone();
-        let mut analytic = world.analytic.clone();
-        let world_triangles = world.mesh.len();
-        let mut tri_shape: Vec<u32> = world_shape_of[..world_triangles].to_vec();
-        let mut analytic_shape: Vec<u32> = world_shape_of[world_triangles..].to_vec();
-        for inst in &self.instances.instances {
-            let g = &self.instances.groups[inst.group as usize];
-            let of = &self.shape_of[inst.group as usize];
-            let mut copy = g.mesh.clone();
-            copy.transform(&glam::DMat4::from(inst.to_world).as_mat4());
-            append(&mut mesh, copy);
-            tri_shape.extend(&of[..g.mesh.len()]);
-            for (a, &s) in g.analytic.iter().zip(&of[g.mesh.len()..]) {
-                // Invertible: both maps are (else the scene would not build).
-                let placed = AnalyticShape::new(a.quadric, inst.to_world * a.to_world, a.flip);
-                if let Some(placed) = placed {
-                    analytic.push(placed);
-                    analytic_shape.push(s);
-                }
-            }
-        }
-        let added = (mesh.len() - world_triangles) as u32;
-        for &s in &world_shape_of[world_triangles..] {
-            shapes[s as usize].first_triangle += added;
-        }
-        tri_shape.extend(analytic_shape);
-        (MeshAccel::with_analytic(mesh, analytic), tri_shape)
-    }
-}
-
-/// `b`'s vertices and triangles after `a`'s (normals and UVs too: a
-/// gathered mesh has them for every vertex, zero where a shape has none).
-fn append(a: &mut TriangleMesh, b: TriangleMesh) {
-    let v0 = a.positions.len() as u32;
-    a.positions.extend(b.positions);
-    a.normals.extend(b.normals);
-    a.uvs.extend(b.uvs);
-    a.triangles
-        .extend(b.triangles.iter().map(|t| t.map(|v| v + v0)));
 }
