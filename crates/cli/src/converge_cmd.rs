@@ -12,7 +12,7 @@ use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct ConvergeArgs {
-    /// Scene file (TOML, Mitsuba `.xml` or pbrt-v4 `.pbrt`); the cumulus's transmittance view (`scenes/transmittance.toml`) when omitted.
+    /// Scene file: fogbank TOML (`.toml`), Mitsuba 3 XML (`.xml`) or pbrt-v4 (`.pbrt`); the cumulus's transmittance view (`scenes/transmittance.toml`) when omitted.
     pub scene: Option<PathBuf>,
     /// Estimators to compare, comma separated (options via --set apply to all).
     #[arg(long, value_delimiter = ',', required = true)]

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct ExportArgs {
-    /// The scene file (fogbank TOML, Mitsuba XML or pbrt-v4).
+    /// Scene file: fogbank TOML (`.toml`), Mitsuba 3 XML (`.xml`) or pbrt-v4 (`.pbrt`).
     pub scene: PathBuf,
     /// The file to write: `.vdb` (OpenVDB) or `.nvdb` (NanoVDB).
     #[arg(short, long)]

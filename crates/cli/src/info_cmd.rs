@@ -4,6 +4,7 @@
 use crate::common::CliResult;
 use clap::Args;
 use fogbank_math::DAffine3;
+use fogbank_render::convert::{extensions, FileKind};
 use fogbank_render::integrators::shared::pin_params::PinGridParams;
 use fogbank_volume::loaders::{nanovdb, raw, vdb, vdb_grid, vol};
 use fogbank_volume::{BrickGrid, DensityData, Precision};
@@ -11,7 +12,8 @@ use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct InfoArgs {
-    /// A .vdb, .nvdb, .vol or .raw file.
+    /// A volume file: .vdb (OpenVDB), .nvdb (NanoVDB), .vol (Mitsuba), .nii, .nii.gz or .hdr
+    /// (NIfTI), .nrrd or .nhdr (NRRD), or .raw (with --dims and --type).
     pub file: PathBuf,
     /// Raw files: dimensions X Y Z (else parsed from `name_XxYxZ_type.raw`).
     #[arg(long, num_args = 3)]
@@ -68,27 +70,18 @@ fn range_and_sum(values: impl Iterator<Item = f32>) -> (f32, f32, f64) {
 }
 
 pub fn run(a: InfoArgs) -> CliResult {
-    let ext = a
-        .file
-        .extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase();
     let name = a.file.to_string_lossy().to_ascii_lowercase();
-    let scientific = [".nii", ".nii.gz", ".hdr", ".nrrd", ".nhdr"]
-        .iter()
-        .any(|e| name.ends_with(e));
-    if scientific {
-        return scientific_info(&a.file, name.contains(".nii") || name.ends_with(".hdr"));
-    }
-    match ext.as_str() {
-        "vdb" => grid_file_info(&a, &OPENVDB),
-        "nvdb" => grid_file_info(&a, &NANOVDB),
-        "vol" => vol_info(&a),
-        "raw" => raw_info(&a),
+    match FileKind::of(&a.file) {
+        Some(FileKind::Volume("nifti")) => scientific_info(&a.file, true),
+        Some(FileKind::Volume("nrrd")) => scientific_info(&a.file, false),
+        Some(FileKind::Volume("vdb")) => grid_file_info(&a, &OPENVDB),
+        Some(FileKind::Volume("nvdb")) => grid_file_info(&a, &NANOVDB),
+        Some(FileKind::Volume("vol")) => vol_info(&a),
+        _ if name.ends_with(".raw") => raw_info(&a),
         _ => Err(format!(
-            "{}: unknown volume format (expected .vdb, .nvdb, .vol, .raw, .nii, .nii.gz, .hdr, .nrrd or .nhdr)",
-            a.file.display()
+            "{}: unknown volume format (expected {}, or .raw)",
+            a.file.display(),
+            extensions(|k| !k.is_scene())
         )
         .into()),
     }

@@ -39,7 +39,7 @@ enum Command {
     Render(render_cmd::RenderArgs),
     /// Add up the partial results (.fbpart) of a sharded render or stats run (`--shard I/N`).
     Merge(merge_cmd::MergeArgs),
-    /// Describe a volume file (.vdb, .nvdb, .vol, .raw).
+    /// Describe a volume file (.vdb, .nvdb, .vol, .nii, .nii.gz, .hdr, .nrrd, .nhdr, .raw).
     Info(info_cmd::InfoArgs),
     /// Write a scene medium's density (or temperature) grid as .vdb or .nvdb.
     Export(export_cmd::ExportArgs),

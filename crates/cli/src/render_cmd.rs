@@ -16,7 +16,7 @@ use std::time::Duration;
 
 #[derive(Args)]
 pub struct RenderArgs {
-    /// Scene file: fogbank TOML, Mitsuba 3 XML (`.xml`) or pbrt-v4 (`.pbrt`). Without it, the built-in default scene.
+    /// Scene file: fogbank TOML (`.toml`), Mitsuba 3 XML (`.xml`) or pbrt-v4 (`.pbrt`). Without it, the built-in default scene.
     pub scene: Option<PathBuf>,
     /// Output image: `.exr` (linear float) or `.png` (sRGB). Default: fogbank.exr and fogbank.png.
     #[arg(short, long)]

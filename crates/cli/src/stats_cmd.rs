@@ -13,7 +13,7 @@ use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct StatsArgs {
-    /// Scene file (TOML, Mitsuba `.xml` or pbrt-v4 `.pbrt`); the cumulus's transmittance view (`scenes/transmittance.toml`) when omitted.
+    /// Scene file: fogbank TOML (`.toml`), Mitsuba 3 XML (`.xml`) or pbrt-v4 (`.pbrt`); the cumulus's transmittance view (`scenes/transmittance.toml`) when omitted.
     pub scene: Option<PathBuf>,
     /// Estimator to measure (sets `integrator.estimator`; options via --set).
     #[arg(long)]

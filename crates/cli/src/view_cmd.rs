@@ -8,7 +8,7 @@ use std::time::Duration;
 
 #[derive(Args)]
 pub struct ViewArgs {
-    /// Scene file: fogbank TOML, Mitsuba 3 XML (`.xml`) or pbrt-v4 (`.pbrt`). Without it, the built-in default scene.
+    /// Scene file: fogbank TOML (`.toml`), Mitsuba 3 XML (`.xml`) or pbrt-v4 (`.pbrt`). Without it, the built-in default scene.
     pub scene: Option<PathBuf>,
     /// Override a scene key: `--set integrator.estimator=track_length`.
     #[arg(long = "set", value_name = "KEY=VALUE")]

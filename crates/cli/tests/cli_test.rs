@@ -478,3 +478,87 @@ fn a_closed_output_pipe_is_no_panic() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+/// Every command's help names every format it reads, as the readers'
+/// registry (`fogbank_render::convert::FORMATS`) lists them: the scene
+/// formats for the commands that take a scene, the volume formats for
+/// `info`, all of them for `convert`; and the README names them all.
+#[test]
+fn help_texts_and_readme_name_every_format_the_readers_take() {
+    use fogbank_render::convert::FORMATS;
+    let help = |args: &[&str]| {
+        let out = run_ok(fogbank().args(args));
+        String::from_utf8_lossy(&out.stdout).to_string()
+    };
+    let scene_exts: Vec<&str> = FORMATS
+        .iter()
+        .filter(|f| f.1.is_scene())
+        .map(|f| f.0)
+        .collect();
+    let volume_exts: Vec<&str> = FORMATS
+        .iter()
+        .filter(|f| !f.1.is_scene())
+        .map(|f| f.0)
+        .collect();
+    // `.nii` is named only where it stands on its own, not inside `.nii.gz`.
+    let names = |text: &str, e: &str| {
+        text.match_indices(e).any(|(i, _)| {
+            let next = text[i + e.len()..].chars().next();
+            !next.is_some_and(|c| c.is_alphanumeric() || c == '.')
+        })
+    };
+    let missing = |text: &str, exts: &[&str]| -> Vec<String> {
+        exts.iter()
+            .filter(|e| !names(text, e))
+            .map(|e| e.to_string())
+            .collect()
+    };
+    for cmd in ["render", "view", "stats", "converge", "export"] {
+        let h = help(&[cmd, "--help"]);
+        assert!(
+            missing(&h, &scene_exts).is_empty(),
+            "{cmd} --help lacks {:?}:\n{h}",
+            missing(&h, &scene_exts)
+        );
+    }
+    let h = help(&["info", "--help"]);
+    assert!(
+        missing(&h, &volume_exts).is_empty(),
+        "info --help lacks {:?}",
+        missing(&h, &volume_exts)
+    );
+    let top = help(&["--help"]);
+    let info_line = top
+        .lines()
+        .find(|l| l.trim_start().starts_with("info"))
+        .unwrap();
+    assert!(
+        missing(info_line, &volume_exts).is_empty(),
+        "fogbank --help's info line lacks {:?}",
+        missing(info_line, &volume_exts)
+    );
+    let all: Vec<&str> = FORMATS.iter().map(|f| f.0).collect();
+    let h = help(&["convert", "--help"]);
+    assert!(
+        missing(&h, &all).is_empty(),
+        "convert --help lacks {:?}",
+        missing(&h, &all)
+    );
+    let readme =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../README.md"))
+            .unwrap();
+    let absent = missing(&readme, &all);
+    assert!(absent.is_empty(), "README.md does not name {absent:?}");
+    // A file of none of these kinds is refused naming them.
+    let dir = tmp_dir("help-formats");
+    std::fs::write(dir.join("x.dat"), "").unwrap();
+    let out = fogbank()
+        .args(["info", dir.join("x.dat").to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && volume_exts.iter().all(|e| err.contains(e)),
+        "{err}"
+    );
+}

@@ -35,28 +35,63 @@ pub enum FileKind {
     Volume(&'static str),
 }
 
+/// Every file kind fogbank reads, by extension: the registry that
+/// [`FileKind::of`], the error messages and the commands' help texts follow
+/// (the help texts and README are checked against it by a test). Raw
+/// volumes (`.raw`) are read only with their dimensions given (`info
+/// --dims`, a scene's `raw` key), so they are not told by extension.
+pub const FORMATS: [(&str, FileKind); 11] = [
+    (".toml", FileKind::Scene(SceneFormat::Toml)),
+    (".xml", FileKind::Scene(SceneFormat::MitsubaXml)),
+    (".pbrt", FileKind::Scene(SceneFormat::Pbrt)),
+    (".vdb", FileKind::Volume("vdb")),
+    (".nvdb", FileKind::Volume("nvdb")),
+    (".vol", FileKind::Volume("vol")),
+    (".nii", FileKind::Volume("nifti")),
+    (".nii.gz", FileKind::Volume("nifti")),
+    (".hdr", FileKind::Volume("nifti")),
+    (".nrrd", FileKind::Volume("nrrd")),
+    (".nhdr", FileKind::Volume("nrrd")),
+];
+
 impl FileKind {
     /// The kind of `path`, or `None` for an extension fogbank does not know.
     pub fn of(path: &Path) -> Option<FileKind> {
         let name = path.file_name()?.to_str()?.to_ascii_lowercase();
-        let ext = name.rsplit_once('.')?.1;
-        Some(match ext {
-            "toml" => FileKind::Scene(SceneFormat::Toml),
-            "xml" => FileKind::Scene(SceneFormat::MitsubaXml),
-            "pbrt" => FileKind::Scene(SceneFormat::Pbrt),
-            "vdb" => FileKind::Volume("vdb"),
-            "nvdb" => FileKind::Volume("nvdb"),
-            "vol" => FileKind::Volume("vol"),
-            "nii" | "hdr" => FileKind::Volume("nifti"),
-            "gz" if name.ends_with(".nii.gz") => FileKind::Volume("nifti"),
-            "nrrd" | "nhdr" => FileKind::Volume("nrrd"),
-            _ => return None,
-        })
+        FORMATS
+            .iter()
+            .filter(|(ext, _)| name.ends_with(ext) && name.len() > ext.len())
+            .max_by_key(|(ext, _)| ext.len())
+            .map(|&(_, kind)| kind)
+    }
+
+    pub fn is_scene(self) -> bool {
+        matches!(self, FileKind::Scene(_))
     }
 }
 
-const KNOWN: &str = ".toml, .xml, .pbrt (scenes); .vdb, .nvdb, .vol, .nii, .nii.gz, .hdr, \
-                     .nrrd, .nhdr (volumes)";
+/// The extensions of the kinds `keep` accepts, as "a, b or c".
+pub fn extensions(keep: impl Fn(FileKind) -> bool) -> String {
+    let list: Vec<&str> = FORMATS
+        .iter()
+        .filter(|&&(_, k)| keep(k))
+        .map(|&(e, _)| e)
+        .collect();
+    match list.split_last() {
+        Some((last, [])) => last.to_string(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        None => String::new(),
+    }
+}
+
+/// Every extension, scenes then volumes.
+fn known() -> String {
+    format!(
+        "{} (scenes); {} (volumes)",
+        extensions(FileKind::is_scene),
+        extensions(|k| !k.is_scene())
+    )
+}
 
 /// Converts `input` to `output`, both told by their extensions (see the
 /// module table).
@@ -68,8 +103,9 @@ pub fn convert(
     let kind = |p: &Path, role: &str| {
         FileKind::of(p).ok_or_else(|| {
             SceneError(format!(
-                "{}: the {role}'s extension is not one fogbank converts ({KNOWN})",
-                p.display()
+                "{}: the {role}'s extension is not one fogbank converts ({})",
+                p.display(),
+                known()
             ))
         })
     };
