@@ -120,11 +120,7 @@ impl Instances {
 
     /// The box of every instance (empty without any).
     pub fn bounds(&self) -> Aabb {
-        let empty = Aabb::new(Vec3::INFINITY, Vec3::NEG_INFINITY);
-        self.boxes
-            .iter()
-            .filter(|b| !b.is_empty() && b.min.is_finite() && b.max.is_finite())
-            .fold(empty, |a, b| a.union(*b))
+        union_of_finite(self.boxes.iter().copied())
     }
 
     /// Bytes of the groups, the instances (maps both ways and boxes) and
@@ -179,12 +175,15 @@ impl Instances {
 
 /// The box of a group's primitives with finite boxes.
 fn finite_bounds(accel: &MeshAccel) -> Aabb {
-    let empty = Aabb::new(Vec3::INFINITY, Vec3::NEG_INFINITY);
-    accel
-        .primitive_bounds()
+    union_of_finite(accel.primitive_bounds())
+}
+
+/// The union of the boxes that are neither empty nor infinite.
+fn union_of_finite(boxes: impl IntoIterator<Item = Aabb>) -> Aabb {
+    boxes
         .into_iter()
         .filter(|b| !b.is_empty() && b.min.is_finite() && b.max.is_finite())
-        .fold(empty, |a, b| a.union(b))
+        .fold(Aabb::EMPTY, Aabb::union)
 }
 
 #[cfg(test)]

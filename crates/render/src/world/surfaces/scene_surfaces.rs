@@ -180,7 +180,8 @@ impl Surfaces {
         }
     }
 
-    /// The triangles and their BVH (what a GPU port uploads).
+    /// The world's triangles and analytic shapes (those of no group) and
+    /// their BVH; the groups' are [`Surfaces::groups`].
     pub fn accel(&self) -> &MeshAccel {
         &self.accel
     }
