@@ -3,6 +3,7 @@
 
 use crate::jackknife::StepMode;
 use crate::optical_depth::{Importance, Jitter};
+use crate::roulette::DEFAULT_ROULETTE;
 use fogbank_math::{Pcg32, Ray};
 use fogbank_volume::{Medium, MediumView};
 
@@ -15,7 +16,7 @@ pub enum Estimator {
     AnalyticTrilinear,
     TrackLength,
     /// `roulette`: the weight below which the walk plays Russian roulette
-    /// (0: never; [`crate::roulette`]).
+    /// (0: never; default [`DEFAULT_ROULETTE`]; [`crate::roulette`]).
     RatioTracking {
         roulette: f32,
     },
@@ -45,6 +46,17 @@ pub enum Estimator {
         samples: u32,
         jitter: Jitter,
     },
+}
+
+/// The estimator a scene gets when it names none: ratio tracking with its
+/// default roulette (as pbrt-v4's and Mitsuba 3's shadow rays, unbiased
+/// and bounded in cost however dense the medium).
+impl Default for Estimator {
+    fn default() -> Self {
+        Estimator::RatioTracking {
+            roulette: DEFAULT_ROULETTE,
+        }
+    }
 }
 
 /// Options as they come from a scene file or the command line; each
@@ -98,14 +110,14 @@ const INFO: [Info; 11] = [
         name: "ratio_tracking",
         biased: false,
         keys: &["roulette"],
-        options: "roulette=0 (Russian roulette below this weight; 0: off)",
+        options: "roulette=0.03 (Russian roulette below this weight; 0: off)",
         description: "ratio tracking with super-voxel majorants (Novák et al. 2014)",
     },
     Info {
         name: "residual_ratio_tracking",
         biased: false,
         keys: &["roulette"],
-        options: "roulette=0 (Russian roulette below this weight; 0: off)",
+        options: "roulette=0.03 (Russian roulette below this weight; 0: off)",
         description:
             "ratio tracking of the residual over a per-super-voxel control (Novák et al. 2014)",
     },
@@ -156,7 +168,7 @@ const INFO: [Info; 11] = [
 
 /// A roulette threshold: a weight in [0, 1) (0: off).
 fn parse_roulette(r: Option<f32>) -> Result<f32, String> {
-    let r = r.unwrap_or(0.0);
+    let r = r.unwrap_or(DEFAULT_ROULETTE);
     if !(0.0..1.0).contains(&r) {
         return Err(format!("roulette: {r} is outside [0, 1)"));
     }
@@ -313,6 +325,19 @@ impl Estimator {
             }
         }
         Estimator::with_options(name, &o).map_err(|e| format!("`{spec}`: {e}"))
+    }
+
+    /// The same estimator with Russian roulette off: the plain ratio and
+    /// residual ratio tracking that seed 000's studies compare; every other
+    /// estimator unchanged.
+    pub fn without_roulette(self) -> Estimator {
+        match self {
+            Estimator::RatioTracking { .. } => Estimator::RatioTracking { roulette: 0.0 },
+            Estimator::ResidualRatioTracking { .. } => {
+                Estimator::ResidualRatioTracking { roulette: 0.0 }
+            }
+            e => e,
+        }
     }
 
     /// The estimator `name` with default options.
@@ -480,7 +505,7 @@ mod estimator_test {
             Ok(Estimator::RatioTracking { roulette: 0.1 })
         );
         assert_eq!(
-            Estimator::parse_spec("residual_ratio_tracking"),
+            Estimator::parse_spec("residual_ratio_tracking:roulette=0"),
             Ok(Estimator::ResidualRatioTracking { roulette: 0.0 })
         );
         assert_eq!(
@@ -504,5 +529,25 @@ mod estimator_test {
         // Options survive the round trip through EstimatorOptions.
         let e = Estimator::RatioTracking { roulette: 0.25 };
         assert_eq!(Estimator::with_options(e.name(), &e.options()), Ok(e));
+    }
+
+    /// Both trackers play roulette unless told not to, and `fogbank
+    /// estimators` states the default the parser uses.
+    #[test]
+    fn trackers_play_roulette_by_default() {
+        assert!(DEFAULT_ROULETTE > 0.0);
+        for name in ["ratio_tracking", "residual_ratio_tracking"] {
+            let e = Estimator::parse(name).unwrap();
+            assert_eq!(e.options().roulette, Some(DEFAULT_ROULETTE), "{name}");
+            let said = format!("roulette={DEFAULT_ROULETTE} ");
+            assert!(
+                e.options_help().starts_with(&said),
+                "{name}: {}",
+                e.options_help()
+            );
+            assert_eq!(e.without_roulette().options().roulette, Some(0.0));
+        }
+        let j = Estimator::parse("jackknife").unwrap();
+        assert_eq!(j.without_roulette(), j);
     }
 }

@@ -11,6 +11,13 @@
 
 use fogbank_math::Pcg32;
 
+/// The threshold ratio and residual ratio tracking use unless told
+/// otherwise (`roulette = 0` turns it off). Chosen by measurement
+/// (`docs/results/roulette/README.md`, "Choosing the default"): across σ_t
+/// scales 1 … 10⁶ it keeps both trackers' cost at or below track-length's
+/// while raising their variance by a few per cent at most.
+pub const DEFAULT_ROULETTE: f32 = 0.03;
+
 /// Plays roulette on the weights `w` (one per colour channel) whose
 /// running estimates are `scale[c] · w[c]` (residual ratio tracking:
 /// exp(−k_c τ_c) of the control so far; 1 otherwise), on the largest.

@@ -188,6 +188,17 @@ fn residual_ratio_tracking_is_unbiased() {
     unbiased_on_a_procedural_cloud(e);
 }
 
+/// What a user gets: both trackers with their default roulette.
+#[test]
+fn trackers_with_the_default_roulette_are_unbiased() {
+    for name in ["ratio_tracking", "residual_ratio_tracking"] {
+        let e = Estimator::parse(name).unwrap();
+        assert_ne!(e, e.without_roulette(), "{name} plays roulette by default");
+        unbiased_on_analytic_media(e);
+        unbiased_on_a_procedural_cloud(e);
+    }
+}
+
 /// Russian roulette on the running weight (a high threshold, so that most
 /// walks play it; at τ = 10 every walk does) keeps both unbiased.
 #[test]

@@ -118,7 +118,7 @@ pub fn markdown_table(params: &[Param]) -> String {
 pub fn take_estimator(r: &mut ParamReader) -> Result<Estimator, SceneError> {
     let key = r.key_path("estimator");
     let (name, mut nested) = match r.take_value("estimator") {
-        None => ("ratio_tracking".to_string(), None),
+        None => (Estimator::default().name().to_string(), None),
         Some(toml::Value::String(s)) => (s, None),
         Some(toml::Value::Table(mut t)) => match t.remove("type") {
             Some(toml::Value::String(s)) => (s.clone(), Some(ParamReader::new(&key, &s, t))),

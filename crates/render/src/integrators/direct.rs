@@ -13,7 +13,7 @@
 //! | key | default | meaning |
 //! |---|---|---|
 //! | `distance_sampler` | delta_tracking | free-flight sampler: `delta_tracking`, `decomposition_tracking`, `regular_tracking` |
-//! | `estimator` | ratio_tracking | NEE transmittance estimator (`fogbank estimators`), with its options |
+//! | `estimator` | ratio_tracking (roulette 0.03) | NEE transmittance estimator (`fogbank estimators`), with its options |
 //! | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only (no phase-sampled escape MIS) and Russian roulette by albedo, seed 002's baseline exactly (§6, §6.1; give the medium `supervoxel = 8`) |
 
 use super::shared::context::{MediumVertex, NextEvent, PathContext};

@@ -6,7 +6,7 @@
 //!
 //! | key | default | meaning |
 //! |---|---|---|
-//! | `estimator` | ratio_tracking | transmittance estimator (`fogbank estimators`), with its options flat in `[integrator]` or as `{ type = "…", … }` |
+//! | `estimator` | ratio_tracking (roulette 0.03) | transmittance estimator (`fogbank estimators`), with its options flat in `[integrator]` or as `{ type = "…", … }` |
 //! | `background` | [1, 1, 1] | radiance behind the media; the image is T · background |
 
 use super::shared::context::PathContext;
@@ -23,7 +23,7 @@ use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
 pub const PARAMS: [Param; 2] = [
     Param {
         key: "estimator",
-        default: "ratio_tracking",
+        default: "ratio_tracking (roulette 0.03)",
         meaning: "transmittance estimator (`fogbank estimators`), with its options flat in `[integrator]` or as `{ type = \"…\", … }`",
     },
     Param {
@@ -42,7 +42,7 @@ pub struct TransmittanceParams {
 impl Default for TransmittanceParams {
     fn default() -> Self {
         TransmittanceParams {
-            estimator: Estimator::RatioTracking { roulette: 0.0 },
+            estimator: Estimator::default(),
             background: [1.0; 3],
         }
     }

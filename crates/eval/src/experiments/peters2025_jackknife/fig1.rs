@@ -40,8 +40,12 @@ fn scene(width: u32, height: u32) -> Result<Scene, String> {
     .map_err(|e| e.0)
 }
 
+/// Seed 000 compares the plain estimators: ratio tracking without the
+/// roulette fogbank plays by default (`roulette = 0`).
 fn with_estimator(scene: &Scene, name: &str) -> Result<Scene, String> {
-    let e = Estimator::parse(name).ok_or_else(|| format!("unknown estimator {name}"))?;
+    let e = Estimator::parse(name)
+        .ok_or_else(|| format!("unknown estimator {name}"))?
+        .without_roulette();
     let mut s = scene.clone();
     s.integrator = s.integrator.with_estimator(e);
     Ok(s)

@@ -27,7 +27,7 @@
 //! | key | default | meaning |
 //! |---|---|---|
 //! | `strategy` | mis_jackknife | `free_flight`, `equiangular`, `mis_miller` (ratio-tracking weights from delta tracking's null collisions, Miller et al. 2019), `mis_naive` (Eq. 10 with g(X), m = 1; biased), `mis_jackknife` (Eq. 9, jackknife weights, unbiased), `mis_jackknife_biased` (Eq. 10) |
-//! | `estimator` | ratio_tracking | transmittance estimator of the light ray (`fogbank estimators`), with its options |
+//! | `estimator` | ratio_tracking (roulette 0.03) | transmittance estimator of the light ray (`fogbank estimators`), with its options |
 //! | `mis_samples` | 10 | lookups N per optical-depth estimate of the MIS weights (1..=4096) |
 
 pub mod analysis;

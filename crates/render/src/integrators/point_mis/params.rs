@@ -18,7 +18,7 @@ pub const PARAMS: [Param; 3] = [
     },
     Param {
         key: "estimator",
-        default: "ratio_tracking",
+        default: "ratio_tracking (roulette 0.03)",
         meaning: "transmittance estimator of the light ray (`fogbank estimators`), with its options",
     },
     Param {
@@ -40,7 +40,7 @@ impl Default for PointMisParams {
     fn default() -> Self {
         PointMisParams {
             strategy: Strategy::MisJackknife,
-            estimator: Estimator::RatioTracking { roulette: 0.0 },
+            estimator: Estimator::default(),
             mis_samples: DEFAULT_MIS_SAMPLES,
         }
     }

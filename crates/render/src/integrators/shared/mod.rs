@@ -129,7 +129,7 @@ pub const SCATTER_PARAMS: [Param; 3] = [
     },
     Param {
         key: "estimator",
-        default: "ratio_tracking",
+        default: "ratio_tracking (roulette 0.03)",
         meaning: "NEE transmittance estimator (`fogbank estimators`), with its options",
     },
     Param {
@@ -172,7 +172,7 @@ impl Default for ScatterParams {
     fn default() -> Self {
         ScatterParams {
             distance_sampler: None,
-            estimator: Estimator::RatioTracking { roulette: 0.0 },
+            estimator: Estimator::default(),
             preset: None,
         }
     }
