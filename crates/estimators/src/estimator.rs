@@ -535,7 +535,7 @@ mod estimator_test {
     /// estimators` states the default the parser uses.
     #[test]
     fn trackers_play_roulette_by_default() {
-        assert!(DEFAULT_ROULETTE > 0.0);
+        const { assert!(DEFAULT_ROULETTE > 0.0) };
         for name in ["ratio_tracking", "residual_ratio_tracking"] {
             let e = Estimator::parse(name).unwrap();
             assert_eq!(e.options().roulette, Some(DEFAULT_ROULETTE), "{name}");

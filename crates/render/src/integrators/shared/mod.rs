@@ -161,21 +161,11 @@ impl Preset {
     }
 }
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct ScatterParams {
     pub distance_sampler: Option<DistanceSampler>,
     pub estimator: Estimator,
     pub preset: Option<Preset>,
-}
-
-impl Default for ScatterParams {
-    fn default() -> Self {
-        ScatterParams {
-            distance_sampler: None,
-            estimator: Estimator::default(),
-            preset: None,
-        }
-    }
 }
 
 impl ScatterParams {
