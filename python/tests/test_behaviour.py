@@ -21,13 +21,21 @@ from conftest import assert_same_image
 def test_ctrl_c_raises_keyboard_interrupt_and_keeps_the_image():
     # A render that would take minutes, interrupted from a timer thread by
     # the signal Ctrl-C sends.
+    # Python's own handler, whatever the launcher left: a process started in
+    # the background by a non-interactive shell inherits SIGINT ignored, and
+    # Python then installs no handler. The time budget turns a missed signal
+    # into a failure instead of a hang.
     s = fogbank.default_scene(**{"camera.width": 64, "camera.height": 48})
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
     started = time.monotonic()
     timer.start()
-    with pytest.raises(KeyboardInterrupt) as info:
-        fogbank.render(s, spp=1_000_000, progress=False)
-    timer.join()
+    try:
+        with pytest.raises(KeyboardInterrupt) as info:
+            fogbank.render(s, spp=1_000_000, time_budget=120, progress=False)
+    finally:
+        timer.join()
+        signal.signal(signal.SIGINT, previous)
     img = info.value.image
     assert img.interrupted and 0 < img.spp < 1_000_000
     assert np.isfinite(img.mean).all() and img.mean.max() > 0
