@@ -319,7 +319,6 @@ fn pins_instances_measures_both_methods() {
     // methods' error to stand above it.
     let r = measure(10, 16, 12, 512).unwrap();
     assert!(r.rm_ms > 0.0 && r.pin_ms > 0.0 && r.build_s > 0.0);
-    eprintln!("DBG {} {} {} {}", r.rm_mse, r.pin_mse, r.rm_ms, r.pin_ms);
     assert!(r.rm_mse.is_finite() && r.pin_mse.is_finite() && r.pin_mse > 0.0);
 }
 
