@@ -333,3 +333,33 @@ fn mri_brain_scene_parses_and_names_missing_data() {
         "{e}"
     );
 }
+
+/// Half floats end at 65504: a grid with larger values is refused under
+/// the default `f16` storage, naming the medium's `precision`, instead of
+/// being stored as infinities (an opaque box), and renders with `f32`.
+#[test]
+fn values_beyond_f16_are_refused_unless_stored_as_f32() {
+    let dir = std::env::temp_dir().join(format!("fogbank-f16-range-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let values: Vec<u8> = (0..64)
+        .flat_map(|i| if i % 2 == 0 { 9.0e4f32 } else { 1.0e5 }.to_le_bytes())
+        .collect();
+    std::fs::write(dir.join("dense.raw"), values).unwrap();
+    let scene = |precision: &str| {
+        let text = format!(
+            "[[media]]\ndensity = {{ raw = \"dense.raw\", dims = [4, 4, 4], type = \"f32\" }}\n\
+             sigma_t_scale = 1e-5\n{precision}"
+        );
+        Scene::build(parse_scene(&text, "f16 range", &[]).unwrap(), &dir)
+    };
+    let err = scene("").err().expect("f16 cannot hold 1e5").to_string();
+    assert!(
+        err.contains("media.0.density")
+            && err.contains("65504")
+            && err.contains("media.0.precision = \"f32\""),
+        "{err}"
+    );
+    let m = scene("precision = \"f32\"\n").unwrap();
+    assert_eq!(m.media[0].medium.data.value_range(), (9.0e4, 1.0e5));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -42,6 +42,17 @@ impl DensityData {
         }
     }
 
+    /// Whether every stored voxel is finite: a value beyond f16's range
+    /// (±65504) becomes infinite when stored as f16, so an `F16` grid that
+    /// is not finite stands for a file it could not hold.
+    pub fn stored_values_are_finite(&self) -> bool {
+        match self {
+            DensityData::F16(g) => g.buffers().2.iter().all(|v| v.is_finite()),
+            DensityData::F32(g) => g.buffers().2.iter().all(|v| v.is_finite()),
+            DensityData::Analytic(_) => true,
+        }
+    }
+
     /// (min, max) of the stored values (of an analytic field: its
     /// super-voxel bounds at 16³).
     pub fn value_range(&self) -> (f32, f32) {

@@ -38,6 +38,16 @@ fn twosided(inner: Table) -> Table {
     t
 }
 
+/// A rough model's α and distribution: pbrt-v4's microfacets are all
+/// Trowbridge–Reitz (GGX), while fogbank's rough models default to
+/// Mitsuba 3's Beckmann, so the distribution is always written.
+fn insert_alpha(t: &mut Table, a: f64) {
+    if a > 0.0 {
+        t.insert("alpha".into(), a.into());
+        t.insert("distribution".into(), "ggx".into());
+    }
+}
+
 /// pbrt's roughness as a GGX α (pbrt-v4's `RoughnessToAlpha` is √r).
 fn alpha(ps: &ParamList) -> Result<f64, SceneError> {
     for k in ["uroughness", "vroughness"] {
@@ -87,9 +97,7 @@ fn bsdf(e: &Entity, warnings: &mut Warnings) -> Result<Table, SceneError> {
             t.insert("type".into(), ty.into());
             t.insert("int_ior".into(), eta);
             t.insert("ext_ior".into(), 1.0.into());
-            if a > 0.0 {
-                t.insert("alpha".into(), a.into());
-            }
+            insert_alpha(&mut t, a);
             Ok(t)
         }
         "interface" | "" | "none" => {
@@ -133,9 +141,7 @@ fn coated(e: &Entity, warnings: &mut Warnings) -> Result<Table, SceneError> {
     t.insert("diffuse_reflectance".into(), rgb_value(r));
     t.insert("int_ior".into(), eta.into());
     t.insert("ext_ior".into(), 1.0.into());
-    if a > 0.0 {
-        t.insert("alpha".into(), a.into());
-    }
+    insert_alpha(&mut t, a);
     Ok(twosided(t))
 }
 
@@ -245,8 +251,6 @@ fn conductor(ps: &ParamList) -> Result<Table, SceneError> {
         }
         .into(),
     );
-    if a > 0.0 {
-        t.insert("alpha".into(), a.into());
-    }
+    insert_alpha(&mut t, a);
     Ok(t)
 }

@@ -268,8 +268,30 @@ impl FieldData {
     }
 }
 
-/// Loads the field `d` (scene key `key`).
+/// Loads the field `d` (scene key `key`). Values that `precision` cannot
+/// hold are refused rather than stored as infinities.
 pub fn field_data(
+    d: &FieldDesc,
+    key: &str,
+    base: &Path,
+    precision: Precision,
+) -> Result<FieldData, SceneError> {
+    let field = read_field_data(d, key, base, precision)?;
+    if !field.data.stored_values_are_finite() {
+        let parent = key.rsplit_once('.').map_or(key, |(p, _)| p);
+        return Err(SceneError(match precision {
+            Precision::F16 => format!(
+                "{key}: {} has values beyond the range of f16 storage (±65504); \
+                 set {parent}.precision = \"f32\" (or scale the values down and sigma_t_scale up)",
+                field.source
+            ),
+            Precision::F32 => format!("{key}: {} has values that are not finite", field.source),
+        }));
+    }
+    Ok(field)
+}
+
+fn read_field_data(
     d: &FieldDesc,
     key: &str,
     base: &Path,

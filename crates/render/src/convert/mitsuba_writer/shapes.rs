@@ -3,8 +3,8 @@
 //! `area` emitter, `interior`/`exterior` media as references, and their
 //! BSDFs: fogbank's BSDF tables use Mitsuba's plugin and parameter names
 //! (`world::surfaces::bsdf_desc`), so each key is written as the property
-//! of its value's type. fogbank's rough models default to GGX where
-//! Mitsuba's default to Beckmann, so the distribution is always written.
+//! of its value's type (a rough model's `distribution` defaults to
+//! Beckmann in both).
 //! Shape groups become `shapegroup`s (written first: an instance refers to
 //! an earlier id) and instances Mitsuba's `instance`.
 
@@ -106,9 +106,6 @@ fn bsdf(mut t: Table, name: &str, key: &str) -> Result<El, SceneError> {
         Some(Value::String(s)) => s,
         _ => return Err(SceneError(format!("{key}.bsdf: no type"))),
     };
-    if ty.starts_with("rough") && !t.contains_key("distribution") {
-        t.insert("distribution".into(), "ggx".into());
-    }
     let mut e = El::plugin("bsdf", &ty);
     if !name.is_empty() {
         e = e.attr("name", name);

@@ -6,7 +6,7 @@
 //! |---|---|
 //! | `diffuse` | `reflectance` (0.5) |
 //! | `conductor` | `eta` (0), `k` (1), `specular_reflectance` (1): the defaults are Mitsuba's `material = "none"`, a perfect mirror; or `material` (`"Au"`, `"Cu"`, `"Al"`, … any of Mitsuba's, [`super::conductors`]) instead of `eta` and `k` |
-//! | `roughconductor` | as `conductor`, plus `alpha` (0.1), `distribution` (`"ggx"` or `"beckmann"`; `"ggx"`), `sample_visible` (true) |
+//! | `roughconductor` | as `conductor`, plus `alpha` (0.1), `distribution` (`"beckmann"` or `"ggx"`; `"beckmann"`, Mitsuba 3's default — pbrt-v4 scenes read as `"ggx"`, its only one), `sample_visible` (true) |
 //! | `dielectric` | `int_ior` (`bk7`), `ext_ior` (`air`) |
 //! | `roughdielectric` | as `dielectric`, plus `alpha`, `distribution`, `sample_visible` as `roughconductor` |
 //! | `thindielectric` | `int_ior` (`bk7`), `ext_ior` (`air`) |
@@ -21,9 +21,9 @@
 //! wrap_mode = "repeat", raw = false, to_uv = … }`, the file relative to the
 //! scene file; see `world::bitmap`).
 //! IORs are numbers or the names of Mitsuba's table ([`super::ior::IOR_TABLE`]). The
-//! rough models' normals follow [`crate::world::bsdf::Microfacet`]; fogbank's
-//! default distribution is GGX (Mitsuba's is Beckmann, which its XML reader
-//! passes on).
+//! rough models' normals follow [`crate::world::bsdf::Microfacet`]; the
+//! default distribution is Mitsuba's, Beckmann, as the models and their
+//! other keys are Mitsuba's (the pbrt-v4 reader writes GGX, pbrt's only one).
 
 use super::ior::{ior, IorDesc};
 use super::spectrum::SpectrumDesc;
@@ -43,11 +43,11 @@ fn one() -> SpectrumDesc {
 fn rough() -> f32 {
     0.1
 }
-fn ggx() -> String {
-    "ggx".into()
+fn beckmann() -> String {
+    "beckmann".into()
 }
-fn is_ggx(s: &String) -> bool {
-    s == "ggx"
+fn is_beckmann(s: &String) -> bool {
+    s == "beckmann"
 }
 fn yes() -> bool {
     true
@@ -96,7 +96,7 @@ pub enum BsdfDesc {
     Roughconductor {
         #[serde(default = "rough")]
         alpha: f32,
-        #[serde(default = "ggx", skip_serializing_if = "is_ggx")]
+        #[serde(default = "beckmann", skip_serializing_if = "is_beckmann")]
         distribution: String,
         #[serde(default = "yes", skip_serializing_if = "is_true")]
         sample_visible: bool,
@@ -118,7 +118,7 @@ pub enum BsdfDesc {
     Roughdielectric {
         #[serde(default = "rough")]
         alpha: f32,
-        #[serde(default = "ggx", skip_serializing_if = "is_ggx")]
+        #[serde(default = "beckmann", skip_serializing_if = "is_beckmann")]
         distribution: String,
         #[serde(default = "yes", skip_serializing_if = "is_true")]
         sample_visible: bool,
@@ -148,7 +148,7 @@ pub enum BsdfDesc {
     Roughplastic {
         #[serde(default = "rough")]
         alpha: f32,
-        #[serde(default = "ggx", skip_serializing_if = "is_ggx")]
+        #[serde(default = "beckmann", skip_serializing_if = "is_beckmann")]
         distribution: String,
         #[serde(default = "yes", skip_serializing_if = "is_true")]
         sample_visible: bool,
