@@ -46,7 +46,7 @@ pub struct SceneDesc {
 /// |---|---|---|
 /// | `spp` | 16 | samples per pixel |
 /// | `seed` | 0 | scene seed; the image is a function of scene, seed and spp |
-/// | `pixel_jitter` | true | jitter primary rays within pixels (false: pixel centres) |
+/// | `pixel_jitter` | true | jitter primary rays within pixels (false: pixel centres): a one-pixel box filter, where pbrt-v4 and Mitsuba 3 default to a Gaussian, so that each pixel stays an independent estimate (per-pixel statistics, z-tests, shards merged bit for bit) |
 /// | `exposure` | 0 | stops applied before the tone curve, for PNG output and the viewer |
 /// | `tonemap` | `linear` | tone curve for PNG and the viewer: `linear`, `aces`, `agx` (see `fogbank_image::tonemap`); EXR stays linear |
 /// | `light_sampler` | `auto` | how NEE picks lights: `power` (a CDF by power), `bvh` (emitting triangles through a light BVH by their importance at the point, pbrt-v4's default), `auto` (`bvh` from 1024 emitting triangles on) |

@@ -173,6 +173,11 @@ integrators! {
     },
 }
 
+/// A scene without `[integrator]` shows its media's transmittance over
+/// `background`, which needs no light: fogbank's format is first the
+/// estimators' workbench. pbrt-v4 defaults to `volpath` and Mitsuba 3 to
+/// `path`; their readers write their format's integrator, and the built-in
+/// scene names `volpath` (`docs/results/defaults.md`).
 impl Default for IntegratorDesc {
     fn default() -> Self {
         IntegratorDesc::Transmittance(TransmittanceParams::default())

@@ -140,9 +140,9 @@ impl Camera {
 /// | key | default | meaning |
 /// |---|---|---|
 /// | `from`, `to`, `up` | (0,0,2.2), (0,0,0), (0,1,0) | pinhole placement |
-/// | `fov` | 40 | field of view in degrees along `fov_axis` |
+/// | `fov` | 40 | field of view in degrees along `fov_axis` (Mitsuba 3's 50 mm lens is 39.6° along x; pbrt-v4's default is 90° along the shorter axis) |
 /// | `fov_axis` | `"x"` | `"x"` or `"y"` |
-/// | `width`, `height` | 512, 512 | image size in pixels |
+/// | `width`, `height` | 512, 512 | image size in pixels (a preview; pbrt-v4's default is 1280×720, Mitsuba 3's 768×576) |
 /// | `near_clip` | 0 | distance of the near clip plane along the view axis: rays start on it |
 /// | `mirror` | false | mirror the image left–right (a left-handed camera frame, as pbrt-v4's `LookAt` makes: +x of the image along up × view direction) |
 /// | `far_clip` | none | distance of the far clip plane: a camera ray's first segment ends on it (what lies beyond is not seen; the environment is) |

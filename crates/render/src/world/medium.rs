@@ -21,7 +21,7 @@ use std::path::Path;
 /// | `density` | — | data source, see [`FieldDesc`] |
 /// | `sigma_t_scale` | 1 | σ_t = scale · density (per world unit); `[r, g, b]` for chromatic extinction, see [`Chroma`] (volpath, direct and transmittance, CPU and GPU) |
 /// | `density_rgb` | false | the `density` is a 3-channel `.vol` (Mitsuba's RGB `gridvolume`) or in-memory `array`: σ_t of channel c = `sigma_t_scale`_c · channel c (chromatic; `trilinear` filter, f32) |
-/// | `albedo` | (0.8, 0.8, 0.8); (1, 1, 1) with a `transfer` | single-scattering albedo σ_s/σ_t, each channel in [0, 1] (with a `transfer`, a tint of its colours) |
+/// | `albedo` | (0.8, 0.8, 0.8); (1, 1, 1) with a `transfer` | single-scattering albedo σ_s/σ_t, each channel in [0, 1] (with a `transfer`, a tint of its colours); pbrt-v4's default is 0.5 and Mitsuba 3's 0.75, which their readers write (`docs/results/defaults.md`) |
 /// | `importance` | none | ordered rules mapping points to importance in [0, 1] for `visopt` (seed 003 §4.2), see [`ImportanceRuleDesc`] |
 /// | `importance_pre` | none (post-interpolative) | classify the importance per voxel instead, see [`ImportancePreDesc`] (seed 003 Figs. 3, 11) |
 /// | `transfer` | none | a transfer function classifying the density's values into extinction, albedo and emission, see [`TransferDesc`] |
@@ -29,9 +29,9 @@ use std::path::Path;
 /// | `emission` | none | volumetric emission, see [`EmissionDesc`] |
 /// | `phase` | `{ type = "hg", g = 0 }` | phase function |
 /// | `to_world` | identity | placement after the file's own transform |
-/// | `filter` | `"stochastic_trilinear"`; `"trilinear"` with a post-interpolative `transfer` | `nearest`, `trilinear`, `stochastic_trilinear` (not with a post-interpolative `transfer`: classifying jittered nearest lookups is pre-interpolative in expectation) |
+/// | `filter` | `"stochastic_trilinear"`; `"trilinear"` with a post-interpolative `transfer` | `nearest`, `trilinear`, `stochastic_trilinear` (not with a post-interpolative `transfer`: classifying jittered nearest lookups is pre-interpolative in expectation). pbrt-v4 and Mitsuba 3 filter trilinearly; the stochastic filter has the trilinear medium's expectation under every null-collision estimator (each is linear in σ_t at a lookup) for one voxel fetch instead of eight |
 /// | `supervoxel` | 16 | super-voxel edge in voxels |
-/// | `precision` | `"f16"` | voxel storage, `f16` or `f32` |
+/// | `precision` | `"f16"` | voxel storage, `f16` (half the memory; rounding ≤ 2⁻¹¹ of a value; a grid with values beyond ±65504 is refused) or `f32` (the file's values; pbrt-v4's and Mitsuba 3's) |
 /// | `velocity` | none (a plume's own) | motion for temporal reuse, see [`VelocityDesc`] |
 /// | `instances` | none | placements (applied after `to_world`) of copies sharing the grid (seed 004 Fig. 4.10); with it the medium appears once per entry |
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
