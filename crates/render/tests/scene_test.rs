@@ -352,7 +352,7 @@ fn values_beyond_f16_are_refused_unless_stored_as_f32() {
         );
         Scene::build(parse_scene(&text, "f16 range", &[]).unwrap(), &dir)
     };
-    let err = scene("").err().expect("f16 cannot hold 1e5").to_string();
+    let err = scene("").expect_err("f16 cannot hold 1e5").to_string();
     assert!(
         err.contains("media.0.density")
             && err.contains("65504")
