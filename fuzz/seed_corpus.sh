@@ -87,3 +87,12 @@ for f in ../crates/render/tests/pbrt/*.pbrt ../crates/render/tests/pbrt/*/*.pbrt
     [ -f "$f" ] && cp "$f" "corpus/pbrt/$(basename "$(dirname "$f")")_$(basename "$f")"
 done
 echo "seeded $(ls corpus/pbrt | wc -l) pbrt inputs"
+# The minimised corpora of the runs in docs/results/fuzzing.md, so that a
+# new run resumes where the last one stopped.
+for d in corpora/*/; do
+    [ -d "$d" ] || continue
+    t="$(basename "$d")"
+    mkdir -p "corpus/$t"
+    cp "$d"* "corpus/$t/" 2>/dev/null || true
+    echo "resumed $(ls "$d" | wc -l) committed $t inputs"
+done
