@@ -250,3 +250,21 @@ fn wide_bvh_is_the_same_on_any_thread_count() {
     assert!(one.node_count() > 0);
     assert!(one == build(3), "the build depends on the thread count");
 }
+
+/// Found by the `ply` fuzz target: one triangle with corners near 10¹⁹ and
+/// 10²⁸ (finite, but its box's surface area overflows f32) made the wide
+/// BVH's builder fail an assertion. Such boxes are left out like
+/// non-finite ones: the mesh builds, and nothing hits the triangle.
+#[test]
+fn a_triangle_too_large_for_f32_areas_builds_and_is_left_out() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/fuzz/ply_huge_triangle.ply"
+    );
+    let mesh =
+        fogbank_geometry::loaders::ply::parse_ply(&*std::fs::read(path).unwrap(), path).unwrap();
+    let accel = MeshAccel::new(mesh);
+    let ray = Ray::new(Vec3::new(0.5, 0.0, -1.0), Vec3::Z);
+    assert!(accel.intersect(&ray, f32::INFINITY).is_none());
+    assert!(!accel.occluded(&ray, f32::INFINITY));
+}

@@ -19,13 +19,17 @@
 
 mod traverse;
 
-use fogbank_math::Aabb;
+use fogbank_math::{Aabb, Vec3};
 use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
 use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::ploc::{PlocBuilder, PlocSearchDistance, SortPrecision};
 
 /// Primitives per leaf at most (the node format's limit is 3).
 const MAX_LEAF: u32 = 3;
+
+/// The largest coordinate a primitive's box may reach: the surface area of
+/// a box of edge 2·10¹⁸ (6 · 4·10³⁶) still fits in f32 (3.4·10³⁸).
+pub const MAX_COORD: f32 = 1.0e18;
 
 /// The hierarchy: nodes (root first; empty when there is nothing to hit)
 /// and the primitive of each leaf slot.
@@ -38,12 +42,15 @@ pub struct WideBvh {
 impl WideBvh {
     /// Builds over the boxes of primitives `0 .. bounds.len()`. Boxes that
     /// are empty or not finite (NaN or infinite corners) are left out:
-    /// nothing can hit them. Deterministic whatever the thread count.
+    /// nothing can hit them. So are boxes reaching beyond ±[`MAX_COORD`]:
+    /// the builder's surface areas of such boxes overflow f32 and fail its
+    /// assertions. Deterministic whatever the thread count.
     pub fn new(bounds: &[Aabb]) -> WideBvh {
+        let within = |v: Vec3| v.abs().max_element() <= MAX_COORD;
         let kept: Vec<u32> = (0..bounds.len() as u32)
             .filter(|&i| {
                 let b = &bounds[i as usize];
-                !b.is_empty() && b.min.is_finite() && b.max.is_finite()
+                !b.is_empty() && within(b.min) && within(b.max)
             })
             .collect();
         if kept.is_empty() {
