@@ -6,9 +6,9 @@
 
 use crate::mesh::TriangleMesh;
 use glam::{Vec2, Vec3};
-use ply_rs_bw::parser::Parser;
+use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{DefaultElement, Property};
-use std::io::Read;
+use std::io::{BufReader, Read};
 use std::path::Path;
 
 fn scalar(p: &Property) -> Option<f64> {
@@ -48,16 +48,32 @@ fn get(e: &DefaultElement, names: &[&str]) -> Option<f32> {
 }
 
 /// Parses PLY bytes; `what` names them in errors.
-pub fn parse_ply(mut source: impl Read, what: &str) -> Result<TriangleMesh, String> {
-    let ply = Parser::<DefaultElement>::new()
-        .read_ply(&mut source)
+pub fn parse_ply(source: impl Read, what: &str) -> Result<TriangleMesh, String> {
+    let parser = Parser::<DefaultElement>::new();
+    let mut reader = Reader::new(BufReader::new(source));
+    let header = parser
+        .read_header(&mut reader)
         .map_err(|e| format!("{what}: {e}"))?;
-    let vertices = ply
-        .payload
+    // An element without properties occupies no bytes, so its count is
+    // bounded by nothing in the file; the parser would still make that
+    // many (empty) records.
+    if let Some(e) = header
+        .elements
+        .values()
+        .find(|e| e.count > 0 && e.properties.is_empty())
+    {
+        return Err(format!(
+            "{what}: element `{}` declares {} entries but no properties",
+            e.name, e.count
+        ));
+    }
+    let payload = parser
+        .read_payload(&mut reader, &header)
+        .map_err(|e| format!("{what}: {e}"))?;
+    let vertices = payload
         .get("vertex")
         .ok_or_else(|| format!("{what}: no `vertex` element"))?;
-    let faces = ply
-        .payload
+    let faces = payload
         .get("face")
         .ok_or_else(|| format!("{what}: no `face` element"))?;
     let mut positions = Vec::with_capacity(vertices.len());
@@ -161,5 +177,13 @@ mod ply_test {
         // Truncated binary data.
         let b = binary_le();
         assert!(parse_ply(&b[..b.len() - 3], "cut.ply").is_err());
+        // 22 million faces without properties in 581 bytes (found by the
+        // `ply` fuzz target: gigabytes of empty records before the check).
+        let bytes = include_bytes!("../../tests/fixtures/fuzz/ply_propertyless_faces.ply");
+        let e = parse_ply(&bytes[..], "empty.ply").unwrap_err();
+        assert!(
+            e.contains("`face` declares 22401047 entries but no properties"),
+            "{e}"
+        );
     }
 }
