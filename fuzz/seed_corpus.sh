@@ -31,8 +31,9 @@ open("corpus/nanovdb/fog_raw_grid.nvdb", "wb").write(grid)
 PY
 echo "seeded $(ls corpus/nanovdb | wc -l) nanovdb inputs"
 mkdir -p corpus/vol
-for f in ../data/fetched/*.vol ../../shared/data/*.vol; do
-    [ -f "$f" ] && cp "$f" corpus/vol/
+for f in ../data/fetched/*.vol ../../shared/data/*.vol ../scenes/mitsuba/textures/*.vol \
+    ../scenes/pbrt/mitsuba/data/*.vol ../crates/volume/tests/fixtures/sci/*.vol; do
+    [ -f "$f" ] && [ "$(wc -c < "$f")" -le 65536 ] && cp "$f" "corpus/vol/$(basename "$f")"
 done
 echo "seeded $(ls corpus/vol | wc -l) vol inputs"
 mkdir -p corpus/nifti corpus/nrrd
@@ -54,8 +55,12 @@ for i, fr in enumerate(v["frames"]):
         f.write(n.to_bytes(2, "little") + base64.b64decode(fr["frame"]))
 print("seeded %d blosc frames" % len(v["frames"]))
 PY
-# Meshes: small OBJ and PLY (ASCII and binary) files.
+# Meshes: the repository's meshes that fit the targets' 64 KiB, and small
+# OBJ and PLY (ASCII and binary) files written here.
 mkdir -p corpus/obj corpus/ply
+for f in ../scenes/*/meshes/*.obj ../scenes/*/meshes/*.ply ../scenes/*/*.obj; do
+    [ -f "$f" ] && [ "$(wc -c < "$f")" -le 65536 ] && cp "$f" "corpus/${f##*.}/$(basename "$f")"
+done
 printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1 4/4/1\n' > corpus/obj/quad.obj
 printf 'o a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\ng b\nv 0 0 1\nf 1 2 4\n' > corpus/obj/groups.obj
 printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float u\nproperty float v\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n1 1 0 0 0 1 1 1\n0 1 0 0 0 1 0 1\n4 0 1 2 3\n' > corpus/ply/quad_ascii.ply
@@ -95,4 +100,11 @@ for d in corpora/*/; do
     mkdir -p "corpus/$t"
     cp "$d"* "corpus/$t/" 2>/dev/null || true
     echo "resumed $(ls "$d" | wc -l) committed $t inputs"
+done
+# Targets whose useful inputs are large (OpenVDB files, Blosc frames) keep
+# their whole minimised corpus as one compressed archive.
+for a in corpora/*.tar.xz; do
+    [ -f "$a" ] || continue
+    tar -C corpus -xJf "$a"
+    echo "resumed $(tar -tJf "$a" | grep -vc '/$') committed $(basename "$a" .tar.xz) inputs"
 done
