@@ -101,8 +101,8 @@ for d in corpora/*/; do
     cp "$d"* "corpus/$t/" 2>/dev/null || true
     echo "resumed $(ls "$d" | wc -l) committed $t inputs"
 done
-# Targets whose useful inputs are large (OpenVDB files, Blosc frames) keep
-# their whole minimised corpus as one compressed archive.
+# Targets whose inputs up to 16 KiB lose coverage keep their whole
+# minimised corpus as one compressed archive.
 for a in corpora/*.tar.xz; do
     [ -f "$a" ] || continue
     tar -C corpus -xJf "$a"
