@@ -63,6 +63,15 @@ pub fn merge(parts: &[(String, Partial)], allow_partial: bool) -> Result<Merged,
             missing.join("\n  ")
         ));
     }
+    // The reader bounds every part's sample counts by its shards, and the
+    // shards do not overlap, so only the lookup counts can overflow.
+    if parts
+        .iter()
+        .try_fold(0u64, |sum, (_, p)| sum.checked_add(p.film.lookups))
+        .is_none()
+    {
+        return Err("the parts' lookup counts add up beyond 2⁶⁴: a part is damaged".into());
+    }
     let mut film = first.film.clone();
     let mut covered = first.covered.clone();
     for (_, p) in &parts[1..] {
@@ -101,8 +110,7 @@ fn coverage(
     spp: u32,
 ) -> Result<Vec<String>, String> {
     for (name, r) in runs {
-        let [a, b] = r.piece.samples;
-        if a > b || b > spp || r.piece.tiles.is_some_and(|[i, n]| n == 0 || i >= n) {
+        if !r.piece.is_valid(spp) {
             return Err(format!(
                 "{name}: shard {} holds an invalid piece ({})",
                 r.shard.label(),

@@ -17,7 +17,7 @@
 //! Writers write `NAME.tmp` and rename it on success, so a shard killed
 //! mid-run leaves no file that `merge` would accept.
 
-use crate::shard::{Piece, Shard};
+use crate::shard::{tile_of, tiles_across, Piece, Shard, TILE};
 use crate::world::film::{Film, PixelSums};
 use fogbank_math::ExactSum;
 use serde::{Deserialize, Serialize};
@@ -240,6 +240,7 @@ impl Partial {
             ));
         }
         let mut film = read_sums(&mut r, id.width, id.height)?;
+        check_counts(&header, &film)?;
         film.lookups = header.lookups;
         film.nan_samples = header.nan_samples;
         film.inf_samples = header.inf_samples;
@@ -266,6 +267,52 @@ impl Partial {
             covered,
         })
     }
+}
+
+/// Checks the counts against the shards that made them: a pixel holds at
+/// most the samples its shards take of it, and the dropped (non-finite)
+/// samples are at most those not held. So parts whose shards do not overlap
+/// (what `merge` requires) add up to at most `spp` samples per pixel, and
+/// no count can overflow.
+fn check_counts(header: &PartialHeader, film: &Film) -> Result<(), String> {
+    let id = &header.identity;
+    if let Some(r) = header.runs.iter().find(|r| !r.piece.is_valid(id.spp)) {
+        return Err(format!(
+            "header: shard {} holds an invalid piece ({}) of {} spp",
+            r.shard.label(),
+            r.piece.describe(),
+            id.spp
+        ));
+    }
+    // Samples taken per tile: the runs are few, the tiles a thousandth of
+    // the pixels.
+    let tiles = tiles_across(id.width) * id.height.div_ceil(TILE);
+    let taken: Vec<u64> = (0..tiles)
+        .map(|t| {
+            let runs = header.runs.iter().filter(|r| r.piece.has_tile(t));
+            runs.map(|r| r.piece.sample_range().len() as u64).sum()
+        })
+        .collect();
+    let mut not_held = 0u64;
+    for y in 0..id.height {
+        for x in 0..id.width {
+            let n = film.count[(y * id.width + x) as usize] as u64;
+            let held = taken[tile_of(x, y, id.width) as usize];
+            if n > held {
+                return Err(format!(
+                    "pixel ({x}, {y}) holds {n} samples but the shards take {held} of it"
+                ));
+            }
+            not_held += held - n;
+        }
+    }
+    let dropped = header.nan_samples as u128 + header.inf_samples as u128;
+    if dropped > not_held as u128 {
+        return Err(format!(
+            "header: {dropped} dropped samples, but only {not_held} of the shards' samples are not in the sums"
+        ));
+    }
+    Ok(())
 }
 
 /// The per-pixel sample counts and exact sums of a `width` × `height`

@@ -120,6 +120,14 @@ impl Piece {
         pixels * (self.samples[1] - self.samples[0]) as u64
     }
 
+    /// Whether the piece is a piece of a render with `spp` samples per
+    /// pixel: an ordered sample range within it, and a tile class `i` of
+    /// `n > i` tile shards.
+    pub fn is_valid(&self, spp: u32) -> bool {
+        let [a, b] = self.samples;
+        a <= b && b <= spp && self.tiles.is_none_or(|[i, n]| i < n)
+    }
+
     /// Whether tile `t` is in the piece.
     pub fn has_tile(&self, t: u32) -> bool {
         self.tiles.is_none_or(|[i, n]| t % n == i)

@@ -267,3 +267,47 @@ fn the_committed_version_1_partial_still_reads() {
     }
     assert!(p.film.image_mean()[0] > 0.0);
 }
+
+/// Found by the `fbpart` fuzz target: a partial whose one shard takes no
+/// samples (`samples [0, 0]`) but whose pixels hold counts near 2³¹; two
+/// such parts do not overlap, so `merge` added the counts and overflowed.
+/// The reader now checks every count against the samples its shards take.
+#[test]
+fn counts_beyond_what_the_shards_take_are_refused() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/fuzz/fbpart_counts_without_samples.fbpart");
+    // The fuzzer's input, sealed with its checksum as the target does.
+    let mut bytes = std::fs::read(path).unwrap();
+    bytes.extend_from_slice(&fogbank_render::partial::fnv1a(&bytes).to_le_bytes());
+    let e = Partial::from_bytes(&bytes).err().unwrap();
+    assert!(e.contains("samples but the shards take 0"), "{e}");
+
+    // A valid part, then more samples in one pixel than its shard takes,
+    // and more dropped samples than its shard leaves out of the sums.
+    let s = scene("transmittance", 5);
+    let half = Shard {
+        index: 0,
+        count: 2,
+        mode: ShardMode::Samples,
+    };
+    let p = Partial::from_bytes(&shard_partial(&s, half).to_bytes()).unwrap();
+    let mut more = p.clone();
+    more.film.count[3] += 1;
+    let e = Partial::from_bytes(&more.to_bytes()).err().unwrap();
+    assert!(e.contains(&format!("holds {} samples", SPP / 2 + 1)), "{e}");
+    let mut dropped = p.clone();
+    dropped.header.nan_samples = u64::MAX;
+    let e = Partial::from_bytes(&dropped.to_bytes()).err().unwrap();
+    assert!(e.contains("dropped samples"), "{e}");
+
+    // Lookup counts have no such bound: merging refuses their overflow.
+    let other =
+        Partial::from_bytes(&shard_partial(&s, Shard { index: 1, ..half }).to_bytes()).unwrap();
+    let mut parts = [("a".to_string(), p), ("b".to_string(), other)];
+    assert!(merge(&parts, false).is_ok());
+    for (_, part) in parts.iter_mut() {
+        part.film.lookups = u64::MAX / 2 + 1;
+    }
+    let e = merge(&parts, false).err().unwrap();
+    assert!(e.contains("lookup"), "{e}");
+}
