@@ -293,7 +293,8 @@ fn check_counts(header: &PartialHeader, film: &Film) -> Result<(), String> {
             runs.map(|r| r.piece.sample_range().len() as u64).sum()
         })
         .collect();
-    let mut not_held = 0u64;
+    // Up to 2¹⁶ runs of 2³² samples over 2²⁸ pixels: beyond u64.
+    let mut not_held = 0u128;
     for y in 0..id.height {
         for x in 0..id.width {
             let n = film.count[(y * id.width + x) as usize] as u64;
@@ -303,11 +304,11 @@ fn check_counts(header: &PartialHeader, film: &Film) -> Result<(), String> {
                     "pixel ({x}, {y}) holds {n} samples but the shards take {held} of it"
                 ));
             }
-            not_held += held - n;
+            not_held += (held - n) as u128;
         }
     }
     let dropped = header.nan_samples as u128 + header.inf_samples as u128;
-    if dropped > not_held as u128 {
+    if dropped > not_held {
         return Err(format!(
             "header: {dropped} dropped samples, but only {not_held} of the shards' samples are not in the sums"
         ));
