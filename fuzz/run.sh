@@ -36,9 +36,9 @@ if [ "$keep" = 0 ]; then
 fi
 # shellcheck disable=SC2086
 cargo fuzz cmin "$target" -- $limits
-# Inputs up to 16 KiB as files; a target whose corpus is already kept as an
-# archive (where the inputs up to 16 KiB lose coverage: the OpenVDB, Blosc,
-# .vol and OBJ targets) keeps the whole corpus that way.
+# Inputs up to 16 KiB as files; a target whose corpus is kept as an archive
+# (where the inputs up to 16 KiB lose coverage; `touch corpora/TARGET.tar.xz`
+# makes one such) keeps the whole corpus that way.
 if [ -f "corpora/$target.tar.xz" ]; then
     tar -C corpus --sort=name --mtime=@0 --owner=0 --group=0 --numeric-owner -cf - "$target" |
         xz -6 > "corpora/$target.tar.xz"
