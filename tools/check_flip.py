@@ -8,7 +8,7 @@
 `--generate` makes small procedural image pairs (LDR PNG and HDR EXR, both
 float and half), writes them to crates/image/tests/fixtures/metrics/, asks
 `flip_evaluator` for the mean FLIP of each pair, and stores the values in
-flip_reference.json there; crates/image/tests/metrics_flip.rs asserts that
+flip_reference.json there; crates/image/tests/suite/metrics_flip.rs asserts that
 ours agrees to 1e-3. Without `--generate` the script runs our implementation
 (the fogbank binary, built with cargo unless --fogbank is given) on every
 pair and prints both values side by side; it also recomputes the reference

@@ -1,5 +1,5 @@
 """Shared fixtures of the Python suite. `cargo test` runs it
-(`crates/cli/tests/python_test.rs`), which sets FOGBANK_CLI to the
+(`crates/cli/tests/suite/python.rs`), which sets FOGBANK_CLI to the
 `fogbank` binary of the same build and FOGBANK_REPO to the checkout; run by
 hand, both are found from this file's place."""
 

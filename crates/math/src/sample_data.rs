@@ -37,6 +37,7 @@ pub const DATA_DIR_VAR: &str = "FOGBANK_DATA_DIR";
 /// `data/fetched/` (tools/fetch_data.sh), then `../shared/data`; the error
 /// names every place and how to fetch it.
 pub fn external(name: &str) -> Result<PathBuf, String> {
+    note_test_asking();
     let root = repo_root();
     let dirs = std::env::var_os(DATA_DIR_VAR).map(PathBuf::from);
     let places: Vec<PathBuf> = dirs
@@ -71,5 +72,37 @@ pub fn find(name: &str) -> Result<PathBuf, String> {
 /// (`mni_t1.nii.gz`, `mni_gm.nii.gz`, `mni_wm.nii.gz`), whether or not they
 /// have been fetched.
 pub fn mni_dir() -> PathBuf {
+    note_test_asking();
     repo_root().join("data/mni")
+}
+
+/// The variable naming a file to which each test that asks for external
+/// data appends its name: `.ci/run`'s second pass (tools/test_plain_clone.sh)
+/// reruns just those tests without the data, to see them skip cleanly.
+pub const DATA_LOG_VAR: &str = "FOGBANK_DATA_LOG";
+
+/// Appends the running test's name to `$FOGBANK_DATA_LOG`. The test harness
+/// names each test's thread after the test; other threads are no test's.
+fn note_test_asking() {
+    let Some(log) = std::env::var_os(DATA_LOG_VAR) else {
+        return;
+    };
+    let thread = std::thread::current();
+    if let Some(test) = thread.name().filter(|n| *n != "main") {
+        append_line(Path::new(&log), test);
+    }
+}
+
+/// Appends `line` and a newline to the file `path` (created if missing); a
+/// failure is printed, not raised: the logs it serves are diagnostics.
+pub(crate) fn append_line(path: &Path, line: &str) {
+    let file = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path);
+    let written =
+        file.and_then(|mut f| std::io::Write::write_all(&mut f, format!("{line}\n").as_bytes()));
+    if let Err(e) = written {
+        eprintln!("{}: {e}", path.display());
+    }
 }

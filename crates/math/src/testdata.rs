@@ -59,14 +59,7 @@ fn skip_unless<T>(require: &str, what: &str) -> Option<T> {
     if let Some(log) = std::env::var_os(SKIP_LOG_VAR) {
         // The test harness names each test's thread after the test.
         let test = std::thread::current().name().unwrap_or("?").to_string();
-        let line = format!("{test}: {what}\n");
-        let file = std::fs::OpenOptions::new()
-            .create(true)
-            .append(true)
-            .open(log);
-        if let Err(e) = file.and_then(|mut f| std::io::Write::write_all(&mut f, line.as_bytes())) {
-            eprintln!("{SKIP_LOG_VAR}: {e}");
-        }
+        sample_data::append_line(std::path::Path::new(&log), &format!("{test}: {what}"));
     }
     None
 }

@@ -96,7 +96,7 @@ pub fn keys(params: &[Param]) -> Vec<&'static str> {
 /// A parameter table as Markdown (`| key | default | meaning |`), the
 /// form an integrator's module doc carries and `fogbank integrators`
 /// prints: the docs are checked against this, so `PARAMS` is their one
-/// source (`tests/param_tables_test.rs`).
+/// source (`tests/suite/param_tables.rs`).
 pub fn markdown_table(params: &[Param]) -> String {
     let mut s = String::from("| key | default | meaning |\n|---|---|---|\n");
     for p in params {

@@ -1,0 +1,4 @@
+//! `fogbank-math`'s integration tests, one module per concept, in one
+//! binary: one compile and link for the crate's whole suite.
+
+mod chi2;

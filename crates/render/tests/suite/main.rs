@@ -1,0 +1,37 @@
+//! `fogbank-render`'s integration tests, one module per concept, in one
+//! binary: one compile and link for the crate's whole suite.
+
+mod support;
+
+mod ament;
+mod animation;
+mod bsdf;
+mod chroma;
+mod convert;
+mod determinism;
+mod direct;
+mod envmap;
+mod export;
+mod instances;
+mod lights;
+mod mitsuba;
+mod mitsuba_reader;
+mod nanovdb_render;
+mod occluders;
+mod param_tables;
+mod pbrt;
+mod pbrt_mitsuba;
+mod pbrt_scenes;
+mod phase;
+mod pin_stream;
+mod point_mis;
+mod reservoir;
+mod restir;
+mod scene;
+mod sci_placement;
+mod shape_instances;
+mod shard;
+mod surfaces;
+mod transfer;
+mod visopt;
+mod volpath;

@@ -1,0 +1,4 @@
+//! Helpers shared by this crate's tests.
+
+pub mod mitsuba_agreement;
+pub mod same_image;
