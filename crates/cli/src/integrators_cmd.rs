@@ -1,6 +1,6 @@
 //! `fogbank integrators [NAME]`: the integrators and their parameter
 //! tables, printed from the registry (the tables the module docs and the
-//! README are checked against).
+//! guide are checked against).
 
 use crate::common::CliResult;
 use clap::Args;

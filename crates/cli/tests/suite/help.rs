@@ -1,6 +1,6 @@
 //! What the program says about itself: every command's `--help` and the
-//! README's command table name every format the readers take and every
-//! option each command has.
+//! guide's command table (`docs/guide/cli.md`) name every format the
+//! readers take and every option each command has.
 
 use crate::support;
 
@@ -12,16 +12,33 @@ fn help(args: &[&str]) -> String {
     String::from_utf8_lossy(&out.stdout).to_string()
 }
 
-fn readme() -> String {
-    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../README.md")).unwrap()
+/// The guide's pages (`docs/guide/*.md`), one after another.
+fn guide() -> String {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/guide");
+    let mut pages: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "md"))
+        .collect();
+    pages.sort();
+    assert!(
+        pages.len() > 5,
+        "{} holds {} pages",
+        dir.display(),
+        pages.len()
+    );
+    pages
+        .iter()
+        .map(|p| std::fs::read_to_string(p).unwrap())
+        .collect()
 }
 
 /// Every command's help names every format it reads, as the readers'
 /// registry (`fogbank_render::convert::FORMATS`) lists them: the scene
 /// formats for the commands that take a scene, the volume formats for
-/// `info`, all of them for `convert`; and the README names them all.
+/// `info`, all of them for `convert`; and the guide names them all.
 #[test]
-fn help_texts_and_readme_name_every_format_the_readers_take() {
+fn help_texts_and_guide_name_every_format_the_readers_take() {
     use fogbank_render::convert::FORMATS;
     let scene_exts: Vec<&str> = FORMATS
         .iter()
@@ -77,23 +94,23 @@ fn help_texts_and_readme_name_every_format_the_readers_take() {
         "convert --help lacks {:?}",
         missing(&h, &all)
     );
-    let readme = readme();
-    let absent = missing(&readme, &all);
-    assert!(absent.is_empty(), "README.md does not name {absent:?}");
+    let guide = guide();
+    let absent = missing(&guide, &all);
+    assert!(absent.is_empty(), "docs/guide does not name {absent:?}");
     // And the command table's rows name what each command reads.
     let row = |cmd: &str| {
         let head = format!("| `fogbank {cmd} ");
-        readme
+        guide
             .lines()
             .find(|l| l.starts_with(&head))
             .unwrap_or_default()
             .to_string()
     };
     let absent = missing(&row("info"), &volume_exts);
-    assert!(absent.is_empty(), "README's info row lacks {absent:?}");
+    assert!(absent.is_empty(), "the guide's info row lacks {absent:?}");
     for cmd in ["render", "view", "convert"] {
         let absent = missing(&row(cmd), &scene_exts);
-        assert!(absent.is_empty(), "README's {cmd} row lacks {absent:?}");
+        assert!(absent.is_empty(), "the guide's {cmd} row lacks {absent:?}");
     }
     // A file of none of these kinds is refused naming them.
     let dir = tmp_dir("help-formats");
@@ -146,16 +163,16 @@ fn options(cmd: &str) -> Vec<(String, Option<String>)> {
         .collect()
 }
 
-/// The README's command table gives every command a row (its first cell
+/// The guide's command table (`docs/guide/cli.md`) gives every command a row (its first cell
 /// `` `fogbank NAME …` ``) and names, in that command's rows, every
 /// option the command has (by its long name, or by its short one where
 /// it has one); `experiment`'s row names every experiment.
 #[test]
-fn readme_command_table_names_every_command_and_option() {
-    let readme = readme();
-    let table: Vec<&str> = readme
+fn guide_command_table_names_every_command_and_option() {
+    let guide = guide();
+    let table: Vec<&str> = guide
         .lines()
-        .skip_while(|l| !l.starts_with("## The `fogbank` command"))
+        .skip_while(|l| !l.starts_with("# The `fogbank` command"))
         .skip_while(|l| !l.starts_with("| command |"))
         .take_while(|l| l.starts_with('|'))
         .collect();

@@ -7,6 +7,7 @@ mod deterministic_marching;
 mod distance;
 mod empty_space;
 mod exact;
+mod guide;
 mod jackknife;
 mod pins;
 mod ray_marching_step;

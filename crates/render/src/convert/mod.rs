@@ -37,7 +37,7 @@ pub enum FileKind {
 
 /// Every file kind fogbank reads, by extension: the registry that
 /// [`FileKind::of`], the error messages and the commands' help texts follow
-/// (the help texts and README are checked against it by a test). Raw
+/// (the help texts and the guide are checked against it by a test). Raw
 /// volumes (`.raw`) are read only with their dimensions given (`info
 /// --dims`, a scene's `raw` key), so they are not told by extension.
 pub const FORMATS: [(&str, FileKind); 11] = [

@@ -1,6 +1,6 @@
 //! What an integrator's description provides, in its own file: its name,
 //! its parameter table (the one source of its docs: `fogbank integrators`,
-//! its module doc and the README are checked against it), reading and
+//! its module doc and the guide (docs/guide/integrators.md) are checked against it), reading and
 //! writing its `[integrator]` table, its transmittance estimator and what
 //! it can render. `integrators/mod.rs` registers each implementation in one
 //! line of its `integrators!` list, which generates `IntegratorDesc` and

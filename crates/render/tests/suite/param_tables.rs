@@ -1,6 +1,6 @@
 //! Every integrator's parameter table has one source, its `PARAMS` in the
 //! registry: the table in its module doc, the defaults its reader gives,
-//! and its keys in the README's integrator table are checked against it,
+//! and its keys in the guide's integrator table (docs/guide/integrators.md) are checked against it,
 //! so none of them can drift. On a mismatch the message prints what the
 //! place should say.
 
@@ -101,16 +101,16 @@ fn defaults_read_are_the_defaults_the_tables_state() {
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
 
-/// The keys cell of integrator `name`'s row in the README's integrator table.
-fn readme_keys(readme: &str, name: &str) -> Option<String> {
-    let row = readme
+/// The keys cell of integrator `name`'s row in the guide's integrator table (docs/guide/integrators.md).
+fn guide_keys(guide: &str, name: &str) -> Option<String> {
+    let row = guide
         .lines()
         .find(|l| l.starts_with(&format!("| `{name}` |")))?;
     let cells: Vec<&str> = row.trim_end_matches('|').rsplitn(2, " | ").collect();
     Some(cells.first()?.trim().to_string())
 }
 
-/// `` `key` (default) `` for every row, as the README lists them.
+/// `` `key` (default) `` for every row, as the guide lists them.
 fn keys_cell(params: &[Param]) -> String {
     let keys: Vec<String> = params
         .iter()
@@ -120,18 +120,20 @@ fn keys_cell(params: &[Param]) -> String {
 }
 
 #[test]
-fn the_readme_lists_every_key_with_its_default() {
-    let readme_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../README.md");
-    let readme = std::fs::read_to_string(readme_path).unwrap();
+fn the_guide_lists_every_key_with_its_default() {
+    let guide_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/guide/integrators.md");
+    let guide = std::fs::read_to_string(guide_path).unwrap();
     let mut wrong = Vec::new();
     for (name, params) in REGISTRY.iter() {
         let expected = keys_cell(params);
-        match readme_keys(&readme, name) {
+        match guide_keys(&guide, name) {
             Some(cell) if cell == expected => {}
             Some(cell) => wrong.push(format!(
-                "`{name}`: the README's keys cell reads\n{cell}\nand should read\n{expected}"
+                "`{name}`: the guide's keys cell reads\n{cell}\nand should read\n{expected}"
             )),
-            None => wrong.push(format!("`{name}`: no row in the README's integrator table")),
+            None => wrong.push(format!(
+                "`{name}`: no row in the guide's integrator table (docs/guide/integrators.md)"
+            )),
         }
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n\n"));
@@ -148,14 +150,14 @@ fn the_checks_catch_a_drifted_table() {
     let doc = "//! text\n//!\n//! | key | default | meaning |\n//! |---|---|---|\n//! | `max_depth` | 65 | longest path |\n\nuse x;\n";
     assert_ne!(doc_table(doc), markdown_table(&params));
     assert_eq!(doc_table(&doc.replace("65", "64")), markdown_table(&params));
-    // The README check: a missing key changes the cell.
-    let readme = "| `volpath` | what | `max_depth` (64) |\n";
+    // The guide check: a missing key changes the cell.
+    let guide = "| `volpath` | what | `max_depth` (64) |\n";
     assert_eq!(
-        readme_keys(readme, "volpath").as_deref(),
+        guide_keys(guide, "volpath").as_deref(),
         Some(keys_cell(&params).as_str())
     );
     assert_ne!(
-        readme_keys("| `volpath` | what | `rr_depth` (3) |", "volpath").unwrap(),
+        guide_keys("| `volpath` | what | `rr_depth` (3) |", "volpath").unwrap(),
         keys_cell(&params)
     );
     // Values shown as tables write them.
