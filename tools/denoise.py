@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Denoise one HDR image with Intel Open Image Denoise (the "RT" filter).
 
-fogbank's experiments call this as an external denoiser (seed 003, Fig. 6):
+fogbank's experiments call this as an external denoiser (Lerzer and Dachsbacher 2025, Fig. 6):
 stdin carries WIDTH*HEIGHT*3 little-endian f32 (rows top to bottom, RGB),
 stdout gets the denoised pixels in the same layout, and the last line of
 stderr is `execute_ms <float>`: the filter's execution time, without the

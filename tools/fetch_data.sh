@@ -6,9 +6,9 @@
 #
 #   mni  the MNI152 (ICBM 2009a, 1 mm) T1 and grey/white-matter templates,
 #        from the nilearn wheel on PyPI (only the wheel is downloaded, no
-#        dependencies), into data/mni/: scenes/mri_brain.toml and seed 003's
+#        dependencies), into data/mni/: scenes/mri_brain.toml and Lerzer and Dachsbacher 2025's
 #        head studies.
-#   vdb  openvdb.org's sample models cube.vdb (seed 004's Cube stand-ins) and
+#   vdb  openvdb.org's sample models cube.vdb (Hansen 2025's Cube stand-ins) and
 #        sphere.vdb (the original, format 222; the reader's tests), into
 #        data/fetched/.
 #   vol  Mitsuba 3's test grids sigmat.vol and albedo.vol (the .vol reader's

@@ -3,7 +3,7 @@
 #
 #   peer     the peer scenes of tools/mitsuba_bench.py at 128x128, 1024 spp
 #            (GPU and the CPU on every core, with the GPU's submissions);
-#   fig1     seed 000's Fig. 1 setting (scenes/fig1.toml at 1920x1080,
+#   fig1     Peters 2025's Fig. 1 setting (scenes/fig1.toml at 1920x1080,
 #            32 spp, `direct`) for every estimator the paper's table names;
 #   density  the same setting over sigma_t scales, on the procedural cloud
 #            and on the real dragon.vdb (kernel ms and lookups per pixel and

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes scenes/street/windows.obj: the lit windows of a night street
-(seed 002 Fig. 18's setting — many small emitters in fog — as a stated
+(Lin et al. 2021 Fig. 18's setting — many small emitters in fog — as a stated
 substitute for Bistro / Emerald Square, which cannot be downloaded here).
 Two facades of `COLUMNS` × `FLOORS` windows face each other across the
 street; each window is two triangles whose winding faces the street, so

@@ -246,7 +246,7 @@ def compare(reference: Any, test: Any, metric: Union[str, Sequence[str]] = "rmse
 
 
 def experiment(name: str, out: Optional[PathLike] = None, trials: Optional[int] = None) -> Dict[str, Any]:
-    """Runs one of the seeds' experiments (`fogbank experiment NAME`) into
+    """Runs one of the papers' experiments (`fogbank experiment NAME`) into
     `out` (default experiments/NAME); returns {"summary", "files",
     "seconds"}."""
     summary, files, seconds = _native.experiment(name, None if out is None else os.fspath(out), trials)

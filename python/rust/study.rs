@@ -156,7 +156,7 @@ pub fn converge<'py>(
     Ok(d)
 }
 
-/// Runs one of the seeds' experiments into `out`; see
+/// Runs one of the papers' experiments into `out`; see
 /// `fogbank.experiment`. Returns (summary, files, seconds).
 #[pyfunction]
 #[pyo3(signature = (name, out=None, trials=None))]

@@ -104,7 +104,7 @@ fn integrator_scaling(a: &BenchArgs) -> CliResult {
     let cloud = cloud_text(a.size, a.resolution, a.sigma_t_scale, a.frames);
     let sky_and_sun = "[[lights]]\ntype = \"constant\"\nradiance = [0.55, 0.7, 1.0]\n\
                        [[lights]]\ntype = \"directional\"\ndirection = [-0.4, -0.8, -0.3]\nirradiance = [3.0, 2.9, 2.7]\n";
-    // point_mis is the seeds' point-light integrator; ament takes point lights.
+    // point_mis is the jackknife paper's point-light integrator; ament takes point lights.
     let points =
         "[[lights]]\ntype = \"point\"\nposition = [0.3, 0.2, 0.1]\nintensity = [1.0, 0.85, 0.7]\n";
     let rounds = a.repeat.max(1) as usize;

@@ -1,5 +1,5 @@
-//! `fogbank experiment NAME`: runs one of seed 000's one-dimensional
-//! experiments and writes its CSV, plots and summary.
+//! `fogbank experiment NAME`: runs one of the papers' experiments (or one
+//! of the engine's measurements) and writes its CSV, plots and summary.
 
 use std::path::PathBuf;
 
@@ -16,9 +16,10 @@ pub struct ExperimentArgs {
 }
 
 pub fn run(a: ExperimentArgs) -> crate::common::CliResult {
+    let (name, _) = fogbank_eval::experiments::current_name(&a.name);
     let out = a
         .out
-        .unwrap_or_else(|| PathBuf::from("experiments").join(&a.name));
+        .unwrap_or_else(|| PathBuf::from("experiments").join(&name));
     let report = fogbank_eval::experiments::run(&a.name, &out, a.trials)?;
     println!("{}", report.summary);
     println!();
@@ -35,7 +36,7 @@ fn name_help() -> String {
     let names = fogbank_eval::experiments::names();
     let (last, rest) = names.split_last().expect("at least one experiment");
     format!(
-        "Experiment: {} or {last} (fig12: --trials is the reference's spp)",
+        "Experiment: {} or {last} (jackknife-fig12: --trials is the reference's spp)",
         rest.join(", ")
     )
 }

@@ -52,7 +52,7 @@ fn print_memory(grid: BrickGrid<f32>) {
         bytes as f64 / (1 << 20) as f64,
         bytes as f64 / voxels
     );
-    // Seed 004's default pin grid for this volume (0.1× the f16 texture).
+    // Hansen 2025's default pin grid for this volume (0.1× the f16 texture).
     let g = PinGridParams::default();
     let p = g.positions_for(voxels as u64);
     let pins = (p as u64).pow(3) * (g.phi * g.theta) as u64;

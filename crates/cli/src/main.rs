@@ -51,7 +51,7 @@ enum Command {
     Integrators(integrators_cmd::IntegratorsArgs),
     /// Primary-ray transmittance throughput per estimator.
     Bench(bench_cmd::BenchArgs),
-    /// Run one of the seeds' experiments (seeds 000, 002, 003 and 004; NAME's help lists them).
+    /// Run one of the papers' experiments (jackknife, ReSTIR, visopt, pins; NAME's help lists them).
     Experiment(experiment_cmd::ExperimentArgs),
     /// Compare two images (rmse, relmse, smape, flip, ztest).
     Compare(compare_cmd::CompareArgs),

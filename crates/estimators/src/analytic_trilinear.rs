@@ -1,4 +1,4 @@
-//! Exact optical depth of the trilinear interpolant (seed 002 §5 "analytic
+//! Exact optical depth of the trilinear interpolant (Lin et al. 2021 §5 "analytic
 //! trilinear"; the ground truth for trilinear and stochastic-trilinear media).
 //!
 //! Between voxel centres the field is trilinear, so along a ray segment inside

@@ -1,4 +1,4 @@
-//! Deterministic ray marching of the trilinear field (seed 002 §4.3, §5.1):
+//! Deterministic ray marching of the trilinear field (Lin et al. 2021 §4.3, §5.1):
 //! the T̃ inside the reuse target p̂, which must return the same value every
 //! time a path is evaluated (p̂_new/p̂_old ratios, Talbot sums), so it draws
 //! no random numbers and never filters stochastically. Midpoints of steps

@@ -148,7 +148,7 @@ const INFO: [Info; 11] = [
         keys: &["samples", "mode", "step", "jitter"],
         options: "samples=10, mode=fixed_count|fixed_step, step=1.0, jitter=stratified|uniform",
         description:
-            "seed 000: cos(S)·exp(−X̄) from two interleaved estimates (Alg. 1, 2; Eq. 4, 5)",
+            "Peters 2025: cos(S)·exp(−X̄) from two interleaved estimates (Alg. 1, 2; Eq. 4, 5)",
     },
     Info {
         name: "jackknife_naive",
@@ -328,7 +328,7 @@ impl Estimator {
     }
 
     /// The same estimator with Russian roulette off: the plain ratio and
-    /// residual ratio tracking that seed 000's studies compare; every other
+    /// residual ratio tracking that Peters 2025's studies compare; every other
     /// estimator unchanged.
     pub fn without_roulette(self) -> Estimator {
         match self {

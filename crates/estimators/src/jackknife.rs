@@ -1,4 +1,4 @@
-//! Seed 000's jackknife transmittance estimator and its ablations.
+//! Peters 2025's jackknife transmittance estimator and its ablations.
 //!
 //! `jackknife`: Alg. 2 then Alg. 1 with variance-aware importance (Eq. 5)
 //! and the super-voxel minimum as control variate, two interleaved estimates
@@ -10,16 +10,16 @@ use crate::Estimate;
 use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::VolumeAccess;
 
-/// How the CDF step F_Δ is chosen (seed 000 §4.3).
+/// How the CDF step F_Δ is chosen (Peters 2025 §4.3).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum StepMode {
     /// F_Δ = F / N: exactly N samples per estimate on every non-empty ray.
     FixedCount,
-    /// F_Δ given in optical-depth units (seed 000 Fig. 8d).
+    /// F_Δ given in optical-depth units (Peters 2025 Fig. 8d).
     FixedStep(f32),
 }
 
-/// Seed 000, Eq. 4: K = cos(S) exp(−X̄), X̄ = (X0 + X1)/2, S = |X0 − X1|/2.
+/// Peters 2025, Eq. 4: K = cos(S) exp(−X̄), X̄ = (X0 + X1)/2, S = |X0 − X1|/2.
 #[inline]
 pub fn jackknife_transmittance(x0: f64, x1: f64) -> f64 {
     (0.5 * (x0 - x1).abs()).cos() * (-0.5 * (x0 + x1)).exp()
@@ -32,7 +32,7 @@ fn f_delta(total: f64, samples: u32, mode: StepMode) -> f64 {
     }
 }
 
-/// How each optical-depth estimate samples its segment (seed 000 Alg. 1,
+/// How each optical-depth estimate samples its segment (Peters 2025 Alg. 1,
 /// Alg. 2): `samples` lookups or a fixed CDF step (§4.3), the importance
 /// density (Eq. 5, or the mean of the Fig. 9 ablation) and the jitter
 /// pattern (§4.1).
@@ -82,7 +82,7 @@ pub fn optical_depths<V: VolumeAccess>(
 }
 
 /// `jackknife` (and, with `Importance::Mean`, `jackknife_mean_importance`,
-/// the ablation of seed 000 Fig. 9).
+/// the ablation of Peters 2025 Fig. 9).
 pub fn transmittance<V: VolumeAccess>(
     v: &V,
     seg: &RaySegment,
@@ -98,7 +98,7 @@ pub fn transmittance<V: VolumeAccess>(
 }
 
 /// `jackknife_naive`: exp(−X) from one estimate of 2N samples with the same
-/// machinery (seed 000 Fig. 8c), i.e. m = 1 at equal cost.
+/// machinery (Peters 2025 Fig. 8c), i.e. m = 1 at equal cost.
 pub fn naive_transmittance<V: VolumeAccess>(
     v: &V,
     seg: &RaySegment,

@@ -1,4 +1,4 @@
-//! Jackknife estimation of functions of optical depth (seed 000 §5.1): for
+//! Jackknife estimation of functions of optical depth (Peters 2025 §5.1): for
 //! two i.i.d. normal estimates X0, X1 of τ, Re g(X̄ + iS) is an unbiased
 //! estimate of g(τ) for entire g (Eq. 7); the MIS weights of App. F; and the
 //! UMVU estimate of e^{−τ} for m ≥ 2 estimates (Eq. 3).
@@ -42,12 +42,12 @@ impl Complex {
     }
 }
 
-/// Seed 000, Eq. 7: Re g(X̄ + iS), X̄ = (X0 + X1)/2, S = |X0 − X1|/2.
+/// Peters 2025, Eq. 7: Re g(X̄ + iS), X̄ = (X0 + X1)/2, S = |X0 − X1|/2.
 pub fn estimate_function(g: impl Fn(Complex) -> Complex, x0: f64, x1: f64) -> f64 {
     g(Complex::new(0.5 * (x0 + x1), 0.5 * (x0 - x1).abs())).re
 }
 
-/// Seed 000, App. F: the jackknife estimate of (a e^{−τ} + b)/(c e^{−τ} + d)
+/// Peters 2025, App. F: the jackknife estimate of (a e^{−τ} + b)/(c e^{−τ} + d)
 /// as Re[(a T̃ + b)/(c T̃ + d)] with T̃ = e^{−X̄}(cos S − i sin S), computed as
 /// Re(num · conj(den)) / |den|².
 pub fn mis_weight(a: f64, b: f64, c: f64, d: f64, x0: f64, x1: f64) -> f64 {
@@ -63,7 +63,7 @@ pub fn mis_weight(a: f64, b: f64, c: f64, d: f64, x0: f64, x1: f64) -> f64 {
     (num.re * den.re + num.im * den.im) / den2
 }
 
-/// Seed 000, Eq. 3: the UMVU estimate of e^{−τ} from m ≥ 2 i.i.d. normal
+/// Peters 2025, Eq. 3: the UMVU estimate of e^{−τ} from m ≥ 2 i.i.d. normal
 /// estimates, Γ((m−1)/2)(2/S)^{(m−3)/2} J_{(m−3)/2}(S) e^{−X̄}. The Bessel
 /// factor equals the confluent limit function ₀F₁(; (m−1)/2; −S²/4), an
 /// entire series evaluated directly (m = 2 gives cos S, Eq. 4).

@@ -11,7 +11,7 @@
 //! One name per quantity in Rust and WGSL alike; the seeds write some of
 //! them differently.
 //!
-//! | name | quantity | seed 000 | seed 002 | seed 004 | pbrt-v4 |
+//! | name | quantity | Peters 2025 | Lin et al. 2021 | Hansen 2025 | pbrt-v4 |
 //! |---|---|---|---|---|---|
 //! | `sigma_t` | extinction coefficient (per world unit; per index unit inside estimators) | μ(t) | σ_t | σ_t, μ | `sigma_t` |
 //! | `sigma_t_at` | σ_t at a point: one filtered lookup, counted | μ(x) | | | `SampleT_maj` callback |
@@ -22,10 +22,10 @@
 //! | `sigma_r` | majorant of the residual σ_t − σ_c | | | | |
 //! | `tau` | optical depth ∫ σ_t dt | τ, X (its estimate) | τ | τ | |
 //! | `transmittance`, `tr` | T = exp(−τ) | T | T | T | `T_maj` ratio |
-//! | `importance` | seed 000 Eq. 5 sampling density of the lookups | p(t) | | | |
+//! | `importance` | Peters 2025 Eq. 5 sampling density of the lookups | p(t) | | | |
 //! | `albedo` | σ_s / σ_t | α | ρ | α | |
 //!
-//! In seed 000's 1D experiments (`fogbank-eval`), `Profile1D::sigma_t_at`
+//! In Peters 2025's 1D experiments (`fogbank-eval`), `Profile1D::sigma_t_at`
 //! is μ(t) of the paper's figures (their axis labels keep the paper's μ).
 //!
 //! # Modules
@@ -35,21 +35,21 @@
 //! - `estimate` (what one estimate returns), `lookup` (the one place estimators read the
 //!   volume: counts the lookup, draws the stochastic-filter jitter), `roulette` (Russian
 //!   roulette on a tracking walk's running weight), `jackknife_function` (jackknife
-//!   estimates of functions of τ, seed 000 §5.1: Eq. 7, App. F's MIS weights, Eq. 3's
+//!   estimates of functions of τ, Peters 2025 §5.1: Eq. 7, App. F's MIS weights, Eq. 3's
 //!   UMVU estimate of e^{−τ}) and the deterministic integrals: `regular_tracking`
-//!   (Szirmay-Kalos et al. 2010, seed 000 §2.1: exact τ of the nearest-filtered grid
-//!   along a DDA), `analytic_trilinear` (exact τ of the trilinear interpolant, seed 002
-//!   §5) and `deterministic_marching` (the reuse target's T̃, seed 002 §4.3, §5.1);
+//!   (Szirmay-Kalos et al. 2010, Peters 2025 §2.1: exact τ of the nearest-filtered grid
+//!   along a DDA), `analytic_trilinear` (exact τ of the trilinear interpolant, Lin et al. 2021
+//!   §5) and `deterministic_marching` (the reuse target's T̃, Lin et al. 2021 §4.3, §5.1);
 //! - `null_collisions` (the tentative-collision process of the tracking estimators),
-//!   `optical_depth` (importance-sampled ray-marching estimates of τ, seed 000 Algs. 1
-//!   and 2) and `pins` (pin transmittance sampling, seed 004, Hansen 2025);
-//! - `ratio_tracking` (Novák et al. 2014, seed 000 §2.2), `residual_ratio_tracking`
+//!   `optical_depth` (importance-sampled ray-marching estimates of τ, Peters 2025 Algs. 1
+//!   and 2) and `pins` (pin transmittance sampling, Hansen 2025, Hansen 2025);
+//! - `ratio_tracking` (Novák et al. 2014, Peters 2025 §2.2), `residual_ratio_tracking`
 //!   (Novák et al. 2014: a per-super-voxel control extinction plus ratio tracking of the
-//!   residual), `jackknife` (seed 000's jackknife transmittance, Eqs. 4 and 5, and its
+//!   residual), `jackknife` (Peters 2025's jackknife transmittance, Eqs. 4 and 5, and its
 //!   ablations), `kettunen` (Kettunen et al. 2021's biased and unbiased ray-marching
 //!   estimators) and `ray_marching` (naive ray marching, T = exp(−X), biased);
 //! - `distance` (distance samplers: delta, decomposition and regular tracking, and the
-//!   equiangular sampler) → `track_length` (seed 000 §2.2: delta tracking's 0/1 estimate);
+//!   equiangular sampler) → `track_length` (Peters 2025 §2.2: delta tracking's 0/1 estimate);
 //! - `estimator` (the registry: names, options, descriptions, per-ray dispatch) →
 //!   `scaled` (transmittances of several extinctions k_c · σ_t from one walk, for
 //!   chromatic media with one density).

@@ -1,5 +1,5 @@
 //! Importance-sampled ray marching estimates of optical depth over the
-//! super-voxel grid: seed 000 Alg. 2 (preparation) and Alg. 1 (interleaved
+//! super-voxel grid: Peters 2025 Alg. 2 (preparation) and Alg. 1 (interleaved
 //! estimates), generalised to `m` estimates, two importance functions and two
 //! jitter patterns so that jackknife, its ablations and Kettunen et al.'s
 //! ray marching share one implementation.
@@ -15,7 +15,7 @@ pub const MAX_ESTIMATES: usize = 9;
 /// How samples are distributed along the ray within super-voxels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Importance {
-    /// Seed 000 Eq. 5, P = RMS(μ − μ_min), with the super-voxel minimum as
+    /// Peters 2025 Eq. 5, P = RMS(μ − μ_min), with the super-voxel minimum as
     /// control variate (its optical depth is added exactly).
     VarianceAware,
     /// Kettunen et al. 2021: the super-voxel mean, no control variate.
@@ -33,7 +33,7 @@ impl Importance {
     }
 }
 
-/// Seed 000 §4.1: one independent jitter per stratum, or one jitter shared
+/// Peters 2025 §4.1: one independent jitter per stratum, or one jitter shared
 /// by all strata of an estimate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Jitter {
@@ -54,7 +54,7 @@ pub struct Prepared {
     pub t_max: f32,
 }
 
-/// Seed 000, Alg. 2: one super-voxel traversal summing importance.
+/// Peters 2025, Alg. 2: one super-voxel traversal summing importance.
 pub fn prepare<V: VolumeAccess>(v: &V, seg: &RaySegment, importance: Importance) -> Prepared {
     let (ray, t0, t1) = (&seg.ray, seg.t0, seg.t1);
     let sv = v.supervoxels();
@@ -77,7 +77,7 @@ pub fn prepare<V: VolumeAccess>(v: &V, seg: &RaySegment, importance: Importance)
     }
 }
 
-/// Seed 000, Alg. 1, for `out.len()` interleaved i.i.d. estimates with CDF
+/// Peters 2025, Alg. 1, for `out.len()` interleaved i.i.d. estimates with CDF
 /// step `f_delta` (importance per stratum) along the prepared ray. Each estimate advances its own
 /// normalised CDF cursor; every pass of the inner loop takes exactly one
 /// full-resolution sample. Writes X_k = F_Δ Σ (μ − μ_c)/P + τ_c. The sample

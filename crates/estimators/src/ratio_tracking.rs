@@ -1,4 +1,4 @@
-//! Ratio tracking (Novák et al. 2014; seed 000 §2.2): tentative collisions
+//! Ratio tracking (Novák et al. 2014; Peters 2025 §2.2): tentative collisions
 //! from the super-voxel majorant, each weighting the estimate by the null
 //! probability 1 − σ_t/σ̄ instead of terminating. Unbiased. With a
 //! `roulette` threshold > 0 the walk plays Russian roulette once its weight

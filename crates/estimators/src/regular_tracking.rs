@@ -1,4 +1,4 @@
-//! Regular tracking (Szirmay-Kalos et al. 2010; seed 000 §2.1): the exact
+//! Regular tracking (Szirmay-Kalos et al. 2010; Peters 2025 §2.1): the exact
 //! optical depth of the piecewise-constant (nearest-filtered) grid, summed
 //! voxel by voxel along a DDA. Deterministic; its cost is the worst case.
 

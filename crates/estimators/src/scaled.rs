@@ -24,7 +24,7 @@ use fogbank_volume::{Medium, MediumView};
 enum Depths {
     /// exp(−τ) of one estimate (exact or marched).
     Exp(f64),
-    /// Seed 000, Eq. 4 of two interleaved estimates.
+    /// Peters 2025, Eq. 4 of two interleaved estimates.
     Jackknife([f64; 2]),
 }
 

@@ -1,4 +1,4 @@
-//! Track-length estimator (seed 000 §2.2): delta tracking over the
+//! Track-length estimator (Peters 2025 §2.2): delta tracking over the
 //! super-voxel majorant grid, returning 1 if no real collision happens before
 //! the end of the segment and 0 otherwise. Unbiased, variance (1 − T)T.
 

@@ -1,5 +1,5 @@
 //! An external image denoiser, for experiments that compare denoised
-//! renders (seed 003, Fig. 6). fogbank does not link a denoiser: the
+//! renders (Lerzer and Dachsbacher 2025, Fig. 6). fogbank does not link a denoiser: the
 //! maintained one for path-traced images, Intel Open Image Denoise, is a
 //! native library, so an experiment pipes its image through a command
 //! instead — by default `python3 tools/denoise.py` (OIDN from the `oidn`

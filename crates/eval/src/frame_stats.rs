@@ -1,5 +1,5 @@
 //! Per-pixel statistics of a scene's integrator over K independent 1-spp
-//! frames (seed 000 §6.1, Figs. 8–10): mean, single-frame standard
+//! frames (Peters 2025 §6.1, Figs. 8–10): mean, single-frame standard
 //! deviation, and bias against an exact reference.
 //!
 //! Primary rays go through pixel centres, so an exact estimator gives one

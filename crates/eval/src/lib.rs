@@ -10,9 +10,9 @@
 //!   command) and `report` (`fogbank report`: one offline HTML page of the runs below a
 //!   folder);
 //! - `frame_stats` (per-pixel mean, single-frame std and bias over K independent 1-spp
-//!   frames, seed 000 §6.1) and `converge` (equal-time curves: MSE against a reference
+//!   frames, Peters 2025 §6.1) and `converge` (equal-time curves: MSE against a reference
 //!   as a function of render time);
-//! - `maps` (false-colour maps of per-pixel statistics with a colour bar, seed 000
+//! - `maps` (false-colour maps of per-pixel statistics with a colour bar, Peters 2025
 //!   Figs. 8 and 10) and `experiments` (the papers' figures and tables, one folder per
 //!   paper, each writing CSV, plots and a `summary.md`).
 

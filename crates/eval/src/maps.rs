@@ -1,4 +1,4 @@
-//! False-colour maps of per-pixel statistics (seed 000 Figs. 8 and 10:
+//! False-colour maps of per-pixel statistics (Peters 2025 Figs. 8 and 10:
 //! image, bias, standard deviation), each with a colour bar.
 
 use crate::frame_stats::FrameStats;

@@ -29,7 +29,7 @@ pub struct Gpu {
     pub(crate) pipelines: std::sync::Arc<PipelineCache>,
 }
 
-/// The default [`Gpu::scratch_budget`] (seed 003's static scratch is 156 MB).
+/// The default [`Gpu::scratch_budget`] (Lerzer and Dachsbacher 2025's static scratch is 156 MB).
 pub const SCRATCH_BUDGET: u64 = 128 << 20;
 
 impl Gpu {

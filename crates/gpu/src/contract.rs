@@ -36,9 +36,9 @@ pub const INTEGRATOR_FLAGS: [(&str, u32); 6] = [
 /// volpath's `restir_baseline` preset: light sampling only (no
 /// phase-sampled escape MIS) and Russian roulette by albedo.
 pub const INTEGRATOR_LIGHT_ONLY: u32 = INTEGRATOR_FLAGS[0].1;
-/// Seed 004: rays without pins use fixed-step ray marching (§2.4).
+/// Hansen 2025: rays without pins use fixed-step ray marching (§2.4).
 pub const INTEGRATOR_RAY_MARCHING: u32 = INTEGRATOR_FLAGS[1].1;
-/// Seed 004 Fig. 4.5: pins traced along each query ray, not looked up.
+/// Hansen 2025 Fig. 4.5: pins traced along each query ray, not looked up.
 pub const INTEGRATOR_UNQUANTISED: u32 = INTEGRATOR_FLAGS[2].1;
 /// The scene has shapes: rays meet surfaces; without, the
 /// driver compiles the surface code out.
@@ -67,7 +67,7 @@ pub const SHAPE_FLAGS: [(&str, u32); 6] = [
     ("PASSES", 32),
 ];
 
-/// Bits of a seed 003 importance rule's `flags` (WGSL `RULE_*`): which of
+/// Bits of a Lerzer and Dachsbacher 2025 importance rule's `flags` (WGSL `RULE_*`): which of
 /// its predicates it has (world/importance.rs `ImportanceRule`).
 pub const RULE_FLAGS: [(&str, u32); 6] = [
     ("EXTINCTION", 1),

@@ -23,7 +23,7 @@ pub(crate) struct Kernel {
     pub(crate) mis_samples: u32,
     /// `INTEGRATOR_*` bits.
     pub(crate) flags: u32,
-    /// `volpath`'s seed 004 keys (`pins`, `tracking`, `march_step`,
+    /// `volpath`'s Hansen 2025 keys (`pins`, `tracking`, `march_step`,
     /// `pin_grid`); the default is plain `volpath`.
     pub(crate) pins: PinParams,
     /// Emitting triangles are picked through a light BVH (`LIGHT_BVH`).
@@ -35,7 +35,7 @@ pub(crate) enum KernelSource {
     Transmittance,
     Scatter,
     PointMis,
-    /// Seed 003: `visopt` and `ament`, group 3 their [`VisOptBuffers`].
+    /// Lerzer and Dachsbacher 2025: `visopt` and `ament`, group 3 their [`VisOptBuffers`].
     VisOpt,
     Ament,
 }

@@ -1,5 +1,5 @@
 //! What one per-sample kernel needs before its first dispatch: the scene's
-//! bind groups (media; lights; pins or seed 003's data), the frame uniform
+//! bind groups (media; lights; pins or Lerzer and Dachsbacher 2025's data), the frame uniform
 //! and accumulation buffers, the compute pipeline, and timestamp queries
 //! for its device time.
 
@@ -28,8 +28,8 @@ pub(crate) struct SceneGroups {
 
 impl SceneGroups {
     pub(crate) fn upload(gpu: &Gpu, scene: &Scene, kernel: &Kernel) -> Result<Self, GpuError> {
-        let seed003 = matches!(kernel.source, KernelSource::VisOpt | KernelSource::Ament);
-        let fields = if seed003 {
+        let visopt = matches!(kernel.source, KernelSource::VisOpt | KernelSource::Ament);
+        let fields = if visopt {
             importance_fields(scene)
         } else {
             Vec::new()
@@ -51,7 +51,7 @@ impl SceneGroups {
         } else {
             None
         };
-        let visopt = if seed003 {
+        let visopt = if visopt {
             Some(VisOptBuffers::build(gpu, scene, &media.field_first)?)
         } else {
             None
@@ -64,7 +64,7 @@ impl SceneGroups {
         })
     }
 
-    /// Group 3: the pin grids or seed 003's data.
+    /// Group 3: the pin grids or Lerzer and Dachsbacher 2025's data.
     pub(crate) fn group3(&self) -> Option<(&wgpu::BindGroupLayout, &wgpu::BindGroup)> {
         match (&self.pins, &self.visopt) {
             (Some(p), _) => Some((&p.layout, &p.bind_group)),

@@ -18,13 +18,13 @@
 //!   accumulation buffers, read back as a film) and `surfaces` (the scene's BVH, shapes,
 //!   triangles and materials on the device);
 //! - `lights` (bind group 2: lights, environment map, the media's albedo, phase and
-//!   emission, the surfaces), `visopt` (seed 003: bind group 3 of the `visopt` and
-//!   `ament` kernels) and seed 004's pins: `pin_kernel` (the bind-group layout and
+//!   emission, the surfaces), `visopt` (Lerzer and Dachsbacher 2025: bind group 3 of the `visopt` and
+//!   `ament` kernels) and Hansen 2025's pins: `pin_kernel` (the bind-group layout and
 //!   pipeline its grid-writing kernels share) → `pin_stream` (the pins streamed into
 //!   each grid before every pass) → `pins` (every medium's pin grid gathered on the
 //!   device, bind group 3 of the scatter kernel);
 //! - `diagnostics` (kernels that test the WGSL ports against the CPU bit for bit) and
-//!   `restir` (seed 002 §5: the passes of the CPU's `restir::frame` as compute kernels);
+//!   `restir` (Lin et al. 2021 §5: the passes of the CPU's `restir::frame` as compute kernels);
 //! - `kernel` (which per-sample kernel an integrator runs: the GPU's integrator
 //!   registry) → `kernel_setup` (bind groups, buffers, pipeline and timestamp queries
 //!   before a kernel's first dispatch) → `render` (the progressive render loop).

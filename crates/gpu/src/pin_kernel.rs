@@ -1,4 +1,4 @@
-//! What seed 004's grid-writing kernels share (the gather of `pins.rs` and
+//! What Hansen 2025's grid-writing kernels share (the gather of `pins.rs` and
 //! the stream of `pin_stream.rs`): their bind-group layout and pipeline.
 
 use crate::context::buffer_entry;

@@ -1,4 +1,4 @@
-//! Seed 004's pin stream on the GPU (`pin_grid.stream`): before every pass,
+//! Hansen 2025's pin stream on the GPU (`pin_grid.stream`): before every pass,
 //! `pin_stream_kernel.wgsl` streams R pins into each gathered grid, pin i
 //! of grid g from Pcg32(`stream_seed`(seed, g's owner, pass), i) as the
 //! CPU's `shared::pin_stream` draws it. The render loop then runs one

@@ -1,4 +1,4 @@
-//! Seed 004's pins on the GPU: every medium's grid gathered in a compute
+//! Hansen 2025's pins on the GPU: every medium's grid gathered in a compute
 //! pass (`pin_gather_kernel.wgsl`, one invocation per 5D cell, the stream
 //! Pcg32(seed, cell) of the CPU's `PinGrid::gather`) as
 //! [`PinParams::plan`] lays the grids out — rigid instances share one —

@@ -129,7 +129,7 @@ fn surfaces() -> String {
     .join("\n")
 }
 
-/// `direct` and `volpath`: with seed 004's ray marching and pins, chosen
+/// `direct` and `volpath`: with Hansen 2025's ray marching and pins, chosen
 /// per ray (tracking.wgsl), and surfaces (compiled out without shapes).
 pub fn scatter_kernel() -> String {
     scattering_kernel(
@@ -146,12 +146,12 @@ pub fn scatter_kernel() -> String {
     )
 }
 
-/// Gather population of a pin grid (seed 004 §3.7).
+/// Gather population of a pin grid (Hansen 2025 §3.7).
 pub fn pin_gather_kernel() -> String {
     [&estimators(), PINS, PIN_GRID, PIN_GATHER_KERNEL].join("\n")
 }
 
-/// The pin stream of a pin grid before a pass (seed 004 §3.7).
+/// The pin stream of a pin grid before a pass (Hansen 2025 §3.7).
 pub fn pin_stream_kernel() -> String {
     [&estimators(), PINS, PIN_GRID, PIN_STREAM_KERNEL].join("\n")
 }
@@ -167,7 +167,7 @@ pub fn point_mis_kernel() -> String {
     occluding_kernel(POINT_MIS_KERNEL)
 }
 
-/// `visopt` (seed 003 §5.4): importance rules, lists, the optimised view.
+/// `visopt` (Lerzer and Dachsbacher 2025 §5.4): importance rules, lists, the optimised view.
 pub fn visopt_kernel() -> String {
     occluding_kernel(
         &[
@@ -180,7 +180,7 @@ pub fn visopt_kernel() -> String {
     )
 }
 
-/// `ament` (seed 003's ray-marched baseline).
+/// `ament` (Lerzer and Dachsbacher 2025's ray-marched baseline).
 pub fn ament_kernel() -> String {
     occluding_kernel(&[VISOPT_PARAMS, VISOPT_IMPORTANCE, AMENT_KERNEL].join("\n"))
 }

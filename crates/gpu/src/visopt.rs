@@ -1,4 +1,4 @@
-//! Seed 003 on the GPU: bind group 3 of the `visopt` and
+//! Lerzer and Dachsbacher 2025 on the GPU: bind group 3 of the `visopt` and
 //! `ament` kernels (`wgsl/visopt/`) — their parameters, the medium's
 //! importance rules (masks and a pre-classified importance are property
 //! records of the media buffer) and visopt's camera lists, built and frozen
@@ -180,7 +180,7 @@ fn integrator_uniform<'s>(
         }
         other => {
             return Err(GpuError(format!(
-                "integrator \"{}\" has no seed 003 buffers",
+                "integrator \"{}\" has no Lerzer and Dachsbacher 2025 buffers",
                 other.name()
             )))
         }
@@ -195,10 +195,9 @@ impl VisOptBuffers {
         scene: &Scene,
         field_first: &[u32],
     ) -> Result<VisOptBuffers, GpuError> {
-        let sm = scene
-            .media
-            .first()
-            .ok_or_else(|| GpuError("seed 003's integrators need one medium".into()))?;
+        let sm = scene.media.first().ok_or_else(|| {
+            GpuError("Lerzer and Dachsbacher 2025's integrators need one medium".into())
+        })?;
         let imp = &sm.importance;
         let flag = |bit: u32, on: bool| if on { bit } else { 0 };
         let mut u = VisOptUniform {
@@ -247,7 +246,10 @@ impl VisOptBuffers {
             contents: bytemuck::bytes_of(&u),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let data_buf = gpu.storage_buffer("seed 003 rules and lists", bytemuck::cast_slice(&data));
+        let data_buf = gpu.storage_buffer(
+            "Lerzer and Dachsbacher 2025 rules and lists",
+            bytemuck::cast_slice(&data),
+        );
         let scratch = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("visopt NEE-list scratch"),
             size: scratch_bytes,

@@ -17,7 +17,7 @@ pub enum Filter {
     /// Trilinear interpolation between voxel centres.
     Trilinear,
     /// Nearest lookup after a uniform jitter in [−½, ½)³ of the continuous
-    /// position; its expectation is the trilinear interpolant (seed 000 §6).
+    /// position; its expectation is the trilinear interpolant (Peters 2025 §6).
     #[default]
     StochasticTrilinear,
 }

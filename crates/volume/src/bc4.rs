@@ -1,4 +1,4 @@
-//! BC4-style block compression of a grid (seed 002 §5.1: the paper stores
+//! BC4-style block compression of a grid (Lin et al. 2021 §5.1: the paper stores
 //! mip 1 as BC4, 4 bits a voxel): each 4×4 block of voxels in an x–y slice
 //! keeps two 8-bit endpoints (its maximum and minimum, as fractions of the
 //! grid's maximum) and a 3-bit index per voxel into the eight values

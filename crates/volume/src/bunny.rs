@@ -1,4 +1,4 @@
-//! Procedural bunny-shaped cloud: seed 002's Fig. 1 renders a cloud in the
+//! Procedural bunny-shaped cloud: Lin et al. 2021's Fig. 1 renders a cloud in the
 //! shape of a bunny among emissive shapes; its VDB cannot be downloaded here,
 //! so this builds one from a smooth union of ellipsoids (haunch, chest,
 //! head, two ears, tail, paws) whose surface is eroded by the same billowy

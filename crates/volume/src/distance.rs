@@ -1,6 +1,6 @@
 //! Exact Euclidean distance transforms of voxel masks (Felzenszwalb &
 //! Huttenlocher 2012: the lower envelope of parabolas, one pass per axis),
-//! and the signed-distance encoding of a segmentation that seed 003 §6.6
+//! and the signed-distance encoding of a segmentation that Lerzer and Dachsbacher 2025 §6.6
 //! uses for its importance masks: 0.5 on the boundary, interpolated
 //! trilinearly, so a threshold of ½ follows the shape smoothly between
 //! voxels instead of along their faces (Green 2007).

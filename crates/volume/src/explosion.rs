@@ -1,5 +1,5 @@
 //! Procedural explosion: a turbulent fireball whose density and temperature
-//! come from one noise, so an emissive test volume (seed 002's explosion
+//! come from one noise, so an emissive test volume (Lin et al. 2021's explosion
 //! scenes) needs no download. Deterministic in `(resolution, seed)`.
 //!
 //! The fireball is a sphere displaced by fBm. Density is high in a sooty

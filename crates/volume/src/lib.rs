@@ -6,16 +6,16 @@
 //! the GPU unchanged) → `grid_builder` (a brick grid built from sparse input such as
 //! OpenVDB leaves and tiles), `supervoxel` (the super-voxel statistics every estimator
 //! traverses: minimum, maximum, mean, importance), `bc4` (BC4-style block compression,
-//! seed 002 §5.1), `distance` (Euclidean distance transforms of voxel masks, seed 003
+//! Lin et al. 2021 §5.1), `distance` (Euclidean distance transforms of voxel masks, Lerzer and Dachsbacher 2025
 //! §6.6's signed distance) and `procedural` (a fractal cloud) → `access` (the
 //! `VolumeAccess` interface every estimator is written against) and media built on the
-//! cloud's noise: `bunny` (seed 002 Fig. 1's bunny-shaped cloud), `explosion` (an
+//! cloud's noise: `bunny` (Lin et al. 2021 Fig. 1's bunny-shaped cloud), `explosion` (an
 //! emissive fireball with a temperature) and `plume` (an animated smoke plume) →
 //! `analytic` (test media with closed-form optical depth), `dda` (Amanatides–Woo grid
 //! traversal) and `lanes` (eight filtered lookups at a time in SIMD lanes) → `medium`
 //! (a medium's extinction: data, scale, filter, placement, statistics) and `occupied`
 //! (empty-space skipping along a ray) → `loaders` (volume files: OpenVDB, NanoVDB, `.vol`, NRRD,
-//! NIfTI, raw) and `mip` (conservative mips for regular tracking, seed 002 §4.1) →
+//! NIfTI, raw) and `mip` (conservative mips for regular tracking, Lin et al. 2021 §4.1) →
 //! `voxel_array` (voxels held in memory by the caller, such as a numpy array) and
 //! `writers` (OpenVDB and NanoVDB files written from a brick grid).
 

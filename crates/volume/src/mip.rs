@@ -1,4 +1,4 @@
-//! Conservative piecewise-constant mips of a density grid (seed 002 §4.1),
+//! Conservative piecewise-constant mips of a density grid (Lin et al. 2021 §4.1),
 //! for regular tracking through a coarse volume: σ_t* of level `l` is
 //! constant per mip voxel of 2^l fine voxels a side.
 //!

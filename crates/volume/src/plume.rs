@@ -1,6 +1,6 @@
 //! Procedural animated smoke plume: a steady rising column whose turbulent
 //! detail is carried by an analytic velocity field, so frame sequences with
-//! deformation (seed 002 §4.4, §5.2, Figs. 8, 9, 13) need no download.
+//! deformation (Lin et al. 2021 §4.4, §5.2, Figs. 8, 9, 13) need no download.
 //! Deterministic in `(resolution, seed, time)`.
 //!
 //! The velocity (in unit-cube lengths per second) is a constant rise plus a

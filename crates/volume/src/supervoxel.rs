@@ -1,9 +1,9 @@
 //! Super-voxel statistics: the low-resolution grid every estimator traverses.
 //!
-//! Each super-voxel covers `r³` voxels (default 16, seed 000 §4.2) and stores,
+//! Each super-voxel covers `r³` voxels (default 16, Peters 2025 §4.2) and stores,
 //! in extinction units, the minimum (control variate / minorant), maximum
 //! (majorant), mean (Kettunen et al. 2021 importance) and the variance-aware
-//! importance of seed 000 Eq. 5. With trilinear or stochastic filtering a
+//! importance of Peters 2025 Eq. 5. With trilinear or stochastic filtering a
 //! point in the super-voxel reads voxels one step outside it, so the
 //! statistics cover a one-voxel apron and the bounds stay conservative.
 //! Stored in f32, so bounds computed from the (possibly f16) voxel values are
@@ -41,7 +41,7 @@ pub struct SuperVoxel {
     pub min: f32,
     pub max: f32,
     pub mean: f32,
-    /// Seed 000, Eq. 5: P = sqrt(1/R Σ (μ_j − μ_min)²).
+    /// Peters 2025, Eq. 5: P = sqrt(1/R Σ (μ_j − μ_min)²).
     pub importance: f32,
 }
 

@@ -1,4 +1,4 @@
-//! Exact free-flight sampling of the trilinear field (seed 002 Fig. 12's
+//! Exact free-flight sampling of the trilinear field (Lin et al. 2021 Fig. 12's
 //! full-resolution column; the authors invert the per-voxel cubic by regula
 //! falsi): walk the dual cells summing their exact optical depths until the
 //! sum reaches −ln(1 − u), then solve ∫_a^x σ_t dt = rest inside that cell,

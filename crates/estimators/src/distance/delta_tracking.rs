@@ -1,4 +1,4 @@
-//! Delta tracking (Woodcock; seed 000 §2.1) over the super-voxel majorant
+//! Delta tracking (Woodcock; Peters 2025 §2.1) over the super-voxel majorant
 //! grid: tentative collisions at rate σ̄, each real with probability σ_t/σ̄.
 //! The one loop behind [`sample`], [`super::delta_tracking_ratio`] and the
 //! track-length estimator.

@@ -1,5 +1,5 @@
 //! Delta tracking that also reports the ratio-tracking weight of its own
-//! null collisions, for the MIS of Miller et al. 2019 as seed 000 §6.2
+//! null collisions, for the MIS of Miller et al. 2019 as Peters 2025 §6.2
 //! reduces it: "For free-flight sampling, T_rt(t1) reuses the null-scattering
 //! events of delta tracking", T_rt(t) = Π_{j<k} (1 − μ(t'_j)/μ̂(t'_j)).
 //!

@@ -1,7 +1,7 @@
 //! Equiangular sampling (Kulla & Fajardo 2012) towards a point light: t on
 //! `[a, b]` with density ∝ 1/(D² + (t − Δ)²), which cancels the inverse
 //! squared distance to the light. Independent of the medium, so its pdf is
-//! exact and cheap (needed for MIS, seed 000 §5).
+//! exact and cheap (needed for MIS, Peters 2025 §5).
 
 use fogbank_math::{Ray, Vec3};
 

@@ -1,4 +1,4 @@
-//! Ray marching with a fixed step (seed 004 §2.4–§2.5, the thesis's
+//! Ray marching with a fixed step (Hansen 2025 §2.4–§2.5, the thesis's
 //! baseline and the non-pin rays of PinMS): σ_t read at jittered points one
 //! step apart (one jitter per ray), τ accumulated step by step. Free flight
 //! stops in the step where τ passes −ln(1 − ξ) and solves for the distance

@@ -1,4 +1,4 @@
-//! Regular tracking (Szirmay-Kalos et al. 2010; seed 000 §2.1): exact
+//! Regular tracking (Szirmay-Kalos et al. 2010; Peters 2025 §2.1): exact
 //! free-flight sampling for the nearest-filtered grid by walking voxels until
 //! the optical depth reaches −ln(1 − u), then inverting linearly inside the
 //! voxel. Exact for `Filter::Nearest`; for trilinear media it samples the
@@ -9,7 +9,7 @@ use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::{Dda, GridView, Occupied, Voxel, ZERO_NEAREST};
 
 /// A free flight (its [`TrackedFlight::free_flight`]) with σ_t at the collision and the optical depth up to it
-/// (seed 002 Eq. 27–28: p(t) = T*(t)·σ_t*(t) in closed form).
+/// (Lin et al. 2021 Eq. 27–28: p(t) = T*(t)·σ_t*(t) in closed form).
 pub fn sample_tracked<T: Voxel>(
     v: &GridView<'_, T>,
     seg: &RaySegment,

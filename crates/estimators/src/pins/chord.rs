@@ -1,4 +1,4 @@
-//! Queries along a ray (seed 004 §3.4.2–§3.5, §3.9; the thesis's Figs. 8.2
+//! Queries along a ray (Hansen 2025 §3.4.2–§3.5, §3.9; the thesis's Figs. 8.2
 //! and 8.3): a pin's bits are read along the *query ray's own chord*
 //! through the unit cube, one bit per 1/32 of it, starting at the bit that
 //! holds the query's start (that interval counts whole), reversed when the

@@ -1,4 +1,4 @@
-//! The 5D pin grid (seed 004 §3.6, §3.7, §3.10): P³ cells over the unit
+//! The 5D pin grid (Hansen 2025 §3.6, §3.7, §3.10): P³ cells over the unit
 //! cube × a hemisphere grid uniform in the polar angles (φ ∈ [0, 2π) in
 //! `phi` bins, θ ∈ [0, π/2] in `theta` bins, the thesis's 16 × 4), one pin
 //! per 5D cell, indexed position first. Initial population by gather (one

@@ -1,4 +1,4 @@
-//! Majorant masks H (seed 004 §3.8, Eq. 3.11): a random 32-bit mask whose
+//! Majorant masks H (Hansen 2025 §3.8, Eq. 3.11): a random 32-bit mask whose
 //! bits are 1 with probability ≈ 1 − t_min, made by bisection between an
 //! all-ones and an all-zeros mask: (A ∧ U) ∨ (B ∧ ¬U) with a uniform random
 //! word U has the mean of A's and B's densities, so k steps reach an odd

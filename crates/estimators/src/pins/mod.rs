@@ -1,4 +1,4 @@
-//! Pin transmittance sampling (seed 004, Hansen 2025): lines through the
+//! Pin transmittance sampling (Hansen 2025, Hansen 2025): lines through the
 //! medium ("pins") stored as a 32-bit ratio bitmask Ĩ and the minimum
 //! interval transmittance t_min, indexed by a 5D grid over position and
 //! direction; distance sampling by the most significant bit of Ĩ AND H

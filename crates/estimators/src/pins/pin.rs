@@ -1,4 +1,4 @@
-//! One pin (seed 004 §3.1, §3.7, Table 3.1): the line through a point of
+//! One pin (Hansen 2025 §3.1, §3.7, Table 3.1): the line through a point of
 //! the unit cube with a direction, cut into 32 equal intervals along its
 //! chord, stored as the ratio bitmask Ĩ (Eq. 3.5: bit of interval i set
 //! with probability (1 − t_i)/(1 − t_min)) and t_min = min_i t_i, 8 bytes.
@@ -30,7 +30,7 @@ impl Pin {
         t_min: 1.0,
     };
 
-    /// Seed 004 Eq. 3.5 (§3.7): one ratio bitmask for interval
+    /// Hansen 2025 Eq. 3.5 (§3.7): one ratio bitmask for interval
     /// transmittances `t`. With t_min = 1 the ratio is 0/0; every interval
     /// is then clear, so the pin is [`Pin::CLEAR`] (no collision, T = 1).
     pub fn from_transmittances(t: &[f64; INTERVALS], rng: &mut Pcg32) -> Pin {

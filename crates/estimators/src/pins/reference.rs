@@ -1,4 +1,4 @@
-//! The exact discrete reference and the row samplers of seed 004 §3.4.1–
+//! The exact discrete reference and the row samplers of Hansen 2025 §3.4.1–
 //! §3.4.3 (Fig. 3.4): the free-flight distribution over 32 intervals of
 //! transmittances t_i, sampled exactly (Eq. 3.1), from n stored rows of the
 //! collision matrix M (undecomposed, P(M_ji = 1) = 1 − t_i) and from n rows
@@ -9,7 +9,7 @@ use super::mask::bernoulli_mask;
 use super::pin::{Pin, INTERVALS};
 use fogbank_math::Pcg32;
 
-/// Seed 004 Eq. 3.3 (factors in the right order): P(first collision in
+/// Hansen 2025 Eq. 3.3 (factors in the right order): P(first collision in
 /// interval i) = (1 − t_i) Π_{k<i} t_k; entry 32 is P(no collision) = Π t_k.
 pub fn collision_probabilities(t: &[f64; INTERVALS]) -> [f64; INTERVALS + 1] {
     let mut out = [0.0; INTERVALS + 1];

@@ -1,4 +1,4 @@
-//! The reuse target's deterministic ray marching (seed 002 §4.3): exact on a
+//! The reuse target's deterministic ray marching (Lin et al. 2021 §4.3): exact on a
 //! constant field, the same bits on every call, and converging to the
 //! analytic trilinear optical depth as the step shrinks.
 

@@ -1,4 +1,4 @@
-//! Seed 000's jackknife estimator: exactness for normal inputs (Thm. 1,
+//! Peters 2025's jackknife estimator: exactness for normal inputs (Thm. 1,
 //! App. A.2) and the fixed cost of Alg. 1/2.
 
 use crate::support;
@@ -37,7 +37,7 @@ fn unbiased_with_predicted_variance_for_normal_inputs() {
             (mean - exact).abs() < 4.0 * se,
             "τ={tau} σ={sigma}: mean {mean} vs {exact} (se {se})"
         );
-        // Seed 000, App. A.2: V(K) = ½(e^{σ²} − 1)e^{−2τ}.
+        // Peters 2025, App. A.2: V(K) = ½(e^{σ²} − 1)e^{−2τ}.
         let predicted = 0.5 * ((sigma * sigma).exp() - 1.0) * (-2.0 * tau).exp();
         assert!(
             (var / predicted - 1.0).abs() < 0.05,

@@ -1,4 +1,4 @@
-//! Seed 004 (pins): discrete exactness of MSB sampling and popcount
+//! Hansen 2025 (pins): discrete exactness of MSB sampling and popcount
 //! transmittance with exact masks, the thesis's bit conventions, pin
 //! tracing on a medium with a known answer, and the 5D grid's indexing.
 

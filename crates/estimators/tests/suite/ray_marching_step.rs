@@ -1,4 +1,4 @@
-//! Seed 004's ray-marching baseline (§2.4): exact where σ_t is constant
+//! Hansen 2025's ray-marching baseline (§2.4): exact where σ_t is constant
 //! (the in-step solve inverts an exponential), converging to the exact
 //! optical depth as the step shrinks, and bounded on long segments.
 

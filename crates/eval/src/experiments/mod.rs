@@ -7,16 +7,16 @@
 //! count can be overridden.
 //!
 //! - [`peters2025_jackknife`]: C. Peters, *Jackknife Transmittance and MIS
-//!   Weight Estimation*, ACM TOG 44(6), 2025 (seed 000: `fig1` … `fig14`,
-//!   `table1`);
+//!   Weight Estimation*, ACM TOG 44(6), 2025 (Peters 2025: `jackknife-fig1`
+//!   … `jackknife-fig14`, `jackknife-table1`);
 //! - [`lin2021_restir`]: D. Lin, C. Wyman, C. Yuksel, *Fast Volume Rendering
 //!   with Spatiotemporal Reservoir Resampling*, ACM TOG 40(6), 2021
-//!   (seed 002: `restir-*`);
+//!   (Lin et al. 2021: `restir-*`);
 //! - [`lerzer2025_visopt`]: N. Lerzer, C. Dachsbacher, *View-Dependent
 //!   Visibility Optimization for Monte Carlo Volume Visualization*, CGF 2025
-//!   (seed 003: `visopt-*`);
+//!   (Lerzer and Dachsbacher 2025: `visopt-*`);
 //! - [`hansen2025_pins`]: S. Hansen, *Pin Transmittance Sampling*, master
-//!   thesis, KIT 2025 (seed 004: `pins-*`);
+//!   thesis, KIT 2025 (Hansen 2025: `pins-*`);
 //! - [`engine`]: measurements of fogbank's own machinery that reproduce no
 //!   paper (`bvh-perf`, `light-bvh`);
 //! - [`harness`]: what the experiments share — the output writer,
@@ -55,21 +55,21 @@ type Run = fn(&mut Writer, Option<u64>) -> Result<String, String>;
 
 /// Every experiment, by the name `fogbank experiment` takes, listed once.
 const EXPERIMENTS: &[(&str, Run)] = &[
-    ("fig1", peters2025_jackknife::fig1::run),
-    ("fig2", peters2025_jackknife::fig2::run),
-    ("fig3", peters2025_jackknife::fig3::run),
-    ("fig4", |w, trials| {
+    ("jackknife-fig1", peters2025_jackknife::fig1::run),
+    ("jackknife-fig2", peters2025_jackknife::fig2::run),
+    ("jackknife-fig3", peters2025_jackknife::fig3::run),
+    ("jackknife-fig4", |w, trials| {
         peters2025_jackknife::fig4::run(w, trials, peters2025_jackknife::fig4::Variant::Smooth)
     }),
-    ("fig5", peters2025_jackknife::fig5::run),
-    ("fig6", |w, trials| {
+    ("jackknife-fig5", peters2025_jackknife::fig5::run),
+    ("jackknife-fig6", |w, trials| {
         peters2025_jackknife::fig4::run(w, trials, peters2025_jackknife::fig4::Variant::Sparse)
     }),
-    ("fig7", peters2025_jackknife::fig7::run),
-    ("fig12", peters2025_jackknife::fig12::run),
-    ("fig13", peters2025_jackknife::fig13::run),
-    ("table1", peters2025_jackknife::table1::run),
-    ("fig14", peters2025_jackknife::fig14::run),
+    ("jackknife-fig7", peters2025_jackknife::fig7::run),
+    ("jackknife-fig12", peters2025_jackknife::fig12::run),
+    ("jackknife-fig13", peters2025_jackknife::fig13::run),
+    ("jackknife-table1", peters2025_jackknife::table1::run),
+    ("jackknife-fig14", peters2025_jackknife::fig14::run),
     ("restir-equal-time", lin2021_restir::equal_time::run),
     ("restir-surfaces", lin2021_restir::surfaces::run),
     ("restir-ablation", lin2021_restir::ablation::run),
@@ -108,12 +108,32 @@ pub fn names() -> Vec<&'static str> {
     EXPERIMENTS.iter().map(|(n, _)| *n).collect()
 }
 
+/// The name `name` has now: the jackknife paper's experiments were `fig1`
+/// … `table1` before every experiment's name began with its method's. The
+/// old names are accepted, with a notice, for one release.
+pub fn current_name(name: &str) -> (String, Option<String>) {
+    let old = name.starts_with("fig") || name == "table1";
+    let new = format!("jackknife-{name}");
+    if old && names().contains(&new.as_str()) {
+        let notice =
+            format!("experiment `{name}` is now `{new}`; the old name goes in the next release");
+        (new, Some(notice))
+    } else {
+        (name.to_string(), None)
+    }
+}
+
 /// Runs experiment `name` into directory `out` (created if missing) with
 /// `trials` overriding its default trial count.
 pub fn run(name: &str, out: &Path, trials: Option<u64>) -> Result<ExperimentReport, String> {
     if trials == Some(0) {
         return Err("--trials must be at least 1".into());
     }
+    let (name, notice) = current_name(name);
+    if let Some(notice) = notice {
+        eprintln!("notice: {notice}");
+    }
+    let name = name.as_str();
     let Some((_, experiment)) = EXPERIMENTS.iter().find(|(n, _)| *n == name) else {
         return Err(format!(
             "unknown experiment '{name}' (known: {})",

@@ -1,4 +1,4 @@
-//! Seed 000's (and seed 004's) one-dimensional experiments at reduced trial counts: each test
+//! Peters 2025's (and Hansen 2025's) one-dimensional experiments at reduced trial counts: each test
 //! checks the experiment's qualitative finding on the computed numbers.
 
 use fogbank_estimators::optical_depth::Jitter;
@@ -257,7 +257,8 @@ fn fig14_zero_contributions_fall_with_supervoxel_size() {
 #[test]
 fn registry_writes_csv_plots_and_summary() {
     let dir = std::env::temp_dir().join(format!("fogbank-exp-{}", std::process::id()));
-    let report = experiments::run("fig3", &dir, Some(2_000)).expect("fig3 runs");
+    let report =
+        experiments::run("jackknife-fig3", &dir, Some(2_000)).expect("jackknife-fig3 runs");
     let names: Vec<String> = report
         .files
         .iter()
@@ -276,11 +277,37 @@ fn registry_writes_csv_plots_and_summary() {
     // Text is rasterised: the axis-label region has dark pixels.
     assert!(png.pixels().filter(|p| p.0 == [0, 0, 0]).count() > 1000);
     assert!(experiments::run("nope", &dir, None).is_err());
-    assert!(experiments::names().contains(&"fig6"));
+    assert!(experiments::names().contains(&"jackknife-fig6"));
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// Seed 004 Fig. 3.4's finding: decomposed rows sit far closer to the
+/// The jackknife experiments' names before every name began with its
+/// method's still run, for one release, as the new ones; other names pass
+/// through untouched, so an unknown `fig99` is still an error.
+#[test]
+fn old_experiment_names_map_to_the_new_with_a_notice() {
+    let (name, notice) = experiments::current_name("fig3");
+    assert_eq!(name, "jackknife-fig3");
+    assert!(notice.unwrap().contains("jackknife-fig3"));
+    let (name, notice) = experiments::current_name("table1");
+    assert_eq!(name, "jackknife-table1");
+    assert!(notice.is_some());
+    for current in experiments::names() {
+        assert_eq!(
+            experiments::current_name(current),
+            (current.to_string(), None)
+        );
+    }
+    assert_eq!(
+        experiments::current_name("fig99"),
+        ("fig99".to_string(), None)
+    );
+    let dir = std::env::temp_dir().join(format!("fogbank-exp-old-{}", std::process::id()));
+    assert!(experiments::run("fig99", &dir, None).is_err());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Hansen 2025 Fig. 3.4's finding: decomposed rows sit far closer to the
 /// exact discrete distribution than rows of the collision matrix, and no
 /// sampler beats independent exact samples.
 #[test]
@@ -309,7 +336,7 @@ fn pins_fig3_4_decomposition_beats_stored_collision_rows() {
     );
 }
 
-/// Seed 004 Fig. 4.10's measurement runs on a small image: both methods
+/// Hansen 2025 Fig. 4.10's measurement runs on a small image: both methods
 /// render, times and errors are finite, and PinMS shares one grid.
 #[test]
 fn pins_instances_measures_both_methods() {
@@ -322,7 +349,7 @@ fn pins_instances_measures_both_methods() {
     assert!(r.rm_mse.is_finite() && r.pin_mse.is_finite() && r.pin_mse > 0.0);
 }
 
-/// Seed 004 Fig. 4.9: the default rule (grid ≤ 0.1× the f16 texture)
+/// Hansen 2025 Fig. 4.9: the default rule (grid ≤ 0.1× the f16 texture)
 /// picks the thesis's P for all four of its volumes.
 #[test]
 fn pins_memory_rule_matches_the_thesis() {
@@ -343,7 +370,7 @@ fn pins_memory_rule_matches_the_thesis() {
     }
 }
 
-/// Every setting of seed 004's ablation experiment builds (keys valid, grids
+/// Every setting of Hansen 2025's ablation experiment builds (keys valid, grids
 /// within limits).
 #[test]
 fn pins_ablation_settings_all_build() {
@@ -359,7 +386,7 @@ fn pins_ablation_settings_all_build() {
     }
 }
 
-/// Every row of seed 004's bias experiment builds for both lightings.
+/// Every row of Hansen 2025's bias experiment builds for both lightings.
 #[test]
 fn pins_bias_settings_all_build() {
     use fogbank_eval::experiments::harness::protocol::build;
@@ -374,7 +401,7 @@ fn pins_bias_settings_all_build() {
     }
 }
 
-/// Seed 004's boundary-bias study: every method builds on both volumes,
+/// Hansen 2025's boundary-bias study: every method builds on both volumes,
 /// and its pixel regions split a disk on the ambient background into
 /// brightness thirds, with the silhouette a one-pixel ring.
 #[test]

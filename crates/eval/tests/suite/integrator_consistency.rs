@@ -68,7 +68,7 @@ fn volpath_configurations_agree() {
     let reference = image(&[], 512, 7);
     let baseline = image(&["integrator.preset=baseline"], 256, 8);
     assert!(ztest(&reference, &baseline).unwrap().pass);
-    // Seed 002's baseline exactly: light sampling only, roulette by albedo.
+    // Lin et al. 2021's baseline exactly: light sampling only, roulette by albedo.
     let paper = image(&["integrator.preset=restir_baseline"], 256, 9);
     let z = ztest(&reference, &paper).unwrap();
     assert!(

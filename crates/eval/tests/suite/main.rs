@@ -4,6 +4,6 @@
 mod experiments;
 mod frame_stats;
 mod integrator_consistency;
+mod jackknife_ordering;
 mod pins_volpath;
 mod restir_unbiased;
-mod seed000_ordering;

@@ -1,4 +1,4 @@
-//! Seed 004 inside `volpath`: the ray-marching baseline is exact where the
+//! Hansen 2025 inside `volpath`: the ray-marching baseline is exact where the
 //! medium is homogeneous (z-test against the unbiased default), PinMS stays
 //! close to the unbiased image on an albedo-1 cloud while pins on every
 //! ray do not (the thesis's Fig. 4.3 ordering), so does PinMS with the

@@ -1,4 +1,4 @@
-//! Seed 002's claim: volumetric ReSTIR with Talbot
+//! Lin et al. 2021's claim: volumetric ReSTIR with Talbot
 //! MIS is unbiased for a static scene. The mean of the last frame of
 //! independent sequences (each pass of `fogbank render` is one sequence of
 //! `frames` frames) agrees per pixel with `volpath` at the same depth under
@@ -125,7 +125,7 @@ fn restir_point_lit_forward_scattering_cloud_is_unbiased() {
 #[test]
 fn restir_emissive_explosion_is_unbiased() {
     // The scalar (luminance) target makes the environment's share of a
-    // pixel dominated by emission a rare, large event (seed 002's colour
+    // pixel dominated by emission a rare, large event (Lin et al. 2021's colour
     // noise, §6.2): 256 sequences under-sample it (|z| ≈ 4.5 in green and
     // blue at one pixel, falling to 3.4 with 2048 sequences — skew, not
     // bias, which would grow with the sample count), so this scene gets 1024.
@@ -135,7 +135,7 @@ fn restir_emissive_explosion_is_unbiased() {
     }
 }
 
-/// Surfaces as path vertices (seed 002 §4.2): a diffuse card
+/// Surfaces as path vertices (Lin et al. 2021 §4.2): a diffuse card
 /// hides part of the slab, a rough plastic sheet cuts through it, a rough
 /// conductor sphere sits beside it, and an emitting rectangle above and an
 /// emitting sphere in view light the scene besides the sky. Walks scatter
@@ -181,7 +181,7 @@ fn restir_with_a_bc4_reuse_mip_is_unbiased() {
     assert!(z.pass);
 }
 
-/// Dynamic lighting adds no bias (seed 002 §4.4): the point light moves
+/// Dynamic lighting adds no bias (Lin et al. 2021 §4.4): the point light moves
 /// every frame of an 8-frame animation, temporal reuse evaluates p̂_prev
 /// with the previous frame's light, and the last frame's mean over
 /// independent sequences agrees with `volpath` at that frame.

@@ -1,4 +1,4 @@
-//! `restir` on the GPU (seed 002 §5, Fig. 5): the passes of the CPU's
+//! `restir` on the GPU (Lin et al. 2021 §5, Fig. 5): the passes of the CPU's
 //! `restir::frame` as compute kernels over one shared reservoir buffer —
 //! candidates → (reprojection, temporal reuse) → spatial reuse → final
 //! shading → reduction into the accumulation buffers. WGSL in

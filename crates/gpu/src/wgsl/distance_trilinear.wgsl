@@ -1,5 +1,5 @@
 // fogbank_estimators::distance::analytic_trilinear::sample_tracked: exact
-// free flight through the trilinear field (seed 002 Fig. 12's
+// free flight through the trilinear field (Lin et al. 2021 Fig. 12's
 // full-resolution column): walk the dual cells summing their exact optical
 // depths until the sum reaches −ln(1 − u), then solve ∫_a^x σ = rest in that
 // cell (a monotone quartic) by Newton's method safeguarded by bisection.

@@ -32,7 +32,7 @@ struct Frame {
     max_depth: u32,
     rr_depth: u32,
     mis_samples: u32,
-    // Seed 004: the ray-marching step in box edges, k of the majorant masks.
+    // Hansen 2025: the ray-marching step in box edges, k of the majorant masks.
     march_step: f32,
     pin_mask_iterations: u32,
     // First image row of this dispatch: kernels with per-invocation scratch

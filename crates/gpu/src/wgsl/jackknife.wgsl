@@ -1,4 +1,4 @@
-// fogbank_estimators::jackknife: seed 000 Eq. 4 from two optical-depth
+// fogbank_estimators::jackknife: Peters 2025 Eq. 4 from two optical-depth
 // estimates X0, X1: cos(|X0 − X1|/2) · exp(−(X0 + X1)/2); the naive
 // ablation exp(−X) of one estimate with 2N samples.
 
@@ -10,7 +10,7 @@ fn jackknife(m: MediumGpu, r: Ray, t0: f32, t1: f32, samples: u32, step: f32,
     return jackknife_of(x[0], x[1]);
 }
 
-// jackknife::jackknife_transmittance: seed 000 Eq. 4.
+// jackknife::jackknife_transmittance: Peters 2025 Eq. 4.
 fn jackknife_of(x0: f32, x1: f32) -> f32 {
     return cos(0.5 * abs(x0 - x1)) * exp(-0.5 * (x0 + x1));
 }

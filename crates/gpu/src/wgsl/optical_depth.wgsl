@@ -1,4 +1,4 @@
-// fogbank_estimators::optical_depth: seed 000 Alg. 2 (total importance F
+// fogbank_estimators::optical_depth: Peters 2025 Alg. 2 (total importance F
 // and the tight segment) and Alg. 1 (m ≤ 9 interleaved optical-depth
 // estimates, each with its own CDF cursor), importance of Eq. 5 with the
 // super-voxel minimum as control variate, or the mean without it.
@@ -19,7 +19,7 @@ fn importance_of(sv: vec4<f32>, mean_importance: bool) -> vec2<f32> {
     return vec2<f32>(sv.w, sv.x);
 }
 
-// Seed 000, Alg. 2.
+// Peters 2025, Alg. 2.
 fn od_prepare(m: MediumGpu, r: Ray, t0: f32, t1: f32, mean_importance: bool) -> Prepared {
     var out = Prepared(0.0, t1, t0);
     var dda = dda_new(r, m.sv_size, m.sv_dims, t0, t1);
@@ -45,7 +45,7 @@ fn argmin_cursor(c: ptr<function, array<f32, 9>>, count: u32) -> u32 {
     return b;
 }
 
-// Seed 000, Alg. 1: `count` estimates into `out`, one stratum of F per
+// Peters 2025, Alg. 1: `count` estimates into `out`, one stratum of F per
 // f_delta, stratified (floor(I) + 1 + u) or uniformly (I + 1) jittered.
 fn od_estimates(m: MediumGpu, r: Ray, prep: Prepared, f_delta: f32, mean_importance: bool,
                 uniform_jitter: bool, count: u32, rng: ptr<function, Pcg32>,

@@ -1,4 +1,4 @@
-// Gather population of one medium's pin grid (seed 004 §3.7, PinGrid::gather):
+// Gather population of one medium's pin grid (Hansen 2025 §3.7, PinGrid::gather):
 // every 5D cell traces its own pin through a point and direction uniform in
 // the cell, from its own stream Pcg32(seed, cell), so the grid is the CPU's
 // up to floating-point rounding of the marched transmittances.

@@ -1,4 +1,4 @@
-// fogbank_estimators::pins::grid (seed 004 §3.6, §3.7, §3.10): the 5D grid's
+// fogbank_estimators::pins::grid (Hansen 2025 §3.6, §3.7, §3.10): the 5D grid's
 // cell of a point and direction, a point and direction uniform in a cell
 // (gather), and the lookup jitter, as PinGridSpec does them.
 

@@ -1,4 +1,4 @@
-// The pin stream of one medium's grid before a pass (seed 004 §3.4.4, §3.7;
+// The pin stream of one medium's grid before a pass (Hansen 2025 §3.4.4, §3.7;
 // PinGrid::stream): stream pin i draws from Pcg32(seed, i) a uniform point,
 // a direction U³ − ½ and an offset U·spacing, is traced like a gathered
 // pin, and is written into the cells of points `spacing` apart along its

@@ -1,4 +1,4 @@
-// fogbank_estimators::pins (seed 004): a pin record, the majorant mask
+// fogbank_estimators::pins (Hansen 2025): a pin record, the majorant mask
 // (mask.rs), queries along a ray's own chord (chord.rs) and pin tracing
 // (pin.rs), draw for draw as on the CPU. Everything is in the medium's
 // unit cube (index box scaled to [0, 1]³); ray parameters stay the world's.
@@ -15,7 +15,7 @@ fn pin_canonical(d: vec3<f32>) -> vec3<f32> {
     return select(d, -d, flip);
 }
 
-// mask::sample_mask, Seed 004 Eq. 3.11: k bisection steps between an
+// mask::sample_mask, Hansen 2025 Eq. 3.11: k bisection steps between an
 // all-ones and an all-zeros word, one random word each; the last midpoint.
 fn pin_sample_mask(p: f32, iterations: u32, rng: ptr<function, Pcg32>) -> u32 {
     var upper = 0xffffffffu;
@@ -83,7 +83,7 @@ fn chord_sample_distance(c: Chord, collision_mask: u32, max_len: f32, u: f32) ->
     return select(NO_HIT, d, d <= max_len);
 }
 
-// Chord::count, Seed 004 Eq. 3.7's exponent: set bits from the start's bit
+// Chord::count, Hansen 2025 Eq. 3.7's exponent: set bits from the start's bit
 // to the bit holding the end, both included.
 fn chord_count(c: Chord, mask: u32, max_len: f32) -> u32 {
     if (mask == 0u) {
@@ -106,7 +106,7 @@ fn pin_distance(pin: Pin, c: Chord, max_len: f32, iterations: u32,
     return chord_sample_distance(c, pin.mask & h, max_len, u);
 }
 
-// Chord::transmittance, Seed 004 Eq. 3.7: t_min^popcount (by products, so
+// Chord::transmittance, Hansen 2025 Eq. 3.7: t_min^popcount (by products, so
 // 0^0 = 1 as powi gives).
 fn pin_transmittance(pin: Pin, c: Chord, max_len: f32) -> f32 {
     let n = chord_count(c, pin.mask, max_len);
@@ -150,7 +150,7 @@ fn pin_interval_transmittances(m: MediumGpu, start: vec3<f32>, end: vec3<f32>, s
     }
 }
 
-// Pin::trace + Pin::from_transmittances, Seed 004 Eq. 3.5: the line
+// Pin::trace + Pin::from_transmittances, Hansen 2025 Eq. 3.5: the line
 // through `point` along `direction` (either sign), its ratio bitmask with
 // P(bit i) = (1 − t_i)/(1 − t_min); a clear line is Pin(0, 1).
 fn pin_trace(m: MediumGpu, point: vec3<f32>, direction: vec3<f32>, step: f32,

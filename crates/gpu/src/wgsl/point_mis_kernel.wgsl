@@ -1,4 +1,4 @@
-// Integrator `point_mis` (seed 000 §5, §6.2, Fig. 12), mirroring
+// Integrator `point_mis` (Peters 2025 §5, §6.2, Fig. 12), mirroring
 // integrators/point_mis.rs sample for sample: single scattering from one
 // point light (chosen by power) inside one medium, with free-flight,
 // equiangular and the MIS strategies (Miller et al. 2019; Eq. 10 with naive
@@ -40,7 +40,7 @@ fn equiangular_pdf(r: Ray, light: vec3<f32>, a: f32, b: f32, t: f32) -> f32 {
     return equiangular_pdf_with(f.x, f.y, atan((a - f.x) / f.y), atan((b - f.x) / f.y), t);
 }
 
-// jackknife_function::mis_weight (seed 000 App. F): Re[(a T̃ + b)/(c T̃ + d)]
+// jackknife_function::mis_weight (Peters 2025 App. F): Re[(a T̃ + b)/(c T̃ + d)]
 // with T̃ = e^{−X̄}(cos S − i sin S).
 fn mis_weight(a: f32, b: f32, c: f32, d: f32, x0: f32, x1: f32) -> f32 {
     let xbar = 0.5 * (x0 + x1);

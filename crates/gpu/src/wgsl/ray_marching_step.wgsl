@@ -1,4 +1,4 @@
-// fogbank_estimators::distance::ray_marching (seed 004 §2.4–§2.5): the
+// fogbank_estimators::distance::ray_marching (Hansen 2025 §2.4–§2.5): the
 // thesis's fixed-step ray marching, one jitter per ray; free flight solves
 // inside the step where τ passes −ln(1 − ξ). `dt` is in the ray parameter.
 

@@ -6,7 +6,7 @@
 // MIS-combined with phase or BSDF sampling (at the last vertex the sampled
 // direction is evaluated toward the lights instead of traced), Russian
 // roulette on the throughput after rr_depth bounces. With
-// INTEGRATOR_LIGHT_ONLY (volpath's restir_baseline preset, seed 002 §6):
+// INTEGRATOR_LIGHT_ONLY (volpath's restir_baseline preset, Lin et al. 2021 §6):
 // light sampling only, no sampled escape, roulette by albedo.
 //
 // Medium and surface vertices share one body (`scatter`) with a single

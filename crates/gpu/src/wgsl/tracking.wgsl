@@ -1,6 +1,6 @@
 // render::integrators::shared::tracking: how one ray finds its next
 // collision and how a shadow segment is attenuated — fogbank's unbiased
-// samplers and estimators, seed 004's fixed-step ray marching, or pins —
+// samplers and estimators, Hansen 2025's fixed-step ray marching, or pins —
 // chosen per ray by the integrator (PinParams::flight / shadow: PinMS mixes
 // them by depth). The pin grids are gathered by pin_gather_kernel.wgsl.
 
@@ -12,10 +12,10 @@
 // longer while they were uniforms (docs/results/gpu.md).
 // The distance sampler: SAMPLER_* (delta, decomposition, regular tracking).
 override SAMPLER: u32 = 0u;
-// Seed 004: which rays read pins (PIN_MODE_*).
+// Hansen 2025: which rays read pins (PIN_MODE_*).
 override PIN_MODE: u32 = 0u;
 // INTEGRATOR_* bits: LIGHT_ONLY = volpath's restir_baseline preset;
-// RAY_MARCHING = rays without pins march (seed 004's baseline);
+// RAY_MARCHING = rays without pins march (Hansen 2025's baseline);
 // UNQUANTISED = pins traced along each query ray (Fig. 4.5).
 override INTEGRATOR_FLAGS: u32 = 0u;
 

@@ -1,4 +1,4 @@
-// Integrator `transmittance` (seed 000 §6.1): per sample, the
+// Integrator `transmittance` (Peters 2025 §6.1): per sample, the
 // transmittance of the primary ray through all media times the background.
 
 fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, u32>) -> vec3<f32> {

@@ -1,4 +1,4 @@
-//! Seed 004 on the GPU against the CPU reference (lavapipe in CI): the pin
+//! Hansen 2025 on the GPU against the CPU reference (lavapipe in CI): the pin
 //! grid gathered in a compute pass is the CPU's grid (same cells, same
 //! streams; only rounding of the marched transmittances may flip a bit),
 //! and `volpath` with ray marching and pins agrees with the CPU per pixel
@@ -163,7 +163,7 @@ fn streamed_pins_match_the_cpu() {
     );
 }
 
-/// Seed 004's baseline: fixed-step ray marching for every ray.
+/// Hansen 2025's baseline: fixed-step ray marching for every ray.
 #[test]
 fn ray_marching_matches_the_cpu() {
     compare(

@@ -1,4 +1,4 @@
-//! GPU `restir` against the CPU (seed 002): the mean of
+//! GPU `restir` against the CPU (Lin et al. 2021): the mean of
 //! the last frame of independent sequences agrees per pixel (z-test) with
 //! the CPU's for the configurations of the CPU's unbiasedness test
 //! (`eval/tests/restir_unbiased_test.rs`): the environment-lit and the

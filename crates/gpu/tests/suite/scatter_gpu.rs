@@ -84,7 +84,7 @@ fn volpath_matches_the_cpu() {
         ],
         256,
     );
-    // Seed 002's baseline: light sampling only, roulette by albedo.
+    // Lin et al. 2021's baseline: light sampling only, roulette by albedo.
     compare(
         PROBE,
         &[
@@ -102,7 +102,7 @@ fn volpath_matches_the_cpu() {
         ],
         256,
     );
-    // Instances of one medium (seed 004 Fig. 4.10), uploaded once.
+    // Instances of one medium (Hansen 2025 Fig. 4.10), uploaded once.
     compare(
         MIXED,
         &[

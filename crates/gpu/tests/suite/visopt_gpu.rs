@@ -1,4 +1,4 @@
-//! Seed 003 on the GPU: `visopt` with the CPU's frozen
+//! Lerzer and Dachsbacher 2025 on the GPU: `visopt` with the CPU's frozen
 //! camera lists, importance rules of every kind, NEE lists built on the
 //! device, the gradient lobe and the three scattering settings — per-pixel
 //! z-test against the CPU on lavapipe; `ament`, deterministic, pixel for

@@ -9,7 +9,7 @@
 //! |---|---|
 //! | [`rmse`] | absolute error, dominated by bright pixels |
 //! | [`relmse`] | error relative to the reference's brightness |
-//! | [`smape`] | seed 000's error measure (Fig. 12), bounded in [0, 2] |
+//! | [`smape`] | Peters 2025's error measure (Fig. 12), bounded in [0, 2] |
 //! | [`flip()`] | perceived difference (NVIDIA's FLIP, LDR and HDR) |
 //! | [`ztest()`] | whether the difference is explained by Monte Carlo noise |
 

@@ -1,4 +1,4 @@
-//! Symmetric mean absolute percentage error, as seed 000 reports it.
+//! Symmetric mean absolute percentage error, as Peters 2025 reports it.
 
 use super::pixels::pixel_mean;
 use crate::image_io::Image;
@@ -6,7 +6,7 @@ use crate::image_io::Image;
 /// ε added to the mean linear RGB value in the denominator of [`smape`].
 pub const SMAPE_EPSILON: f64 = 0.01;
 
-/// SMAPE of seed 000 (Fig. 12 caption: "symmetric mean absolute percentage
+/// SMAPE of Peters 2025 (Fig. 12 caption: "symmetric mean absolute percentage
 /// error (SMAPE) with ε := 0.01 added to the mean linear RGB value in the
 /// denominator").
 ///

@@ -1,5 +1,5 @@
 //! `ament`: the ray-marched extinction optimisation of Ament, Zirr and
-//! Dachsbacher 2017 (AZD17), seed 003's baseline (§4, §6.2). Each camera
+//! Dachsbacher 2017 (AZD17), Lerzer and Dachsbacher 2025's baseline (§4, §6.2). Each camera
 //! ray is marched twice with a fixed step: first to sum the importance of
 //! its samples, then to composite with μ'_i = p μ_i / (p + (1 − g_i)^{2λ}
 //! h_i), h_i = r Σ_{j<i} + q Σ_{j>i} of g_j², single scattering with a

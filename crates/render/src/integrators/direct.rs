@@ -3,7 +3,7 @@
 //! medium's emission and the light of every source: light sampling toward
 //! one light chosen by power, MIS-combined with phase sampling for
 //! environments, each shadow ray's transmittance estimated by the NEE
-//! estimator. This is the setting of seed 000 Fig. 1 (a cloud under a light
+//! estimator. This is the setting of Peters 2025 Fig. 1 (a cloud under a light
 //! probe, estimators compared at equal spp), where the NEE estimator is the
 //! only thing that changes. It equals `volpath` with `max_depth = 1`.
 
@@ -14,7 +14,7 @@
 //! |---|---|---|
 //! | `distance_sampler` | delta_tracking | free-flight sampler: `delta_tracking`, `decomposition_tracking`, `regular_tracking` |
 //! | `estimator` | ratio_tracking (roulette 0.03) | NEE transmittance estimator (`fogbank estimators`), with its options |
-//! | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only (no phase-sampled escape MIS) and Russian roulette by albedo, seed 002's baseline exactly (§6, §6.1; give the medium `supervoxel = 8`) |
+//! | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only (no phase-sampled escape MIS) and Russian roulette by albedo, Lin et al. 2021's baseline exactly (§6, §6.1; give the medium `supervoxel = 8`) |
 
 use super::shared::context::{MediumVertex, NextEvent, PathContext};
 use super::shared::free_flight::next_collision;

@@ -1,4 +1,4 @@
-//! `transmittance`: the transmittance view of seed 000 §6.1. Per pixel, the
+//! `transmittance`: the transmittance view of Peters 2025 §6.1. Per pixel, the
 //! transmittance of the primary ray through all media in front of a uniform
 //! background, so the image is T itself. Overlapping media add extinctions,
 //! hence multiply transmittances; independent unbiased estimates multiply to

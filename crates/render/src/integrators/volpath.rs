@@ -10,18 +10,18 @@
 //! (`max_depth`) the phase-sampled partner is evaluated with the NEE
 //! estimator instead of being traced, so no MIS weight is left without its
 //! partner. A real collision adds the medium's emission (σ_a/σ_t) L_e.
-//! Russian roulette on the throughput after `rr_depth` bounces (seed 002
+//! Russian roulette on the throughput after `rr_depth` bounces (Lin et al. 2021
 //! uses 3).
 //!
 //! | key | default | meaning |
 //! |---|---|---|
 //! | `distance_sampler` | delta_tracking | free-flight sampler: `delta_tracking`, `decomposition_tracking`, `regular_tracking` |
 //! | `estimator` | ratio_tracking (roulette 0.03) | NEE transmittance estimator (`fogbank estimators`), with its options |
-//! | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only (no phase-sampled escape MIS) and Russian roulette by albedo, seed 002's baseline exactly (§6, §6.1; give the medium `supervoxel = 8`) |
+//! | `preset` | none | `baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only (no phase-sampled escape MIS) and Russian roulette by albedo, Lin et al. 2021's baseline exactly (§6, §6.1; give the medium `supervoxel = 8`) |
 //! | `max_depth` | 64 | longest path, in scattering vertices (1..=100000); between pbrt-v4's 5, which loses most of a cloud's light, and Mitsuba 3's unbounded (100000 here), which a white medium may keep going for a GPU wave's lifetime: on the built-in scene 64 loses 3·10⁻⁶ of the light, at albedo 0.99 and 4× its density 1.8 % (`docs/results/defaults.md`) |
 //! | `rr_depth` | 3 | first bounce with Russian roulette on the throughput's largest channel (pbrt-v4: from the second, Mitsuba 3: from the fifth) |
-//! | `pins` | off | seed 004's pins: `off`, `all`, `secondary` (all but the view ray), `ms` (PinMS: multiple scattering only) |
-//! | `tracking` | ray_marching with pins, else unbiased | rays without pins: `ray_marching` (seed 004's baseline) or `unbiased` (`distance_sampler` + `estimator`) |
+//! | `pins` | off | Hansen 2025's pins: `off`, `all`, `secondary` (all but the view ray), `ms` (PinMS: multiple scattering only) |
+//! | `tracking` | ray_marching with pins, else unbiased | rays without pins: `ray_marching` (Hansen 2025's baseline) or `unbiased` (`distance_sampler` + `estimator`) |
 //! | `march_step` | 0.03 | ray-marching step in edges of the medium's box |
 //! | `pin_grid` | {} | the pin grid (`shared::pin_params`): `positions`, `memory_ratio` (0.1), `phi` (16), `theta` (4), `step` (0.01), `jitter` (1), `mask_iterations` (5), `unquantised`, `seed`, `stream` (0: static; pins streamed into each grid before every pass), `stream_spacing` (0.1) |
 
@@ -67,12 +67,12 @@ pub const PARAMS: [Param; 9] = [
     Param {
         key: PIN_KEYS[0],
         default: "off",
-        meaning: "seed 004's pins: `off`, `all`, `secondary` (all but the view ray), `ms` (PinMS: multiple scattering only)",
+        meaning: "Hansen 2025's pins: `off`, `all`, `secondary` (all but the view ray), `ms` (PinMS: multiple scattering only)",
     },
     Param {
         key: PIN_KEYS[1],
         default: "ray_marching with pins, else unbiased",
-        meaning: "rays without pins: `ray_marching` (seed 004's baseline) or `unbiased` (`distance_sampler` + `estimator`)",
+        meaning: "rays without pins: `ray_marching` (Hansen 2025's baseline) or `unbiased` (`distance_sampler` + `estimator`)",
     },
     Param {
         key: PIN_KEYS[2],
@@ -178,7 +178,7 @@ pub struct VolPath {
     pub max_depth: u32,
     pub rr_depth: u32,
     pub lights: LightSampler,
-    /// Seed 002's baseline: light sampling is the only strategy toward the
+    /// Lin et al. 2021's baseline: light sampling is the only strategy toward the
     /// lights, and roulette continues with the vertex albedo.
     pub light_only: bool,
     /// Which rays use pins, ray marching or the unbiased samplers.
@@ -463,7 +463,7 @@ impl VolPath {
         self.roulette(path, depth, weight, cx.rng)
     }
 
-    /// Russian roulette on the throughput from `rr_depth` on (seed 002's
+    /// Russian roulette on the throughput from `rr_depth` on (Lin et al. 2021's
     /// baseline: on the vertex albedo, `albedo`).
     fn roulette(&self, path: &mut Path, depth: u32, albedo: Vec3, rng: &mut Pcg32) -> Step {
         if depth + 1 >= self.rr_depth {

@@ -138,7 +138,7 @@ impl Light {
     /// The point `q` of an emitting shape seen from `p`, in the area
     /// measure of `q`: the direction toward it, L_e(q → p)·|cos θ_q|/|q − p|²
     /// and the shadow ray's length (stopping short of the emitter). A path
-    /// that keeps its point on an area light under reuse (seed 002 §4.2)
+    /// that keeps its point on an area light under reuse (Lin et al. 2021 §4.2)
     /// evaluates its last segment so. `None` for other lights or a
     /// degenerate segment.
     pub fn toward_point(&self, p: Vec3, q: Vec3) -> Option<(Vec3, Vec3, f32)> {

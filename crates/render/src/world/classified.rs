@@ -1,4 +1,4 @@
-//! A medium's density classified by its transfer function (seed 003 §3):
+//! A medium's density classified by its transfer function (Lerzer and Dachsbacher 2025 §3):
 //! kept as the scalar for post-interpolative classification per lookup, or
 //! replaced by classified extinction, albedo and emission grids.
 

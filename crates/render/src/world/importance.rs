@@ -1,4 +1,4 @@
-//! Importance functions of seed 003 §4.2: a post-interpolative map from a
+//! Importance functions of Lerzer and Dachsbacher 2025 §4.2: a post-interpolative map from a
 //! point of a medium to one of a few values in [0, 1], for the visibility
 //! optimisation of `visopt` and its baselines. Evaluated at the point from
 //! the interpolated data (the paper's default criterion is ranges of
@@ -83,7 +83,7 @@ pub struct Importance {
 
 /// `importance_pre` of a medium: classify the importance per voxel, then
 /// look it up with `filter` (`"trilinear"`, default, or `"nearest"`) after an
-/// optional 3³ `box` filter — the previous work's pipeline seed 003 compares
+/// optional 3³ `box` filter — the previous work's pipeline Lerzer and Dachsbacher 2025 compares
 /// against (Figs. 3, 11). Absent: post-interpolative (the paper's).
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -335,7 +335,7 @@ fn build_rule(
 }
 
 /// The segment `label` of a label volume as a signed distance encoded so
-/// that ½ is its boundary (seed 003 §6.6, Green 2007; spread 4 voxels),
+/// that ½ is its boundary (Lerzer and Dachsbacher 2025 §6.6, Green 2007; spread 4 voxels),
 /// interpolated trilinearly at lookup.
 fn label_mask(f: &Field, label: f32) -> Result<Field, String> {
     let (channels, w2i) = f.parts();

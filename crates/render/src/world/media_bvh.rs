@@ -1,5 +1,5 @@
 //! A bounding-volume hierarchy over the media's world boxes, so a ray in a
-//! scene of many media (seed 004's 250 instanced clouds, Fig. 4.10) visits
+//! scene of many media (Hansen 2025's 250 instanced clouds, Fig. 4.10) visits
 //! only the media whose boxes it crosses, nearest first, instead of all.
 //! Built by median splits of the box centres along the widest axis.
 

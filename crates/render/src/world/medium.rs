@@ -22,8 +22,8 @@ use std::path::Path;
 /// | `sigma_t_scale` | 1 | σ_t = scale · density (per world unit); `[r, g, b]` for chromatic extinction, see [`Chroma`] (volpath, direct and transmittance, CPU and GPU) |
 /// | `density_rgb` | false | the `density` is a 3-channel `.vol` (Mitsuba's RGB `gridvolume`) or in-memory `array`: σ_t of channel c = `sigma_t_scale`_c · channel c (chromatic; `trilinear` filter, f32) |
 /// | `albedo` | (0.8, 0.8, 0.8); (1, 1, 1) with a `transfer` | single-scattering albedo σ_s/σ_t, each channel in [0, 1] (with a `transfer`, a tint of its colours); pbrt-v4's default is 0.5 and Mitsuba 3's 0.75, which their readers write (`docs/results/defaults.md`) |
-/// | `importance` | none | ordered rules mapping points to importance in [0, 1] for `visopt` (seed 003 §4.2), see [`ImportanceRuleDesc`] |
-/// | `importance_pre` | none (post-interpolative) | classify the importance per voxel instead, see [`ImportancePreDesc`] (seed 003 Figs. 3, 11) |
+/// | `importance` | none | ordered rules mapping points to importance in [0, 1] for `visopt` (Lerzer and Dachsbacher 2025 §4.2), see [`ImportanceRuleDesc`] |
+/// | `importance_pre` | none (post-interpolative) | classify the importance per voxel instead, see [`ImportancePreDesc`] (Lerzer and Dachsbacher 2025 Figs. 3, 11) |
 /// | `transfer` | none | a transfer function classifying the density's values into extinction, albedo and emission, see [`TransferDesc`] |
 /// | `albedo_grid` | none | a grid (same keys as `density`, placed like it) multiplying `albedo`; a 3-channel `.vol` without `channel` gives RGB; values clamp to [0, 1] |
 /// | `emission` | none | volumetric emission, see [`EmissionDesc`] |
@@ -33,7 +33,7 @@ use std::path::Path;
 /// | `supervoxel` | 16 | super-voxel edge in voxels |
 /// | `precision` | `"f16"` | voxel storage, `f16` (half the memory; rounding ≤ 2⁻¹¹ of a value; a grid with values beyond ±65504 is refused) or `f32` (the file's values; pbrt-v4's and Mitsuba 3's) |
 /// | `velocity` | none (a plume's own) | motion for temporal reuse, see [`VelocityDesc`] |
-/// | `instances` | none | placements (applied after `to_world`) of copies sharing the grid (seed 004 Fig. 4.10); with it the medium appears once per entry |
+/// | `instances` | none | placements (applied after `to_world`) of copies sharing the grid (Hansen 2025 Fig. 4.10); with it the medium appears once per entry |
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct MediumDesc {
@@ -165,7 +165,7 @@ pub struct SceneMedium {
     /// A post-interpolative transfer function's colour and emission,
     /// evaluated at the interpolated scalar.
     pub transfer: Option<TransferLookup>,
-    /// Where the medium matters for visibility optimisation (seed 003).
+    /// Where the medium matters for visibility optimisation (Lerzer and Dachsbacher 2025).
     pub importance: Importance,
     /// The phase function (pbrt-v4's and Mitsuba 3's media hold one too;
     /// Henyey–Greenstein is the only model, g = 0 isotropic).
@@ -205,7 +205,7 @@ impl SceneMedium {
         self.medium.sigma_t_smooth(q)
     }
 
-    /// ∇σ_t at world point `p` (seed 003 §3: the gradient of the classified
+    /// ∇σ_t at world point `p` (Lerzer and Dachsbacher 2025 §3: the gradient of the classified
     /// extinction), by central differences of one voxel in index space,
     /// turned into world units with the inverse-transpose Jacobian.
     pub fn gradient_sigma_t(&self, p: Vec3) -> Vec3 {
@@ -402,7 +402,7 @@ impl MediumDesc {
         }
     }
 
-    /// The importance rule of seed 003, reading the density's scalar in
+    /// The importance rule of Lerzer and Dachsbacher 2025, reading the density's scalar in
     /// its stored range `units` (normalised to [0, 1]).
     fn importance(
         &self,
@@ -511,7 +511,7 @@ impl MediumDesc {
 }
 
 impl SceneMedium {
-    /// Classifies the importance rule over the voxels once (seed 003's
+    /// Classifies the importance rule over the voxels once (Lerzer and Dachsbacher 2025's
     /// pre-classified importance) instead of per lookup.
     fn preclassify_importance(
         &mut self,

@@ -1,4 +1,4 @@
-//! The gradient lobe of seed 003 §3: f = f_HG + ‖∇μ_t‖ (H·N)ⁿ (N·ω_L)₊, the
+//! The gradient lobe of Lerzer and Dachsbacher 2025 §3: f = f_HG + ‖∇μ_t‖ (H·N)ⁿ (N·ω_L)₊, the
 //! Blinn–Phong-like term that makes boundaries of scientific volumes read as
 //! surfaces. N = ∇μ_t/‖∇μ_t‖ of the *classified* extinction (checklist §1),
 //! flipped towards the viewer (the printed N points into denser matter);
@@ -10,7 +10,7 @@
 use super::medium::SceneMedium;
 use fogbank_math::Vec3;
 
-/// The scatter function of seed 003 §3 at `p` for a ray along `d` toward
+/// The scatter function of Lerzer and Dachsbacher 2025 §3 at `p` for a ray along `d` toward
 /// the light direction `wi`: HG, plus the gradient lobe of exponent `n`
 /// when `lobe` is set, with ∇μ_t in the [−1, 1]³ units of `unit` (2 / the
 /// medium's longest world extent; μ and the length each scale by 1/unit).

@@ -1,4 +1,4 @@
-//! Transfer functions of scientific visualisation (seed 003 §3): a scalar
+//! Transfer functions of scientific visualisation (Lerzer and Dachsbacher 2025 §3): a scalar
 //! volume (CT, MRI, simulation output) classified into extinction, albedo
 //! and emission. Post-interpolative by default — interpolate the scalar at
 //! the point, then classify — as the paper and ParaView do; pre-interpolative
@@ -9,7 +9,7 @@
 //! |---|---|---|
 //! | `opacity` | from `paraview`, else required | `[[value, α], …]`, α ≥ 0: σ_t = `sigma_t_scale` · α(s) per world unit (ParaView's "scalar opacity unit distance" is 1/`sigma_t_scale`) |
 //! | `color` | from `paraview`, else white | `[[value, r, g, b], …]`: single-scattering albedo, channels in [0, 1] (times the medium's `albedo`, default 1 here) |
-//! | `emission` | none | `[[value, r, g, b], …]`: radiance L_e, emitted where the medium absorbs (the μ_a L_e of seed 003 Eq. 1) |
+//! | `emission` | none | `[[value, r, g, b], …]`: radiance L_e, emitted where the medium absorbs (the μ_a L_e of Lerzer and Dachsbacher 2025 Eq. 1) |
 //! | `emission_scale` | 1 | multiplies `emission` |
 //! | `paraview` | none | a ParaView colour-map JSON (a preset, or "Export" from the colour-map editor): `RGBPoints` gives `color`, `Points` (x, α, midpoint, sharpness) gives `opacity`; TOML keys override it |
 //! | `paraview_name` | first entry | which entry of a JSON file holding several |

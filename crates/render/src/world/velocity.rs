@@ -1,5 +1,5 @@
 //! A medium's velocity field, for temporal reprojection of frame sequences
-//! (seed 002 §4.4: a vertex is moved back along the volume's velocity
+//! (Lin et al. 2021 §4.4: a vertex is moved back along the volume's velocity
 //! before it is projected with the previous camera). Velocities are world
 //! lengths per second; a frame lasts 1/`animation.fps`.
 //!

@@ -1,4 +1,4 @@
-//! The ray-marched baseline `ament` (AZD17, seed 003 §4): unoptimised it is
+//! The ray-marched baseline `ament` (AZD17, Lerzer and Dachsbacher 2025 §4): unoptimised it is
 //! the same single-scattering DVR `visopt` estimates (its deterministic
 //! expectation), and Fig. 2 as a test: the printed form's μ'/μ shrinks with
 //! the step (Eq. 5), the Δx-normalised form does not move.

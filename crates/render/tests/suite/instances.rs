@@ -1,4 +1,4 @@
-//! Instanced media (seed 004 Fig. 4.10): one `[[media]]` entry placed many
+//! Instanced media (Hansen 2025 Fig. 4.10): one `[[media]]` entry placed many
 //! times shares its grid; it renders exactly like separate entries at the
 //! same placements (every instance sampled separately, the nearest
 //! collision wins, transmittances multiply); pins share one grid across

@@ -1,4 +1,4 @@
-//! The pin stream (seed 004 §3.4.4, §3.7; `shared::pin_stream`): a stream
+//! The pin stream (Hansen 2025 §3.4.4, §3.7; `shared::pin_stream`): a stream
 //! rewrites some cells reproducibly, and a render's stream gives pass s the
 //! gathered grids after the streams of passes 0..=s.
 

@@ -1,4 +1,4 @@
-//! `point_mis` (seed 000 §5, §6.2): unbiased strategies agree with each
+//! `point_mis` (Peters 2025 §5, §6.2): unbiased strategies agree with each
 //! other and with a quadrature reference, the jackknife MIS
 //! weights sum to one in expectation (App. D), the biased variants order as
 //! the paper reports, and the scene keys parse or fail with clear errors.
@@ -171,7 +171,7 @@ fn mis_reduces_variance_of_single_strategies() {
     );
 }
 
-/// Seed 000 App. D: the jackknife estimates of w0(t) and w1(t), each from
+/// Peters 2025 App. D: the jackknife estimates of w0(t) and w1(t), each from
 /// its own optical-depth pair, do not sum to one per draw, but their
 /// expectations do.
 #[test]
@@ -211,7 +211,7 @@ fn jackknife_weights_sum_to_one_in_expectation() {
     assert!(spread > 0.02, "per-draw sums barely vary (sd {spread})");
 }
 
-/// Seed 000 §6.2 / Fig. 13: Eq. 10 with the naive weight g(X) is visibly
+/// Peters 2025 §6.2 / Fig. 13: Eq. 10 with the naive weight g(X) is visibly
 /// biased, with jackknife weights (Eq. 12) much less so. Pooled over the
 /// image against an unbiased reference; N = 1 magnifies the bias.
 #[test]
@@ -266,7 +266,7 @@ const FIG13_INSET: &str = "[camera]\nfrom = [0.0, 0.05, 2.2]\nto = [0.12, 0.02, 
     estimator = \"regular_tracking\"\n\
     [render]\npixel_jitter = false\n";
 
-/// Seed 000 Fig. 13 at the paper's N = 10, where a difference of renders
+/// Peters 2025 Fig. 13 at the paper's N = 10, where a difference of renders
 /// cannot resolve the bias: `PointMis::eq10_weight_errors` evaluates each
 /// pixel sample with exact weights (regular tracking) and with both weight
 /// estimates on the same distances and L̃_s, so the image mean of

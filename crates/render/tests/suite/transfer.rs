@@ -1,4 +1,4 @@
-//! Transfer functions (seed 003 §3): post-interpolative classification
+//! Transfer functions (Lerzer and Dachsbacher 2025 §3): post-interpolative classification
 //! keeps tracking unbiased (its super-voxel majorants bound α over each
 //! cell's value range, also where α peaks between voxel values), colour and
 //! emission follow the interpolated scalar, pre- and post-interpolative

@@ -1,4 +1,4 @@
-//! `visopt` (seed 003): with q = r = 0 it is
+//! `visopt` (Lerzer and Dachsbacher 2025): with q = r = 0 it is
 //! the unoptimised renderer (bit for bit against `optimise = false`, and
 //! per pixel against `direct` under the z-test), with the defaults the image
 //! differs (power); with its lists frozen and light rays unoptimised its

@@ -1,4 +1,4 @@
-//! Conservative mips (seed 002 §4.1): block means, σ_t* > 0 wherever the
+//! Conservative mips (Lin et al. 2021 §4.1): block means, σ_t* > 0 wherever the
 //! trilinear field is positive, and mips as media of their own.
 
 use fogbank_math::{DAffine3, Pcg32, Ray, Vec3};

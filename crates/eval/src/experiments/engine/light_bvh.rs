@@ -1,4 +1,4 @@
-//! The light BVH against picking lights by power (seed 002
+//! The light BVH against picking lights by power (Lin et al. 2021
 //! Fig. 18's setting of many small emitters in a medium), on the CPU:
 //! for each scene a reference through the BVH, then both samplers at the
 //! same spp (time, MSE, relMSE and the mean per-pixel variance the films

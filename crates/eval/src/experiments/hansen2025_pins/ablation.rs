@@ -1,4 +1,4 @@
-//! Seed 004's ablations (Figs. 4.2–4.5, 4.7, 4.8) on one scene: a 64³
+//! Hansen 2025's ablations (Figs. 4.2–4.5, 4.7, 4.8) on one scene: a 64³
 //! procedural cloud, albedo 1, isotropic, 8 bounces, sky probe plus a sun
 //! (the thesis's directional-light case of Fig. 4.3), pixel centres. Each
 //! row renders `volpath` with one pin setting at equal spp and reports the
@@ -129,7 +129,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &rows,
     )?;
     Ok(format!(
-        "Seed 004 ablations on fogbank's CPU: 64×48, 64³ cloud, albedo 1, 8 bounces, sky probe + sun; {spp} spp per row \
+        "Hansen 2025 ablations on fogbank's CPU: 64×48, 64³ cloud, albedo 1, 8 bounces, sky probe + sun; {spp} spp per row \
          against unbiased `volpath` at {} spp; MSE (reference variance subtracted; includes each row's own noise), \
          relative bias of the image mean, time per sample (one run, noisy ±20 %).\n\n\
          | fig. | setting | MSE | mean bias | ms/spp |\n|---|---|---|---|---|\n{}\n\n\

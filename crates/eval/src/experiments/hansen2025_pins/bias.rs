@@ -1,4 +1,4 @@
-//! Seed 004, fogbank's bias bar for pins (not the thesis's): PinMS on
+//! Hansen 2025, fogbank's bias bar for pins (not the thesis's): PinMS on
 //! an albedo-1 isotropic cloud, 8 bounces, under an environment light and
 //! under a point light, rendered to convergence, against unbiased `volpath`;
 //! the relative error of the image mean and the mean per-pixel relative
@@ -152,7 +152,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &rows,
     )?;
     Ok(format!(
-        "Seed 004 bias bar: 48×36, 64³ cloud, albedo 1, isotropic, 8 bounces; {spp} spp per row against unbiased \
+        "Hansen 2025 bias bar: 48×36, 64³ cloud, albedo 1, isotropic, 8 bounces; {spp} spp per row against unbiased \
          `volpath` at {} spp. \"mean\": relative error of the image mean; \"per pixel\": mean |x − r|/r over pixels \
          above 5 % of the mean (noise included; the unbiased row shows its size). Pin rows: mean over {GRID_SEEDS} pin-grid \
          seeds ± the standard error across them (one grid is one random realisation). Goal: ≤ 2 %, falling as \

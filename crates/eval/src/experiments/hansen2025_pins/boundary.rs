@@ -1,4 +1,4 @@
-//! Seed 004 Fig. 4.12 (and the boundary bias of hard-edged volumes, shown
+//! Hansen 2025 Fig. 4.12 (and the boundary bias of hard-edged volumes, shown
 //! and measured): the thesis finds PinMS's worst error at
 //! the hard boundaries of dense volumes lit from the side — contrast lost
 //! at the edges, the shadowed back brighter. fogbank measures it on the
@@ -228,7 +228,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &rows,
     )?;
     Ok(format!(
-        "Seed 004 Figs. 4.12–4.13, boundary bias: {WIDTH}×{HEIGHT}, a 1 × 1 area light (the thesis's) or a point light \
+        "Hansen 2025 Figs. 4.12–4.13, boundary bias: {WIDTH}×{HEIGHT}, a 1 × 1 area light (the thesis's) or a point light \
          from the left + ambient {AMBIENT}, \
          8 bounces, {spp} spp per method against unbiased `volpath` at {} spp. Relative error of the summed \
          luminance over the object's shadowed / middle / lit third of pixels (by the reference's brightness) \

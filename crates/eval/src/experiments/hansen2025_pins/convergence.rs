@@ -1,4 +1,4 @@
-//! Seed 004 Figs. 4.12–4.24: error over time of the ray-marching baseline,
+//! Hansen 2025 Figs. 4.12–4.24: error over time of the ray-marching baseline,
 //! PinMS (both at the scene's middle step) and fogbank's unbiased `volpath`
 //! (delta tracking, ratio-tracking NEE), each accumulating 1-spp frames for
 //! the same render-time budget (taking turns frame by frame, so the noisy
@@ -49,7 +49,7 @@ fn image(rgb: &[[f32; 3]]) -> Image {
 pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let reference_spp = trials.unwrap_or(512).min(1 << 16) as u32;
     let budget = BUDGETS[1];
-    let mut fig = Figure::new(2).title("Seed 004 Figs. 4.12-4.24: MSE over render time (CPU)");
+    let mut fig = Figure::new(2).title("Hansen 2025 Figs. 4.12-4.24: MSE over render time (CPU)");
     let (mut rows, mut lines) = (Vec::new(), Vec::new());
     for &row in &ROWS {
         let (line, plot) = measure_case(w, &CASES[row], reference_spp, &mut rows)?;
@@ -72,7 +72,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &rows,
     )?;
     Ok(format!(
-        "Seed 004 error over time on fogbank's CPU ({} threads), {WIDTH}×{HEIGHT}, 8 bounces, sky probe: 1-spp frames \
+        "Hansen 2025 error over time on fogbank's CPU ({} threads), {WIDTH}×{HEIGHT}, 8 bounces, sky probe: 1-spp frames \
          accumulated for {budget} s of render time per method; MSE of the running mean against unbiased `volpath` at \
          {reference_spp} spp (its variance subtracted) and HDR-FLIP at 1 s → 10 s (lower is better). Plot: \
          mse_over_time.png; images: <scene>_<method>_<budget>s.png.\n\n| scene | at 1 s → 10 s |\n|---|---|\n{}\n",

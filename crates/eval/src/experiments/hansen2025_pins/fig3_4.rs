@@ -1,4 +1,4 @@
-//! Seed 004 Fig. 3.4: why the collision matrix is decomposed. 32 intervals
+//! Hansen 2025 Fig. 3.4: why the collision matrix is decomposed. 32 intervals
 //! with optical depths τ_i ~ U[0, 0.3]; the exact discrete free-flight
 //! distribution (Eq. 3.1, 3.3) against MSB sampling from 10 stored rows of
 //! the collision matrix M (P(M_ji = 1) = 1 − t_i, §3.4.2) and from 10
@@ -116,7 +116,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let table = write_total_variation(w, &tv)?;
     w.figure("fig3_4", &figure(&exact, &first))?;
     Ok(format!(
-        "Seed 004 Fig. 3.4: 32 intervals, τ_i ~ U[0, 0.3] (fixed seed), 10 rows × 100 samples per sampler; \
+        "Hansen 2025 Fig. 3.4: 32 intervals, τ_i ~ U[0, 0.3] (fixed seed), 10 rows × 100 samples per sampler; \
          total-variation distance to the exact discrete free-flight distribution, mean ± standard error over \
          {reps} repetitions of the whole experiment (`fig3_4.png` plots the first):\n\n\
          | sampler | total variation |\n|---|---|\n{}\n\n\
@@ -212,6 +212,8 @@ fn figure(exact: &[f64; INTERVALS + 1], first: &[[u32; INTERVALS + 1]]) -> Figur
     }
     Figure::new(1)
         .panel_size(900, 560)
-        .title("Seed 004 Fig. 3.4: free-flight distribution over 32 intervals, tau_i ~ U[0, 0.3]")
+        .title(
+            "Hansen 2025 Fig. 3.4: free-flight distribution over 32 intervals, tau_i ~ U[0, 0.3]",
+        )
         .with(plot)
 }

@@ -1,4 +1,4 @@
-//! Seed 004 Fig. 4.10 and fogbank's speed criterion for pins: many overlapping
+//! Hansen 2025 Fig. 4.10 and fogbank's speed criterion for pins: many overlapping
 //! instances of one cloud (10, 50, 250), albedo 1, isotropic, 8 bounces,
 //! under the sky probe; the ray-marching baseline at step 0.08 against
 //! PinMS (pins for multiple scattering, ray marching at the same step for
@@ -137,7 +137,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &rows,
     )?;
     Ok(format!(
-        "Seed 004 Fig. 4.10 on fogbank's CPU ({threads} threads), {width}×{height}, pixel centres, 8 bounces, albedo 1, \
+        "Hansen 2025 Fig. 4.10 on fogbank's CPU ({threads} threads), {width}×{height}, pixel centres, 8 bounces, albedo 1, \
          sky probe; ray marching at step {STEP} vs PinMS (same step for the view ray and first NEE), {REPEATS} interleaved \
          rounds of one {SPP}-spp frame each; MSE per {SPP}-spp frame against unbiased `volpath` at {reference_spp} spp \
          (its variance subtracted). Time per sample excludes scene and pin-grid building (listed apart).\n\n\

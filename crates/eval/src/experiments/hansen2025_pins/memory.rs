@@ -1,4 +1,4 @@
-//! Seed 004 Fig. 4.9: memory of the half-float density texture and of the
+//! Hansen 2025 Fig. 4.9: memory of the half-float density texture and of the
 //! pin grid for the thesis's four evaluation volumes, with P chosen by
 //! fogbank's default rule (the largest P whose P³ × 64 pins of 8 bytes
 //! stay within 0.1× the texture), beside the thesis's P and megabytes.
@@ -73,7 +73,7 @@ pub fn run(w: &mut Writer, _trials: Option<u64>) -> Result<String, String> {
         &csv,
     )?;
     Ok(format!(
-        "Seed 004 Fig. 4.9: half-float texture (2 bytes a voxel) and pin grid (P³ positions × 16 φ × 4 θ directions × \
+        "Hansen 2025 Fig. 4.9: half-float texture (2 bytes a voxel) and pin grid (P³ positions × 16 φ × 4 θ directions × \
          8 bytes) with fogbank's default P (the largest within 0.1× the texture); the thesis's values in brackets.\n\n\
          | volume | voxels | P | texture MB | grid MB |\n|---|---|---|---|---|\n{}\n",
         lines.join("\n")

@@ -1,5 +1,5 @@
 //! S. Hansen, *Pin Transmittance Sampling*, master thesis, Karlsruhe
-//! Institute of Technology (KIT), 2025 (the project's seed 004): pins, a
+//! Institute of Technology (KIT), 2025 (the project's Hansen 2025): pins, a
 //! grid of precomputed free-flight samples that replaces tracking for
 //! multiple scattering (PinMS), against the ray-marching baseline and
 //! fogbank's unbiased `volpath`.

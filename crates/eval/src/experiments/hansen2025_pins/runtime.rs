@@ -1,4 +1,4 @@
-//! Seed 004 Fig. 4.11: time per sample of the ray-marching baseline over
+//! Hansen 2025 Fig. 4.11: time per sample of the ray-marching baseline over
 //! PinMS for the thesis's six scenes, each at its three marching steps, on
 //! the CPU (`pins-runtime`, both methods interleaved in one run, MSE per
 //! frame against unbiased `volpath` for "at similar error") and on the GPU
@@ -231,7 +231,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &rows,
     )?;
     Ok(format!(
-        "Seed 004 Fig. 4.11 on fogbank's CPU ({threads} threads), {width}×{height}, pixel centres, 8 bounces, sky probe: \
+        "Hansen 2025 Fig. 4.11 on fogbank's CPU ({threads} threads), {width}×{height}, pixel centres, 8 bounces, sky probe: \
          time per sample of ray marching over PinMS at each scene's small / middle / large step, the median ratio of \
          {REPEATS} rounds of one {SPP}-spp frame of each, pin gathering excluded (see runtime.csv). In brackets the thesis's ratio (GPU). \
          MSE per {SPP}-spp frame (RM/PinMS) against unbiased `volpath` at {reference_spp} spp, its variance subtracted.\n\n\
@@ -304,7 +304,7 @@ pub fn run_gpu_on(
         &rows,
     )?;
     Ok(format!(
-        "Seed 004 Figs. 4.10 and 4.11 on {} at {size}², 8 bounces, sky probe: device time per sample (timestamp \
+        "Hansen 2025 Figs. 4.10 and 4.11 on {} at {size}², 8 bounces, sky probe: device time per sample (timestamp \
          queries, median of 5 renders of {spp} spp after a warm-up) of ray marching / PinMS, pin gathering (one compute pass before rendering) \
          excluded. In brackets the thesis's ratio (RTX 2070 Super).\n\n\
          | scene | small step | middle step | large step |\n|---|---|---|---|\n{}\n\n\

@@ -1,4 +1,4 @@
-//! Seed 004 Figs. 4.1 and 4.6 : the pin stream
+//! Hansen 2025 Figs. 4.1 and 4.6 : the pin stream
 //! against static pins, on the surfaces scene of [`super::surfaces`]
 //! (the Teapot stand-in on a diffuse ground, an area light from the left).
 //! Each method accumulates 1-spp frames for the same render time, taking
@@ -145,7 +145,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &rows,
     )?;
     Ok(format!(
-        "Seed 004 Figs. 4.1 and 4.6 on fogbank's CPU ({} threads), {WIDTH}×{HEIGHT}, 8 bounces, ray-marching step 0.03: \
+        "Hansen 2025 Figs. 4.1 and 4.6 on fogbank's CPU ({} threads), {WIDTH}×{HEIGHT}, 8 bounces, ray-marching step 0.03: \
          the scene of `pins-surfaces` (the Teapot stand-in on a diffuse ground, an area light from the left). Each \
          method accumulates 1-spp frames for {BUDGET} s (streaming counted), against unbiased `volpath` at \
          {reference_spp} spp (its variance subtracted); shadow-region MSE over the ground pixels the medium's box \

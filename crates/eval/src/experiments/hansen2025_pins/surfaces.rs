@@ -1,4 +1,4 @@
-//! Seed 004 Figs. 4.12–4.13 with surfaces: the Teapot
+//! Hansen 2025 Figs. 4.12–4.13 with surfaces: the Teapot
 //! stand-in (`runtime::CASES[0]`, sphere.vdb as fog, σ_t 40) on a
 //! diffuse ground, lit from the left by an emitting rectangle (the thesis's
 //! area light from the left) and a dim sky; 8 bounces. Ray marching
@@ -124,7 +124,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &rows,
     )?;
     Ok(format!(
-        "Seed 004 Figs. 4.12–4.13 with surfaces on fogbank's CPU ({} threads), {WIDTH}×{HEIGHT}, 8 bounces: the Teapot \
+        "Hansen 2025 Figs. 4.12–4.13 with surfaces on fogbank's CPU ({} threads), {WIDTH}×{HEIGHT}, 8 bounces: the Teapot \
          stand-in (sphere.vdb fog, σ_t 40) on a diffuse ground, an emitting rectangle to the left, a dim sky. \
          Reference: unbiased `volpath` at {reference_spp} spp (its variance subtracted from every MSE). \
          Shadow region: {shadow_pixels} ground pixels whose segment to the light crosses the medium's box \
@@ -186,7 +186,7 @@ fn over_time(
     w.figure(
         "mse_over_time",
         &Figure::new(1)
-            .title("Seed 004 Fig. 4.13 with surfaces: MSE over render time (CPU)")
+            .title("Hansen 2025 Fig. 4.13 with surfaces: MSE over render time (CPU)")
             .with(plot),
     )?;
     Ok(lines)

@@ -1,5 +1,5 @@
 //! The measurement protocol of rendered frames, from Lin et al. 2021 §6
-//! (seed 002) and shared by every experiment that renders frames against a
+//! (Lin et al. 2021) and shared by every experiment that renders frames against a
 //! reference (`restir-*`, `pins-*`, `light-bvh`): an offline `volpath`
 //! reference with pixel-centre rays, independent frames of a per-pixel
 //! integrator, frames raced within a time budget; MSE of every frame and
@@ -61,7 +61,7 @@ pub fn mse(a: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
         / n
 }
 
-/// Mean squared luminance of the error: the monochrome MSE of seed 002
+/// Mean squared luminance of the error: the monochrome MSE of Lin et al. 2021
 /// Fig. 19, blind to the colour noise a scalar (luminance) target leaves.
 pub fn mono_mse(a: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
     a.iter()

@@ -1,4 +1,4 @@
-//! Seed 003 Fig. 6: equal time with a denoiser. The paper renders its head
+//! Lerzer and Dachsbacher 2025 Fig. 6: equal time with a denoiser. The paper renders its head
 //! for 1 s on a GPU — `visopt` reaches 150 spp, the jittered ray-marched
 //! AZD17 optimisation (step 0.008) one frame — and denoises both; plain
 //! (unjittered) ray marching is the third image. fogbank's CPU cannot march
@@ -128,7 +128,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         ),
     };
     Ok(format!(
-        "Seed 003 Fig. 6 on the CPU (2 threads): the MNI152 head (white matter important, lobe n = 40), {WIDTH}², \
+        "Lerzer and Dachsbacher 2025 Fig. 6 on the CPU (2 threads): the MNI152 head (white matter important, lobe n = 40), {WIDTH}², \
          equal time = one jittered AZD17 frame at step {STEP} ({jit_secs:.2} s; the paper: 1 s on an RTX 4080). \
          Errors against visopt at {ref_spp} spp ({ref_pass:.4} s per pass). Denoised times include the filter's \
          own execution (OIDN, colour only, CPU).\n\n\

@@ -1,4 +1,4 @@
-//! Seed 003 Figs. 5 and 8 on the CPU: `visopt` against the ray-marched
+//! Lerzer and Dachsbacher 2025 Figs. 5 and 8 on the CPU: `visopt` against the ray-marched
 //! AZD17 optimisation (normalised form) at equal time, and visopt's error
 //! as its spp grow — RMSE and FLIP against a high-spp visopt reference of
 //! the same optimised image, as the paper does (its references have 10,000
@@ -52,7 +52,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &rows,
     )?;
     Ok(format!(
-        "Seed 003 Figs. 5 and 8 on the CPU (2 threads): the HEPTANE stand-in at {WIDTH}², errors against visopt at \
+        "Lerzer and Dachsbacher 2025 Figs. 5 and 8 on the CPU (2 threads): the HEPTANE stand-in at {WIDTH}², errors against visopt at \
          {ref_spp} spp ({per_pass:.4} s per pass).\n\n\
          Fig. 8 — visopt's error against spp:\n\n| spp | s | RMSE | FLIP |\n|---|---|---|---|\n{}\n\n\
          Fig. 5 — equal time with AZD17 (normalised), the budget set by its finest step ({step}, {budget:.2} s):\n\n\

@@ -1,4 +1,4 @@
-//! Seed 003 Fig. 2 / Eq. 5: AZD17's optimisation as printed (sums of g_j²
+//! Lerzer and Dachsbacher 2025 Fig. 2 / Eq. 5: AZD17's optimisation as printed (sums of g_j²
 //! over the march samples) makes important regions vanish as the step
 //! shrinks, since the sums grow with the sample count; with the paper's
 //! Δx-normalised sums (≈ ∫ k²) the optimised extinction converges. Mean
@@ -59,7 +59,7 @@ pub fn run(w: &mut Writer, _trials: Option<u64>) -> Result<String, String> {
         &rows,
     )?;
     Ok(format!(
-        "Seed 003 Fig. 2 (Eq. 5): mean μ'/μ along the centre camera ray of a 64³ procedural cloud whose core \
+        "Lerzer and Dachsbacher 2025 Fig. 2 (Eq. 5): mean μ'/μ along the centre camera ray of a 64³ procedural cloud whose core \
          (σ_t ≥ 4) has importance 0.9, p, q, r, λ = 1, 70, 30, 1.\n\n\
          | form | step ([−1, 1]³ units) | mean μ'/μ | mean μ'/μ where important |\n|---|---|---|---|\n{}\n\n\
          As printed, each tenfold smaller step multiplies the sums in h by about ten and μ' collapses, the important \

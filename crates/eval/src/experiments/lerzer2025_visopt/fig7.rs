@@ -1,4 +1,4 @@
-//! Seed 003 Fig. 7: how fast the importance segments converge. On the
+//! Lerzer and Dachsbacher 2025 Fig. 7: how fast the importance segments converge. On the
 //! analytic importance with narrow peaks ([`fig7_importance`]), the error
 //! of K̃(z) = ∫ k̃² over the ray and of K̃(5) after each pass, one uniform
 //! pass followed by adaptive ones (the paper's schedule, continued) against
@@ -99,7 +99,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         .map(|&p| at(p))
         .collect();
     Ok(format!(
-        "Seed 003 Fig. 7: convergence of the importance segments on an analytic importance with narrow peaks \
+        "Lerzer and Dachsbacher 2025 Fig. 7: convergence of the importance segments on an analytic importance with narrow peaks \
          (width 0.05, 0.3 and 0.01 on a ray of length 10; exact ∫k² = {:.3}, K(5) = {:.2}); N = {N} samples per pass, \
          d = 2L/N, mean over {runs} runs.\n\n\
          | passes | adaptive: rel. error K(z) | adaptive: error K(5) | entries | uniform: rel. error K(z) | uniform: error K(5) | entries |\n\

@@ -1,4 +1,4 @@
-//! Seed 003 Table 3 (and Fig. 1's frame times) on a GPU:
+//! Lerzer and Dachsbacher 2025 Table 3 (and Fig. 1's frame times) on a GPU:
 //! memory and device time per 10-spp frame at 800², 1600² and
 //! 1920×1080 on the HEPTANE stand-in of `visopt-overhead` — plain DVR
 //! (`optimise = false`), `visopt` with camera-ray lists only, full
@@ -148,7 +148,7 @@ pub fn run_on(
         &rows,
     )?;
     Ok(format!(
-        "Seed 003 Table 3 on {}: device milliseconds per {FRAME_SPP}-spp frame (timestamp queries, median of \
+        "Lerzer and Dachsbacher 2025 Table 3 on {}: device milliseconds per {FRAME_SPP}-spp frame (timestamp queries, median of \
          {frames} frames after one warm-up) on the HEPTANE stand-in (cloud 128³ in [−1, 1]³, two point \
          lights, dense core important); camera lists built on the CPU ({} threads) and uploaded, NEE lists \
          of 200 samples built on the device in a scratch of one list per pixel of a band of rows.\n\n\

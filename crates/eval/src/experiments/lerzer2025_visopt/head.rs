@@ -1,4 +1,4 @@
-//! Seed 003's head studies on the MNI152 T1 template (the paper's VISIBLE
+//! Lerzer and Dachsbacher 2025's head studies on the MNI152 T1 template (the paper's VISIBLE
 //! HUMAN head replaced by a freely available brain; `tools/fetch_data.sh mni`):
 //!
 //! - Fig. 9: the three multiple-scattering settings of §5.4 (single

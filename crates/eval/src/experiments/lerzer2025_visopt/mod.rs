@@ -1,6 +1,6 @@
 //! N. Lerzer, C. Dachsbacher, *View-Dependent Visibility Optimization for
 //! Monte Carlo Volume Visualization*, Computer Graphics Forum 2025 (the
-//! project's seed 003): the `visopt` integrator, which optimises extinction
+//! project's Lerzer and Dachsbacher 2025): the `visopt` integrator, which optimises extinction
 //! for the visibility of important regions along camera rays, against the
 //! ray-marched optimisation of Ament et al. (AZD17).
 //!

@@ -1,4 +1,4 @@
-//! Seed 003 Fig. 5 (right) and Table 3 on the CPU: what the optimisation
+//! Lerzer and Dachsbacher 2025 Fig. 5 (right) and Table 3 on the CPU: what the optimisation
 //! costs. On a HEPTANE stand-in (procedural cloud 128³ in [−1, 1]³, two
 //! point lights, as the paper's HEPTANE has two), time per pass (one
 //! sample in every pixel): plain DVR (`visopt` with `optimise = false`), the optimisation on
@@ -69,7 +69,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let lines = pass_times(w, spp)?;
     let mem_lines = list_memory(w)?;
     Ok(format!(
-        "Seed 003 Fig. 5 (right) / Table 3 on the CPU (2 threads): a 128³ procedural cloud in [−1, 1]³ with two point \
+        "Lerzer and Dachsbacher 2025 Fig. 5 (right) / Table 3 on the CPU (2 threads): a 128³ procedural cloud in [−1, 1]³ with two point \
          lights, {WIDTH}², seconds per pass (one sample in every pixel) over {spp} passes (AZD17: its one deterministic frame), best of {REPEATS} interleaved runs (the lists are built before timing).\n\n\
          | method | seconds per pass | / DVR |\n|---|---|---|\n{}\n\n\
          The paper (GPU, HEPTANE, equal quality rather than equal spp): DVR 3.48 s, optimisation without light rays \

@@ -1,4 +1,4 @@
-//! Seed 003 Figs. 3 and 11: post- against pre-interpolative importance.
+//! Lerzer and Dachsbacher 2025 Figs. 3 and 11: post- against pre-interpolative importance.
 //! The paper shows that classifying importance per voxel and then
 //! interpolating (and/or box-filtering) loses fine detail — in Fig. 11 a
 //! thin band on bone surfaces disappears. fogbank measures it: for every
@@ -223,7 +223,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let spp = trials.unwrap_or(DEFAULT_IMAGE_SPP) as u32;
     let mut rows = Vec::new();
     let mut out = format!(
-        "Seed 003 Figs. 3 and 11: post- vs pre-interpolative importance at {WIDTH}², measured as ∫k² along each \
+        "Lerzer and Dachsbacher 2025 Figs. 3 and 11: post- vs pre-interpolative importance at {WIDTH}², measured as ∫k² along each \
          pixel-centre ray (fine march) against the post-interpolative importance the rules define.\n\n"
     );
     out += &study(

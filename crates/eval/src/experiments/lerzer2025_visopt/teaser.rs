@@ -1,4 +1,4 @@
-//! Seed 003 Fig. 1 (teaser) on the CPU: plain DVR, optimised single
+//! Lerzer and Dachsbacher 2025 Fig. 1 (teaser) on the CPU: plain DVR, optimised single
 //! scattering at 10 spp and optimised single + multiple scattering
 //! (`scattering = "first"`) at 5 spp — frame times, and RMSE/FLIP against
 //! high-spp references of the same settings. The paper's MAGNETIC
@@ -85,7 +85,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &rows,
     )?;
     Ok(format!(
-        "Seed 003 Fig. 1 on the CPU (2 threads): a 160³ procedural cloud with a transfer function (the paper's 512³ \
+        "Lerzer and Dachsbacher 2025 Fig. 1 on the CPU (2 threads): a 160³ procedural cloud with a transfer function (the paper's 512³ \
          MAGNETIC RECONNECTION replaced), {WIDTH}², errors against {ref_spp}-spp references of each setting.\n\n\
          | setting | spp | ms | RMSE | FLIP |\n|---|---|---|---|---|\n{}\n\n\
          Frame-time ratio SS+MS at 5 spp / SS at 10 spp: {:.2} (paper, GPU at 800²: 726 ms / 150 ms = 4.84); \

@@ -1,4 +1,4 @@
-//! Seed 002's ablations (Figs. 4, 7, 10, 11, 12, 14, 15, 19, 21) on one
+//! Lin et al. 2021's ablations (Figs. 4, 7, 10, 11, 12, 14, 15, 19, 21) on one
 //! static scene with the protocol of `harness::protocol`: the procedural cloud
 //! under the sky probe, K = 3, 128×96, ReSTIR frames after a warm-up against
 //! an offline `volpath` reference. Each row changes one parameter of the
@@ -158,7 +158,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         .map(|r| format!("| {} |", r.join(" | ")))
         .collect();
     Ok(format!(
-        "Seed 002 ablations on fogbank's CPU backend ({threads} threads): procedural cloud under the sky probe, \
+        "Lin et al. 2021 ablations on fogbank's CPU backend ({threads} threads): procedural cloud under the sky probe, \
          K = 3, 128×96, spatial radius 2 px unless stated, {WARM_UP} warm-up + {FRAMES} measured frames, reference `volpath` at {reference_spp} spp \
          (its variance subtracted). Times are wall-clock per frame and per pass (ms).\n\n\
          | fig. | configuration | ms/frame | candidates | temporal | spatial | shading | MSE | mono MSE | error autocorrelation (last frame) |\n\

@@ -1,4 +1,4 @@
-//! Seed 002 Fig. 9: the bias of temporal reuse under motion. One frame of
+//! Lin et al. 2021 Fig. 9: the bias of temporal reuse under motion. One frame of
 //! a moving scene is re-rendered by many independent ReSTIR sequences and
 //! their mean compared per pixel with a converged `volpath` reference: for
 //! a still scene (the control, unbiased), camera orbits of 1° and 5° per
@@ -159,7 +159,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         &rows,
     )?;
     Ok(format!(
-        "Seed 002 Fig. 9 on fogbank's CPU backend ({threads} threads): the last frame (frame 7, or 11 for the stopped orbit) \
+        "Lin et al. 2021 Fig. 9 on fogbank's CPU backend ({threads} threads): the last frame (frame 7, or 11 for the stopped orbit) \
          of {sequences} independent ReSTIR sequences (K = 1, 64×48, Q = 4 unless stated, spatiotemporal reuse, spatial radius 2 px) \
          against a `volpath` reference at {reference_spp} spp. Luminance. \"bias of the mean\" compares the images' mean luminance \
          (z from the spread over sequences); \"RMS bias\" is the per-pixel bias with both estimators' noise removed, relative to the \

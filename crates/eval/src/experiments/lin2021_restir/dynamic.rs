@@ -1,4 +1,4 @@
-//! Seed 002's studies of moving scenes and of accumulation, with the
+//! Lin et al. 2021's studies of moving scenes and of accumulation, with the
 //! protocol of `harness::protocol` and per-frame `volpath` references:
 //! - Fig. 8: spatial reuse only, temporal reuse without reprojection (the
 //!   same pixel) and with reprojection, under camera motion (an orbit) and
@@ -197,7 +197,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let accumulation = accumulation(w, reference_spp.max(256))?;
     let memory = memory_per_pixel();
     Ok(format!(
-        "Seed 002's dynamic studies on fogbank's CPU backend ({threads} threads): 128×96, K = 3, spatial radius 2 px, \
+        "Lin et al. 2021's dynamic studies on fogbank's CPU backend ({threads} threads): 128×96, K = 3, spatial radius 2 px, \
          {WARM_UP} warm-up + {MEASURED} measured frames of one sequence, each against its own `volpath` reference \
          at {reference_spp} spp (variance subtracted). The orbit turns the camera 2° per frame about the cloud; \
          the plume plays at 8 fps (its matter rises 0.019 box heights, about 1.7 px, and swirls 0.1 rad per frame, while its envelope stays put); \

@@ -1,4 +1,4 @@
-//! Seed 002 Figs. 16, 17 and 22: volumetric ReSTIR against the paper's
+//! Lin et al. 2021 Figs. 16, 17 and 22: volumetric ReSTIR against the paper's
 //! baseline at equal time, with the paper's protocol (§6): per-frame MSE of
 //! single frames (one shaded path per pixel for ReSTIR) averaged over many
 //! frames after a warm-up, the baseline's spp matched to ReSTIR's frame
@@ -399,10 +399,10 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         w,
         trials,
         &cases()?,
-        "Seed 002 Fig. 22: MSE of accumulated frames vs time (solid ReSTIR, dashed baseline)",
+        "Lin et al. 2021 Fig. 22: MSE of accumulated frames vs time (solid ReSTIR, dashed baseline)",
         |threads, reference_spp| {
             format!(
-                "Seed 002 Figs. 16/17 (equal time) on fogbank's CPU backend ({threads} threads), \
+                "Lin et al. 2021 Figs. 16/17 (equal time) on fogbank's CPU backend ({threads} threads), \
                  128×96, pixel-centre rays, spatial radius {RADIUS} px, {WARM_UP} warm-up + {FRAMES} measured frames, \
                  reference `volpath` at {reference_spp} spp (its variance subtracted from every MSE). \
                  The paper reports lower MSE for ReSTIR than the baseline in every case, on an RTX 3090 at 1920×1080; \
@@ -503,7 +503,7 @@ fn note(lines: &[String], images: &[String]) -> String {
          Each ReSTIR frame is timed in turn with a baseline frame. \"matched\": the baseline's MSE at the spp its 1-spp frames \
          (timed with ReSTIR's warm-up) matched to ReSTIR's frame time; \"at equal time\" scales that MSE by the two measured frame \
          times (MSE ∝ 1/time for the baseline's independent samples). \"mono\": the MSE of the error's \
-         luminance (seed 002 Fig. 19's monochrome images), blind to the colour noise of ReSTIR's scalar target \
+         luminance (Lin et al. 2021 Fig. 19's monochrome images), blind to the colour noise of ReSTIR's scalar target \
          (§6.2: every channel follows one luminance-sampled path).\n\n\
          One frame of ReSTIR, one of the baseline at the matched spp, and the reference, left to right: {}.",
         lines.join("\n"),

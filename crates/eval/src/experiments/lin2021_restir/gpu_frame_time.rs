@@ -1,4 +1,4 @@
-//! Seed 002's frame-time table on a GPU (§6, Fig. 22's timings):
+//! Lin et al. 2021's frame-time table on a GPU (§6, Fig. 22's timings):
 //! `restir` at 1920×1080 (the paper's resolution) with the
 //! paper's defaults (M = 4, Q = 4, 3 neighbours within 10 px, T̃ on mip 1),
 //! K = 1, 3, 7 on the light-probe cloud and K = 3 on the emissive
@@ -157,7 +157,7 @@ pub fn run_on(
     // Per pixel: three reservoir regions and the accumulation buffers.
     let bytes = 3 * STORED_BYTES + 16 + 16 + 4;
     Ok(format!(
-        "Seed 002's frame times on {} at {width}×{height}: device time per pass from timestamp queries, \
+        "Lin et al. 2021's frame times on {} at {width}×{height}: device time per pass from timestamp queries, \
          mean of {frames} frames after {WARM_UP} warm-up frames (one sequence, M = 4, Q = 4, 3 neighbours \
          within 10 px, T̃ on mip 1, exact trilinear T in shading). \"baseline 1 spp\" is `volpath` with the \
          `restir_baseline` preset (super-voxels of 8³), median of 5 renders of 16 spp. The paper (RTX 3090, its scenes, \

@@ -1,6 +1,6 @@
 //! D. Lin, C. Wyman, C. Yuksel, *Fast Volume Rendering with Spatiotemporal
 //! Reservoir Resampling*, ACM Transactions on Graphics 40(6), 2021 (the
-//! project's seed 002): volumetric ReSTIR against the paper's baseline with
+//! project's Lin et al. 2021): volumetric ReSTIR against the paper's baseline with
 //! the paper's protocol (§6), on fogbank's stand-in scenes.
 //!
 //! - `equal_time`: Figs. 16, 17 and 22, ReSTIR against the baseline at

@@ -1,4 +1,4 @@
-//! ReSTIR's side of seed 002's equal-time protocol: a static scene's
+//! ReSTIR's side of Lin et al. 2021's equal-time protocol: a static scene's
 //! sequence stepped frame by frame ([`RestirRun`]), so that per-pixel
 //! rivals (the paper's baseline, the null-scattering tracer) can take turns
 //! with it and share the machine's drift ([`equal_time_race`]).

@@ -1,4 +1,4 @@
-//! The scenes of seed 002's dynamic studies (`restir-dynamic`,
+//! The scenes of Lin et al. 2021's dynamic studies (`restir-dynamic`,
 //! `restir-bias`), as scene text: the procedural cloud or the animated
 //! procedural plume under the sky probe, seen by a camera that may orbit,
 //! with an optional sun that may sweep round. 128×96 (or smaller),

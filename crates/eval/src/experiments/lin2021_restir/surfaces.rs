@@ -1,4 +1,4 @@
-//! Seed 002 Figs. 1, 18 and the surface curve of Fig. 22: volumetric
+//! Lin et al. 2021 Figs. 1, 18 and the surface curve of Fig. 22: volumetric
 //! ReSTIR with surfaces against the paper's baseline at equal time, with
 //! the protocol of [`super::equal_time`] (single-frame MSE over
 //! measured frames after a warm-up, the baseline's spp matched to ReSTIR's
@@ -74,10 +74,10 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         w,
         trials,
         &cases()?,
-        "Seed 002 Fig. 22 (surfaces): MSE of accumulated frames vs time (solid ReSTIR, dashed baseline)",
+        "Lin et al. 2021 Fig. 22 (surfaces): MSE of accumulated frames vs time (solid ReSTIR, dashed baseline)",
         |threads, reference_spp| {
             format!(
-                "Seed 002 Figs. 1 and 18 (equal time, scenes with surfaces) and the surface curves of Fig. 22 on fogbank's \
+                "Lin et al. 2021 Figs. 1 and 18 (equal time, scenes with surfaces) and the surface curves of Fig. 22 on fogbank's \
                  CPU backend ({threads} threads), pixel-centre rays, spatial radius {RADIUS} px, {WARM_UP} warm-up + \
                  {FRAMES} measured frames, reference `volpath` at {reference_spp} spp (its variance subtracted from every \
                  MSE). The paper reports 55 ms for ReSTIR against 142 ms for its baseline at equal quality in Fig. 1, and \

@@ -1,5 +1,5 @@
 //! Random variates, the normal CDF, and the six hypothetical distributions of
-//! optical-depth estimates of seed 000 Fig. 2, each parameterised by its mean
+//! optical-depth estimates of Peters 2025 Fig. 2, each parameterised by its mean
 //! τ and standard deviation σ so that all six share both.
 //!
 //! Every distribution also exposes its moment-generating function
@@ -61,7 +61,7 @@ pub fn normal_pdf(x: f64, mean: f64, std: f64) -> f64 {
     (-0.5 * z * z).exp() / (std * (2.0 * PI).sqrt())
 }
 
-/// The distribution families of seed 000 Fig. 2.
+/// The distribution families of Peters 2025 Fig. 2.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Family {
     Normal,

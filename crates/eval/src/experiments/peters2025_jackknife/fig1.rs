@@ -1,4 +1,4 @@
-//! Seed 000 Fig. 1: a cloud under direct illumination from a light probe at
+//! Peters 2025 Fig. 1: a cloud under direct illumination from a light probe at
 //! 32 spp, with the NEE transmittance estimator as the only difference.
 //! The paper's finding: biased ray marching overestimates transmittance
 //! visibly, the jackknife's bias is negligible, it has fewer fireflies than
@@ -40,7 +40,7 @@ fn scene(width: u32, height: u32) -> Result<Scene, String> {
     .map_err(|e| e.0)
 }
 
-/// Seed 000 compares the plain estimators: ratio tracking without the
+/// Peters 2025 compares the plain estimators: ratio tracking without the
 /// roulette fogbank plays by default (`roulette = 0`).
 fn with_estimator(scene: &Scene, name: &str) -> Result<Scene, String> {
     let e = Estimator::parse(name)

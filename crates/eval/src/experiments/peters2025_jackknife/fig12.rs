@@ -1,4 +1,4 @@
-//! Seed 000 Fig. 12 and Fig. 13: a cloud lit by two point lights inside it,
+//! Peters 2025 Fig. 12 and Fig. 13: a cloud lit by two point lights inside it,
 //! rendered with the `point_mis` integrator's six distance-sampling
 //! strategies at equal pixel samples (16 spp; the MIS variants take two
 //! distance samples each). Like the paper, the grid uses nearest-neighbour

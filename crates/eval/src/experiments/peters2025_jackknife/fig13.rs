@@ -1,4 +1,4 @@
-//! Seed 000 Fig. 13: the bias of Eq. 10 (biased MIS that merges weight and
+//! Peters 2025 Fig. 13: the bias of Eq. 10 (biased MIS that merges weight and
 //! transmittance estimation) with the naive weight g(X̄) (`mis_naive`, one
 //! optical-depth estimate of 2N lookups) against jackknife weights
 //! Re g(X̄ + iS) (`mis_jackknife_biased`, Eq. 12), in a high-spp inset of

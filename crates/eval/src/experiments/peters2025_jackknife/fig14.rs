@@ -1,4 +1,4 @@
-//! Seed 000 Fig. 14 and §6.3 (limitations): the explosion failure case in
+//! Peters 2025 Fig. 14 and §6.3 (limitations): the explosion failure case in
 //! two dimensions. A ray runs along x through a sparse field whose dense
 //! puffs lie mostly *beside* the ray: the super-voxels it crosses are
 //! non-empty (their Eq. 5 importance comes from voxels off the ray), so Alg.
@@ -266,7 +266,7 @@ fn figure(rows: &[Row], trials: u64) -> Figure {
     Figure::new(3)
         .panel_size(620, 420)
         .title(format!(
-            "Seed 000 Fig. 14 analogue: sparse field, N = {SAMPLES}, {trials} trials per size"
+            "Peters 2025 Fig. 14 analogue: sparse field, N = {SAMPLES}, {trials} trials per size"
         ))
         .with(field_panel())
         .with(

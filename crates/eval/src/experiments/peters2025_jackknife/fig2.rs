@@ -1,4 +1,4 @@
-//! Seed 000 Fig. 2: the jackknife estimate cos(S)e^{−X̄} (Eq. 4) against
+//! Peters 2025 Fig. 2: the jackknife estimate cos(S)e^{−X̄} (Eq. 4) against
 //! the naive e^{−X̄}, both from m = 2 i.i.d. optical-depth estimates, when
 //! the estimates are not normal but normal, uniform, exponential, Laplace,
 //! gamma or lognormal with a common mean τ and standard deviation σ.
@@ -131,9 +131,9 @@ fn write_csv(w: &mut Writer, rows: &[Row]) -> Result<(), String> {
 fn figures(w: &mut Writer, rows: &[Row], trials: u64) -> Result<(), String> {
     let t = (-TAU).exp();
     let mut bias_fig = Figure::new(3).title(format!(
-        "Seed 000 Fig. 2: bias of e^-mean vs jackknife, m = 2, tau = {TAU} (lines exact, dots {trials} trials)"
+        "Peters 2025 Fig. 2: bias of e^-mean vs jackknife, m = 2, tau = {TAU} (lines exact, dots {trials} trials)"
     ));
-    let mut std_fig = Figure::new(3).title("Seed 000 Fig. 2: standard deviation, m = 2");
+    let mut std_fig = Figure::new(3).title("Peters 2025 Fig. 2: standard deviation, m = 2");
     for &family in &FAMILIES {
         let fr: Vec<&Row> = rows.iter().filter(|r| r.family == family).collect();
         let pts = |f: &dyn Fn(&Row) -> f64| fr.iter().map(|r| (r.sigma, f(r))).collect::<Vec<_>>();

@@ -1,4 +1,4 @@
-//! Seed 000 Fig. 3 and App. A: relative RMSE of the jackknife estimate
+//! Peters 2025 Fig. 3 and App. A: relative RMSE of the jackknife estimate
 //! (Eq. 4) and of the naive e^{−X̄} for m = 2 normal optical-depth estimates
 //! of standard deviation σ, simulated and in closed form:
 //! jackknife sqrt((e^{σ²} − 1)/2) (App. A.2), naive
@@ -117,7 +117,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
     let curve = |f: &dyn Fn(f64) -> f64| dense.iter().map(|&s| (s, f(s))).collect::<Vec<_>>();
     let fig = Figure::new(2)
         .title(format!(
-            "Seed 000 Fig. 3: rRMSE for normal optical depth, m = 2 (lines App. A, dots {trials} trials)"
+            "Peters 2025 Fig. 3: rRMSE for normal optical depth, m = 2 (lines App. A, dots {trials} trials)"
         ))
         .with(
             LinePlot::new("rRMSE", "sigma", "relative RMSE")

@@ -1,4 +1,4 @@
-//! Seed 000 Figs. 4 and 6 (§4.1): distributions of ray-marching estimates
+//! Peters 2025 Figs. 4 and 6 (§4.1): distributions of ray-marching estimates
 //! of optical depth with stratified jittered sampling (one independent
 //! jitter per stratum) against uniform jittered sampling (one jitter shared
 //! by all N equidistant samples), on a smooth profile (Fig. 4a-like) and a
@@ -170,7 +170,7 @@ fn histograms(
 ) -> Result<(), String> {
     let name = variant.name();
     let mut fig = Figure::new(SAMPLE_COUNTS.len()).title(format!(
-        "Seed 000 Fig. {}: histograms of {trials} optical-depth estimates (exact tau = {tau:.4}), fitted normal in black",
+        "Peters 2025 Fig. {}: histograms of {trials} optical-depth estimates (exact tau = {tau:.4}), fitted normal in black",
         if variant == Variant::Smooth { "4" } else { "6" }
     ));
     let mut hist_rows = Vec::new();

@@ -1,4 +1,4 @@
-//! Seed 000 Fig. 5 (§4.1): convergence of optical-depth estimators on the
+//! Peters 2025 Fig. 5 (§4.1): convergence of optical-depth estimators on the
 //! Fig. 4a-like profile, RMSE against the sample count N = 1 … 1000 on
 //! log-log axes, for the deterministic midpoint rule, uniform jittered,
 //! stratified jittered and i.i.d. uniform sampling, with fitted slopes.
@@ -162,7 +162,7 @@ pub fn run(w: &mut Writer, trials: Option<u64>) -> Result<String, String> {
         "fig5",
         &Figure::new(1)
             .panel_size(760, 560)
-            .title("Seed 000 Fig. 5: convergence of optical-depth estimators")
+            .title("Peters 2025 Fig. 5: convergence of optical-depth estimators")
             .with(plot),
     )?;
     let slopes: Vec<String> = curves

@@ -1,4 +1,4 @@
-//! Seed 000 Fig. 7 (Eq. 11, App. E/F): bias of estimates of the MIS weight
+//! Peters 2025 Fig. 7 (Eq. 11, App. E/F): bias of estimates of the MIS weight
 //! g(τ) = (u0 e^{−τ} + u1)/(v0 e^{−τ} + v1) with (u0, u1, v0, v1) =
 //! (1, 0, 1, ½), from two normal optical-depth estimates with mean τ and
 //! standard deviation σ: the jackknife Re g(X̄ + iS) (Eq. 12, evaluated by
@@ -183,7 +183,7 @@ fn figure(cells: &[Cell], grid: Grid, trials: u64) -> Figure {
     Figure::new(2)
         .panel_size(600, 500)
         .title(format!(
-            "Seed 000 Fig. 7: bias of MIS weight estimates, g = e^-tau/(e^-tau + 1/2), {trials} trials per cell"
+            "Peters 2025 Fig. 7: bias of MIS weight estimates, g = e^-tau/(e^-tau + 1/2), {trials} trials per cell"
         ))
         .with(map("jackknife Re g(mean + iS)", cells.iter().map(|c| c.jackknife_bias).collect()))
         .with(map("naive g(mean)", cells.iter().map(|c| c.naive_bias).collect()))

@@ -1,5 +1,5 @@
 //! C. Peters, *Jackknife Transmittance and MIS Weight Estimation*, ACM
-//! Transactions on Graphics 44(6), 2025 (the project's seed 000): the
+//! Transactions on Graphics 44(6), 2025 (the project's Peters 2025): the
 //! jackknife estimate cos(S)e^{−X̄} of transmittance (Eq. 4), its use for
 //! MIS weights (Eq. 12), and the ray marching (Alg. 1/2) that feeds it.
 //!

@@ -1,11 +1,11 @@
-//! Synthetic one-dimensional extinction profiles μ(t) (seed 000 Figs. 4–6,
+//! Synthetic one-dimensional extinction profiles μ(t) (Peters 2025 Figs. 4–6,
 //! Table 1) exposed as a [`VolumeAccess`], so that the project's own
 //! optical-depth estimators (Alg. 1/2) march them unchanged along x.
 //!
 //! A profile is `n` voxel values reconstructed linearly between voxel centres
 //! (1D trilinear, clamped at the ends). The linear reconstruction makes the
 //! midpoint rule converge at 1/N² once steps are shorter than a voxel, the
-//! effect seed 000 §4.1 attributes to equidistant sampling in Fig. 5, and its
+//! effect Peters 2025 §4.1 attributes to equidistant sampling in Fig. 5, and its
 //! exact optical depth is simply the sum of the voxel values.
 
 use fogbank_estimators::optical_depth::{estimates, prepare, Importance, Jitter, Prepared};
@@ -25,7 +25,7 @@ impl Profile1D {
     /// A profile from voxel values, with one super-voxel spanning all of it:
     /// then the Eq. 5 importance is constant, Alg. 1 places samples exactly
     /// like plain stratified (or uniform) jittered sampling, and the minimum
-    /// control variate cancels (X = L/N Σ μ(t_j)), as in seed 000 §4.1.
+    /// control variate cancels (X = L/N Σ μ(t_j)), as in Peters 2025 §4.1.
     pub fn from_values(values: Vec<f64>) -> Self {
         let n = values.len() as u32;
         let mut p = Profile1D {
@@ -46,7 +46,7 @@ impl Profile1D {
         });
     }
 
-    /// Seed 000 Fig. 4a-like: a smooth envelope carrying detail on every
+    /// Peters 2025 Fig. 4a-like: a smooth envelope carrying detail on every
     /// scale (fractional Brownian motion, Hurst ½, down to two voxels), so
     /// stratified sampling sees non-zero variance in every stratum. Scaled so
     /// that T = [`PAPER_TABLE1_T`].
@@ -65,7 +65,7 @@ impl Profile1D {
         Self::from_values(values).scaled_to_optical_depth(-PAPER_TABLE1_T.ln())
     }
 
-    /// Seed 000 Fig. 6-like: three narrow features on an empty background,
+    /// Peters 2025 Fig. 6-like: three narrow features on an empty background,
     /// so that at N = 20 only a few strata carry any variance.
     pub fn sparse() -> Self {
         let n = 2048usize;
@@ -194,7 +194,7 @@ fn bump(x: f64, c: f64, w: f64) -> f64 {
 /// linearly interpolated value noise with periods `max_period` … `min_period`
 /// voxels and amplitude ∝ √period, normalised to unit peak magnitude. The
 /// Hurst exponent ½ is what makes stratified sampling converge at ≈ 1/N
-/// (RMSE ∝ N^{−(½+H)}), the rate seed 000 Fig. 5 shows.
+/// (RMSE ∝ N^{−(½+H)}), the rate Peters 2025 Fig. 5 shows.
 fn fbm(n: usize, max_period: usize, min_period: usize, rng: &mut Pcg32) -> Vec<f64> {
     let mut out = vec![0.0; n];
     let mut period = max_period;

@@ -1,4 +1,4 @@
-//! Seed 000 Table 1: with a fixed budget of mN = 24 samples of μ(t), is it
+//! Peters 2025 Table 1: with a fixed budget of mN = 24 samples of μ(t), is it
 //! better to combine many short ray-marching estimates with the UMVU
 //! estimate of Eq. 3, or few long ones? m ∈ {2, 3, 4, 6, 8} estimates of
 //! N = 24/m stratified jittered samples each (Eq. 4 for m = 2, Eq. 3 via the

@@ -1,4 +1,4 @@
-// fogbank_render::integrators::restir::candidates on the GPU (seed 002
+// fogbank_render::integrators::restir::candidates on the GPU (Lin et al. 2021
 // §3.2–3.3, §4.1, Fig. 3): M random walks per pixel through the
 // conservative mips, each streaming its scattering (NEE), emission and
 // background candidates into the pixel's reservoir with w = p̂/p; a walk

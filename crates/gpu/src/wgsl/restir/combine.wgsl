@@ -1,4 +1,4 @@
-// fogbank_render::integrators::restir::combine on the GPU (seed 002 §2.5,
+// fogbank_render::integrators::restir::combine on the GPU (Lin et al. 2021 §2.5,
 // §4.3–4.4; Eq. 8–11 with unequal M): the one rule temporal and spatial
 // reuse share. Input 0 is the receiving pixel; input i has its stored
 // reservoir (slot in_index[i]) and its pixel's centre ray (in_pixel[i]).

@@ -1,5 +1,5 @@
 // fogbank_render::integrators::restir::{path, reservoir} on the GPU: a
-// volumetric path as a reservoir stores it (seed 002 §3.2, §4.2), the
+// volumetric path as a reservoir stores it (Lin et al. 2021 §3.2, §4.2), the
 // reservoir of weighted reservoir sampling (§2.5, Eq. 5–7) and its stored
 // form. Conventions as the CPU's: w = p̂/p, W = w_sum / (M p̂(y)).
 

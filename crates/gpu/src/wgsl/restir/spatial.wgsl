@@ -1,5 +1,5 @@
 // fogbank_render::integrators::restir::{spatial, neighbours} on the GPU
-// (seed 002 §4.3, §5.3): one round over the pixel and its neighbours from
+// (Lin et al. 2021 §4.3, §5.3): one round over the pixel and its neighbours from
 // the R2 sequence (points in `rp.r2`, from the Rust definition), rotated
 // per pixel and frame by a hash, uniform in the disk of `radius` pixels;
 // neighbours off the screen are skipped.

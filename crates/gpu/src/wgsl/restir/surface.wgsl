@@ -1,4 +1,4 @@
-// fogbank_render::integrators::restir::surface on the GPU (seed 002 §4.2):
+// fogbank_render::integrators::restir::surface on the GPU (Lin et al. 2021 §4.2):
 // a path vertex on a surface is the closest opaque surface along
 // its segment, wherever reuse moves that segment; its factor in F and p̂ is
 // f_s·|cos θ_i| of the side the arriving path sees (twosided in the

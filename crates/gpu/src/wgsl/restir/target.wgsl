@@ -1,5 +1,5 @@
 // fogbank_render::integrators::restir::target on the GPU: the path integrand
-// F and the target p̂ (seed 002 Eq. 12–15, 22–23), one evaluation of a
+// F and the target p̂ (Lin et al. 2021 Eq. 12–15, 22–23), one evaluation of a
 // stored path along a pixel's primary ray. MODE_TARGET attenuates segments
 // with T̃ (p̂, deterministic); MODE_F with the shading estimator (F).
 

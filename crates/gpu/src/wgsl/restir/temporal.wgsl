@@ -1,4 +1,4 @@
-// fogbank_render::integrators::restir::temporal on the GPU (seed 002 §4.4,
+// fogbank_render::integrators::restir::temporal on the GPU (Lin et al. 2021 §4.4,
 // §5.2), in two passes. `reproject` runs with the previous frame's data
 // (camera, medium placement, lights): it maps what the pixel saw (stored
 // by the candidate pass) out through the previous placement, projects it

@@ -1,6 +1,6 @@
 // fogbank_render::integrators::restir::volume on the GPU: σ_t of the
 // full-resolution trilinear field, regular tracking through a conservative
-// mip with its closed-form pdf (seed 002 Eq. 27–28), and T̃ by deterministic
+// mip with its closed-form pdf (Lin et al. 2021 Eq. 27–28), and T̃ by deterministic
 // midpoint marching (§4.3, §5.1). Record 0 of `media` is the scene's medium.
 
 // volume::sigma_t: the trilinear σ_t at world point p, 0 outside the box.

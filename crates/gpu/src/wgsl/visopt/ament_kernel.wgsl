@@ -1,5 +1,5 @@
 // Integrator `ament` (integrators/ament.rs): the ray-marched extinction
-// optimisation of Ament, Zirr and Dachsbacher 2017, seed 003's baseline.
+// optimisation of Ament, Zirr and Dachsbacher 2017, Lerzer and Dachsbacher 2025's baseline.
 // Each ray is marched twice with a fixed step — once for Σ g² (its
 // importance), once to composite with μ'_i = μ_i · p / (p + (1 − g_i)^{2λ}
 // h_i), h_i = r Σ_{j<i} g_j² w + q Σ_{j>i} g_j² w (w = 1 as printed, Δx

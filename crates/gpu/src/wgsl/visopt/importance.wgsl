@@ -1,5 +1,5 @@
 // world/importance.rs, SceneMedium::sigma_t_smooth / gradient_sigma_t and
-// world/shading.rs on the device: seed 003's importance rules (§4.2) and
+// world/shading.rs on the device: Lerzer and Dachsbacher 2025's importance rules (§4.2) and
 // the smooth classified extinction that they and the gradient lobe (§3)
 // read. One medium (record 0), as the CPU integrators require.
 
@@ -160,7 +160,7 @@ fn dvr_phase(p: vec3<f32>, d: vec3<f32>, wi: vec3<f32>) -> f32 {
     return hg + gradient_lobe(grad, d, wi, vo.n);
 }
 
-// segments::mu_factor, seed 003 Eq. 8: μ'/μ = p / (p + (1 − g)^{2λ} h).
+// segments::mu_factor, Lerzer and Dachsbacher 2025 Eq. 8: μ'/μ = p / (p + (1 − g)^{2λ} h).
 fn mu_factor(g: f32, h: f32) -> f32 {
     var w = 1.0;
     if (vo.lambda != 0.0) {

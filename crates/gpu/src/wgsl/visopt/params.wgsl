@@ -1,4 +1,4 @@
-// Seed 003 on the device: the parameters of `visopt` and
+// Lerzer and Dachsbacher 2025 on the device: the parameters of `visopt` and
 // `ament` (visopt/params.rs, ament.rs), the importance rules and visopt's
 // frozen camera lists, bind group 3 of both kernels (crates/gpu/src/visopt).
 
@@ -27,7 +27,7 @@ struct VisOptUniform {
     max_depth: u32,
     // Importance values this close merge (0 post-, 1e-3 pre-interpolative).
     tolerance: f32,
-    // Where the camera lists start in `seed003_data` (after the rules).
+    // Where the camera lists start in `visopt_data` (after the rules).
     lists_first: u32,
 }
 
@@ -55,19 +55,19 @@ struct ImportanceRuleGpu {
 // per pixel a header (offset of its first entry in this buffer, entry
 // count, K(z), L as bits), then every list's entries (t, l, k, K)
 // (CameraLists::pixels and pool).
-@group(3) @binding(1) var<storage, read> seed003_data: array<vec4<f32>>;
+@group(3) @binding(1) var<storage, read> visopt_data: array<vec4<f32>>;
 // Per pixel of the dispatch's band of rows, room for one NEE ray's list
-// (seed 003 §6.1's per-thread scratch; a private array would be indexed
+// (Lerzer and Dachsbacher 2025 §6.1's per-thread scratch; a private array would be indexed
 // dynamically, which lavapipe compiles for minutes).
 @group(3) @binding(2) var<storage, read_write> light_scratch: array<vec4<f32>>;
 
 // The importance rule i.
 fn rule_at(i: u32) -> ImportanceRuleGpu {
     let w = 6u * i;
-    let head = bitcast<vec4<u32>>(seed003_data[w]);
+    let head = bitcast<vec4<u32>>(visopt_data[w]);
     return ImportanceRuleGpu(bitcast<f32>(head.x), head.y, head.z, bitcast<f32>(head.w),
-        seed003_data[w + 1u], seed003_data[w + 2u], seed003_data[w + 3u],
-        seed003_data[w + 4u], seed003_data[w + 5u]);
+        visopt_data[w + 1u], visopt_data[w + 2u], visopt_data[w + 3u],
+        visopt_data[w + 4u], visopt_data[w + 5u]);
 }
 
 fn vo_flag(bit: u32) -> bool {

@@ -1,6 +1,6 @@
 // visopt/segments.rs and lists.rs on the device: K(t) and h(t) of a ray's
-// importance list (seed 003 §5.1, Eq. 7 corrected), read from the frozen
-// camera lists in `seed003_data` or from the NEE ray's list in
+// importance list (Lerzer and Dachsbacher 2025 §5.1, Eq. 7 corrected), read from the frozen
+// camera lists in `visopt_data` or from the NEE ray's list in
 // `light_scratch` (WGSL cannot pass a pointer that may be either, so an
 // entry is read through `list_entry`).
 
@@ -21,7 +21,7 @@ struct RayList {
 
 fn list_entry(l: RayList, i: u32) -> vec4<f32> {
     if (l.source == LIST_CAMERA) {
-        return seed003_data[l.offset + i];
+        return visopt_data[l.offset + i];
     }
     return light_scratch[l.offset + i];
 }
@@ -68,7 +68,7 @@ fn integral_at(l: RayList, t: f32) -> f32 {
     return k0 + (k1 - k0) * clamp((t - right) / (next_t - right), 0.0, 1.0);
 }
 
-// segments::h, seed 003 Eq. 7 corrected: (r − q) K(t) + q K(z).
+// segments::h, Lerzer and Dachsbacher 2025 Eq. 7 corrected: (r − q) K(t) + q K(z).
 fn list_h(l: RayList, t: f32) -> f32 {
     let k_t = clamp(integral_at(l, t), 0.0, l.big_k_z);
     return max(vo.r * k_t + vo.q * (l.big_k_z - k_t), 0.0);

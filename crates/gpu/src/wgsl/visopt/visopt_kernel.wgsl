@@ -1,4 +1,4 @@
-// Integrator `visopt` (integrators/visopt/integrator.rs), seed 003 §5.4:
+// Integrator `visopt` (integrators/visopt/integrator.rs), Lerzer and Dachsbacher 2025 §5.4:
 // delta tracking through μ' (Eq. 8) of the pixel's frozen camera list
 // (built on the CPU, CameraLists), emission and next-event estimation
 // toward one light picked by power — ratio tracking through μ' of a fresh
@@ -131,7 +131,7 @@ fn pixel_sample(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, 
         let t_end = first_surface(ray);
         if (depth == 0u) {
             range = to_index_from_camera(m, ray, t_end, &r);
-            let h = bitcast<vec4<u32>>(seed003_data[vo.lists_first + pixel]);
+            let h = bitcast<vec4<u32>>(visopt_data[vo.lists_first + pixel]);
             l = RayList(LIST_CAMERA, h.x, h.y, bitcast<f32>(h.z), bitcast<f32>(h.w), range.x, 1.0);
         } else {
             range = to_index(m, ray, t_end, &r);

@@ -1,6 +1,6 @@
 //! Analyses of the MIS weights behind `point_mis`, on common random
 //! numbers: the errors of Eq. 10's estimated weights against exact ones
-//! (seed 000 Fig. 13) and the jackknife weights of Eq. 9 at one point
+//! (Peters 2025 Fig. 13) and the jackknife weights of Eq. 9 at one point
 //! (App. D).
 
 use super::integrator::{depths_n, eq10_distances, PointMis, Segment};
@@ -17,7 +17,7 @@ use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
 use fogbank_volume::{Filter, MediumView, VolumeAccess};
 
 impl PointMis {
-    /// Seed 000 Fig. 13 in isolation: one pixel sample of Eq. 10 with exact
+    /// Peters 2025 Fig. 13 in isolation: one pixel sample of Eq. 10 with exact
     /// weights g(τ(t_j)) and the errors of its estimated weights, on common
     /// random numbers.
     ///
@@ -107,7 +107,7 @@ impl PointMis {
     }
 }
 
-/// Seed 000 App. D in isolation: the jackknife estimates of w0(t) and w1(t)
+/// Peters 2025 App. D in isolation: the jackknife estimates of w0(t) and w1(t)
 /// at a point t of the camera ray `world`, each from its own pair of
 /// optical-depth estimates of [entry, t], as [`Strategy::MisJackknife`]
 /// computes them. `p0` is the other strategy's density at t. Returns

@@ -184,7 +184,7 @@ impl PointMis {
         s.medium.albedo_at(p) * s.intensity * (f * e.transmittance / dist2)
     }
 
-    /// Two optical-depth estimates X0, X1 of [a, t] (seed 000 Alg. 2, Alg. 1
+    /// Two optical-depth estimates X0, X1 of [a, t] (Peters 2025 Alg. 2, Alg. 1
     /// with Eq. 5 importance, N lookups each) — or, for the naive weight, one
     /// estimate of 2N lookups in `x[0]` and `x[1] = x[0]` so that S = 0 and
     /// App. F's formula reduces to g(X).
@@ -260,7 +260,7 @@ impl PointMis {
         let p0 = |t: f32| equiangular::pdf(&s.world, s.light, s.a, s.b, t);
         let mut total = Vec3::ZERO;
         // Free-flight sample: w1 = μ T_rt / (p0 + μ T_rt) with T_rt from
-        // delta tracking's null collisions before t1 (seed 000 §6.2).
+        // delta tracking's null collisions before t1 (Peters 2025 §6.2).
         let f = tracked_flight(v, s, cx);
         if let Some(t1) = f.t {
             let w1 = balance(f.sigma_t * f.ratio, p0(t1));
@@ -279,11 +279,11 @@ impl PointMis {
         total
     }
 
-    /// Both samples MIS-combined with jackknife weight estimates (seed 000, Eq. 9).
+    /// Both samples MIS-combined with jackknife weight estimates (Peters 2025, Eq. 9).
     fn mis_jackknife<V: VolumeAccess>(&self, v: &V, s: &Segment, cx: &mut PathContext) -> Vec3 {
         let p0 = |t: f32| equiangular::pdf(&s.world, s.light, s.a, s.b, t);
         let mut total = Vec3::ZERO;
-        // Seed 000, Eq. 9. Every weight uses its own optical-depth
+        // Peters 2025, Eq. 9. Every weight uses its own optical-depth
         // estimates and σ_t lookup, independent of the distance
         // sample and of T̃(t0), as App. D's proof needs.
         let f = tracked_flight(v, s, cx);
@@ -322,10 +322,10 @@ impl PointMis {
         total
     }
 
-    /// Seed 000, Eq. 10: the weighting function estimated at both samples.
+    /// Peters 2025, Eq. 10: the weighting function estimated at both samples.
     fn mis_eq10<V: VolumeAccess>(&self, v: &V, s: &Segment, cx: &mut PathContext) -> Vec3 {
         let mut total = Vec3::ZERO;
-        // Seed 000, Eq. 10: both samples contribute g̃(τ(t_j)) L_s(t_j)
+        // Peters 2025, Eq. 10: both samples contribute g̃(τ(t_j)) L_s(t_j)
         // with g(τ) = μ e^{−τ}/(p0 + μ e^{−τ}) (Eq. 11), estimated by
         // Eq. 12 (jackknife) or g(X) (naive, m = 1).
         let naive = self.strategy == Strategy::MisNaive;
@@ -430,7 +430,7 @@ fn transmittance_to<V: VolumeAccess>(v: &V, s: &Segment, t: f32, cx: &mut PathCo
     tr.transmittance
 }
 
-/// Seed 000 Eq. 10's two distance samples, drawn in this order: the
+/// Peters 2025 Eq. 10's two distance samples, drawn in this order: the
 /// free-flight one (t, p0(t), σ_t read by delta tracking) and the
 /// equiangular one (t, its pdf); `None` where a strategy produced nothing.
 pub(super) fn eq10_distances<V: VolumeAccess>(

@@ -1,10 +1,10 @@
 //! `point_mis`: single scattering from point lights inside one medium,
-//! with the distance-sampling strategies of seed 000 §5 and §6.2 (Fig. 12).
+//! with the distance-sampling strategies of Peters 2025 §5 and §6.2 (Fig. 12).
 //!
 //! Per camera sample one point light is chosen in proportion to its power
 //! ([`LightSampler`]; for point lights 4π·luminance(I)) and both distance
 //! samples of the MIS strategies estimate the single-scattering integral of
-//! that light (seed 000 Eq. 2 truncated to one bounce),
+//! that light (Peters 2025 Eq. 2 truncated to one bounce),
 //!
 //! ```text
 //! L = ∫_a^b T(t) μ(t) L_s(t) dt,   L_s(t) = α ρ(cos θ) I T_l(t) / d(t)²,
@@ -12,7 +12,7 @@
 //!
 //! divided by the light's selection probability. `T_l`, the transmittance
 //! from the scattering point to the light, uses the integrator's `estimator`
-//! (seed 000 Fig. 12 uses the jackknife there). Where a strategy needs T(t0)
+//! (Peters 2025 Fig. 12 uses the jackknife there). Where a strategy needs T(t0)
 //! along the camera ray at an equiangular sample it uses ratio tracking, the
 //! unbiased estimator that §5.2 asks for and that Miller et al.'s MIS reuses.
 //! The MIS strategies take two distance samples per pixel sample (the paper

@@ -1,14 +1,14 @@
-//! The distance-sampling strategies of `point_mis` (seed 000 §5, §6.2).
+//! The distance-sampling strategies of `point_mis` (Peters 2025 §5, §6.2).
 
 /// How distances along the camera ray are sampled and combined.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Strategy {
-    /// Delta tracking; T(t)μ(t) cancels with its density (seed 000 §2.1).
+    /// Delta tracking; T(t)μ(t) cancels with its density (Peters 2025 §2.1).
     FreeFlight,
     /// Kulla & Fajardo 2012 towards the chosen light; T(t0) by ratio tracking.
     Equiangular,
     /// Balance heuristic with Miller et al. 2019's weights: μ T_rt/(p0 + μ T_rt)
-    /// with T_rt from delta tracking's own null collisions (seed 000 §6.2).
+    /// with T_rt from delta tracking's own null collisions (Peters 2025 §6.2).
     MisMiller,
     /// Eq. 10 with the naive weight g(X) of one optical-depth estimate
     /// (m = 1, 2N lookups, the same cost as two of N). Biased.

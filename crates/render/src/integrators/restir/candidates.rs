@@ -1,4 +1,4 @@
-//! Candidate generation (seed 002 §3.2–3.3, §4.1, Fig. 3): M random walks
+//! Candidate generation (Lin et al. 2021 §3.2–3.3, §4.1, Fig. 3): M random walks
 //! per pixel, each a source of several candidate paths streamed into the
 //! pixel's reservoir. Distances come from regular tracking through the
 //! conservative mips (mip 1 on the primary segment, mip 2 after it), whose

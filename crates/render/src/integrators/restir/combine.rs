@@ -1,4 +1,4 @@
-//! Combining reservoirs into one pixel's (seed 002 §2.5, §4.3–4.4; Eq. 8–11
+//! Combining reservoirs into one pixel's (Lin et al. 2021 §2.5, §4.3–4.4; Eq. 8–11
 //! with unequal M): the one rule temporal and spatial reuse share. Input 0
 //! is the receiving pixel q (its reservoir's p̂ is p̂_q); every input i
 //! carries its reservoir, its pixel's primary ray and the frame data its

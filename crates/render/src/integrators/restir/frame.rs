@@ -1,4 +1,4 @@
-//! One frame of volumetric ReSTIR (seed 002 §5, Fig. 5): candidates →
+//! One frame of volumetric ReSTIR (Lin et al. 2021 §5, Fig. 5): candidates →
 //! temporal reuse → spatial reuse → final shading, each a pass over every
 //! pixel (rows in parallel; each pixel's random numbers are keyed by seed,
 //! pixel, sequence, frame and pass, so a frame does not depend on the
@@ -144,7 +144,7 @@ impl<'r> Sequence<'r> {
     }
 
     /// Temporal reuse (when the previous frame has the image's size) and
-    /// spatial reuse of the candidate reservoirs `res` (seed 002 §4.2–4.3);
+    /// spatial reuse of the candidate reservoirs `res` (Lin et al. 2021 §4.2–4.3);
     /// `rng(pixel, pass)` gives each pass its stream.
     fn reuse(
         &self,

@@ -1,4 +1,4 @@
-//! `restir`: volumetric ReSTIR (seed 002, Lin, Wyman & Yuksel 2021),
+//! `restir`: volumetric ReSTIR (Lin et al. 2021, Lin, Wyman & Yuksel 2021),
 //! spatiotemporal reservoir resampling of volumetric paths. Each frame runs
 //! the passes of §5 over every pixel ([`frame`]): M candidate random walks
 //! per pixel through conservative mips ([`candidates`]), temporal reuse of
@@ -13,7 +13,7 @@
 //! needs). Primary rays go through pixel centres (`render.pixel_jitter` is
 //! ignored): reuse compares targets of fixed pixel rays.
 //!
-//! Shapes are path vertices ([`surface`], seed 002 §4.2), on the CPU and
+//! Shapes are path vertices ([`surface`], Lin et al. 2021 §4.2), on the CPU and
 //! the GPU (`restir/surface.wgsl`): walks scatter off them by their BSDFs
 //! (which must have no delta lobe), light sampling leaves from them, a
 //! shifted surface vertex is the closest surface along the shifted ray,

@@ -1,4 +1,4 @@
-//! Where spatial reuse looks (seed 002 §5.3): 3 neighbours within a radius
+//! Where spatial reuse looks (Lin et al. 2021 §5.3): 3 neighbours within a radius
 //! of 10 pixels, drawn from a low-discrepancy sequence (the authors' code:
 //! the R2 sequence, Roberts 2018), rotated per pixel and frame by a hash so
 //! that neighbouring pixels do not reuse in lockstep.

@@ -345,7 +345,7 @@ pub enum ReuseMis {
     Talbot,
     Stochastic,
     Uniform,
-    /// Beyond seed 002: pairwise MIS against the receiving pixel
+    /// Beyond Lin et al. 2021: pairwise MIS against the receiving pixel
     /// ([`super::reservoir::pairwise_canonical`]).
     Pairwise,
 }
@@ -414,7 +414,7 @@ fn read_estimator(r: &mut ParamReader, d: &RestirParams) -> Result<Estimator, Sc
     Ok(estimator)
 }
 
-/// `shift`: direction reuse (false) or vertex reuse (true), seed 002 §4.2.
+/// `shift`: direction reuse (false) or vertex reuse (true), Lin et al. 2021 §4.2.
 fn read_shift(r: &mut ParamReader, d: &RestirParams) -> Result<bool, SceneError> {
     Ok(match r.take::<String>("shift")?.as_deref() {
         None => d.vertex_reuse,

@@ -1,4 +1,4 @@
-//! A volumetric path as a reservoir stores it (seed 002 §3.2, §4.2): the
+//! A volumetric path as a reservoir stores it (Lin et al. 2021 §3.2, §4.2): the
 //! camera vertex x_0 is the pixel's own, so a path is its distances and
 //! directions, which direction reuse copies onto another pixel's primary
 //! ray (§4.2, Fig. 6): z_1 along the new primary ray, then ω_i and z_i.
@@ -9,7 +9,7 @@
 //! §4.2) keeps every vertex from x_2 on fixed. A fixed vertex's measure is
 //! volume, so p̂ and F carry 1/|x_i − x_{i−1}|² on the segment reaching it.
 //!
-//! Surfaces (seed 002 §4.2): a vertex may lie on a surface — the
+//! Surfaces (Lin et al. 2021 §4.2): a vertex may lie on a surface — the
 //! closest one along (x_{i−1}, ω_{i−1}), wherever reuse moves that ray, so
 //! it has no distance of its own and its factor in F is T·f_s·|cos θ|
 //! instead of T·σ_s·ρ. A `Light` end on an emitting shape keeps its point

@@ -1,5 +1,5 @@
 //! The reuse target's T̃ along pixels' primary rays, tabulated once per
-//! frame (a CPU speed-up; seed 002 §4.3, §5.1). Every p̂ a pixel evaluates —
+//! frame (a CPU speed-up; Lin et al. 2021 §4.3, §5.1). Every p̂ a pixel evaluates —
 //! its own candidates' re-targeting, the temporal and spatial Talbot sums
 //! over other pixels' paths — marches T̃ from the camera along that pixel's
 //! fixed primary ray to the path's first vertex. The march is the same grid

@@ -1,4 +1,4 @@
-//! The reservoir of weighted reservoir sampling (seed 002 §2.5, Chao 1982)
+//! The reservoir of weighted reservoir sampling (Lin et al. 2021 §2.5, Chao 1982)
 //! and the rules that combine reservoirs (Eq. 8–11).
 //!
 //! Convention (as the authors' code): a candidate's resampling weight is
@@ -39,7 +39,7 @@ impl<Y: Copy> Reservoir<Y> {
     /// `p_hat`, keeping it with probability w / w_sum (Eq. 7; `u` uniform in
     /// [0, 1)). A weight that is not finite and positive is never kept (it
     /// adds nothing to w_sum). Counts are added separately ([`Self::count`]):
-    /// in seed 002 a whole random walk counts M = 1 however many candidates
+    /// in Lin et al. 2021 a whole random walk counts M = 1 however many candidates
     /// it streams (Eq. 19–21). Returns whether `y` was kept.
     #[inline]
     pub fn stream(&mut self, y: Y, w: f32, p_hat: f32, u: f32) -> bool {
@@ -114,7 +114,7 @@ pub fn talbot(i: usize, m: &[f32], p_hat_at_xi: &[f32]) -> f32 {
     }
 }
 
-/// Pairwise MIS (beyond seed 002; Bitterli's 2022 dissertation, with the
+/// Pairwise MIS (beyond Lin et al. 2021; Bitterli's 2022 dissertation, with the
 /// confidence weights M of Lin et al. 2022): input 0 is the canonical
 /// (receiving) pixel and each of the N = `m.len()` − 1 neighbours shares a
 /// 1/N slice of the weight with it only, so a combination evaluates 2N

@@ -1,4 +1,4 @@
-//! Spatial reuse (seed 002 §4.3, §5.3): one round over the pixel and 3
+//! Spatial reuse (Lin et al. 2021 §4.3, §5.3): one round over the pixel and 3
 //! neighbours within 10 pixels from the R2 sequence ([`neighbour_offset`]),
 //! all from the current frame's post-temporal reservoirs, combined with
 //! Talbot MIS. Neighbours off the screen are skipped.

@@ -1,4 +1,4 @@
-//! Path vertices on surfaces (seed 002 §4.2, §6.1): a walk that
+//! Path vertices on surfaces (Lin et al. 2021 §4.2, §6.1): a walk that
 //! reaches a surface before its next collision scatters there by the
 //! BSDF, and next-event estimation leaves from it. Under direction reuse
 //! the shifted vertex is the closest surface along the shifted ray

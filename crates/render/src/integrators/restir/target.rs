@@ -1,4 +1,4 @@
-//! The path integrand F and the target p̂ (seed 002 Eq. 12–15, 22–23): one
+//! The path integrand F and the target p̂ (Lin et al. 2021 Eq. 12–15, 22–23): one
 //! evaluation of a stored path along a pixel's primary ray, parameterised by
 //! how segments are attenuated. With T̃ (deterministic marching of mip 1)
 //! its luminance is the reuse target p̂ (§4.3), a deterministic function of

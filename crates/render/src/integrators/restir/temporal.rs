@@ -1,4 +1,4 @@
-//! Temporal reuse (seed 002 §4.4, §5.2): the pixel's candidate reservoir
+//! Temporal reuse (Lin et al. 2021 §4.4, §5.2): the pixel's candidate reservoir
 //! combined with the previous frame's final reservoir at the pixel its
 //! first vertex x_1 came from. x_1 (of the candidate-stage sample) is
 //! moved back along the medium's velocity for one frame, projected with the

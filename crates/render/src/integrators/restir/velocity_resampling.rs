@@ -1,4 +1,4 @@
-//! Velocity resampling (seed 002 §5.2): a pixel whose selected path has no
+//! Velocity resampling (Lin et al. 2021 §5.2): a pixel whose selected path has no
 //! vertex in the medium (a background sample near a silhouette) would
 //! otherwise reproject with the background's motion and reuse from the
 //! wrong place (Fig. 13's halo). Instead it reprojects through a medium
@@ -23,7 +23,7 @@ pub fn resample_point(mip: &Medium, ray: &Ray, rng: &mut Pcg32, lookups: &mut u3
     Some(ray.at(t))
 }
 
-/// Seed 002 §5.2: one streaming pass over the voxels the index-space ray
+/// Lin et al. 2021 §5.2: one streaming pass over the voxels the index-space ray
 /// `r` crosses in `[t0, t1]`, choosing a voxel segment with weight
 /// T(entry)·(1 − e^{−σ_t·Δ})/Δ (the mean of σ_t·T over it) by weighted
 /// reservoir sampling, then a uniform distance within it.

@@ -1,4 +1,4 @@
-//! What ReSTIR reads of the scene's medium (seed 002 §4.1, §5.1): the
+//! What ReSTIR reads of the scene's medium (Lin et al. 2021 §4.1, §5.1): the
 //! full-resolution trilinear σ_t that the integrand F uses, conservative
 //! piecewise-constant mips for candidate tracking, and the three kinds of
 //! segment transmittance: T* (regular tracking's closed-form pdf), T̃
@@ -86,7 +86,7 @@ pub fn sigma_t(m: &Medium, p: Vec3) -> f32 {
 }
 
 /// Free flight along the world `ray` (unit direction) up to `t_max` with
-/// a closed-form density (seed 002 Eq. 27–28): regular tracking through the
+/// a closed-form density (Lin et al. 2021 Eq. 27–28): regular tracking through the
 /// nearest-filtered mip `mip` (≥ 1), or exact trilinear free flight at full
 /// resolution (`mip` = `full`). Without a collision, `tau` is the optical
 /// depth of the whole range (the walk passes with probability exp(−tau)).
@@ -139,7 +139,7 @@ pub fn sigma_t_nearest(mip: &Medium, p: Vec3) -> f32 {
 pub enum SegmentT<'a> {
     /// T̃ = exp(−τ̃): deterministic midpoint marching of the trilinear field
     /// of `medium` (a mip, or the full grid), `step` of its voxel diagonals
-    /// (seed 002 §4.3, §5.1). Inside p̂.
+    /// (Lin et al. 2021 §4.3, §5.1). Inside p̂.
     /// `primary`: the frame's primary-ray tables and the pixel whose
     /// centre ray is the path's first segment ([`SegmentT::eval_primary`]).
     Marched {

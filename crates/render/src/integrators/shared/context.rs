@@ -14,7 +14,7 @@ use fogbank_math::{Pcg32, Vec3};
 
 /// What every step of one path reads and counts besides its vertex: the
 /// scene, the path's random stream, and the volume lookups made so far
-/// (the cost measure of seed 000 §6, reported per pixel sample).
+/// (the cost measure of Peters 2025 §6, reported per pixel sample).
 pub struct PathContext<'a> {
     pub world: &'a World,
     pub rng: &'a mut Pcg32,
@@ -47,7 +47,7 @@ impl<'a> PathContext<'a> {
 /// How a vertex estimates direct light: the light-selection strategy, the
 /// shadow rays' transmittance estimator, and whether light sampling is
 /// MIS-weighted against phase/BSDF sampling (the balance heuristic) or the
-/// only strategy (seed 002's baseline, §6.1).
+/// only strategy (Lin et al. 2021's baseline, §6.1).
 #[derive(Clone, Copy)]
 pub struct NextEvent<'a> {
     pub lights: &'a LightSampler,

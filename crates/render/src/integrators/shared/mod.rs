@@ -135,7 +135,7 @@ pub const SCATTER_PARAMS: [Param; 3] = [
     Param {
         key: "preset",
         default: "none",
-        meaning: "`baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only (no phase-sampled escape MIS) and Russian roulette by albedo, seed 002's baseline exactly (§6, §6.1; give the medium `supervoxel = 8`)",
+        meaning: "`baseline`: decomposition tracking (unless `distance_sampler` is given) and residual ratio tracking NEE; `restir_baseline`: the same with light sampling only (no phase-sampled escape MIS) and Russian roulette by albedo, Lin et al. 2021's baseline exactly (§6, §6.1; give the medium `supervoxel = 8`)",
     },
 ];
 
@@ -144,7 +144,7 @@ pub const SCATTER_PARAMS: [Param; 3] = [
 pub enum Preset {
     /// Decomposition tracking and residual ratio tracking NEE.
     Baseline,
-    /// Seed 002's baseline exactly (§6, §6.1): `Baseline`, with light
+    /// Lin et al. 2021's baseline exactly (§6, §6.1): `Baseline`, with light
     /// sampling only (no phase-sampled escape to the environment; a camera
     /// ray that escapes still sees it, Eq. 1) and Russian roulette with the
     /// vertex albedo as continue probability. The paper's super-voxels of

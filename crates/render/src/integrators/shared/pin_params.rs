@@ -1,4 +1,4 @@
-//! Which rays of `volpath` use pins (seed 004 §3.9, Fig. 4.3) and what the
+//! Which rays of `volpath` use pins (Hansen 2025 §3.9, Fig. 4.3) and what the
 //! others use, with the pin grid's parameters.
 //!
 //! | key | default | meaning |
@@ -342,7 +342,7 @@ impl PinParams {
     /// Every medium's grid as a plan, when pins are on: its spec and seed,
     /// or the earlier medium whose grid it shares. Instances of one
     /// `[[media]]` entry share a grid when they differ by a rigid motion
-    /// (seed 004 §3.10: one grid for all instances); a scaled copy has
+    /// (Hansen 2025 §3.10: one grid for all instances); a scaled copy has
     /// other optical depths and gets its own. Every spec is checked here
     /// (size limits), so building cannot fail later.
     pub fn plan(&self, world: &World) -> Result<Option<Vec<GridPlan>>, SceneError> {

@@ -1,4 +1,4 @@
-//! The pin stream (seed 004 §3.4.4, §3.7): before a pass (a frame of the
+//! The pin stream (Hansen 2025 §3.4.4, §3.7): before a pass (a frame of the
 //! thesis), R new pins are traced through uniform points of each medium's
 //! box with directions normalise(U³ − ½) and written into the cells of
 //! points `spacing` apart along their chords ([`PinGrid::stream`]), so that

@@ -1,6 +1,6 @@
 //! How a ray finds its next collision ([`Flight`]) and how a shadow ray is
 //! attenuated ([`Shadow`]): fogbank's unbiased samplers and estimators, the
-//! fixed-step ray marching of seed 004's baseline (§2.4), or pins (seed 004
+//! fixed-step ray marching of Hansen 2025's baseline (§2.4), or pins (Hansen 2025
 //! §3.4–§3.9), chosen per ray by the integrator (PinMS mixes them by depth).
 //!
 //! Pins and marching steps live in each medium's unit cube (its index box

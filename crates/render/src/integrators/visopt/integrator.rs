@@ -1,5 +1,5 @@
 //! `visopt`: Monte Carlo volume visualisation with the visibility of
-//! important regions optimised per view (seed 003 §5.4). Delta tracking
+//! important regions optimised per view (Lerzer and Dachsbacher 2025 §5.4). Delta tracking
 //! with μ' (Eq. 8) on camera rays samples a real collision; its emission
 //! and next-event estimation toward one light (ratio tracking, with μ' of a
 //! fresh light-ray list when `light_samples > 0`) give the pixel; HG plus

@@ -1,4 +1,4 @@
-//! Building importance lists (seed 003 §5.1–§5.3, §6.1): one per camera
+//! Building importance lists (Lerzer and Dachsbacher 2025 §5.1–§5.3, §6.1): one per camera
 //! ray, kept in a global pool with per-pixel offset and size, and a fresh
 //! one per NEE ray.
 //!

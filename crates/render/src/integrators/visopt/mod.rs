@@ -1,4 +1,4 @@
-//! `visopt`: seed 003 (Lerzer & Dachsbacher 2025), view-dependent
+//! `visopt`: Lerzer and Dachsbacher 2025 (Lerzer & Dachsbacher 2025), view-dependent
 //! visibility optimisation for Monte Carlo volume visualisation.
 //!
 //! | key | default | meaning |

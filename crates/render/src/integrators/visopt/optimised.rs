@@ -1,4 +1,4 @@
-//! The optimised extinction μ' of seed 003 Eq. 8 as a volume view: every
+//! The optimised extinction μ' of Lerzer and Dachsbacher 2025 Eq. 8 as a volume view: every
 //! lookup returns μ_t(y) · p / (p + (1 − g(y))^{2λ} h(y)), with h from the
 //! ray's importance list (Eq. 7, corrected) and g the exact importance at y
 //! (checklist §1: its data is already fetched). μ' ≤ μ, so the medium's own

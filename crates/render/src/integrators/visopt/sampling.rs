@@ -1,4 +1,4 @@
-//! Where the importance along a camera ray is sampled (seed 003 §5.2):
+//! Where the importance along a camera ray is sampled (Lerzer and Dachsbacher 2025 §5.2):
 //! a first pass of N equal strata, then adaptive passes that place strata
 //! (a) in unsampled gaps between entries of different importance — where a
 //! change point is bracketed — and (c) in the unsampled stretches at the

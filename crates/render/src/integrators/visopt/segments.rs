@@ -1,4 +1,4 @@
-//! The per-ray importance segments of seed 003 §5.1: a sorted list of
+//! The per-ray importance segments of Lerzer and Dachsbacher 2025 §5.1: a sorted list of
 //! entries (t_i, l_i, k_i, K_i) approximating the step function k(t) of the
 //! importance along one ray, with K_i = ∫₀^{t_i} k̃² the prefix integral
 //! that makes h(y) (Eq. 7) two lookups.
@@ -194,7 +194,7 @@ pub fn integral_at(list: &[Segment], big_k_z: f32, length: f32, t: f32) -> f32 {
     k0 + (k1 - k0) * ((t - right) / (next_t - right)).clamp(0.0, 1.0)
 }
 
-/// Seed 003 Eq. 7, corrected (erratum 1): h(t) = r ∫ₓʸ k̃² + q ∫ᵧᶻ k̃²
+/// Lerzer and Dachsbacher 2025 Eq. 7, corrected (erratum 1): h(t) = r ∫ₓʸ k̃² + q ∫ᵧᶻ k̃²
 /// = (r − q) K(t) + q K(z). Never negative for r, q ≥ 0.
 #[inline]
 pub fn h(list: &[Segment], big_k_z: f32, length: f32, t: f32, r: f32, q: f32) -> f32 {
@@ -202,7 +202,7 @@ pub fn h(list: &[Segment], big_k_z: f32, length: f32, t: f32, r: f32, q: f32) ->
     (r * k_t + q * (big_k_z - k_t)).max(0.0)
 }
 
-/// Seed 003 Eq. 8: the optimisation factor μ'/μ = p / (p + (1 − g)^{2λ} h),
+/// Lerzer and Dachsbacher 2025 Eq. 8: the optimisation factor μ'/μ = p / (p + (1 − g)^{2λ} h),
 /// the same for absorption and scattering; in (0, 1] for p > 0.
 #[inline]
 pub fn mu_factor(p: f32, g: f32, lambda: f32, h: f32) -> f32 {
