@@ -88,7 +88,7 @@ done
 echo "seeded $(ls corpus/fbpart | wc -l) fbpart inputs"
 # pbrt-v4 scenes: the reader's fixtures and the pbrt-v4-scenes texts.
 mkdir -p corpus/pbrt
-for f in ../crates/render/tests/pbrt/*.pbrt ../crates/render/tests/pbrt/*/*.pbrt ../crates/render/tests/pbrt/v4-scenes/*/*.pbrt; do
+for f in ../crates/scene/tests/pbrt/*.pbrt ../crates/scene/tests/pbrt/*/*.pbrt ../crates/scene/tests/pbrt/v4-scenes/*/*.pbrt; do
     [ -f "$f" ] && cp "$f" "corpus/pbrt/$(basename "$(dirname "$f")")_$(basename "$f")"
 done
 echo "seeded $(ls corpus/pbrt | wc -l) pbrt inputs"

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """What Mitsuba 3 itself makes of the XML conventions fogbank's reader follows,
-stored for fogbank's tests (crates/render/tests/fixtures/mitsuba_reader_facts.json):
+stored for fogbank's tests (crates/scene/tests/fixtures/mitsuba_reader_facts.json):
 
 - `sensors`: for perspective sensors written several ways (no fov, i.e. the
   default 50 mm focal length; `focal_length`; `fov` with every `fov_axis`;
@@ -26,7 +26,7 @@ import sys
 import mitsuba as mi
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-OUT = os.path.join(ROOT, "crates", "render", "tests", "fixtures", "mitsuba_reader_facts.json")
+OUT = os.path.join(ROOT, "crates", "scene", "tests", "fixtures", "mitsuba_reader_facts.json")
 
 LOOKAT = '<transform name="to_world"><lookat origin="1, 2, 3" target="0, 0.5, 0" up="0, 1, 0"/></transform>'
 

@@ -9,7 +9,7 @@
 //! of other programs.
 #![no_main]
 
-use fogbank_render::pbrt::load_pbrt_str;
+use fogbank_scene::pbrt::load_pbrt_str;
 use fogbank_render::SceneDesc;
 use libfuzzer_sys::fuzz_target;
 

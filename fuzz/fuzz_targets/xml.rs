@@ -5,7 +5,7 @@
 //! never reads unbounded input.
 #![no_main]
 
-use fogbank_render::mitsuba::load_xml_str;
+use fogbank_scene::mitsuba::load_xml_str;
 use fogbank_render::SceneDesc;
 use libfuzzer_sys::fuzz_target;
 

@@ -10,7 +10,8 @@
 use crate::errors::{guarded, scene_err};
 use crate::grid::Grid;
 use crate::values;
-use fogbank_render::{parse_scene, SceneError, SceneFormat, DEFAULT_SCENE};
+use fogbank_render::{parse_scene, SceneError, DEFAULT_SCENE};
+use fogbank::SceneFormat;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyKeyError;
 use pyo3::prelude::*;
@@ -144,7 +145,7 @@ pub fn load(
         }
     }
     let source = guarded(|| {
-        py.detach(|| fogbank_render::read_scene_source(&path, &defines))
+        py.detach(|| fogbank::read_scene_source(&path, &defines))
             .map_err(scene_err)
     })?;
     let o = overrides_of(Some(&sets), &mut grids)?;

@@ -4,10 +4,11 @@
 use crate::common::CliResult;
 use crate::run_args::RunArgs;
 use clap::Args;
+use fogbank::load_scene_or;
 use fogbank::study::{write_curves, ConvergeJob};
 use fogbank::{Renderer, Scene};
 use fogbank_eval::converge::time_to_reach;
-use fogbank_render::{load_scene_or, TRANSMITTANCE_SCENE};
+use fogbank_render::TRANSMITTANCE_SCENE;
 use std::path::PathBuf;
 
 #[derive(Args)]

@@ -1,10 +1,10 @@
 //! `fogbank convert IN -o OUT`: scenes between pbrt-v4, Mitsuba XML and
-//! TOML, volumes to .vdb/.nvdb (the work is `fogbank_render::convert`).
+//! TOML, volumes to .vdb/.nvdb (the work is `fogbank::convert`).
 
 use crate::common::CliResult;
 use crate::volume_write_args::VolumeWriteArgs;
 use clap::Args;
-use fogbank_render::convert::{convert, ConvertOptions};
+use fogbank::convert::{convert, ConvertOptions};
 use std::path::PathBuf;
 
 #[derive(Args)]

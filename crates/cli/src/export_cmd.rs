@@ -1,10 +1,10 @@
 //! `fogbank export SCENE -o OUT.{vdb,nvdb}`: writes a scene medium's grid
-//! as a volume file (the work is `fogbank_render::export`).
+//! as a volume file (the work is `fogbank::export`).
 
 use crate::common::CliResult;
 use crate::volume_write_args::VolumeWriteArgs;
 use clap::Args;
-use fogbank_render::export::{export, ExportGrid, ExportOptions};
+use fogbank::export::{export, ExportGrid, ExportOptions};
 use std::path::PathBuf;
 
 #[derive(Args)]

@@ -3,8 +3,8 @@
 
 use crate::common::CliResult;
 use clap::Args;
+use fogbank::convert::{extensions, FileKind};
 use fogbank_math::DAffine3;
-use fogbank_render::convert::{extensions, FileKind};
 use fogbank_render::integrators::shared::pin_params::PinGridParams;
 use fogbank_volume::loaders::{nanovdb, raw, vdb, vdb_grid, vol};
 use fogbank_volume::{BrickGrid, DensityData, Precision};

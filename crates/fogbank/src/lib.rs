@@ -6,11 +6,14 @@
 //! write ([`output`]) and report ([`stats::render_stats`]); animated scenes
 //! render as a [`frames::FrameSequence`]; an estimator's per-pixel
 //! statistics over independent frames are a [`study::StatsJob`]; estimators
-//! on the caller's own rays are [`rays`].
-//! Presentation (progress bars,
-//! notebooks, windows) stays with the front ends.
+//! on the caller's own rays are [`rays`]. What a front end shows or edits
+//! comes from here too: the scene description and the integrators'
+//! registry ([`desc`]), tone mapping and image files ([`image`]), scene and
+//! volume conversion ([`convert`], [`export`]). Presentation (progress
+//! bars, notebooks, windows) stays with the front ends.
 //!
-//! Modules in layers, each importing only those before it: `error` (errors with a
+//! Modules in layers, each importing only those before it: `desc` and `image`
+//! (re-exports of the inner crates' public types), `error` (errors with a
 //! kind each front end maps to its own) and `shard_run` (the record of where and how a
 //! shard ran, kept in its partial result) → `renderer` (the CPU's worker pool or a GPU,
 //! behind one call) → `job` (samples per pixel or a time budget, a shard, and the checks
@@ -18,8 +21,10 @@
 //! against a reference), `stats`, `rays` and `output` → `frames` and `study`.
 
 pub mod compare;
+pub mod desc;
 pub mod error;
 pub mod frames;
+pub mod image;
 pub mod job;
 pub mod output;
 pub mod rays;
@@ -29,7 +34,12 @@ pub mod stats;
 pub mod study;
 
 pub use error::{Error, ErrorKind};
+pub use fogbank_estimators::Estimator;
+pub use fogbank_gpu::Gpu;
 pub use fogbank_render::shard::{Piece, Shard, ShardMode};
-pub use fogbank_render::{load_scene, parse_scene, Film, Progress, RenderOptions, Scene};
+pub use fogbank_render::{parse_scene, Film, Progress, RenderOptions, Scene};
+pub use fogbank_scene::{
+    convert, export, load_scene, load_scene_or, read_scene_source, SceneFormat, SceneSource,
+};
 pub use job::RenderJob;
 pub use renderer::{Device, Rendered, Renderer};

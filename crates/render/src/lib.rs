@@ -4,29 +4,25 @@
 //! `error`, `params`, `overrides`, `rebase` (a scene's file names written
 //! for another folder) and `shard` (which part of a render one shard does)
 //! → `world` (camera, film, media and their fields, emission, phase) and
-//! `lights` → `mitsuba` and `pbrt` (Mitsuba 3 XML and pbrt-v4 scenes read
-//! into the scene schema) →
+//! `lights` →
 //! `integrators` (the shared pieces in `integrators::shared`, one file or
 //! folder per integrator, registered in `integrators/mod.rs`) →
 //! `animation` (keyframes, per-frame files) → `scene` (description, world
-//! and integrator; scene files of every format) → `render` (the progressive
-//! loop) → `partial` (a shard's `.fbpart`) → `merge` (shards added up bit
-//! for bit); `export` (a built medium's grids written as OpenVDB or
-//! NanoVDB) stands beside `render`; `desc` re-exports every description.
+//! and integrator; the TOML schema every scene format is read into) →
+//! `render` (the progressive loop) → `partial` (a shard's `.fbpart`) →
+//! `merge` (shards added up bit for bit); `desc` re-exports every
+//! description. Scene files of other formats, conversion and the writers
+//! are `fogbank-scene`'s, a layer above.
 
 pub mod animation;
-pub mod convert;
 pub mod desc;
 pub mod error;
-pub mod export;
 pub mod integrators;
 pub mod lights;
 pub mod merge;
-pub mod mitsuba;
 pub mod overrides;
 pub mod params;
 pub mod partial;
-pub mod pbrt;
 pub mod rebase;
 pub mod render;
 pub mod scene;
@@ -38,10 +34,7 @@ pub use render::{
     render, render_observed, render_piece, render_piece_observed, Progress, RenderOptions,
     RenderResult,
 };
-pub use scene::{
-    load_scene, load_scene_or, parse_scene, read_scene_source, Scene, SceneDesc, SceneFormat,
-    SceneSource, DEFAULT_SCENE, TRANSMITTANCE_SCENE,
-};
+pub use scene::{parse_scene, Scene, SceneDesc, DEFAULT_SCENE, TRANSMITTANCE_SCENE};
 pub use world::film::Film;
 pub use world::World;
 

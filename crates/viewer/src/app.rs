@@ -8,9 +8,9 @@ use crate::orbit;
 use crate::script::Action;
 use crate::session::{Backend, Session, Snapshot};
 use eframe::egui;
-use fogbank_image::image_io::{write_exr, write_png};
-use fogbank_image::ToneMapping;
-use fogbank_render::{parse_scene, Scene, SceneDesc};
+use fogbank::desc::SceneDesc;
+use fogbank::image::{write_exr, write_png, ToneMapping};
+use fogbank::{parse_scene, Scene};
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
@@ -27,7 +27,7 @@ pub struct ViewConfig {
     pub origin: String,
     pub backend: Backend,
     /// The GPU, when one was found (the panel offers it).
-    pub gpu: Option<Arc<fogbank_gpu::Gpu>>,
+    pub gpu: Option<Arc<fogbank::Gpu>>,
     pub cpu_threads: usize,
     /// Stop accumulating at this many samples per pixel.
     pub max_spp: u32,
@@ -43,7 +43,7 @@ pub struct Viewer {
     base: PathBuf,
     origin: String,
     pub(crate) backend: Backend,
-    pub(crate) gpu: Option<Arc<fogbank_gpu::Gpu>>,
+    pub(crate) gpu: Option<Arc<fogbank::Gpu>>,
     cpu_threads: usize,
     max_spp: u32,
     /// The scene the sessions render (its `desc` is what was built).
@@ -352,7 +352,7 @@ impl Viewer {
         let mut value = toml::Value::try_from(&desc).map_err(|e| e.to_string())?;
         // Relative file names resolve against the saved file's folder.
         let to = path.parent().filter(|p| !p.as_os_str().is_empty());
-        fogbank_render::rebase::rebase_paths(&mut value, &self.base, to.unwrap_or(Path::new(".")));
+        fogbank::desc::rebase_paths(&mut value, &self.base, to.unwrap_or(Path::new(".")));
         let text = toml::to_string(&value).map_err(|e| e.to_string())?;
         let header = format!("# Saved by `fogbank view` from {}.\n", self.origin);
         let r =

@@ -9,12 +9,8 @@
 use crate::display::Overlay;
 use crate::script::Action;
 use eframe::egui;
-use fogbank_image::{ToneCurve, ToneMapping};
-use fogbank_render::integrators::shared::DistanceSampler;
-use fogbank_render::integrators::REGISTRY;
-use fogbank_render::lights::LightDesc;
-use fogbank_render::params::Param;
-use fogbank_render::SceneDesc;
+use fogbank::desc::{DistanceSampler, LightDesc, Param, SceneDesc, INTEGRATORS};
+use fogbank::image::{ToneCurve, ToneMapping};
 
 /// What the panel shows and edits: the scene description in place, the
 /// rest read-only (changes come back as [`PanelOutput`]).
@@ -40,10 +36,7 @@ pub struct PanelOutput {
 }
 
 fn estimator_names() -> Vec<&'static str> {
-    fogbank_estimators::Estimator::all()
-        .iter()
-        .map(|e| e.name())
-        .collect()
+    fogbank::Estimator::all().iter().map(|e| e.name()).collect()
 }
 
 /// A combo box of `names`; the chosen one when it changed.
@@ -119,12 +112,12 @@ fn render_section(v: &PanelState, ui: &mut egui::Ui, actions: &mut Vec<Action>) 
         vec!["cpu"]
     };
     let switch_backend = choose(ui, "backend", v.backend, &names);
-    let integrators: Vec<&str> = REGISTRY.iter().map(|(n, _)| *n).collect();
+    let integrators: Vec<&str> = INTEGRATORS.iter().map(|(n, _)| *n).collect();
     let current = v.desc.integrator.name();
     if let Some(t) = choose(ui, "integrator", current, &integrators) {
         actions.push(Action::Set(vec![format!("integrator.type={t}")]));
     }
-    let params = REGISTRY
+    let params = INTEGRATORS
         .iter()
         .find(|(n, _)| *n == current)
         .map(|(_, p)| *p)

@@ -4,7 +4,7 @@
 //! other).
 
 use crate::session::Snapshot;
-use fogbank_image::{luminance, ToneMapping};
+use fogbank::image::{luminance, ToneMapping};
 
 /// What the image area shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -53,8 +53,7 @@ pub struct ViewOptions {
 /// Opens the window and returns when it closes; an error when the scene or
 /// script is bad, no window can be opened, or a script step failed.
 pub fn run(o: ViewOptions) -> Result<(), String> {
-    let scene =
-        fogbank_render::load_scene(o.scene.as_deref(), &o.overrides).map_err(|e| e.to_string())?;
+    let scene = fogbank::load_scene(o.scene.as_deref(), &o.overrides).map_err(|e| e.to_string())?;
     let base = o
         .scene
         .as_ref()
@@ -74,9 +73,9 @@ pub fn run(o: ViewOptions) -> Result<(), String> {
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(2, |n| n.get()));
     let gpu = match o.device {
         DeviceChoice::Cpu => None,
-        DeviceChoice::Auto => fogbank_gpu::Gpu::new().ok().map(Arc::new),
+        DeviceChoice::Auto => fogbank::Gpu::new().ok().map(Arc::new),
         DeviceChoice::Gpu => Some(Arc::new(
-            fogbank_gpu::Gpu::new().map_err(|e| format!("--device gpu: {e}"))?,
+            fogbank::Gpu::new().map_err(|e| format!("--device gpu: {e}"))?,
         )),
     };
     let backend = match &gpu {

@@ -4,7 +4,7 @@
 //! the image plane in proportion to the distance, zooming scales the
 //! distance.
 
-use fogbank_render::world::camera::CameraDesc;
+use fogbank::desc::CameraDesc;
 use glam::{Quat, Vec3};
 
 /// Pitch stays this far (radians) from straight up or down, where the

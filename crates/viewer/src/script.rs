@@ -28,7 +28,7 @@
 //! `quit`.
 
 use crate::display::Overlay;
-use fogbank_image::ToneCurve;
+use fogbank::image::ToneCurve;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 

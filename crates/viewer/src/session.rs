@@ -4,8 +4,7 @@
 //! so accumulation restarts; the image of a session is the same function of
 //! (scene, seed, sample index) as `fogbank render`'s.
 
-use fogbank_render::world::film::Film;
-use fogbank_render::{Progress, RenderOptions, Scene};
+use fogbank::{Film, Progress, RenderOptions, Scene};
 use std::sync::atomic::Ordering;
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
@@ -14,7 +13,7 @@ use std::thread::JoinHandle;
 #[derive(Clone)]
 pub enum Backend {
     Cpu { threads: usize },
-    Gpu(Arc<fogbank_gpu::Gpu>),
+    Gpu(Arc<fogbank::Gpu>),
 }
 
 impl Backend {

@@ -8,7 +8,7 @@ use fogbank_math::sample_data;
 use support::{fogbank, run_fails_naming, run_ok, tmp_dir};
 
 fn pbrt(name: &str) -> String {
-    format!("{}/../render/tests/pbrt/{name}", env!("CARGO_MANIFEST_DIR"))
+    format!("{}/../scene/tests/pbrt/{name}", env!("CARGO_MANIFEST_DIR"))
 }
 
 #[test]

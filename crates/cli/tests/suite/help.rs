@@ -34,12 +34,12 @@ fn guide() -> String {
 }
 
 /// Every command's help names every format it reads, as the readers'
-/// registry (`fogbank_render::convert::FORMATS`) lists them: the scene
+/// registry (`fogbank::convert::FORMATS`) lists them: the scene
 /// formats for the commands that take a scene, the volume formats for
 /// `info`, all of them for `convert`; and the guide names them all.
 #[test]
 fn help_texts_and_guide_name_every_format_the_readers_take() {
-    use fogbank_render::convert::FORMATS;
+    use fogbank::convert::FORMATS;
     let scene_exts: Vec<&str> = FORMATS
         .iter()
         .filter(|f| f.1.is_scene())

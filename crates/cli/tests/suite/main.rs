@@ -5,6 +5,7 @@ mod support;
 
 mod cli;
 mod convert_cli;
+mod crate_layers;
 mod export_cli;
 mod external_paths;
 mod help;

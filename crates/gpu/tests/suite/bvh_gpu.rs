@@ -139,7 +139,7 @@ fn light_bvh_picks_match_the_cpu() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../scenes/mitsuba/fog_emitters.xml");
     let scene =
-        fogbank_render::load_scene(Some(&path), &["render.light_sampler=bvh".into()]).unwrap();
+        fogbank_scene::load_scene(Some(&path), &["render.light_sampler=bvh".into()]).unwrap();
     let IntegratorKind::VolPath(v) = &scene.integrator else {
         panic!("volpath")
     };

@@ -1,7 +1,7 @@
 //! Mitsuba 3 XML scenes on the GPU: the wgpu backend
 //! renders `scenes/mitsuba/*.xml` as they are. In CI (lavapipe) four scenes
 //! are z-tested against the CPU at equal samples (the CPU itself is held to
-//! the Mitsuba references in crates/render/tests/suite/mitsuba.rs); the
+//! the Mitsuba references in crates/scene/tests/suite/mitsuba.rs); the
 //! ignored tests — the light BVH and jackknife NEE in chromatic media, each
 //! a pipeline of its own, and the GPU held to the same Mitsuba 3 `scalar_rgb`
 //! references by the same criterion as the CPU, at 2·10⁶–2·10⁷ samples per
@@ -9,7 +9,8 @@
 //! `cargo test --release -p fogbank-gpu --test gpu mitsuba_gpu -- --ignored`.
 
 use fogbank_gpu::{render as gpu_render, test_gpu};
-use fogbank_render::{load_scene, parse_scene, Progress, RenderOptions, Scene};
+use fogbank_render::{parse_scene, Progress, RenderOptions, Scene};
+use fogbank_scene::load_scene;
 
 use crate::support;
 use support::assert_gpu_matches_cpu;

@@ -12,7 +12,8 @@
 use crate::experiments::harness::protocol::scenes_dir;
 use crate::experiments::harness::Writer;
 use fogbank_image::metrics::{relmse, Image};
-use fogbank_render::{load_scene, render, Film, Progress, RenderOptions, Scene};
+use fogbank_render::{render, Film, Progress, RenderOptions, Scene};
+use fogbank_scene::load_scene;
 use std::time::Duration;
 
 struct Case {

@@ -15,7 +15,8 @@
 use crate::experiments::harness::protocol::{render_at, spp};
 use crate::experiments::harness::Writer;
 use fogbank_estimators::Estimator;
-use fogbank_render::{load_scene, Film, Scene};
+use fogbank_render::{Film, Scene};
+use fogbank_scene::load_scene;
 use std::path::Path;
 
 pub const SCENE_FILE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/fig1.toml");

@@ -70,5 +70,5 @@ pub fn assert_gpu_image_matches_cpu(
 }
 
 /// The Mitsuba 3 agreement check shared with `fogbank-render`'s tests.
-#[path = "../../../../render/tests/suite/support/mitsuba_agreement.rs"]
+#[path = "../../../../scene/tests/suite/support/mitsuba_agreement.rs"]
 pub mod mitsuba_agreement;

@@ -1,4 +1,3 @@
 //! Helpers shared by this crate's tests.
 
-pub mod mitsuba_agreement;
 pub mod same_image;
