@@ -82,7 +82,7 @@ echo "seeded $(ls corpus/xml | wc -l) xml inputs"
 # Partial results: the committed one without its checksum (the target seals
 # every input with a valid one).
 mkdir -p corpus/fbpart
-for f in ../crates/render/tests/fixtures/*.fbpart; do
+for f in ../crates/partial/tests/fixtures/*.fbpart; do
     head -c -8 "$f" > "corpus/fbpart/$(basename "$f")"
 done
 echo "seeded $(ls corpus/fbpart | wc -l) fbpart inputs"

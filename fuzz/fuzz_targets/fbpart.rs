@@ -5,8 +5,8 @@
 //! panic, abort, hang or outsized allocation.
 #![no_main]
 
-use fogbank_render::merge::merge;
-use fogbank_render::partial::{fnv1a, Partial};
+use fogbank_partial::merge::merge;
+use fogbank_partial::partial::{fnv1a, Partial};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

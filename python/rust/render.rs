@@ -11,7 +11,7 @@ use fogbank::frames::{parse_frames, FrameSequence};
 use fogbank::output::{film_rgb, FilmImage};
 use fogbank::stats::render_stats;
 use fogbank::{Device, Progress, RenderJob, Renderer, Shard, ShardMode};
-use fogbank_render::partial::{Partial, PartialHeader};
+use fogbank::partial::{Partial, PartialHeader};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -196,7 +196,7 @@ pub fn merge<'py>(
         }
     }
     let merged = guarded(|| {
-        py.detach(|| fogbank_render::merge::merge(&named, allow_partial))
+        py.detach(|| fogbank::merge::merge(&named, allow_partial))
             .map_err(invalid)
     })?;
     let p = &merged.partial;

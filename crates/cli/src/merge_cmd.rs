@@ -5,10 +5,10 @@
 
 use crate::common::CliResult;
 use clap::Args;
+use fogbank::merge::merge;
+use fogbank::partial::Partial;
 use fogbank::stats::peak_memory_bytes;
 use fogbank_image::{ToneCurve, ToneMapping};
-use fogbank_render::merge::merge;
-use fogbank_render::partial::Partial;
 use std::path::PathBuf;
 
 #[derive(Args)]

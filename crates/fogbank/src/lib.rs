@@ -36,6 +36,7 @@ pub mod study;
 pub use error::{Error, ErrorKind};
 pub use fogbank_estimators::Estimator;
 pub use fogbank_gpu::Gpu;
+pub use fogbank_partial::{merge, partial};
 pub use fogbank_render::shard::{Piece, Shard, ShardMode};
 pub use fogbank_render::{parse_scene, Film, Progress, RenderOptions, Scene};
 pub use fogbank_scene::{

@@ -6,7 +6,7 @@ use crate::renderer::Rendered;
 use crate::shard_run;
 use fogbank_image::image_io::{write_exr, write_png};
 use fogbank_image::ToneMapping;
-use fogbank_render::partial::{Partial, PartialHeader};
+use fogbank_partial::partial::{Partial, PartialHeader};
 use fogbank_render::shard::Shard;
 use fogbank_render::{Film, Scene};
 use std::path::{Path, PathBuf};

@@ -1,6 +1,6 @@
 //! The record a shard's partial result keeps of where and how it ran.
 
-use fogbank_render::partial::ShardRun;
+use fogbank_partial::partial::ShardRun;
 use fogbank_render::shard::Shard;
 
 /// This machine's name.

@@ -12,7 +12,7 @@ use fogbank_eval::converge::{convergence, write_csv, Curve};
 use fogbank_eval::frame_stats::frame_stats_piece;
 use fogbank_eval::{exact_reference, frame_stats, Backend, FrameStats};
 use fogbank_image::image_io::{read_image, write_exr_channels};
-use fogbank_render::partial::{Partial, PartialHeader};
+use fogbank_partial::partial::{Partial, PartialHeader};
 use fogbank_render::shard::Shard;
 use fogbank_render::Scene;
 use serde_json::{json, Value};

@@ -9,20 +9,18 @@
 //! folder per integrator, registered in `integrators/mod.rs`) →
 //! `animation` (keyframes, per-frame files) → `scene` (description, world
 //! and integrator; the TOML schema every scene format is read into) →
-//! `render` (the progressive loop) → `partial` (a shard's `.fbpart`) →
-//! `merge` (shards added up bit for bit); `desc` re-exports every
-//! description. Scene files of other formats, conversion and the writers
-//! are `fogbank-scene`'s, a layer above.
+//! `render` (the progressive loop); `desc` re-exports every description.
+//! Above this crate: scene files of other formats, conversion and the
+//! writers (`fogbank-scene`), a shard's partial result and the merge
+//! (`fogbank-partial`).
 
 pub mod animation;
 pub mod desc;
 pub mod error;
 pub mod integrators;
 pub mod lights;
-pub mod merge;
 pub mod overrides;
 pub mod params;
-pub mod partial;
 pub mod rebase;
 pub mod render;
 pub mod scene;

@@ -17,6 +17,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("fogbank-estimators", 2),
     ("fogbank-render", 3),
     ("fogbank-scene", 4),
+    ("fogbank-partial", 4),
     ("fogbank-gpu", 5),
     ("fogbank-eval", 6),
     ("fogbank", 7),

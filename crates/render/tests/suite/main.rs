@@ -22,7 +22,6 @@ mod reservoir;
 mod restir;
 mod scene;
 mod sci_placement;
-mod shard;
 mod surfaces;
 mod transfer;
 mod visopt;

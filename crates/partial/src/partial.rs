@@ -17,9 +17,9 @@
 //! Writers write `NAME.tmp` and rename it on success, so a shard killed
 //! mid-run leaves no file that `merge` would accept.
 
-use crate::shard::{tile_of, tiles_across, Piece, Shard, TILE};
-use crate::world::film::{Film, PixelSums};
 use fogbank_math::ExactSum;
+use fogbank_render::shard::{tile_of, tiles_across, Piece, Shard, TILE};
+use fogbank_render::world::film::{Film, PixelSums};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -81,7 +81,7 @@ impl PartialHeader {
     /// of `scene` rendered with `seed` and `spp` samples per pixel in all.
     pub fn for_shard(
         kind: &str,
-        scene: &crate::scene::Scene,
+        scene: &fogbank_render::scene::Scene,
         seed: u32,
         spp: u32,
         film: &Film,
@@ -132,7 +132,7 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
 /// with spp and seed (checked separately) and the PNG settings (which do not
 /// change the sums) cleared. Paths are hashed as written, not the files'
 /// contents.
-pub fn scene_hash(desc: &crate::scene::SceneDesc) -> String {
+pub fn scene_hash(desc: &fogbank_render::scene::SceneDesc) -> String {
     let mut d = desc.clone();
     d.render.spp = 0;
     d.render.seed = 0;

@@ -3,8 +3,8 @@
 //! associative, partial files round-trip, and every refusal of `merge` and
 //! of the partial reader is a clear error.
 
-use fogbank_render::merge::merge;
-use fogbank_render::partial::{Partial, PartialHeader, ShardRun};
+use fogbank_partial::merge::merge;
+use fogbank_partial::partial::{Partial, PartialHeader, ShardRun};
 use fogbank_render::shard::{Shard, ShardMode};
 use fogbank_render::{parse_scene, render, render_piece, Film, Progress, RenderOptions, Scene};
 use std::path::Path;
@@ -278,7 +278,7 @@ fn counts_beyond_what_the_shards_take_are_refused() {
         .join("tests/fixtures/fuzz/fbpart_counts_without_samples.fbpart");
     // The fuzzer's input, sealed with its checksum as the target does.
     let mut bytes = std::fs::read(path).unwrap();
-    bytes.extend_from_slice(&fogbank_render::partial::fnv1a(&bytes).to_le_bytes());
+    bytes.extend_from_slice(&fogbank_partial::partial::fnv1a(&bytes).to_le_bytes());
     let e = Partial::from_bytes(&bytes).err().unwrap();
     assert!(e.contains("samples but the shards take 0"), "{e}");
 

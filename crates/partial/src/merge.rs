@@ -4,7 +4,7 @@
 //! film bit for bit, and merging merged parts gives the same film again.
 
 use crate::partial::{Partial, PartialHeader, ShardRun};
-use crate::shard::{tiles_across, TILE};
+use fogbank_render::shard::{tiles_across, TILE};
 
 /// A merged partial and what it lacks (empty unless `allow_partial`).
 pub struct Merged {
@@ -196,7 +196,7 @@ fn missing(
         return (0..n)
             .filter(|&i| !runs.iter().any(|(_, r)| r.shard.index == i))
             .map(|i| {
-                let s = crate::shard::Shard {
+                let s = fogbank_render::shard::Shard {
                     index: i,
                     count: n,
                     mode,

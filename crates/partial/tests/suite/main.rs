@@ -1,0 +1,4 @@
+//! `fogbank-partial`'s integration tests, one module per concept, in one
+//! binary.
+
+mod shard;
