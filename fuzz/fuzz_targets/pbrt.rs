@@ -9,8 +9,8 @@
 //! of other programs.
 #![no_main]
 
-use fogbank_scene::pbrt::load_pbrt_str;
 use fogbank_render::SceneDesc;
+use fogbank_scene::pbrt::load_pbrt_str;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

@@ -5,8 +5,8 @@
 //! never reads unbounded input.
 #![no_main]
 
-use fogbank_scene::mitsuba::load_xml_str;
 use fogbank_render::SceneDesc;
+use fogbank_scene::mitsuba::load_xml_str;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

@@ -10,8 +10,8 @@
 use crate::errors::{guarded, scene_err};
 use crate::grid::Grid;
 use crate::values;
-use fogbank_render::{parse_scene, SceneError, DEFAULT_SCENE};
 use fogbank::SceneFormat;
+use fogbank_render::{parse_scene, SceneError, DEFAULT_SCENE};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyKeyError;
 use pyo3::prelude::*;
