@@ -18,7 +18,7 @@ pub fn to_py(e: Error) -> PyErr {
 }
 
 /// A scene error (key, file, line) as `ValueError` or `FileNotFoundError`.
-pub fn scene_err(e: fogbank_render::SceneError) -> PyErr {
+pub fn scene_err(e: fogbank::SceneError) -> PyErr {
     to_py(Error::from(e))
 }
 

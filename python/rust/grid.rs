@@ -20,9 +20,7 @@
 //! `index_to_world` alone (index space straight to the world).
 
 use crate::errors::{guarded, invalid};
-use fogbank_volume::medium::box_transform;
-use fogbank_volume::medium::unit_box_transform;
-use fogbank_volume::{DenseArray, VoxelArray};
+use fogbank::volumes::{box_transform, check_dims, register_array, unit_box_transform, VoxelArray};
 use glam::{DAffine3, DMat3, DVec3};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -107,7 +105,7 @@ impl Grid {
         numpy: Option<Py<PyAny>>,
         units: Option<(f32, f32)>,
     ) -> Grid {
-        let name = fogbank_render::world::arrays::register(&array);
+        let name = register_array(&array);
         Grid {
             name,
             array,
@@ -276,8 +274,7 @@ impl Grid {
             }
         };
         let dims = [shape[2] as u64, shape[1] as u64, shape[0] as u64];
-        let dims =
-            fogbank_volume::grid::check_dims(dims).map_err(|e| invalid(format!("array: {e}")))?;
+        let dims = check_dims(dims).map_err(|e| invalid(format!("array: {e}")))?;
         let address: usize = array
             .getattr("__array_interface__")?
             .get_item("data")?
@@ -445,56 +442,9 @@ pub fn read_volume(
     channel: Option<u32>,
     max_voxels: u64,
 ) -> PyResult<Grid> {
-    use fogbank_render::desc::FieldDesc;
-    let name = path.to_string_lossy().to_string();
-    let lower = name.to_ascii_lowercase();
-    let mut d = FieldDesc {
-        grid,
-        channel,
-        ..Default::default()
-    };
-    if lower.ends_with(".vdb") {
-        d.vdb = Some(name.clone());
-    } else if lower.ends_with(".nvdb") {
-        d.nvdb = Some(name.clone());
-    } else if lower.ends_with(".vol") {
-        d.vol = Some(name.clone());
-    } else if lower.ends_with(".nii") || lower.ends_with(".nii.gz") || lower.ends_with(".hdr") {
-        d.nifti = Some(name.clone());
-    } else if lower.ends_with(".nrrd") || lower.ends_with(".nhdr") {
-        d.nrrd = Some(name.clone());
-    } else if lower.ends_with(".raw") {
-        d.raw = Some(name.clone());
-    } else {
-        return Err(PyValueError::new_err(format!(
-            "{name}: unknown volume format (.vdb, .nvdb, .vol, .nii, .nii.gz, .hdr, .nrrd, .nhdr, .raw)"
-        )));
-    }
-    if d.grid.is_some() && d.vdb.is_none() && d.nvdb.is_none() {
-        return Err(PyValueError::new_err(format!(
-            "{name}: grid= names a grid of a .vdb or .nvdb file"
-        )));
-    }
-    let f = guarded(|| {
-        py.detach(|| {
-            fogbank_render::world::field::field_data(
-                &d,
-                &name,
-                std::path::Path::new(""),
-                fogbank_volume::Precision::F32,
-            )
-        })
-        .map_err(crate::errors::scene_err)
+    let read = guarded(|| {
+        py.detach(|| fogbank::volumes::read_volume(&path, grid, channel, max_voxels))
+            .map_err(crate::errors::to_py)
     })?;
-    let fogbank_volume::DensityData::F32(g) = &f.data else {
-        return Err(PyValueError::new_err(format!("{name}: not a voxel grid")));
-    };
-    let [x, y, z] = g.dims().map(u64::from);
-    if x * y * z > max_voxels {
-        return Err(PyValueError::new_err(format!(
-            "{name}: {x}×{y}×{z} voxels are more than max_voxels = {max_voxels}"
-        )));
-    }
-    let dense = py.detach(|| DenseArray::from_grid(g, f.to_world, f.source.clone()));
-    Ok(Grid::from_array(Arc::new(dense), None, f.units))
+    Ok(Grid::from_array(Arc::new(read.array), None, read.units))
 }

@@ -3,9 +3,9 @@
 //! with a `variance` layer, PNG tone-mapped) and its metrics.
 
 use crate::errors::{guarded, invalid, runtime, to_py};
+use fogbank::compare::ZTEST_ALPHA;
 use fogbank::compare::{compare as compare_images, parse_metrics, CompareOptions, Outcome};
-use fogbank_image::image_io::{encode_png, read_image as read, Image};
-use fogbank_image::{ToneCurve, ToneMapping};
+use fogbank::image::{encode_png, read_image as read, Image, ToneCurve, ToneMapping};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
@@ -191,13 +191,8 @@ pub fn compare<'py>(
     alpha: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (wanted, explicit) = parse_metrics(&metrics).map_err(to_py)?;
-    let opts = CompareOptions::new(
-        flip_mode,
-        ppd,
-        tonemapper,
-        alpha.unwrap_or(fogbank_image::metrics::ZTEST_ALPHA),
-    )
-    .map_err(to_py)?;
+    let opts = CompareOptions::new(flip_mode, ppd, tonemapper, alpha.unwrap_or(ZTEST_ALPHA))
+        .map_err(to_py)?;
     let (r, t) = (image_of(reference, "reference")?, image_of(test, "test")?);
     let results = guarded(|| {
         py.detach(|| compare_images(&r, &t, &wanted, explicit, &opts))

@@ -7,10 +7,11 @@ use crate::errors::{invalid, to_py};
 use crate::grid::Grid;
 use crate::scene::Medium;
 use crate::watch::watched;
-use fogbank::rays::{sample_distance_on_rays, transmittance_on_rays, FlightSampler, Rays};
-use fogbank::{Progress, Renderer};
-use fogbank_estimators::{Estimator, EstimatorOptions};
-use fogbank_volume::Medium as VolumeMedium;
+use fogbank::rays::{
+    sample_distance_on_rays, transmittance_on_rays, FlightSampler, Medium as VolumeMedium,
+    OptionValue, Options, Rays,
+};
+use fogbank::{Estimator, Progress, Renderer};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -22,7 +23,7 @@ fn medium_of(
     py: Python<'_>,
     medium: &Bound<'_, PyAny>,
     grid_keys: &mut Vec<(String, String)>,
-) -> PyResult<(Arc<fogbank_render::Scene>, usize)> {
+) -> PyResult<(Arc<fogbank::Scene>, usize)> {
     if let Ok(m) = medium.cast::<Medium>() {
         if !grid_keys.is_empty() {
             return Err(invalid(format!(
@@ -47,8 +48,8 @@ fn medium_of(
     }
     let scene = py
         .detach(|| {
-            let desc = fogbank_render::parse_scene(&text, "medium", &[])?;
-            fogbank_render::Scene::build(desc, std::path::Path::new("."))
+            let desc = fogbank::parse_scene(&text, "medium", &[])?;
+            fogbank::Scene::build(desc, std::path::Path::new("."))
         })
         .map_err(crate::errors::scene_err)?;
     Ok((Arc::new(scene), 0))
@@ -60,33 +61,42 @@ fn estimator_of(
     options: Option<&Bound<'_, PyDict>>,
     grid_keys: &mut Vec<(String, String)>,
 ) -> PyResult<Estimator> {
-    let mut o = EstimatorOptions::default();
+    let mut o = Options::default();
+    let takes = Estimator::option_keys(name).unwrap_or(&[]);
     if let Some(d) = options {
         for (k, v) in d.iter() {
             let k: String = k.extract()?;
             let key = k.clone();
             let bad = |what: &str| invalid(format!("{key}: expected {what}"));
             match k.as_str() {
-                "samples" => o.samples = Some(v.extract().map_err(|_| bad("a count"))?),
-                "mult" => o.mult = Some(v.extract().map_err(|_| bad("a count"))?),
-                "step" => o.step = Some(v.extract().map_err(|_| bad("a number"))?),
-                "roulette" => o.roulette = Some(v.extract().map_err(|_| bad("a number"))?),
-                "mode" => o.mode = Some(v.extract().map_err(|_| bad("a string"))?),
-                "jitter" => o.jitter = Some(v.extract().map_err(|_| bad("a string"))?),
-                "doubled" => o.doubled = Some(v.extract().map_err(|_| bad("True or False"))?),
-                "clip" => o.clip = Some(v.extract().map_err(|_| bad("True or False"))?),
                 "sigma_t_scale" => grid_keys.push((k, v.extract::<f64>().map_err(|_| bad("a number"))?.to_string())),
                 "filter" => grid_keys.push((k, format!("{:?}", v.extract::<String>().map_err(|_| bad("a string"))?))),
+                key if takes.contains(&key) => o.set(key, option_value(&v).map_err(|_| bad("a number, True or False, or a string"))?),
                 other => {
                     return Err(invalid(format!(
                         "{other}: not an option of {name} (its options: {}; for a Grid also sigma_t_scale, filter)",
-                        Estimator::option_keys(name).map(|k| k.join(", ")).filter(|s| !s.is_empty()).unwrap_or_else(|| "none".into())
+                        Some(takes.join(", ")).filter(|s| !s.is_empty()).unwrap_or_else(|| "none".into())
                     )))
                 }
             }
         }
     }
     Estimator::with_options(name, &o).map_err(|e| invalid(format!("estimator: {e}")))
+}
+
+/// A Python option value as the estimators read it (a bool before an int:
+/// Python's `True` is an int too).
+fn option_value(v: &Bound<'_, PyAny>) -> PyResult<OptionValue> {
+    if let Ok(b) = v.cast::<pyo3::types::PyBool>() {
+        return Ok(OptionValue::Bool(b.is_true()));
+    }
+    if let Ok(i) = v.extract::<i64>() {
+        return Ok(OptionValue::Int(i));
+    }
+    if let Ok(x) = v.extract::<f64>() {
+        return Ok(OptionValue::Float(x));
+    }
+    Ok(OptionValue::Text(v.extract::<String>()?))
 }
 
 /// N×3 float32 rays and N t_max (a scalar t_max applies to all).
@@ -101,7 +111,7 @@ struct RayArrays {
 /// raises `KeyboardInterrupt`).
 fn on_rays<T: Send>(
     py: Python<'_>,
-    (scene, index): (Arc<fogbank_render::Scene>, usize),
+    (scene, index): (Arc<fogbank::Scene>, usize),
     r: &RayArrays,
     threads: Option<usize>,
     work: impl FnOnce(&Renderer, &VolumeMedium, Rays, &Progress) -> Result<T, fogbank::Error> + Send,

@@ -55,7 +55,7 @@ fn image_array<'py>(
 fn image_dict<'py>(
     py: Python<'py>,
     img: &FilmImage,
-    scene: &fogbank_render::Scene,
+    scene: &fogbank::Scene,
     spp: u32,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (w, h) = (scene.camera.width, scene.camera.height);
@@ -227,7 +227,7 @@ pub struct Frames {
     // Declared first, so dropped before the scene, renderer and progress
     // it borrows (see `Frames::new`).
     sequence: Option<FrameSequence<'static>>,
-    _first: Arc<fogbank_render::Scene>,
+    _first: Arc<fogbank::Scene>,
     _renderer: Arc<Renderer>,
     progress: Arc<Progress>,
     report: Option<Py<PyAny>>,
@@ -267,7 +267,7 @@ pub fn render_frames(
     // SAFETY: see `Frames`; the references live as long as the Arcs the
     // struct owns, and `sequence` is dropped first.
     let (s, r, p): (
-        &'static fogbank_render::Scene,
+        &'static fogbank::Scene,
         &'static Renderer,
         &'static Progress,
     ) = unsafe {

@@ -10,8 +10,7 @@
 use crate::errors::{guarded, scene_err};
 use crate::grid::Grid;
 use crate::values;
-use fogbank::SceneFormat;
-use fogbank_render::{parse_scene, SceneError, DEFAULT_SCENE};
+use fogbank::{parse_scene, SceneError, SceneFormat, DEFAULT_SCENE};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyKeyError;
 use pyo3::prelude::*;
@@ -33,7 +32,7 @@ pub struct Scene {
     /// Where relative file names resolve.
     base: PathBuf,
     overrides: Vec<String>,
-    pub inner: Arc<fogbank_render::Scene>,
+    pub inner: Arc<fogbank::Scene>,
     /// Grids the scene names, kept alive while it may be rebuilt.
     grids: Vec<Py<Grid>>,
 }
@@ -43,9 +42,9 @@ fn build(
     origin: &str,
     base: &Path,
     overrides: &[String],
-) -> Result<fogbank_render::Scene, SceneError> {
+) -> Result<fogbank::Scene, SceneError> {
     let desc = parse_scene(text, origin, overrides)?;
-    fogbank_render::Scene::build(desc, base)
+    fogbank::Scene::build(desc, base)
 }
 
 impl Scene {
@@ -82,14 +81,14 @@ impl Scene {
     }
 
     /// The scene rebuilt with `extra` overrides after its own.
-    pub fn rebuild(&self, extra: &[String]) -> Result<fogbank_render::Scene, SceneError> {
+    pub fn rebuild(&self, extra: &[String]) -> Result<fogbank::Scene, SceneError> {
         let all: Vec<String> = self.overrides.iter().chain(extra).cloned().collect();
         build(&self.text, &self.origin, &self.base, &all)
     }
 
     /// A copy of this scene with another seed, for `render(seed=…)`: the
     /// description says the seed, as `--seed` makes it; the world is shared.
-    pub fn with_seed(&self, seed: Option<u32>) -> Arc<fogbank_render::Scene> {
+    pub fn with_seed(&self, seed: Option<u32>) -> Arc<fogbank::Scene> {
         match seed {
             Some(s) if s != self.inner.desc.render.seed => {
                 let mut sc = (*self.inner).clone();
@@ -192,7 +191,7 @@ pub fn default_scene(py: Python<'_>, overrides: Option<&Bound<'_, PyDict>>) -> P
 /// `fogbank.sample_distance`: its grid, transform, σ_t scale and filter.
 #[pyclass(module = "fogbank._native", frozen)]
 pub struct Medium {
-    pub scene: Arc<fogbank_render::Scene>,
+    pub scene: Arc<fogbank::Scene>,
     pub index: usize,
 }
 

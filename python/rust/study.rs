@@ -1,5 +1,5 @@
 //! `fogbank.stats`, `fogbank.converge` and `fogbank.experiment`: the
-//! command's studies (`fogbank::study`, `fogbank_eval::experiments`) as
+//! command's studies (`fogbank::study`, `fogbank_experiments`) as
 //! calls returning arrays and dicts, writing files only when asked.
 
 use crate::errors::{guarded, invalid, runtime, to_py};
@@ -166,16 +166,16 @@ pub fn experiment(
     out: Option<PathBuf>,
     trials: Option<u64>,
 ) -> PyResult<(String, Vec<PathBuf>, f64)> {
-    if !fogbank_eval::experiments::names().contains(&name) {
+    if !fogbank_experiments::names().contains(&name) {
         return Err(invalid(format!(
             "experiment `{name}`: not one of {}",
-            fogbank_eval::experiments::names().join(", ")
+            fogbank_experiments::names().join(", ")
         )));
     }
     let out = out.unwrap_or_else(|| PathBuf::from("experiments").join(name));
     let p = Arc::new(Progress::default());
     let w = watched(py, &p, None, || {
-        fogbank_eval::experiments::run(name, &out, trials)
+        fogbank_experiments::run(name, &out, trials)
     })?;
     if let Some(i) = w.interrupt {
         return Err(i);

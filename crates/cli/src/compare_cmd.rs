@@ -1,8 +1,9 @@
 //! `fogbank compare REFERENCE TEST`: image metrics of a test image against
 //! a reference (EXR or PNG).
 
-use fogbank::compare::{compare, parse_metrics, CompareOptions, Outcome};
-use fogbank_eval::metrics::{self, Image, Metric};
+use fogbank::compare::{
+    compare, parse_metrics, read_pair, CompareOptions, Image, Metric, Outcome, ZTEST_ALPHA,
+};
 use serde_json::{Map, Value};
 use std::path::PathBuf;
 
@@ -29,14 +30,14 @@ pub struct CompareArgs {
     #[arg(long, default_value = "aces")]
     pub tonemapper: String,
     /// z-test: family-wise significance level.
-    #[arg(long, default_value_t = metrics::ZTEST_ALPHA)]
+    #[arg(long, default_value_t = ZTEST_ALPHA)]
     pub alpha: f64,
 }
 
 pub fn run(a: CompareArgs) -> crate::common::CliResult {
     let (wanted, explicit_ztest) = parse_metrics(&a.metric)?;
     let opts = CompareOptions::new(&a.flip_mode, a.ppd, &a.tonemapper, a.alpha)?;
-    let (reference, test) = metrics::read_pair(&a.reference, &a.test)?;
+    let (reference, test) = read_pair(&a.reference, &a.test)?;
     let results = compare(&reference, &test, &wanted, explicit_ztest, &opts)
         .map_err(|e| format!("{} vs {}: {e}", a.reference.display(), a.test.display()))?;
     if a.json {

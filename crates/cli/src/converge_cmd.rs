@@ -5,10 +5,10 @@ use crate::common::CliResult;
 use crate::run_args::RunArgs;
 use clap::Args;
 use fogbank::load_scene_or;
+use fogbank::study::time_to_reach;
 use fogbank::study::{write_curves, ConvergeJob};
+use fogbank::TRANSMITTANCE_SCENE;
 use fogbank::{Renderer, Scene};
-use fogbank_eval::converge::time_to_reach;
-use fogbank_render::TRANSMITTANCE_SCENE;
 use std::path::PathBuf;
 
 #[derive(Args)]

@@ -16,11 +16,11 @@ pub struct ExperimentArgs {
 }
 
 pub fn run(a: ExperimentArgs) -> crate::common::CliResult {
-    let (name, _) = fogbank_eval::experiments::current_name(&a.name);
+    let (name, _) = fogbank_experiments::current_name(&a.name);
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("experiments").join(&name));
-    let report = fogbank_eval::experiments::run(&a.name, &out, a.trials)?;
+    let report = fogbank_experiments::run(&a.name, &out, a.trials)?;
     println!("{}", report.summary);
     println!();
     for f in &report.files {
@@ -33,7 +33,7 @@ pub fn run(a: ExperimentArgs) -> crate::common::CliResult {
 /// The help of NAME, generated from the experiments `fogbank_eval` runs so
 /// that it lists every one.
 fn name_help() -> String {
-    let names = fogbank_eval::experiments::names();
+    let names = fogbank_experiments::names();
     let (last, rest) = names.split_last().expect("at least one experiment");
     format!(
         "Experiment: {} or {last} (jackknife-fig12: --trials is the reference's spp)",

@@ -4,8 +4,7 @@
 
 use crate::common::CliResult;
 use clap::Args;
-use fogbank_render::integrators::REGISTRY;
-use fogbank_render::params::markdown_table;
+use fogbank::desc::{markdown_table, INTEGRATORS as REGISTRY};
 
 #[derive(Args)]
 pub struct IntegratorsArgs {

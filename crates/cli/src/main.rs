@@ -90,7 +90,7 @@ fn main() -> ExitCode {
         Command::Export(a) => export_cmd::run(a),
         Command::Convert(a) => convert_cmd::run(a),
         Command::Estimators => {
-            for e in fogbank_estimators::Estimator::all() {
+            for e in fogbank::Estimator::all() {
                 let kind = if e.biased() { "biased" } else { "unbiased" };
                 println!("{:<26} {:<8} {}", e.name(), kind, e.description());
                 if !e.options_help().is_empty() {

@@ -5,10 +5,10 @@
 
 use crate::common::CliResult;
 use clap::Args;
+use fogbank::image::{ToneCurve, ToneMapping};
 use fogbank::merge::merge;
+use fogbank::merged::{merged_frame_stats, merged_render_stats};
 use fogbank::partial::Partial;
-use fogbank::stats::peak_memory_bytes;
-use fogbank_image::{ToneCurve, ToneMapping};
 use std::path::PathBuf;
 
 #[derive(Args)]
@@ -86,64 +86,17 @@ pub fn run(a: MergeArgs) -> CliResult {
             .join(", ")
     );
     if let Some(path) = &a.stats {
-        let samples = film.total_samples();
-        let json = serde_json::json!({
-            "integrator": h.integrator,
-            "estimator": h.estimator,
-            "width": film.width,
-            "height": film.height,
-            "spp": film.min_spp(),
-            "spp_requested": h.identity.spp,
-            "seed": h.identity.seed,
-            "scene_hash": h.identity.scene_hash,
-            "shards": h.runs,
-            "render_seconds": h.runs.iter().map(|r| r.seconds).sum::<f64>(),
-            "mean": film.image_mean(),
-            "lookups_per_pixel": if samples > 0 { film.lookups as f64 / samples as f64 } else { 0.0 },
-            "nan_samples": film.nan_samples,
-            "inf_samples": film.inf_samples,
-            "nonfinite_output_pixels": bad_pixels,
-            "missing": merged.missing,
-            "peak_memory_bytes": peak_memory_bytes(),
-        });
-        crate::common::write_json(path, &json)?;
+        crate::common::write_json(path, &merged_render_stats(&merged, bad_pixels))?;
     }
     Ok(())
 }
 
 /// Merged `stats` parts: the statistics files of `fogbank stats`.
 fn write_stats(a: &MergeArgs, p: &Partial, missing: &[String]) -> CliResult {
-    let h = &p.header;
     let [out] = &a.output[..] else {
         return Err("stats parts merge into one output folder (-o DIR)".into());
     };
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
-    let covered = p.covered.clone().unwrap_or_default();
-    let seconds = h.runs.iter().map(|r| r.seconds).sum::<f64>();
-    let st = fogbank_eval::frame_stats::from_film(&p.film, h.identity.spp, covered, seconds);
-    let s = st.summary();
-    let json = serde_json::json!({
-        "integrator": h.integrator,
-        "estimator": h.estimator,
-        "reference": serde_json::Value::Null,
-        "width": st.width,
-        "height": st.height,
-        "runs": s.runs,
-        "seed": h.identity.seed,
-        "shards": h.runs,
-        "covered_pixels": s.pixels,
-        "mean_abs_bias": serde_json::Value::Null,
-        "mean_bias": serde_json::Value::Null,
-        "mean_bias_se": s.mean_bias_se,
-        "mean_std": s.mean_std,
-        "rmse": serde_json::Value::Null,
-        "ms_per_frame": s.ms_per_frame,
-        "lookups_per_pixel": s.lookups_per_pixel,
-        "nonfinite_samples": st.nonfinite,
-        "stats_seconds": seconds,
-        "missing": missing,
-        "device": "cpu",
-        "peak_memory_bytes": peak_memory_bytes(),
-    });
-    crate::stats_cmd::write_outputs(&st, &h.estimator, out, &json)
+    let (st, json) = merged_frame_stats(p, missing);
+    crate::stats_cmd::write_outputs(&st, &p.header.estimator, out, &json)
 }

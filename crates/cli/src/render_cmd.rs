@@ -90,7 +90,7 @@ fn overrides(a: &RenderArgs) -> Result<Vec<String>, String> {
         overrides.push(format!("render.exposure={e:?}"));
     }
     if let Some(t) = &a.tonemap {
-        fogbank_image::ToneCurve::parse(t).map_err(|e| format!("--tonemap: {e}"))?;
+        fogbank::image::ToneCurve::parse(t).map_err(|e| format!("--tonemap: {e}"))?;
         overrides.push(format!("render.tonemap={t}"));
     }
     Ok(overrides)

@@ -11,7 +11,7 @@ pub struct ReportArgs {
 }
 
 pub fn run(a: ReportArgs) -> CliResult {
-    let page = fogbank_eval::report::write_report(&a.dir)?;
+    let page = fogbank::report::write_report(&a.dir)?;
     println!("wrote {}", page.display());
     Ok(())
 }

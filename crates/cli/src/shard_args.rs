@@ -2,7 +2,7 @@
 //! `stats`): which part to do.
 
 use clap::Args;
-use fogbank_render::shard::{Shard, ShardMode};
+use fogbank::{Shard, ShardMode};
 
 #[derive(Args, Clone)]
 pub struct ShardArgs {

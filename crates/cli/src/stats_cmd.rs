@@ -6,10 +6,10 @@ use crate::common::CliResult;
 use crate::run_args::RunArgs;
 use clap::Args;
 use fogbank::load_scene_or;
+use fogbank::study::FrameStats;
 use fogbank::study::{write_stats, StatsJob, StatsReference};
 use fogbank::Renderer;
-use fogbank_eval::FrameStats;
-use fogbank_render::TRANSMITTANCE_SCENE;
+use fogbank::TRANSMITTANCE_SCENE;
 use std::path::PathBuf;
 
 #[derive(Args)]

@@ -1,7 +1,7 @@
 //! The options of a volume file fogbank writes (`export`, `convert`).
 
 use clap::Args;
-use fogbank_volume::writers::{Codec, NanoValue};
+use fogbank::export::{Codec, NanoValue};
 
 #[derive(Args)]
 pub struct VolumeWriteArgs {

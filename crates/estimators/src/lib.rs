@@ -50,7 +50,10 @@
 //!   estimators) and `ray_marching` (naive ray marching, T = exp(−X), biased);
 //! - `distance` (distance samplers: delta, decomposition and regular tracking, and the
 //!   equiangular sampler) → `track_length` (Peters 2025 §2.2: delta tracking's 0/1 estimate);
-//! - `estimator` (the registry: names, options, descriptions, per-ray dispatch) →
+//! - `estimator/` (the registry: one file per estimator, a parameter struct implementing
+//!   `EstimatorPlugin` — name, description, options, per-ray transmittance — registered
+//!   in one line of `estimators!`, which generates the `Estimator` enum, listings, parsing
+//!   and dispatch) →
 //!   `scaled` (transmittances of several extinctions k_c · σ_t from one walk, for
 //!   chromatic media with one density).
 
@@ -87,4 +90,4 @@ pub mod scaled;
 pub mod track_length;
 
 pub use estimate::Estimate;
-pub use estimator::{transmittance, Estimator, EstimatorOptions};
+pub use estimator::{transmittance, Estimator, EstimatorPlugin, OptionValue, Options};

@@ -13,6 +13,10 @@
 //! and the jackknife at a fixed step return `None` (the caller walks each
 //! channel).
 
+use crate::estimator::{
+    AnalyticTrilinear, Jackknife, RatioTracking, RayMarching, RegularTracking,
+    ResidualRatioTracking,
+};
 use crate::jackknife::{jackknife_transmittance, optical_depths, Sampling, StepMode};
 use crate::{analytic_trilinear, ratio_tracking, ray_marching, regular_tracking};
 use crate::{residual_ratio_tracking, Estimator};
@@ -45,24 +49,24 @@ pub fn transmittance_scaled(
     let seg = RaySegment::new(r, t0, t1);
     let view = medium.view();
     let (depths, lookups) = match e {
-        Estimator::RegularTracking => match view {
+        Estimator::RegularTracking(RegularTracking) => match view {
             MediumView::F16(v) => exp(regular_tracking::optical_depth(&v, &seg)),
             MediumView::F32(v) => exp(regular_tracking::optical_depth(&v, &seg)),
             MediumView::Analytic(_) => return None,
         },
-        Estimator::AnalyticTrilinear => match view {
+        Estimator::AnalyticTrilinear(AnalyticTrilinear) => match view {
             MediumView::F16(v) => exp(analytic_trilinear::optical_depth(&v, &seg)),
             MediumView::F32(v) => exp(analytic_trilinear::optical_depth(&v, &seg)),
             MediumView::Analytic(_) => return None,
         },
-        Estimator::RayMarching { samples, clip } => with_view!(view, v => exp(
+        Estimator::RayMarching(RayMarching { samples, clip }) => with_view!(view, v => exp(
             ray_marching::optical_depth(&v, &seg, samples, clip, rng)
         )),
-        Estimator::Jackknife {
+        Estimator::Jackknife(Jackknife {
             samples,
             mode: StepMode::FixedCount,
             jitter,
-        } => {
+        }) => {
             let (mut lookups, mut x) = (0, [0.0; 2]);
             let sampling = Sampling::fixed_count(samples, jitter);
             with_view!(view, v => optical_depths(
@@ -70,12 +74,12 @@ pub fn transmittance_scaled(
             ));
             (Depths::Jackknife(x), lookups)
         }
-        Estimator::RatioTracking { roulette } => {
+        Estimator::RatioTracking(RatioTracking { roulette }) => {
             return Some(with_view!(view, v => ratio_tracking::transmittance_scaled(
                 &v, &seg, rng, k, roulette
             )))
         }
-        Estimator::ResidualRatioTracking { roulette } => {
+        Estimator::ResidualRatioTracking(ResidualRatioTracking { roulette }) => {
             return Some(
                 with_view!(view, v => residual_ratio_tracking::transmittance_scaled(
                     &v, &seg, rng, k, roulette
@@ -101,6 +105,7 @@ fn exp((tau, lookups): (f64, u32)) -> (Depths, u32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::estimator::TrackLength;
     use crate::optical_depth::Jitter;
     use crate::transmittance;
     use fogbank_math::Vec3;
@@ -127,23 +132,26 @@ mod tests {
         );
         let jitter = Jitter::Stratified;
         for e in [
-            Estimator::RegularTracking,
-            Estimator::AnalyticTrilinear,
-            Estimator::RayMarching {
+            Estimator::RegularTracking(RegularTracking),
+            Estimator::AnalyticTrilinear(AnalyticTrilinear),
+            Estimator::RayMarching(RayMarching {
                 samples: 7,
                 clip: true,
-            },
-            Estimator::Jackknife {
+            }),
+            Estimator::Jackknife(Jackknife {
                 samples: 5,
                 mode: StepMode::FixedCount,
                 jitter,
-            },
+            }),
         ] {
             for seed in 0..20 {
                 let (t, n) =
                     transmittance_scaled(e, &medium(s), &ray, 40.0, &mut Pcg32::new(seed, 1), k)
                         .unwrap();
-                assert!(n > 0 || e == Estimator::AnalyticTrilinear, "{e:?}");
+                assert!(
+                    n > 0 || e == Estimator::AnalyticTrilinear(AnalyticTrilinear),
+                    "{e:?}"
+                );
                 for c in 0..3 {
                     let one =
                         transmittance(e, &medium(s * k[c]), &ray, 40.0, &mut Pcg32::new(seed, 1));
@@ -157,7 +165,7 @@ mod tests {
                 }
             }
         }
-        let tracking = Estimator::TrackLength;
+        let tracking = Estimator::TrackLength(TrackLength);
         assert!(
             transmittance_scaled(tracking, &medium(s), &ray, 40.0, &mut Pcg32::new(1, 1), k)
                 .is_none()
@@ -175,7 +183,7 @@ mod tests {
             Vec3::new(1.0, 0.21, 0.13).normalize(),
         );
         let exact = transmittance_scaled(
-            Estimator::RegularTracking,
+            Estimator::RegularTracking(RegularTracking),
             &m,
             &ray,
             40.0,
@@ -186,10 +194,10 @@ mod tests {
         .0;
         assert!(exact[2] > 0.02 && exact[2] < 0.9, "{exact:?}");
         for e in [
-            Estimator::RatioTracking { roulette: 0.0 },
-            Estimator::ResidualRatioTracking { roulette: 0.0 },
-            Estimator::RatioTracking { roulette: 0.5 },
-            Estimator::ResidualRatioTracking { roulette: 0.5 },
+            Estimator::RatioTracking(RatioTracking { roulette: 0.0 }),
+            Estimator::ResidualRatioTracking(ResidualRatioTracking { roulette: 0.0 }),
+            Estimator::RatioTracking(RatioTracking { roulette: 0.5 }),
+            Estimator::ResidualRatioTracking(ResidualRatioTracking { roulette: 0.5 }),
         ] {
             let n = 20_000;
             let (mut sum, mut sum2) = ([0.0f64; 3], [0.0f64; 3]);

@@ -3,9 +3,10 @@
 //! number or a record, with the options the command takes.
 
 use crate::error::Error;
-use fogbank_image::metrics::{
-    self, FlipMode, FlipOptions, FlipResult, Image, Metric, Tonemapper, ZTest,
-};
+use fogbank_image::metrics::{self, FlipMode, FlipOptions, FlipResult, Tonemapper, ZTest};
+/// The images compared (a pair read and checked for size by [`read_pair`]),
+/// the metrics, and the z-test's default significance level.
+pub use fogbank_image::metrics::{read_pair, Image, Metric, ZTEST_ALPHA};
 use serde_json::{json, Value};
 
 /// FLIP's and the z-test's settings.

@@ -30,6 +30,17 @@ impl Error {
         }
     }
 
+    /// A reader's message: `NotFound` when it ends in the OS's "No such
+    /// file or directory" (the readers name the file first), else `Invalid`.
+    pub fn from_message(message: String) -> Error {
+        let kind = if message.contains("No such file or directory") {
+            ErrorKind::NotFound
+        } else {
+            ErrorKind::Invalid
+        };
+        Error { kind, message }
+    }
+
     pub fn runtime(message: impl Into<String>) -> Error {
         Error {
             kind: ErrorKind::Runtime,
@@ -46,17 +57,11 @@ impl fmt::Display for Error {
 
 impl std::error::Error for Error {}
 
-/// A scene that fails to load or build: a missing file is `NotFound`
-/// (the loaders' messages end in the OS's "No such file or directory"),
-/// anything else `Invalid`.
+/// A scene that fails to load or build: a missing file is `NotFound`,
+/// anything else `Invalid` ([`Error::from_message`]).
 impl From<fogbank_render::SceneError> for Error {
     fn from(e: fogbank_render::SceneError) -> Error {
-        let kind = if e.0.contains("No such file or directory") {
-            ErrorKind::NotFound
-        } else {
-            ErrorKind::Invalid
-        };
-        Error { kind, message: e.0 }
+        Error::from_message(e.0)
     }
 }
 

@@ -17,12 +17,14 @@ use crate::error::Error;
 use crate::renderer::Renderer;
 use fogbank_estimators::distance::{analytic_trilinear, equiangular};
 use fogbank_estimators::{transmittance, Estimator};
+pub use fogbank_estimators::{OptionValue, Options};
 use fogbank_math::{Ray, RaySegment, SampleKey, Vec3};
 use fogbank_render::integrators::shared::dim;
 use fogbank_render::integrators::shared::tracking::sampler_flight;
 use fogbank_render::integrators::shared::DistanceSampler;
 use fogbank_render::Progress;
-use fogbank_volume::{Medium, MediumView};
+pub use fogbank_volume::Medium;
+use fogbank_volume::MediumView;
 use rayon::prelude::*;
 use std::sync::atomic::Ordering;
 

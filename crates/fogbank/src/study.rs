@@ -7,10 +7,15 @@
 use crate::error::Error;
 use crate::renderer::{Device, Renderer};
 use crate::stats::peak_memory_bytes;
+use fogbank_estimators::estimator::{AnalyticTrilinear, RegularTracking};
 use fogbank_estimators::Estimator;
+/// The time a convergence curve first reaches an error.
+pub use fogbank_eval::converge::time_to_reach;
 use fogbank_eval::converge::{convergence, write_csv, Curve};
 use fogbank_eval::frame_stats::frame_stats_piece;
-use fogbank_eval::{exact_reference, frame_stats, Backend, FrameStats};
+/// Per-pixel statistics over independent frames.
+pub use fogbank_eval::FrameStats;
+use fogbank_eval::{exact_reference, frame_stats, Backend};
 use fogbank_image::image_io::{read_image, write_exr_channels};
 use fogbank_partial::partial::{Partial, PartialHeader};
 use fogbank_render::shard::Shard;
@@ -34,7 +39,13 @@ impl StatsReference {
         let e = Estimator::parse(name).ok_or_else(|| {
             Error::invalid(format!("--reference-estimator: unknown estimator `{name}`"))
         })?;
-        if e.biased() || !matches!(e, Estimator::AnalyticTrilinear | Estimator::RegularTracking) {
+        if e.biased()
+            || !matches!(
+                e,
+                Estimator::AnalyticTrilinear(AnalyticTrilinear)
+                    | Estimator::RegularTracking(RegularTracking)
+            )
+        {
             return Err(Error::invalid(format!("--reference-estimator must be exact (analytic_trilinear or regular_tracking), not `{name}`")));
         }
         Ok(StatsReference::Exact(e))
@@ -230,7 +241,7 @@ impl ConvergeJob {
             return Err(Error::invalid("--estimators: name at least one"));
         }
         Estimator::parse(&self.reference)
-            .filter(|e| matches!(e, Estimator::AnalyticTrilinear | Estimator::RegularTracking))
+            .filter(|e| matches!(e, Estimator::AnalyticTrilinear(AnalyticTrilinear) | Estimator::RegularTracking(RegularTracking)))
             .ok_or_else(|| {
                 Error::invalid(format!(
                     "--reference-estimator must be analytic_trilinear or regular_tracking, not `{}`",

@@ -352,6 +352,6 @@ fn an_id_without_a_branch_marks_every_sample_invalid() {
     all_invalid("distance sampler", gpu_film(&gpu, &s, &k));
     let s = scene(SCENE, &["integrator.type=point_mis"]);
     let mut k = Kernel::of(&s).unwrap();
-    k.sampler = Strategy::ALL.len() as u32;
+    k.strategy = Strategy::ALL.len() as u32;
     all_invalid("strategy", gpu_film(&gpu, &s, &k));
 }

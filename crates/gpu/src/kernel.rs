@@ -18,8 +18,10 @@ pub(crate) struct Kernel {
     pub(crate) background: glam::Vec3,
     pub(crate) max_depth: u32,
     pub(crate) rr_depth: u32,
-    /// `SAMPLER_*` id, or for `point_mis` the `STRATEGY_*` id.
+    /// The distance sampler's `SAMPLER_*` id (`direct`, `volpath`).
     pub(crate) sampler: u32,
+    /// `point_mis`'s `STRATEGY_*` id.
+    pub(crate) strategy: u32,
     pub(crate) mis_samples: u32,
     /// `INTEGRATOR_*` bits.
     pub(crate) flags: u32,
@@ -52,6 +54,7 @@ impl Kernel {
             max_depth: 1,
             rr_depth: u32::MAX,
             sampler: 0,
+            strategy: 0,
             mis_samples: 0,
             flags: 0,
             pins: PinParams::default(),
@@ -112,7 +115,7 @@ impl Kernel {
                 ..base(KernelSource::Scatter)
             },
             IntegratorKind::PointMis(p) => Kernel {
-                sampler: strategy_id(p.strategy),
+                strategy: strategy_id(p.strategy),
                 mis_samples: p.mis_samples,
                 flags: surfaces,
                 ..base(KernelSource::PointMis)

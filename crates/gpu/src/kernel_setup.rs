@@ -186,7 +186,7 @@ fn specialisation(kernel: &Kernel) -> Vec<(&'static str, f64)> {
     let light_bvh = ("LIGHT_BVH", kernel.light_bvh as u32 as f64);
     match kernel.source {
         KernelSource::PointMis => constants.extend([
-            ("STRATEGY", kernel.sampler as f64),
+            ("STRATEGY", kernel.strategy as f64),
             ("OCCLUDERS", occluders(kernel)),
             light_bvh,
         ]),

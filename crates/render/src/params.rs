@@ -3,7 +3,7 @@
 //! misplaced or misspelt key is refused with the table's key list.
 
 use crate::error::SceneError;
-use fogbank_estimators::{Estimator, EstimatorOptions};
+use fogbank_estimators::{Estimator, OptionValue, Options};
 use serde::de::DeserializeOwned;
 
 /// One row of a parameter table: what `fogbank` prints and what errors
@@ -141,7 +141,7 @@ pub fn take_estimator(r: &mut ParamReader) -> Result<Estimator, SceneError> {
             Estimator::names().join(", ")
         ))
     })?;
-    let mut o = EstimatorOptions::default();
+    let mut o = Options::default();
     for &k in takes {
         let flat = r.has(k);
         let inner = nested.as_ref().is_some_and(|n| n.has(k));
@@ -155,16 +155,8 @@ pub fn take_estimator(r: &mut ParamReader) -> Result<Estimator, SceneError> {
             Some(n) if inner => n,
             _ => &mut *r,
         };
-        match k {
-            "samples" => o.samples = from.take(k)?,
-            "mode" => o.mode = from.take(k)?,
-            "step" => o.step = from.take(k)?,
-            "jitter" => o.jitter = from.take(k)?,
-            "mult" => o.mult = from.take(k)?,
-            "doubled" => o.doubled = from.take(k)?,
-            "clip" => o.clip = from.take(k)?,
-            "roulette" => o.roulette = from.take(k)?,
-            _ => unreachable!("option keys are listed in Estimator::option_keys"),
+        if let Some(v) = from.take_value(k) {
+            o.set(k, option_value(&from.key_path(k), v)?);
         }
     }
     if let Some(n) = nested {
@@ -175,27 +167,38 @@ pub fn take_estimator(r: &mut ParamReader) -> Result<Estimator, SceneError> {
     Estimator::with_options(&name, &o).map_err(|e| SceneError(format!("{key}: {e}")))
 }
 
+/// An estimator option's scene value as the estimators read it.
+fn option_value(path: &str, v: toml::Value) -> Result<OptionValue, SceneError> {
+    Ok(match v {
+        toml::Value::Integer(i) => OptionValue::Int(i),
+        toml::Value::Float(x) => OptionValue::Float(x),
+        toml::Value::Boolean(b) => OptionValue::Bool(b),
+        toml::Value::String(s) => OptionValue::Text(s),
+        other => {
+            return Err(SceneError(format!(
+                "{path}: expected a number, true or false, or a name, got {}",
+                other.type_str()
+            )))
+        }
+    })
+}
+
 /// The scene value of an estimator: its name when its options are the
 /// defaults, else a table with `type` and every option.
 pub fn estimator_value(e: Estimator) -> toml::Value {
     if Estimator::parse(e.name()) == Some(e) {
         return e.name().into();
     }
-    let o = e.options();
     let mut t = toml::Table::new();
     t.insert("type".into(), e.name().into());
-    let mut put = |k: &str, v: Option<toml::Value>| {
-        if let Some(v) = v {
-            t.insert(k.into(), v);
-        }
-    };
-    put("samples", o.samples.map(|s| i64::from(s).into()));
-    put("mode", o.mode.map(Into::into));
-    put("step", o.step.map(|s| f64::from(s).into()));
-    put("jitter", o.jitter.map(Into::into));
-    put("mult", o.mult.map(|m| i64::from(m).into()));
-    put("doubled", o.doubled.map(Into::into));
-    put("clip", o.clip.map(Into::into));
-    put("roulette", o.roulette.map(|r| f64::from(r).into()));
+    for (k, v) in e.options().iter() {
+        let v = match v {
+            OptionValue::Int(i) => (*i).into(),
+            OptionValue::Float(x) => (*x).into(),
+            OptionValue::Bool(b) => (*b).into(),
+            OptionValue::Text(s) => s.clone().into(),
+        };
+        t.insert(k.into(), v);
+    }
     toml::Value::Table(t)
 }

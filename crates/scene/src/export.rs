@@ -11,7 +11,9 @@
 use std::path::Path;
 
 use fogbank_volume::loaders::vdb::VdbGrid;
-use fogbank_volume::writers::{self, Codec, NanoOptions, NanoValue, VdbOptions};
+use fogbank_volume::writers::{self, NanoOptions, VdbOptions};
+/// How a `.vdb` compresses its leaves and what a `.nvdb` stores per voxel.
+pub use fogbank_volume::writers::{Codec, NanoValue};
 use fogbank_volume::{DensityData, Precision};
 
 use crate::load::read_scene_source;

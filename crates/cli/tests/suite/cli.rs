@@ -2,8 +2,8 @@
 
 use crate::support;
 
-use fogbank_math::sample_data;
-use fogbank_math::testdata::external_data;
+use fogbank::testing::sample_data;
+use fogbank::testing::testdata::external_data;
 use std::path::Path;
 use support::*;
 #[test]
@@ -77,13 +77,13 @@ fn integrators_prints_each_registered_table() {
     let out = fogbank().args(["integrators"]).output().unwrap();
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
-    for (name, params) in fogbank_render::integrators::REGISTRY.iter() {
+    for (name, params) in fogbank::desc::INTEGRATORS.iter() {
         assert!(
             text.contains(&format!("integrator.type = \"{name}\"")),
             "{name}"
         );
         assert!(
-            text.contains(&fogbank_render::params::markdown_table(params)),
+            text.contains(&fogbank::desc::markdown_table(params)),
             "{name}"
         );
     }
@@ -346,7 +346,7 @@ fn experiment_help_lists_every_experiment() {
     let words: Vec<&str> = help
         .split(|c: char| !c.is_ascii_alphanumeric() && c != '-')
         .collect();
-    for name in fogbank_eval::experiments::names() {
+    for name in fogbank_experiments::names() {
         assert!(words.contains(&name), "`{name}` missing from:\n{help}");
     }
 }
@@ -365,7 +365,7 @@ fn frames_render_a_sequence_and_stop_at_a_missing_frame() {
         "type = \"restir\"\nmax_depth = 2",
         4,
     );
-    let gpu = fogbank_gpu::test_gpu().is_some();
+    let gpu = fogbank::testing::test_gpu().is_some();
     for device in ["cpu", "gpu"].into_iter().filter(|d| *d == "cpu" || gpu) {
         let out = dir.join(format!("{device}_{{frame:02}}.exr"));
         let o = fogbank()
@@ -390,8 +390,7 @@ fn frames_render_a_sequence_and_stop_at_a_missing_frame() {
         );
         assert!(!err.contains("panicked"), "{device}: {err}");
         for f in 0..2 {
-            let img = fogbank_image::image_io::read_image(dir.join(format!("{device}_{f:02}.exr")))
-                .unwrap();
+            let img = fogbank::image::read_image(dir.join(format!("{device}_{f:02}.exr"))).unwrap();
             assert_eq!((img.width, img.height), (12, 8));
             let mean = img.rgb.iter().map(|p| p[1] as f64).sum::<f64>() / img.rgb.len() as f64;
             assert!(

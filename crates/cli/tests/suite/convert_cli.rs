@@ -4,7 +4,7 @@
 
 use crate::support;
 
-use fogbank_math::sample_data;
+use fogbank::testing::sample_data;
 use support::{fogbank, run_fails_naming, run_ok, tmp_dir};
 
 fn pbrt(name: &str) -> String {

@@ -1,9 +1,10 @@
 //! The workspace's crates are one-way layers: this reads every crate's
 //! `Cargo.toml` (and the Python package's) and fails when a crate depends
 //! on one of its own layer or above, and when a front end (the command, the
-//! viewer, Python) reaches an inner crate that the list below does not
-//! name. Front ends are to go through `fogbank` alone; the list is what is
-//! left of that work, and may only shrink.
+//! viewer, Python) reaches an inner crate: front ends go through `fogbank`
+//! alone, besides their own UI crates (the viewer for the command, the
+//! papers' experiments for the command and Python), which the list below
+//! names.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -22,40 +23,22 @@ const LAYERS: &[(&str, u32)] = &[
     ("fogbank-eval", 6),
     ("fogbank", 7),
     ("fogbank-viewer", 8),
+    ("fogbank-experiments", 8),
     ("fogbank-cli", 9),
     ("fogbank-python", 9),
 ];
 
 /// The front ends, and the crates each may depend on besides `fogbank`:
-/// its own UI crates, and the inner crates it still reaches directly.
+/// its own UI crates.
 const FRONT_ENDS: &[(&str, &[&str])] = &[
     (
         "fogbank-cli",
-        &[
-            "fogbank-viewer",
-            // Still reached directly; to go through `fogbank`.
-            "fogbank-math",
-            "fogbank-volume",
-            "fogbank-estimators",
-            "fogbank-render",
-            "fogbank-gpu",
-            "fogbank-image",
-            "fogbank-eval",
-        ],
+        // `fogbank view` and `fogbank experiment`.
+        &["fogbank-viewer", "fogbank-experiments"],
     ),
     ("fogbank-viewer", &[]),
-    (
-        "fogbank-python",
-        &[
-            // Still reached directly; to go through `fogbank`.
-            "fogbank-math",
-            "fogbank-image",
-            "fogbank-volume",
-            "fogbank-estimators",
-            "fogbank-render",
-            "fogbank-eval",
-        ],
-    ),
+    // `fogbank.experiment`.
+    ("fogbank-python", &["fogbank-experiments"]),
 ];
 
 fn repo() -> PathBuf {

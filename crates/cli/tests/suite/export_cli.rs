@@ -3,7 +3,7 @@
 
 use crate::support;
 
-use fogbank_math::sample_data;
+use fogbank::testing::sample_data;
 use support::{fogbank, run_fails_naming, run_ok, tmp};
 
 /// A scene file of the dragon named `name` (one per test: tests run at once).

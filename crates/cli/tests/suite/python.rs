@@ -149,7 +149,7 @@ fn python_package_suite_and_notebooks() {
     pytest(&python, &stage, &[repo().join("python/tests")]);
     // Asked, not read: the MRI notebook reads data/mni when it is there and
     // a phantom otherwise, so CI's pass without external data reruns this.
-    let _ = fogbank_math::sample_data::mni_dir();
+    let _ = fogbank::testing::sample_data::mni_dir();
     let notebooks: Vec<PathBuf> = std::fs::read_dir(repo().join("examples"))
         .unwrap()
         .map(|e| e.unwrap().path())

@@ -7,7 +7,7 @@
 
 use crate::support;
 
-use fogbank_math::testdata::mni_data;
+use fogbank::testing::testdata::mni_data;
 use std::path::{Path, PathBuf};
 use support::{fogbank, tmp_dir};
 

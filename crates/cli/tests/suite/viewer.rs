@@ -179,7 +179,7 @@ fn scripted_session_on_the_cpu_round_trips_the_scene() {
 
 #[test]
 fn scripted_session_on_the_gpu_round_trips_the_scene() {
-    if fogbank_gpu::test_gpu().is_none() {
+    if fogbank::testing::test_gpu().is_none() {
         return;
     }
     scripted_session("gpu");

@@ -4,6 +4,7 @@
 //! (Bin-wise chi-square tests with the shared harness come with it.)
 
 use crate::support;
+use fogbank_estimators::estimator::{AnalyticTrilinear, RegularTracking};
 
 use fogbank_estimators::distance::{
     decomposition_tracking, delta_tracking, equiangular, regular_tracking, FreeFlight,
@@ -86,8 +87,11 @@ fn free_flight_samplers_match_one_minus_transmittance() {
         Vec3::new(1.0, 0.05, 0.02).normalize(),
     );
     for (filter, exact) in [
-        (Filter::Nearest, Estimator::RegularTracking),
-        (Filter::StochasticTrilinear, Estimator::AnalyticTrilinear),
+        (Filter::Nearest, Estimator::RegularTracking(RegularTracking)),
+        (
+            Filter::StochasticTrilinear,
+            Estimator::AnalyticTrilinear(AnalyticTrilinear),
+        ),
     ] {
         let m = grid_medium(grid.clone(), filter, 0.15, 8);
         for s in [Sampler::Delta, Sampler::Decomposition] {
@@ -99,7 +103,7 @@ fn free_flight_samplers_match_one_minus_transmittance() {
         Sampler::Regular,
         &m,
         &ray,
-        Estimator::RegularTracking,
+        Estimator::RegularTracking(RegularTracking),
         "nearest",
     );
 }
@@ -160,7 +164,7 @@ fn free_flight_samplers_pass_chi_square() {
         let p = r.at(t);
         let sigma_t = v.scale as f64 * v.grid.nearest(p) as f64;
         let tr = transmittance(
-            Estimator::RegularTracking,
+            Estimator::RegularTracking(RegularTracking),
             &m,
             &ray,
             t,
@@ -170,7 +174,7 @@ fn free_flight_samplers_pass_chi_square() {
         sigma_t * tr
     };
     let escape = transmittance(
-        Estimator::RegularTracking,
+        Estimator::RegularTracking(RegularTracking),
         &m,
         &ray,
         f32::INFINITY,
@@ -238,7 +242,7 @@ fn analytic_trilinear_sampling_passes_chi_square() {
     };
     let exact = |t: f32| {
         transmittance(
-            Estimator::AnalyticTrilinear,
+            Estimator::AnalyticTrilinear(AnalyticTrilinear),
             &m,
             &ray,
             t,

@@ -2,6 +2,7 @@
 //! App. A.2) and the fixed cost of Alg. 1/2.
 
 use crate::support;
+use fogbank_estimators::estimator::Jackknife;
 
 use fogbank_estimators::jackknife::jackknife_transmittance;
 use fogbank_estimators::jackknife_function::umvu_transmittance;
@@ -89,11 +90,11 @@ fn fixed_cost_two_n_lookups_on_non_empty_rays_zero_otherwise() {
                 }
             };
             for samples in [1, 5, 10] {
-                let e = Estimator::Jackknife {
+                let e = Estimator::Jackknife(Jackknife {
                     samples,
                     mode: fogbank_estimators::jackknife::StepMode::FixedCount,
                     jitter: fogbank_estimators::optical_depth::Jitter::Stratified,
-                };
+                });
                 let mut rng = SampleKey {
                     seed: 1,
                     pixel: i as u32,

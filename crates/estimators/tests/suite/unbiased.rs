@@ -3,6 +3,10 @@
 //! and a procedural cloud, for optical depths from 0.01 to 10.
 
 use crate::support;
+use fogbank_estimators::estimator::{
+    AnalyticTrilinear, RatioTracking, RegularTracking, ResidualRatioTracking, TrackLength,
+    UnbiasedRayMarching,
+};
 
 use fogbank_estimators::{transmittance, Estimator};
 use fogbank_math::DAffine3;
@@ -93,7 +97,7 @@ fn unbiased_on_analytic_media(e: Estimator) {
                 8,
             );
             let t1 = transmittance(
-                Estimator::AnalyticTrilinear,
+                Estimator::AnalyticTrilinear(AnalyticTrilinear),
                 &unit,
                 &ray,
                 f32::INFINITY,
@@ -141,9 +145,9 @@ fn unbiased_on_a_procedural_cloud(e: Estimator) {
         Filter::StochasticTrilinear,
     ] {
         let reference = if filter == Filter::Nearest {
-            Estimator::RegularTracking
+            Estimator::RegularTracking(RegularTracking)
         } else {
-            Estimator::AnalyticTrilinear
+            Estimator::AnalyticTrilinear(AnalyticTrilinear)
         };
         for (ray, rname) in rays_for(n) {
             let unit = grid_medium(grid.clone(), filter, 1.0, 16);
@@ -170,20 +174,20 @@ fn unbiased_on_a_procedural_cloud(e: Estimator) {
 
 #[test]
 fn track_length_is_unbiased() {
-    unbiased_on_analytic_media(Estimator::TrackLength);
-    unbiased_on_a_procedural_cloud(Estimator::TrackLength);
+    unbiased_on_analytic_media(Estimator::TrackLength(TrackLength));
+    unbiased_on_a_procedural_cloud(Estimator::TrackLength(TrackLength));
 }
 
 #[test]
 fn ratio_tracking_is_unbiased() {
-    let e = Estimator::RatioTracking { roulette: 0.0 };
+    let e = Estimator::RatioTracking(RatioTracking { roulette: 0.0 });
     unbiased_on_analytic_media(e);
     unbiased_on_a_procedural_cloud(e);
 }
 
 #[test]
 fn residual_ratio_tracking_is_unbiased() {
-    let e = Estimator::ResidualRatioTracking { roulette: 0.0 };
+    let e = Estimator::ResidualRatioTracking(ResidualRatioTracking { roulette: 0.0 });
     unbiased_on_analytic_media(e);
     unbiased_on_a_procedural_cloud(e);
 }
@@ -204,8 +208,8 @@ fn trackers_with_the_default_roulette_are_unbiased() {
 #[test]
 fn tracking_with_roulette_is_unbiased() {
     for e in [
-        Estimator::RatioTracking { roulette: 0.3 },
-        Estimator::ResidualRatioTracking { roulette: 0.3 },
+        Estimator::RatioTracking(RatioTracking { roulette: 0.3 }),
+        Estimator::ResidualRatioTracking(ResidualRatioTracking { roulette: 0.3 }),
     ] {
         unbiased_on_analytic_media(e);
         unbiased_on_a_procedural_cloud(e);
@@ -215,7 +219,7 @@ fn tracking_with_roulette_is_unbiased() {
 #[test]
 fn unbiased_ray_marching_is_unbiased() {
     for mult in [1, 2] {
-        let e = Estimator::UnbiasedRayMarching { mult };
+        let e = Estimator::UnbiasedRayMarching(UnbiasedRayMarching { mult });
         unbiased_on_analytic_media(e);
         unbiased_on_a_procedural_cloud(e);
     }

@@ -1,6 +1,9 @@
 //! The statistics tool itself: an unbiased estimator shows no bias against
 //! an exact reference; a biased one does.
 
+use fogbank_estimators::estimator::{
+    AnalyticTrilinear, Jackknife, RatioTracking, RayMarching, TrackLength,
+};
 use fogbank_estimators::Estimator;
 use fogbank_eval::transmittance_stats;
 use fogbank_render::{parse_scene, Scene};
@@ -16,10 +19,17 @@ fn scene() -> Scene {
 fn unbiased_estimator_has_mean_bias_within_4_se() {
     let s = scene();
     for e in [
-        Estimator::RatioTracking { roulette: 0.0 },
-        Estimator::TrackLength,
+        Estimator::RatioTracking(RatioTracking { roulette: 0.0 }),
+        Estimator::TrackLength(TrackLength),
     ] {
-        let st = transmittance_stats(&s, e, Some(Estimator::AnalyticTrilinear), 1024, 3).summary();
+        let st = transmittance_stats(
+            &s,
+            e,
+            Some(Estimator::AnalyticTrilinear(AnalyticTrilinear)),
+            1024,
+            3,
+        )
+        .summary();
         assert!(st.pixels > 50);
         assert!(st.mean_bias_se > 0.0);
         assert!(
@@ -35,11 +45,18 @@ fn unbiased_estimator_has_mean_bias_within_4_se() {
 #[test]
 fn biased_estimator_is_flagged() {
     let s = scene();
-    let e = Estimator::RayMarching {
+    let e = Estimator::RayMarching(RayMarching {
         samples: 2,
         clip: false,
-    };
-    let st = transmittance_stats(&s, e, Some(Estimator::AnalyticTrilinear), 1024, 3).summary();
+    });
+    let st = transmittance_stats(
+        &s,
+        e,
+        Some(Estimator::AnalyticTrilinear(AnalyticTrilinear)),
+        1024,
+        3,
+    )
+    .summary();
     assert!(
         st.mean_bias > 8.0 * st.mean_bias_se,
         "ray marching mean bias {} (se {})",
@@ -59,11 +76,11 @@ fn statistics_do_not_depend_on_thread_count() {
             .install(|| {
                 transmittance_stats(
                     &s,
-                    Estimator::Jackknife {
+                    Estimator::Jackknife(Jackknife {
                         samples: 4,
                         mode: fogbank_estimators::jackknife::StepMode::FixedCount,
                         jitter: fogbank_estimators::optical_depth::Jitter::Stratified,
-                    },
+                    }),
                     None,
                     64,
                     9,

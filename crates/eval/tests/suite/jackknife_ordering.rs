@@ -2,7 +2,8 @@
 //! (Figs. 8–10), measured against `analytic_trilinear` over 16384 independent
 //! frames on two procedural clouds and the Houdini dragon.
 
-use fogbank_estimators::{Estimator, EstimatorOptions};
+use fogbank_estimators::estimator::AnalyticTrilinear;
+use fogbank_estimators::{Estimator, Options};
 use fogbank_eval::{transmittance_stats, Summary};
 use fogbank_render::{parse_scene, Scene};
 use std::path::Path;
@@ -19,7 +20,13 @@ fn scene(text: &str) -> Scene {
 /// Rescales every medium so the largest exact optical depth over the
 /// pixel-centre rays is `tau_max`.
 fn normalise(mut s: Scene, tau_max: f64) -> Scene {
-    let exact = transmittance_stats(&s, Estimator::AnalyticTrilinear, None, 1, 0);
+    let exact = transmittance_stats(
+        &s,
+        Estimator::AnalyticTrilinear(AnalyticTrilinear),
+        None,
+        1,
+        0,
+    );
     let deepest = exact.mean.iter().map(|t| -t[0].ln()).fold(0.0, f64::max);
     for m in &mut s.media {
         let k = (tau_max / deepest) as f32;
@@ -50,7 +57,7 @@ fn dragon() -> Scene {
 }
 
 fn est(name: &str) -> Estimator {
-    Estimator::with_options(name, &EstimatorOptions::default()).unwrap()
+    Estimator::with_options(name, &Options::default()).unwrap()
 }
 
 fn measure(s: &Scene, label: &str) -> Vec<(String, Summary)> {
@@ -65,8 +72,14 @@ fn measure(s: &Scene, label: &str) -> Vec<(String, Summary)> {
     names
         .iter()
         .map(|n| {
-            let st = transmittance_stats(s, est(n), Some(Estimator::AnalyticTrilinear), RUNS, 1)
-                .summary();
+            let st = transmittance_stats(
+                s,
+                est(n),
+                Some(Estimator::AnalyticTrilinear(AnalyticTrilinear)),
+                RUNS,
+                1,
+            )
+            .summary();
             eprintln!(
                 "{label:>8} {n:<26} |bias| {:.5} bias {:+.5} std {:.4} lookups {:.1}",
                 st.mean_abs_bias, st.mean_bias, st.mean_std, st.lookups_per_pixel

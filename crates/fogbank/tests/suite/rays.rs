@@ -6,6 +6,7 @@ use fogbank::rays::{
     camera_rays, sample_distance_on_rays, transmittance_on_rays, FlightSampler, Rays,
 };
 use fogbank::{load_scene, Progress, RenderJob, Renderer};
+use fogbank_estimators::estimator::TrackLength;
 use fogbank_estimators::Estimator;
 
 fn scene(estimator: &str) -> fogbank::Scene {
@@ -120,7 +121,7 @@ fn bad_rays_and_samplers_are_refused_naming_the_ray() {
         transmittance_on_rays(
             &r,
             m,
-            Estimator::TrackLength,
+            Estimator::TrackLength(TrackLength),
             Rays {
                 origins: &o,
                 directions: d,

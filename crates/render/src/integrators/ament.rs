@@ -33,6 +33,7 @@ use crate::params::{Param, ParamReader};
 use crate::world::medium::SceneMedium;
 use crate::world::shading::dvr_phase;
 use crate::world::World;
+use fogbank_estimators::estimator::RatioTracking;
 use fogbank_estimators::Estimator;
 use fogbank_math::{Ray, SampleKey, Vec3};
 
@@ -207,7 +208,7 @@ impl IntegratorParams for AmentParams {
     // Shadow rays are marched like camera rays; no estimator is read, and
     // visopt's (ratio tracking) stands for it in listings and kernel set-up.
     fn estimator(&self) -> Estimator {
-        Estimator::RatioTracking { roulette: 0.0 }
+        Estimator::RatioTracking(RatioTracking { roulette: 0.0 })
     }
 }
 

@@ -29,6 +29,7 @@ use crate::params::{Param, ParamReader};
 use crate::world::World;
 use ament::{Ament, AmentParams};
 use direct::{Direct, DirectParams};
+use fogbank_estimators::estimator::{AnalyticTrilinear, RatioTracking};
 use fogbank_estimators::Estimator;
 use fogbank_math::{SampleKey, Vec3};
 use plugin::{Capabilities, Integrator, IntegratorParams};
@@ -168,7 +169,7 @@ integrators! {
     Ament(AmentParams => Ament) => |p, world| Ament::new(p, world)?,
     #[cfg(test)]
     TestBackground(test_background::TestBackground => Transmittance) => |p, _world| Transmittance {
-        estimator: Estimator::TrackLength,
+        estimator: Estimator::TrackLength(fogbank_estimators::estimator::TrackLength),
         background: Vec3::splat(p.level),
     },
 }
@@ -253,7 +254,7 @@ impl IntegratorDesc {
     /// The integrator ready to render `world`.
     pub fn build(&self, world: &World) -> Result<IntegratorKind, SceneError> {
         let classified = world.media.iter().any(|m| m.medium.opacity.is_some());
-        if classified && self.estimator() == Estimator::AnalyticTrilinear {
+        if classified && self.estimator() == Estimator::AnalyticTrilinear(AnalyticTrilinear) {
             return Err(SceneError(
                 "integrator.estimator: analytic_trilinear integrates a trilinear field exactly, and a \
                  medium classified by a transfer function is not one; choose an unbiased estimator \
@@ -315,7 +316,7 @@ impl IntegratorKind {
     pub fn estimator(&self) -> Estimator {
         self.integrator()
             .estimator()
-            .unwrap_or(Estimator::RatioTracking { roulette: 0.0 })
+            .unwrap_or(Estimator::RatioTracking(RatioTracking { roulette: 0.0 }))
     }
 
     pub fn estimator_name(&self) -> &'static str {

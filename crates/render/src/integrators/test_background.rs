@@ -10,6 +10,7 @@
 use crate::error::SceneError;
 use crate::integrators::plugin::{Capabilities, IntegratorParams};
 use crate::params::{Param, ParamReader};
+use fogbank_estimators::estimator::TrackLength;
 use fogbank_estimators::Estimator;
 
 pub const PARAMS: [Param; 1] = [Param {
@@ -53,6 +54,6 @@ impl IntegratorParams for TestBackground {
     }
 
     fn estimator(&self) -> Estimator {
-        Estimator::TrackLength
+        Estimator::TrackLength(TrackLength)
     }
 }

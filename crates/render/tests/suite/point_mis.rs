@@ -3,6 +3,7 @@
 //! weights sum to one in expectation (App. D), the biased variants order as
 //! the paper reports, and the scene keys parse or fail with clear errors.
 
+use fogbank_estimators::estimator::RegularTracking;
 use fogbank_estimators::{transmittance, Estimator};
 use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
 use fogbank_render::integrators::point_mis::{jackknife_weights, Strategy};
@@ -91,7 +92,7 @@ fn quadrature(s: &Scene, steps: usize) -> Vec<f64> {
                     let dist = d.length();
                     let wi = d / dist;
                     let e = transmittance(
-                        Estimator::RegularTracking,
+                        Estimator::RegularTracking(RegularTracking),
                         &m.medium,
                         &Ray::new(p, wi),
                         dist,

@@ -11,6 +11,7 @@ use crate::lights::sample::LightSampler;
 use crate::world::medium::SceneMedium;
 use crate::world::phase::HenyeyGreenstein;
 use crate::world::World;
+use fogbank_estimators::estimator::{RatioTracking, RegularTracking};
 use fogbank_estimators::jackknife_function::mis_weight;
 use fogbank_estimators::{transmittance, Estimator};
 use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
@@ -83,7 +84,7 @@ impl PointMis {
             }
             let ls = self.in_scattered(s, t, cx);
             let tr = transmittance(
-                Estimator::RegularTracking,
+                Estimator::RegularTracking(RegularTracking),
                 &s.medium.medium,
                 &s.world,
                 t,
@@ -124,7 +125,7 @@ pub fn jackknife_weights(
     let mut lookups = 0u32;
     let pm = PointMis {
         strategy: Strategy::MisJackknife,
-        nee: Estimator::RatioTracking { roulette: 0.0 },
+        nee: Estimator::RatioTracking(RatioTracking { roulette: 0.0 }),
         mis_samples,
         lights: LightSampler::default(),
     };

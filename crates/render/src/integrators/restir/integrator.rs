@@ -13,6 +13,7 @@ use crate::integrators::plugin::Integrator;
 use crate::integrators::shared::{estimator_rng, occluders, PixelSample};
 use crate::lights::sample::LightSampler;
 use crate::world::World;
+use fogbank_estimators::estimator::AnalyticTrilinear;
 use fogbank_estimators::Estimator;
 use fogbank_math::{Pcg32, Ray, SampleKey, Vec3};
 use fogbank_volume::DensityData;
@@ -152,7 +153,7 @@ impl Restir {
             return Vec3::ZERO;
         }
         let mut tr = match self.params.estimator {
-            Estimator::AnalyticTrilinear => SegmentT::Exact,
+            Estimator::AnalyticTrilinear(AnalyticTrilinear) => SegmentT::Exact,
             estimator => SegmentT::Estimated { estimator, rng },
         };
         evaluate(data.world, ray, &y, &mut tr, lookups) * w

@@ -6,6 +6,7 @@ use super::volume::MAX_MIP;
 use crate::error::SceneError;
 use crate::integrators::plugin::{Capabilities, IntegratorParams};
 use crate::params::{take_estimator, Param, ParamReader};
+use fogbank_estimators::estimator::{AnalyticTrilinear, RegularTracking};
 use fogbank_estimators::Estimator;
 
 pub const PARAMS: [Param; 21] = [
@@ -203,7 +204,7 @@ impl Default for RestirParams {
             nee_transmittance: true,
             reuse_mip: 1,
             reuse_step: 1.0,
-            estimator: Estimator::AnalyticTrilinear,
+            estimator: Estimator::AnalyticTrilinear(AnalyticTrilinear),
             rr_depth: 3,
             vertex_reuse: false,
             reuse_bc4: false,
@@ -404,7 +405,7 @@ fn read_estimator(r: &mut ParamReader, d: &RestirParams) -> Result<Estimator, Sc
     } else {
         d.estimator
     };
-    if estimator.biased() || estimator == Estimator::RegularTracking {
+    if estimator.biased() || estimator == Estimator::RegularTracking(RegularTracking) {
         return Err(SceneError(format!(
             "{}: `{}` is not an unbiased transmittance of the trilinear field, which final shading needs",
             r.key_path("estimator"),

@@ -15,6 +15,7 @@ pub mod tracking;
 use crate::error::SceneError;
 use crate::params::{take_estimator, Param, ParamReader};
 use crate::world::World;
+use fogbank_estimators::estimator::ResidualRatioTracking;
 use fogbank_estimators::Estimator;
 use fogbank_math::{Ray, SampleKey, Vec3};
 
@@ -218,7 +219,7 @@ impl ScatterParams {
             (
                 self.distance_sampler
                     .unwrap_or(DistanceSampler::DecompositionTracking),
-                Estimator::ResidualRatioTracking { roulette: 0.0 },
+                Estimator::ResidualRatioTracking(ResidualRatioTracking { roulette: 0.0 }),
             )
         } else {
             (

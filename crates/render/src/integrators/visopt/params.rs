@@ -8,6 +8,7 @@
 use crate::error::SceneError;
 use crate::integrators::plugin::{Capabilities, IntegratorParams};
 use crate::params::{Param, ParamReader};
+use fogbank_estimators::estimator::RatioTracking;
 use fogbank_estimators::Estimator;
 
 pub const PARAMS: [Param; 14] = [
@@ -224,6 +225,6 @@ impl IntegratorParams for VisOptParams {
 
     // NEE rays are ratio-tracked through μ' (§5.3).
     fn estimator(&self) -> Estimator {
-        Estimator::RatioTracking { roulette: 0.0 }
+        Estimator::RatioTracking(RatioTracking { roulette: 0.0 })
     }
 }
