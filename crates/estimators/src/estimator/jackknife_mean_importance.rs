@@ -1,8 +1,8 @@
 //! `jackknife_mean_importance`: the jackknife with mean importance and no
 //! control variate (`crate::jackknife`; Peters 2025 Fig. 9's ablation).
 
-use super::options::{OptionValue, Options};
-use super::plugin::{jitter_value, read_jitter, read_samples, EstimatorPlugin};
+use super::options::Options;
+use super::plugin::{read_samples_and_jitter, samples_and_jitter, EstimatorPlugin};
 use crate::jackknife;
 use crate::optical_depth::{Importance, Jitter};
 use crate::Estimate;
@@ -24,16 +24,12 @@ impl EstimatorPlugin for JackknifeMeanImportance {
     const OPTIONS_HELP: &'static str = "samples=10, jitter=stratified|uniform";
 
     fn read(o: &Options) -> Result<Self, String> {
-        Ok(JackknifeMeanImportance {
-            samples: read_samples(o)?,
-            jitter: read_jitter(o)?,
-        })
+        let (samples, jitter) = read_samples_and_jitter(o)?;
+        Ok(JackknifeMeanImportance { samples, jitter })
     }
 
     fn options(&self) -> Options {
-        Options::default()
-            .with("samples", OptionValue::Int(self.samples.into()))
-            .with("jitter", jitter_value(self.jitter))
+        samples_and_jitter(self.samples, self.jitter)
     }
 
     fn transmittance(&self, view: MediumView<'_>, seg: &RaySegment, rng: &mut Pcg32) -> Estimate {

@@ -62,6 +62,18 @@ pub fn read_jitter(o: &Options) -> Result<Jitter, String> {
     }
 }
 
+/// `samples` and `jitter`, the options of the jackknife's ablations.
+pub fn read_samples_and_jitter(o: &Options) -> Result<(u32, Jitter), String> {
+    Ok((read_samples(o)?, read_jitter(o)?))
+}
+
+/// [`read_samples_and_jitter`]'s options written back.
+pub fn samples_and_jitter(samples: u32, jitter: Jitter) -> Options {
+    Options::default()
+        .with("samples", OptionValue::Int(samples.into()))
+        .with("jitter", jitter_value(jitter))
+}
+
 pub fn jitter_value(j: Jitter) -> OptionValue {
     OptionValue::Text(
         match j {
