@@ -9,7 +9,7 @@
 //! the caller as they are measured, since a whole bench takes minutes.
 
 use crate::error::Error;
-use crate::renderer::threads_or_all;
+use crate::renderer::{threads_or_all, Renderer};
 use fogbank_estimators::estimator::AnalyticTrilinear;
 use fogbank_estimators::Estimator;
 use fogbank_eval::median::median;
@@ -114,11 +114,9 @@ pub enum BenchEvent<'a> {
     Scaling(&'a ScalingRow),
 }
 
-fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool, Error> {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads_or_all(threads)?)
-        .build()
-        .map_err(|e| Error::runtime(e.to_string()))
+/// The CPU's worker pool of `threads` workers (all cores when `None`).
+fn pool(threads: Option<usize>) -> Result<Renderer, Error> {
+    Renderer::cpu(threads_or_all(threads)?)
 }
 
 fn cloud_text(size: u32, resolution: u32, scale: f32, frames: u32) -> String {
@@ -269,7 +267,7 @@ fn time_frames(
     spec: &BenchSpec,
     scene: &Scene,
     backend: Backend,
-    pool: &rayon::ThreadPool,
+    pool: &Renderer,
 ) -> Result<(f64, f64, f64), Error> {
     let opts = RenderOptions::new(spec.frames, 1);
     if let Backend::Gpu(_) = backend {
@@ -327,7 +325,7 @@ pub fn integrator_scaling(
             .map(|&t| pool(Some(t)))
             .collect::<Result<Vec<_>, _>>()?;
         let opts = RenderOptions::new(spec.frames, 1);
-        let time = |pool: &rayon::ThreadPool| {
+        let time = |pool: &Renderer| {
             let r = pool.install(|| fogbank_render::render(&scene, &opts, &Progress::default()));
             r.seconds * 1000.0 / spec.frames as f64
         };

@@ -5,6 +5,7 @@
 use crate::error::Error;
 use fogbank_render::desc::FieldDesc;
 use fogbank_render::world::field::field_data;
+use fogbank_scene::convert::{extensions, FileKind};
 use fogbank_volume::{DensityData, Precision};
 use std::path::Path;
 use std::sync::Arc;
@@ -41,28 +42,29 @@ pub fn read_volume(
     max_voxels: u64,
 ) -> Result<ReadVolume, Error> {
     let name = path.to_string_lossy().to_string();
-    let lower = name.to_ascii_lowercase();
+    let key = match FileKind::of(path) {
+        Some(FileKind::Volume(key)) => key,
+        _ if name.to_ascii_lowercase().ends_with(".raw") => "raw",
+        _ => {
+            return Err(Error::invalid(format!(
+                "{name}: unknown volume format (expected {}, or .raw)",
+                extensions(|k| !k.is_scene())
+            )))
+        }
+    };
     let mut d = FieldDesc {
         grid,
         channel,
         ..Default::default()
     };
-    if lower.ends_with(".vdb") {
-        d.vdb = Some(name.clone());
-    } else if lower.ends_with(".nvdb") {
-        d.nvdb = Some(name.clone());
-    } else if lower.ends_with(".vol") {
-        d.vol = Some(name.clone());
-    } else if lower.ends_with(".nii") || lower.ends_with(".nii.gz") || lower.ends_with(".hdr") {
-        d.nifti = Some(name.clone());
-    } else if lower.ends_with(".nrrd") || lower.ends_with(".nhdr") {
-        d.nrrd = Some(name.clone());
-    } else if lower.ends_with(".raw") {
-        d.raw = Some(name.clone());
-    } else {
-        return Err(Error::invalid(format!(
-            "{name}: unknown volume format (.vdb, .nvdb, .vol, .nii, .nii.gz, .hdr, .nrrd, .nhdr, .raw)"
-        )));
+    let file = Some(name.clone());
+    match key {
+        "vdb" => d.vdb = file,
+        "nvdb" => d.nvdb = file,
+        "vol" => d.vol = file,
+        "nifti" => d.nifti = file,
+        "nrrd" => d.nrrd = file,
+        _ => d.raw = file,
     }
     if d.grid.is_some() && d.vdb.is_none() && d.nvdb.is_none() {
         return Err(Error::invalid(format!(

@@ -3,7 +3,7 @@
 //! 2021 §5); analytic media integrate their field exactly.
 
 use super::options::Options;
-use super::plugin::{exact, EstimatorPlugin};
+use super::plugin::{analytic_optical_depth, exact, EstimatorPlugin};
 use crate::{analytic_trilinear, Estimate};
 use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::MediumView;
@@ -31,10 +31,7 @@ impl EstimatorPlugin for AnalyticTrilinear {
         exact(match view {
             MediumView::F16(v) => analytic_trilinear::optical_depth(&v, seg),
             MediumView::F32(v) => analytic_trilinear::optical_depth(&v, seg),
-            MediumView::Analytic(a) => (
-                a.field.optical_depth(&seg.ray, seg.t0, seg.t1) * a.scale as f64,
-                0,
-            ),
+            MediumView::Analytic(a) => analytic_optical_depth(&a, seg),
         })
     }
 }

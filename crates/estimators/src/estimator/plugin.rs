@@ -9,7 +9,7 @@ use crate::optical_depth::Jitter;
 use crate::roulette::DEFAULT_ROULETTE;
 use crate::Estimate;
 use fogbank_math::{Pcg32, RaySegment};
-use fogbank_volume::MediumView;
+use fogbank_volume::{AnalyticView, MediumView};
 
 pub trait EstimatorPlugin: Sized + Copy {
     /// The name scenes, the command line and Python use.
@@ -53,6 +53,11 @@ pub fn read_roulette(o: &Options) -> Result<f32, String> {
     Ok(r)
 }
 
+/// [`read_roulette`]'s option written back.
+pub fn roulette_option(roulette: f32) -> Options {
+    Options::default().with("roulette", OptionValue::Float(roulette as f64))
+}
+
 /// `jitter`: stratified (default) or uniform.
 pub fn read_jitter(o: &Options) -> Result<Jitter, String> {
     match o.text("jitter")? {
@@ -82,6 +87,12 @@ pub fn jitter_value(j: Jitter) -> OptionValue {
         }
         .into(),
     )
+}
+
+/// The exact optical depth of an analytic medium along `seg`, no lookups.
+pub fn analytic_optical_depth(a: &AnalyticView<'_>, seg: &RaySegment) -> (f64, u32) {
+    let tau = a.field.optical_depth(&seg.ray, seg.t0, seg.t1) * a.scale as f64;
+    (tau, 0)
 }
 
 /// The estimate exp(−τ) of an exact optical depth τ, with its lookups.

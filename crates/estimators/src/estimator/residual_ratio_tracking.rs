@@ -2,8 +2,8 @@
 //! per-super-voxel control extinction (`crate::residual_ratio_tracking`;
 //! Novák et al. 2014), Russian roulette below a weight.
 
-use super::options::{OptionValue, Options};
-use super::plugin::{read_roulette, EstimatorPlugin};
+use super::options::Options;
+use super::plugin::{read_roulette, roulette_option, EstimatorPlugin};
 use crate::{residual_ratio_tracking, Estimate};
 use fogbank_math::{Pcg32, RaySegment};
 use fogbank_volume::MediumView;
@@ -30,7 +30,7 @@ impl EstimatorPlugin for ResidualRatioTracking {
     }
 
     fn options(&self) -> Options {
-        Options::default().with("roulette", OptionValue::Float(self.roulette as f64))
+        roulette_option(self.roulette)
     }
 
     fn transmittance(&self, view: MediumView<'_>, seg: &RaySegment, rng: &mut Pcg32) -> Estimate {
