@@ -6,6 +6,6 @@
 
 pub use fogbank_render::desc::*;
 pub use fogbank_render::integrators::shared::DistanceSampler;
-pub use fogbank_render::integrators::REGISTRY as INTEGRATORS;
+pub use fogbank_render::integrators::LISTED as INTEGRATORS;
 pub use fogbank_render::params::{markdown_table, Param};
 pub use fogbank_render::rebase::rebase_paths;

@@ -5,7 +5,7 @@
 
 use crate::accumulation::Frame;
 use crate::contract::{wgsl_prelude, EMISSION_KINDS};
-use crate::kernel::Kernel;
+use crate::integrators::Kernel;
 use crate::lights::environment::EnvParams;
 use crate::lights::records::LightGpu;
 use crate::render::render_kernel;
@@ -137,9 +137,9 @@ fn wgsl_structs_have_the_layout_of_the_rust_structs() {
 #[test]
 fn every_rust_variant_has_its_own_wgsl_branch() {
     let prelude = wgsl_prelude();
-    let transmittance = shaders::transmittance_kernel();
+    let transmittance = crate::integrators::transmittance::source();
     let scatter = shaders::scatter_kernel();
-    let point_mis = shaders::point_mis_kernel();
+    let point_mis = crate::integrators::point_mis::source();
     let has_case = |src: &str, id: &str| {
         src.lines().any(|l| {
             let l = l.trim();
@@ -344,14 +344,14 @@ fn an_id_without_a_branch_marks_every_sample_invalid() {
     };
     let s = scene(SCENE, &[]);
     let mut k = Kernel::of(&s).unwrap();
-    k.est.id = Estimator::names().len() as u32;
+    k.params.est.id = Estimator::names().len() as u32;
     all_invalid("estimator", gpu_film(&gpu, &s, &k));
     let s = scene(SCENE, &["integrator.type=volpath"]);
     let mut k = Kernel::of(&s).unwrap();
-    k.sampler = DistanceSampler::ALL.len() as u32;
+    k.params.sampler = DistanceSampler::ALL.len() as u32;
     all_invalid("distance sampler", gpu_film(&gpu, &s, &k));
     let s = scene(SCENE, &["integrator.type=point_mis"]);
     let mut k = Kernel::of(&s).unwrap();
-    k.strategy = Strategy::ALL.len() as u32;
+    k.params.strategy = Strategy::ALL.len() as u32;
     all_invalid("strategy", gpu_film(&gpu, &s, &k));
 }

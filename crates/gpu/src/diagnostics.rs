@@ -102,7 +102,8 @@ pub fn light_picks(
     queries: &[[f32; 4]],
 ) -> Result<Vec<[u32; 4]>, GpuError> {
     let grids = vec![crate::medium_records::MediumGrids::default(); scene.media.len()];
-    let lights = crate::lights::LightBuffers::upload(gpu, scene, &grids)?;
+    let sampler = crate::integrators::light_sampler(scene);
+    let lights = crate::lights::LightBuffers::upload(gpu, scene, &sampler, &grids)?;
     let q = gpu.storage_buffer("pick_queries", bytemuck::cast_slice(queries));
     let out = output_buffer(gpu, "pick_answers", queries.len() as u64 * 16);
     let source = [
@@ -141,7 +142,7 @@ pub fn light_picks(
         entry: "main",
         constants: &[(
             "LIGHT_BVH",
-            crate::lights::has_light_bvh(scene) as u32 as f64,
+            crate::integrators::has_light_bvh(scene) as u32 as f64,
         )],
         layouts: Some(&layouts),
     })?;

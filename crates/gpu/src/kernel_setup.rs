@@ -1,87 +1,53 @@
 //! What one per-sample kernel needs before its first dispatch: the scene's
-//! bind groups (media; lights; pins or Lerzer and Dachsbacher 2025's data), the frame uniform
+//! bind groups (media; lights; the integrator's group 3), the frame uniform
 //! and accumulation buffers, the compute pipeline, and timestamp queries
 //! for its device time.
 
 use crate::accumulation::{frame_bind_group_layout, Frame};
-use crate::contract::pin_mode_id;
-use crate::kernel::{Kernel, KernelSource};
+use crate::integrators::plugin::Group3;
+use crate::integrators::Kernel;
 use crate::lights::LightBuffers;
-use crate::pins::PinBuffers;
 use crate::pipelines::PipelineSpec;
 use crate::scene_buffers::SceneBuffers;
-use crate::shaders;
-use crate::visopt::{importance_fields, VisOptBuffers};
 use crate::{Gpu, GpuError};
-use fogbank_render::integrators::shared::pin_params::PinMode;
 use fogbank_render::{RenderOptions, Scene};
 
 /// The scene's bind groups 0, 2 and 3.
 pub(crate) struct SceneGroups {
     pub(crate) media: SceneBuffers,
     pub(crate) lights: Option<LightBuffers>,
-    /// Group 3 of the scatter kernel: the pin grids, gathered on the device.
-    pub(crate) pins: Option<PinBuffers>,
-    /// Group 3 of `visopt` and `ament`.
-    pub(crate) visopt: Option<VisOptBuffers>,
+    /// The integrator's own (pin grids; Lerzer and Dachsbacher 2025's data).
+    pub(crate) group3: Option<Group3>,
 }
 
 impl SceneGroups {
     pub(crate) fn upload(gpu: &Gpu, scene: &Scene, kernel: &Kernel) -> Result<Self, GpuError> {
-        let visopt = matches!(kernel.source, KernelSource::VisOpt | KernelSource::Ament);
-        let fields = if visopt {
-            importance_fields(scene)
-        } else {
-            Vec::new()
-        };
+        let fields = kernel.port.fields(scene);
         let media = SceneBuffers::upload_with(gpu, scene, &[], &fields)?;
-        let lights = if kernel.scatter {
-            Some(LightBuffers::upload(gpu, scene, &media.grids)?)
+        let lights = if kernel.params.scatter {
+            let sampler = kernel.port.light_sampler(scene);
+            Some(LightBuffers::upload(gpu, scene, &sampler, &media.grids)?)
         } else {
             None
         };
-        let pins = if kernel.source == KernelSource::Scatter {
-            let on = kernel.pins.mode != PinMode::Off;
-            Some(PinBuffers::build(
-                gpu,
-                scene,
-                &media,
-                on.then_some(&kernel.pins),
-            )?)
-        } else {
-            None
-        };
-        let visopt = if visopt {
-            Some(VisOptBuffers::build(gpu, scene, &media.field_first)?)
-        } else {
-            None
-        };
+        let group3 = kernel.port.group3(gpu, scene, &kernel.params, &media)?;
         Ok(SceneGroups {
             media,
             lights,
-            pins,
-            visopt,
+            group3,
         })
-    }
-
-    /// Group 3: the pin grids or Lerzer and Dachsbacher 2025's data.
-    pub(crate) fn group3(&self) -> Option<(&wgpu::BindGroupLayout, &wgpu::BindGroup)> {
-        match (&self.pins, &self.visopt) {
-            (Some(p), _) => Some((&p.layout, &p.bind_group)),
-            (_, Some(v)) => Some((&v.layout, &v.bind_group)),
-            _ => None,
-        }
     }
 
     /// Rows per dispatch: a band when the kernel has per-pixel scratch.
     pub(crate) fn band_rows(&self, height: u32) -> u32 {
-        self.visopt.as_ref().map_or(height, |v| v.band_rows).max(1)
+        (self.group3.as_ref())
+            .and_then(|g| g.band_rows)
+            .unwrap_or(height)
+            .max(1)
     }
 
     pub(crate) fn bytes(&self) -> u64 {
-        self.media.bytes
-            + self.pins.as_ref().map_or(0, |p| p.bytes)
-            + self.visopt.as_ref().map_or(0, |v| v.bytes)
+        self.media.bytes + self.group3.as_ref().map_or(0, |g| g.bytes)
     }
 
     /// Binds groups 0, 2 and 3 (group 1 is the frame's).
@@ -90,8 +56,8 @@ impl SceneGroups {
         if let Some(l) = &self.lights {
             pass.set_bind_group(2, &l.bind_group, &[]);
         }
-        if let Some((_, group)) = self.group3() {
-            pass.set_bind_group(3, group, &[]);
+        if let Some(g) = &self.group3 {
+            pass.set_bind_group(3, &g.bind_group, &[]);
         }
     }
 }
@@ -151,20 +117,14 @@ pub(crate) fn pipeline(
     groups: &SceneGroups,
     frame_layout: &wgpu::BindGroupLayout,
 ) -> Result<(wgpu::ComputePipeline, wgpu::ComputePipeline), GpuError> {
-    let source = match kernel.source {
-        KernelSource::Transmittance => shaders::transmittance_kernel(),
-        KernelSource::Scatter => shaders::scatter_kernel(),
-        KernelSource::PointMis => shaders::point_mis_kernel(),
-        KernelSource::VisOpt => shaders::visopt_kernel(),
-        KernelSource::Ament => shaders::ament_kernel(),
-    };
+    let source = kernel.source();
     let layouts = [
         Some(&groups.media.bind_group_layout),
         Some(frame_layout),
         groups.lights.as_ref().map(|l| &l.bind_group_layout),
-        groups.group3().map(|g| g.0),
+        groups.group3.as_ref().map(|g| &g.layout),
     ];
-    let constants = specialisation(kernel);
+    let constants = kernel.constants();
     let entry = |name| {
         gpu.compute_pipeline(&PipelineSpec {
             label: scene.integrator.name(),
@@ -177,51 +137,20 @@ pub(crate) fn pipeline(
     Ok((entry("main")?, entry("merge")?))
 }
 
-/// The pipeline constants of `kernel`'s source: the estimator everywhere,
-/// and the per-render choices a kernel branches on in its hot loops (the
-/// point_mis strategy; the scatter kernel's sampler, pin mode and integrator
-/// flags), so that the driver compiles the branches not taken out.
-fn specialisation(kernel: &Kernel) -> Vec<(&'static str, f64)> {
-    let mut constants = vec![("ESTIMATOR", kernel.est.id as f64)];
-    let light_bvh = ("LIGHT_BVH", kernel.light_bvh as u32 as f64);
-    match kernel.source {
-        KernelSource::PointMis => constants.extend([
-            ("STRATEGY", kernel.strategy as f64),
-            ("OCCLUDERS", occluders(kernel)),
-            light_bvh,
-        ]),
-        KernelSource::VisOpt | KernelSource::Ament => {
-            constants.extend([("OCCLUDERS", occluders(kernel)), light_bvh])
-        }
-        KernelSource::Scatter => constants.extend([
-            ("SAMPLER", kernel.sampler as f64),
-            ("PIN_MODE", pin_mode_id(kernel.pins.mode) as f64),
-            ("INTEGRATOR_FLAGS", kernel.flags as f64),
-            light_bvh,
-        ]),
-        _ => {}
-    }
-    constants
-}
-
-/// occluders.wgsl's pipeline constant: the scene has shapes.
-fn occluders(kernel: &Kernel) -> f64 {
-    ((kernel.flags & crate::contract::INTEGRATOR_SURFACES) != 0) as u32 as f64
-}
-
 /// The frame uniform before the first dispatch.
 pub(crate) fn initial_frame(scene: &Scene, kernel: &Kernel, opts: &RenderOptions) -> Frame {
-    let b = kernel.background;
+    let k = &kernel.params;
+    let b = k.background;
     Frame {
         background: [b.x, b.y, b.z, 0.0],
         seed: opts.seed,
         pixel_jitter: scene.pixel_jitter as u32,
-        max_depth: kernel.max_depth,
-        rr_depth: kernel.rr_depth,
-        mis_samples: kernel.mis_samples,
-        march_step: kernel.pins.march_step,
-        pin_mask_iterations: kernel.pins.grid.mask_iterations,
-        ..Frame::of_scene(scene, &kernel.est)
+        max_depth: k.max_depth,
+        rr_depth: k.rr_depth,
+        mis_samples: k.mis_samples,
+        march_step: k.pins.march_step,
+        pin_mask_iterations: k.pins.grid.mask_iterations,
+        ..Frame::of_scene(scene, &k.est)
     }
 }
 

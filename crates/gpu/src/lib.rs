@@ -18,16 +18,16 @@
 //!   accumulation buffers, read back as a film) and `surfaces` (the scene's BVH, shapes,
 //!   triangles and materials on the device);
 //! - `lights` (bind group 2: lights, environment map, the media's albedo, phase and
-//!   emission, the surfaces), `visopt` (Lerzer and Dachsbacher 2025: bind group 3 of the `visopt` and
-//!   `ament` kernels) and Hansen 2025's pins: `pin_kernel` (the bind-group layout and
-//!   pipeline its grid-writing kernels share) → `pin_stream` (the pins streamed into
+//!   emission, the surfaces) and Hansen 2025's pins: `pin_kernel` (the bind-group layout
+//!   and pipeline its grid-writing kernels share) → `pin_stream` (the pins streamed into
 //!   each grid before every pass) → `pins` (every medium's pin grid gathered on the
 //!   device, bind group 3 of the scatter kernel);
-//! - `diagnostics` (kernels that test the WGSL ports against the CPU bit for bit) and
-//!   `restir` (Lin et al. 2021 §5: the passes of the CPU's `restir::frame` as compute kernels);
-//! - `kernel` (which per-sample kernel an integrator runs: the GPU's integrator
-//!   registry) → `kernel_setup` (bind groups, buffers, pipeline and timestamp queries
-//!   before a kernel's first dispatch) → `render` (the progressive render loop).
+//! - `diagnostics` (kernels that test the WGSL ports against the CPU bit for bit);
+//! - `integrators` (the GPU's integrators, one folder each with its WGSL and a
+//!   `GpuIntegrator` implementation, registered in one line of `gpu_integrators!`;
+//!   `restir` runs Lin et al. 2021 §5's passes) ↔ `kernel_setup` (bind groups, buffers,
+//!   pipeline and timestamp queries before a kernel's first dispatch) and `render` (the
+//!   progressive render loop of the per-sample kernels).
 //!
 //! Tests: `contract_test`, `pipelines_test`, `render_test`.
 
@@ -37,7 +37,7 @@ pub mod contract;
 #[cfg(test)]
 mod contract_test;
 pub mod diagnostics;
-mod kernel;
+mod integrators;
 mod kernel_setup;
 pub mod lights;
 pub mod medium_records;
@@ -50,13 +50,13 @@ mod pipelines_test;
 pub mod render;
 #[cfg(test)]
 mod render_test;
-pub mod restir;
 pub mod scene_buffers;
 pub mod shaders;
 pub mod surfaces;
-pub mod visopt;
 
 pub use context::{Gpu, GpuError};
+/// `restir`'s passes and `visopt`'s scratch budget, for the experiments.
+pub use integrators::{restir, visopt};
 
 /// For tests: the process's GPU, or `None` with a visible message. With
 /// `FOGBANK_REQUIRE_GPU=1` (set by `.ci/run`) a missing adapter is a failure.

@@ -1,16 +1,14 @@
-//! The progressive render loop on the GPU for the integrators with a WGSL
-//! kernel (`transmittance`, `direct`, `volpath`, `point_mis`, `visopt`,
-//! `ament`): the same image as the
+//! The progressive render loop on the GPU for the integrators with a
+//! per-sample WGSL kernel (every port but `restir`'s): the same image as the
 //! CPU's (same scene, seed, sample indices and random streams), accumulated
 //! on the device and read back once.
 
 use crate::accumulation::{after_passes, read_film, SAMPLES_PER_CHUNK};
 pub use crate::accumulation::{GpuRender, Observer};
-use crate::kernel::Kernel;
+use crate::integrators::{port, Kernel};
 use crate::kernel_setup::{self, Accumulators, KernelTimer, SceneGroups};
 use crate::pin_stream::PinStreamPass;
 use crate::{Gpu, GpuError};
-use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::{Progress, RenderOptions, Scene};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
@@ -63,9 +61,8 @@ impl Schedule {
 /// Chunks per dispatch for `band_pixels` pixels per band and `spp` samples
 /// (no more chunk slots than the render's samples fill).
 fn chunks_per_dispatch(schedule: Schedule, kernel: &Kernel, band_pixels: u64, spp: u32) -> u32 {
-    // visopt's NEE lists are per-invocation scratch indexed by pixel: one
-    // chunk at a time.
-    if schedule == Schedule::Sequential || kernel.source == crate::kernel::KernelSource::VisOpt {
+    // Per-pixel scratch (visopt's NEE lists): one chunk at a time.
+    if schedule == Schedule::Sequential || !kernel.port.chunks_together() {
         return 1;
     }
     let by_target = target_invocations().div_ceil(band_pixels.max(1));
@@ -93,13 +90,15 @@ pub fn render_observed(
     progress: &Progress,
     after: Option<Observer<'_>>,
 ) -> Result<GpuRender, GpuError> {
-    if let IntegratorKind::Restir(_) = scene.integrator {
-        return crate::restir::render(gpu, scene, opts, progress, after);
+    let port = port(scene)?;
+    if port.own_passes() {
+        return port.render_passes(gpu, scene, opts, progress, after);
     }
     render_kernel(gpu, scene, &Kernel::of(scene)?, opts, progress, after)
 }
 
-/// Runs `kernel` (as [`Kernel::of`] the scene's integrator gives it).
+/// Runs `kernel` (as [`Kernel::of`] the scene's integrator gives it): the
+/// render of every port without passes of its own.
 pub(crate) fn render_kernel(
     gpu: &Gpu,
     scene: &Scene,
@@ -148,7 +147,7 @@ pub(crate) fn render_scheduled(
     let pixels = (w as u64) * (h as u64);
     let band = groups.band_rows(h);
     let band_pixels = w as u64 * band.min(h) as u64;
-    let stream = groups.pins.as_ref().and_then(|p| p.stream.as_ref());
+    let stream = groups.group3.as_ref().and_then(|g| g.stream.as_ref());
     let (chunks, per_dispatch) =
         dispatch_size(stream.is_some(), schedule, kernel, band_pixels, opts.spp);
     let acc = Accumulators::new(gpu, pixels, chunks as u64 * band_pixels);

@@ -2,7 +2,7 @@
 //! by side with submissions in flight give the image of one chunk per
 //! dispatch bit for bit, in few submissions.
 
-use crate::kernel::Kernel;
+use crate::integrators::Kernel;
 use crate::render::{render_scheduled, Schedule};
 use crate::test_gpu;
 use fogbank_render::{parse_scene, Progress, RenderOptions, Scene};

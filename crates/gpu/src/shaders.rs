@@ -48,24 +48,7 @@ pub const SURFACES: &str = include_str!("wgsl/surfaces/surfaces.wgsl");
 pub const SURFACE_DATA: &str = include_str!("wgsl/surfaces/surface_data.wgsl");
 pub const OCCLUDERS: &str = include_str!("wgsl/occluders.wgsl");
 pub const NEXT_EVENT: &str = include_str!("wgsl/surfaces/next_event.wgsl");
-pub const POINT_MIS_KERNEL: &str = include_str!("wgsl/point_mis_kernel.wgsl");
 pub const ACCUMULATE: &str = include_str!("wgsl/accumulate.wgsl");
-pub const RESTIR_PARAMS: &str = include_str!("wgsl/restir/params.wgsl");
-pub const RESTIR_RESERVOIR: &str = include_str!("wgsl/restir/reservoir.wgsl");
-pub const RESTIR_VOLUME: &str = include_str!("wgsl/restir/volume.wgsl");
-pub const RESTIR_SURFACE: &str = include_str!("wgsl/restir/surface.wgsl");
-pub const RESTIR_TARGET: &str = include_str!("wgsl/restir/target.wgsl");
-pub const RESTIR_CANDIDATES: &str = include_str!("wgsl/restir/candidates.wgsl");
-pub const RESTIR_COMBINE: &str = include_str!("wgsl/restir/combine.wgsl");
-pub const RESTIR_TEMPORAL: &str = include_str!("wgsl/restir/temporal.wgsl");
-pub const RESTIR_SPATIAL: &str = include_str!("wgsl/restir/spatial.wgsl");
-pub const RESTIR_SHADE: &str = include_str!("wgsl/restir/shade.wgsl");
-pub const VISOPT_PARAMS: &str = include_str!("wgsl/visopt/params.wgsl");
-pub const VISOPT_IMPORTANCE: &str = include_str!("wgsl/visopt/importance.wgsl");
-pub const VISOPT_SEGMENTS: &str = include_str!("wgsl/visopt/segments.wgsl");
-pub const VISOPT_KERNEL: &str = include_str!("wgsl/visopt/visopt_kernel.wgsl");
-pub const AMENT_KERNEL: &str = include_str!("wgsl/visopt/ament_kernel.wgsl");
-pub const TRANSMITTANCE_KERNEL: &str = include_str!("wgsl/transmittance_kernel.wgsl");
 
 /// Every estimator's source, after the generated contract constants
 /// ([`crate::contract::wgsl_prelude`]) and the shared media code.
@@ -92,13 +75,15 @@ pub fn estimators() -> String {
     .join("\n")
 }
 
-pub fn transmittance_kernel() -> String {
-    [&estimators(), FRAME, TRANSMITTANCE_KERNEL, ACCUMULATE].join("\n")
+/// A kernel over the frame alone (no scattering, no lights): the
+/// estimators, the frame, `kernel`'s own source, the accumulation.
+pub(crate) fn per_sample_kernel(kernel: &str) -> String {
+    [&estimators(), FRAME, kernel, ACCUMULATE].join("\n")
 }
 
 /// A scattering integrator's kernel: the estimators, the frame, MIS, phase,
 /// lights and medium properties, then `kernel`'s own source.
-fn scattering_kernel(kernel: &str) -> String {
+pub(crate) fn scattering_kernel(kernel: &str) -> String {
     [
         &estimators(),
         FRAME,
@@ -116,7 +101,7 @@ fn scattering_kernel(kernel: &str) -> String {
 
 /// Shapes with their BSDFs: the BVH, the analytic shapes, the microfacet
 /// and layered BSDFs, the per-shape data and the textures (bitmaps).
-fn surfaces() -> String {
+pub(crate) fn surfaces() -> String {
     [
         BVH,
         ANALYTIC_SHAPES,
@@ -158,60 +143,8 @@ pub fn pin_stream_kernel() -> String {
 
 /// A kernel of an integrator that sees shapes as opaque occluders only
 /// (occluders.wgsl, compiled out without shapes).
-fn occluding_kernel(kernel: &str) -> String {
+pub(crate) fn occluding_kernel(kernel: &str) -> String {
     scattering_kernel(&[BVH, ANALYTIC_SHAPES, SURFACE_DATA, OCCLUDERS, kernel].join("\n"))
-}
-
-/// `point_mis`.
-pub fn point_mis_kernel() -> String {
-    occluding_kernel(POINT_MIS_KERNEL)
-}
-
-/// `visopt` (Lerzer and Dachsbacher 2025 §5.4): importance rules, lists, the optimised view.
-pub fn visopt_kernel() -> String {
-    occluding_kernel(
-        &[
-            VISOPT_PARAMS,
-            VISOPT_IMPORTANCE,
-            VISOPT_SEGMENTS,
-            VISOPT_KERNEL,
-        ]
-        .join("\n"),
-    )
-}
-
-/// `ament` (Lerzer and Dachsbacher 2025's ray-marched baseline).
-pub fn ament_kernel() -> String {
-    occluding_kernel(&[VISOPT_PARAMS, VISOPT_IMPORTANCE, AMENT_KERNEL].join("\n"))
-}
-
-/// `restir`: the scattering prelude without the per-sample entry point,
-/// then its passes (entry points `candidates`, `reproject`, `temporal`,
-/// `spatial`, `shade`, `reduce`).
-pub fn restir_kernel() -> String {
-    [
-        &estimators(),
-        FRAME,
-        PHASE,
-        LIGHTS,
-        SHAPE_LIGHTS,
-        PROPERTIES,
-        LIGHT_BVH,
-        DISTANCE_TRILINEAR,
-        &surfaces(),
-        OCCLUDERS,
-        RESTIR_PARAMS,
-        RESTIR_RESERVOIR,
-        RESTIR_VOLUME,
-        RESTIR_SURFACE,
-        RESTIR_TARGET,
-        RESTIR_CANDIDATES,
-        RESTIR_COMBINE,
-        RESTIR_TEMPORAL,
-        RESTIR_SPATIAL,
-        RESTIR_SHADE,
-    ]
-    .join("\n")
 }
 
 /// (span, [(member, offset)]) of WGSL struct `name` in `source`.

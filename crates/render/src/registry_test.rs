@@ -1,9 +1,10 @@
 //! Adding an integrator is its own file and one line of the `integrators!`
-//! list: `test_background` (compiled only for these tests) appears in the
-//! registry that `fogbank integrators` prints, its keys are validated by
+//! list: `test_background` (compiled only for tests) appears in the
+//! registry every scene is read through (and, being test-only, not in the
+//! list `fogbank integrators` prints), its keys are validated by
 //! `--set`, and its table round-trips through a scene file and renders.
 
-use crate::integrators::{IntegratorDesc, IntegratorKind, REGISTRY};
+use crate::integrators::{IntegratorDesc, IntegratorKind, LISTED, REGISTRY};
 use crate::params::markdown_table;
 use crate::scene::{parse_scene, Scene, DEFAULT_SCENE};
 use crate::{render, Progress, RenderOptions};
@@ -20,6 +21,15 @@ fn a_registered_integrator_is_listed_with_its_table() {
         .iter()
         .find(|(n, _)| *n == "test_background")
         .expect("registered in one line");
+    let unlisted: Vec<&str> = (REGISTRY.iter())
+        .filter(|(n, _)| LISTED.iter().all(|(l, _)| l != n))
+        .map(|(n, _)| *n)
+        .collect();
+    assert!(unlisted.contains(&"test_background"), "{unlisted:?}");
+    assert!(
+        unlisted.iter().all(|n| n.starts_with("test_")),
+        "{unlisted:?}"
+    );
     assert!(markdown_table(params).contains("| `level` | 0.5 |"));
     // Its module doc carries the same table, as every integrator's does.
     let doc = include_str!("integrators/test_background.rs");

@@ -11,40 +11,10 @@ pub(crate) mod records;
 use crate::contract::v4;
 use crate::medium_records::{shading_records, MediumGrids};
 use crate::{Gpu, GpuError};
-use fogbank_render::integrators::IntegratorKind;
 use fogbank_render::lights::sample::{LightSampler, Vertex};
 use fogbank_render::Scene;
 use records::{LightGpu, Selection};
 use wgpu::util::DeviceExt;
-
-/// The integrator's light sampler, which the GPU mirrors.
-pub(crate) fn light_sampler(scene: &Scene) -> std::borrow::Cow<'_, LightSampler> {
-    use std::borrow::Cow;
-    match &scene.integrator {
-        IntegratorKind::Direct(d) => Cow::Borrowed(&d.lights),
-        IntegratorKind::VisOpt(v) => Cow::Borrowed(&v.lights),
-        // `ament` marches to every light and picks none, transmittance
-        // through surfaces (the scatter kernel) picks no light: any sampler
-        // does, its bindings still hold the scene's.
-        IntegratorKind::Ament(_) | IntegratorKind::Transmittance(_) => {
-            Cow::Owned(LightSampler::new(
-                &scene.world.lights,
-                scene.world.radius(),
-                scene.world.light_selection,
-            ))
-        }
-        IntegratorKind::VolPath(v) => Cow::Borrowed(&v.lights),
-        IntegratorKind::PointMis(p) => Cow::Borrowed(&p.lights),
-        IntegratorKind::Restir(r) => Cow::Borrowed(&r.lights),
-    }
-}
-
-/// light_bvh.wgsl's pipeline constant `LIGHT_BVH`: whether the scene's
-/// emitting triangles are picked through a light BVH (without one the
-/// driver compiles the descent out).
-pub(crate) fn has_light_bvh(scene: &Scene) -> bool {
-    light_sampler(scene).bvh().is_some()
-}
 
 pub struct LightBuffers {
     pub bind_group_layout: wgpu::BindGroupLayout,
@@ -52,16 +22,17 @@ pub struct LightBuffers {
 }
 
 impl LightBuffers {
-    /// Bind group 2 for `scene`: the light records, the header with the
-    /// environment map, the `shading` buffer (medium records, blackbody
+    /// Bind group 2 for `scene`: the light records with `sampler`'s
+    /// selection (the integrator's, which the GPU mirrors), the header with
+    /// the environment map, the `shading` buffer (medium records, blackbody
     /// table, light BVH) and the surfaces. `grids`: per medium, where its
     /// property grids are ([`crate::scene_buffers::SceneBuffers::grids`]).
     pub fn upload(
         gpu: &Gpu,
         scene: &Scene,
+        sampler: &LightSampler,
         grids: &[MediumGrids],
     ) -> Result<LightBuffers, GpuError> {
-        let sampler = &*light_sampler(scene);
         let pickable = !sampler.cdf(Vertex::Medium).is_empty();
         let (mut env, map) = environment::environment(scene, pickable)?;
         let records = light_records(scene, sampler);

@@ -21,9 +21,6 @@ pub mod transmittance;
 pub mod visopt;
 pub mod volpath;
 
-#[cfg(test)]
-mod test_background;
-
 use crate::error::SceneError;
 use crate::params::{Param, ParamReader};
 use crate::world::World;
@@ -42,11 +39,20 @@ use visopt::{VisOpt, VisOptParams};
 use volpath::{VolPath, VolPathParams};
 
 /// The integrators, one line each: the variant, the parameter type (its
-/// [`IntegratorParams`]), the built type (its [`Integrator`]), and how the
-/// description builds it for a world. Generates `IntegratorDesc`,
+/// [`IntegratorParams`]), the built type (its [`Integrator`]), optionally
+/// the module it declares (`in name`), and how the description builds it
+/// for a world. Generates `IntegratorDesc`,
 /// `IntegratorKind`, [`REGISTRY`] and every dispatch over them.
 macro_rules! integrators {
-    ($($(#[$meta:meta])* $variant:ident($params:ty => $kind:ty) => |$p:ident, $world:ident| $build:expr,)*) => {
+    (@module [$($attr:tt)*] $module:ident) => {
+        $($attr)* pub mod $module;
+    };
+    (@module [$($attr:tt)*]) => {};
+    ($($(#[$meta:meta])* $variant:ident($params:ty => $kind:ty) $(in $module:ident)? => |$p:ident, $world:ident| $build:expr,)*) => {
+        // A line may declare its module (`in test_tint`), so that a
+        // test-only integrator is its folder and its line.
+        $(integrators!(@module [$(#[$meta])*] $($module)?);)*
+
         /// The `[integrator]` table: `type` selects the integrator, every
         /// other key is one of its parameters (see each integrator's table).
         #[derive(Clone, Debug, PartialEq)]
@@ -54,10 +60,21 @@ macro_rules! integrators {
             $($(#[$meta])* $variant($params),)*
         }
 
-        /// Every integrator's `type` and parameter table, in registration
-        /// order.
+        /// Every integrator this build reads: `type` and parameter table, in
+        /// registration order (test-only ones included where compiled).
         pub static REGISTRY: LazyLock<Vec<(&'static str, &'static [Param])>> =
             LazyLock::new(registry);
+
+        /// The integrators users see (`fogbank integrators`, the guide, the
+        /// messages that list alternatives): [`REGISTRY`] less the test-only.
+        pub static LISTED: LazyLock<Vec<(&'static str, &'static [Param])>> =
+            LazyLock::new(|| {
+                let mut v = Vec::new();
+                $($(#[$meta])* if <$params>::LISTED {
+                    v.push((<$params>::NAME, <$params>::PARAMS));
+                })*
+                v
+            });
 
         // Entries may carry `#[cfg]`s, which `vec![]`'s elements cannot.
         #[allow(clippy::vec_init_then_push)]
@@ -77,7 +94,7 @@ macro_rules! integrators {
             /// The integrators with a capability, in registration order.
             fn names_with(has: fn(Capabilities) -> bool) -> Vec<&'static str> {
                 let mut v = Vec::new();
-                $($(#[$meta])* if has(<$params>::CAPABILITIES) {
+                $($(#[$meta])* if <$params>::LISTED && has(<$params>::CAPABILITIES) {
                     v.push(<$params>::NAME);
                 })*
                 v
@@ -167,8 +184,10 @@ integrators! {
     Restir(RestirParams => Restir) => |p, world| Restir::new(p, world)?,
     VisOpt(VisOptParams => VisOpt) => |p, world| VisOpt::new(p, world)?,
     Ament(AmentParams => Ament) => |p, world| Ament::new(p, world)?,
-    #[cfg(test)]
-    TestBackground(test_background::TestBackground => Transmittance) => |p, _world| Transmittance {
+    // Test-only: compiled for this crate's tests and, through the
+    // `test-plugins` feature, for the GPU crate's tests of its ports.
+    #[cfg(any(test, feature = "test-plugins"))]
+    TestBackground(test_background::TestBackground => Transmittance) in test_background => |p, _world| Transmittance {
         estimator: Estimator::TrackLength(fogbank_estimators::estimator::TrackLength),
         background: Vec3::splat(p.level),
     },
@@ -199,7 +218,7 @@ impl IntegratorDesc {
             }
         };
         let Some(&(name, params)) = REGISTRY.iter().find(|(n, _)| *n == ty) else {
-            let names: Vec<&str> = REGISTRY.iter().map(|(n, _)| *n).collect();
+            let names: Vec<&str> = LISTED.iter().map(|(n, _)| *n).collect();
             return Err(SceneError(format!(
                 "{path}.type: unknown integrator `{ty}` (available: {})",
                 names.join(", ")
@@ -216,7 +235,7 @@ impl IntegratorDesc {
         r.with_owner(&desc.owner())
             .finish(&takes)
             .map_err(|SceneError(e)| {
-                let owners: Vec<&str> = REGISTRY
+                let owners: Vec<&str> = LISTED
                     .iter()
                     .filter(|(_, ps)| ps.iter().any(|p| Some(p.key) == leftover.as_deref()))
                     .map(|(n, _)| *n)

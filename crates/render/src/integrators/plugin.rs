@@ -31,6 +31,9 @@ pub trait IntegratorParams: Sized {
     /// Its parameter table, one row per key it reads.
     const PARAMS: &'static [Param];
     const CAPABILITIES: Capabilities;
+    /// Shown to users (`fogbank integrators`, the guide, messages); false
+    /// for the test-only integrators, which are read but not listed.
+    const LISTED: bool = true;
 
     /// Reads its keys from the table (defaults from `Default`); every key
     /// it does not take is left for the caller to refuse.

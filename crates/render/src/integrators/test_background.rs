@@ -37,6 +37,7 @@ impl IntegratorParams for TestBackground {
         chromatic: false,
         far_clip: true,
     };
+    const LISTED: bool = false;
 
     fn read(r: &mut ParamReader) -> Result<Self, SceneError> {
         let level: f32 = r.take("level")?.unwrap_or(TestBackground::default().level);

@@ -4,7 +4,7 @@
 //! so none of them can drift. On a mismatch the message prints what the
 //! place should say.
 
-use fogbank_render::integrators::{IntegratorDesc, REGISTRY};
+use fogbank_render::integrators::{IntegratorDesc, LISTED};
 use fogbank_render::params::{markdown_table, Param};
 use std::path::{Path, PathBuf};
 
@@ -35,7 +35,7 @@ fn doc_table(source: &str) -> String {
 #[test]
 fn module_docs_carry_the_registered_tables() {
     let mut wrong = Vec::new();
-    for (name, params) in REGISTRY.iter() {
+    for (name, params) in LISTED.iter() {
         let path = module_file(name);
         let source = std::fs::read_to_string(&path).unwrap();
         let expected = markdown_table(params);
@@ -81,7 +81,7 @@ fn defaults(name: &str) -> toml::Table {
 #[test]
 fn defaults_read_are_the_defaults_the_tables_state() {
     let mut wrong = Vec::new();
-    for (name, params) in REGISTRY.iter() {
+    for (name, params) in LISTED.iter() {
         let written = defaults(name);
         for Param { key, default, .. } in params.iter() {
             let Some(value) = written.get(*key).and_then(shown) else {
@@ -124,7 +124,7 @@ fn the_guide_lists_every_key_with_its_default() {
     let guide_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/guide/integrators.md");
     let guide = std::fs::read_to_string(guide_path).unwrap();
     let mut wrong = Vec::new();
-    for (name, params) in REGISTRY.iter() {
+    for (name, params) in LISTED.iter() {
         let expected = keys_cell(params);
         match guide_keys(&guide, name) {
             Some(cell) if cell == expected => {}

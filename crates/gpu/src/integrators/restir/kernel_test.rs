@@ -7,7 +7,7 @@
 use super::kernels::PASSES;
 
 fn module() -> (naga::Module, naga::valid::ModuleInfo, String) {
-    let src = crate::shaders::restir_kernel();
+    let src = super::source::source();
     let module =
         naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&src)));
     let info = naga::valid::Validator::new(

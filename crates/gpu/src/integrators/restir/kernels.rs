@@ -9,7 +9,7 @@ use super::uniform::{MipRecords, Regions, RestirUniform, STORED_BYTES};
 use crate::accumulation::{frame_bind_group_layout, read_film};
 use crate::context::buffer_entry;
 use crate::pipelines::PipelineSpec;
-use crate::{shaders, Gpu, GpuError};
+use crate::{Gpu, GpuError};
 use fogbank_render::integrators::restir::Reuse;
 use fogbank_render::{Film, Scene};
 
@@ -112,7 +112,7 @@ impl RestirGpu {
                 &layouts,
                 est.id,
                 scene.world.surfaces.is_some(),
-                crate::lights::has_light_bvh(scene),
+                restir_of(scene)?.lights.bvh().is_some(),
             )?,
             uniform: RestirUniform::new(p, &mips, batch),
             uniform_buf,
@@ -297,7 +297,7 @@ fn pipelines(
     occluders: bool,
     light_bvh: bool,
 ) -> Result<Vec<wgpu::ComputePipeline>, GpuError> {
-    let source = shaders::restir_kernel();
+    let source = super::source::source();
     PASSES
         .iter()
         .map(|entry| {

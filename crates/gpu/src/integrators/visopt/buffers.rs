@@ -1,5 +1,5 @@
 //! Lerzer and Dachsbacher 2025 on the GPU: bind group 3 of the `visopt` and
-//! `ament` kernels (`wgsl/visopt/`) — their parameters, the medium's
+//! `ament` kernels — their parameters, the medium's
 //! importance rules (masks and a pre-classified importance are property
 //! records of the media buffer) and visopt's camera lists, built and frozen
 //! on the CPU ([`CameraLists`]) and only read on the device.
@@ -19,7 +19,7 @@ use fogbank_render::world::importance::Importance;
 use fogbank_render::Scene;
 use wgpu::util::DeviceExt;
 
-/// WGSL `VisOptUniform` (`wgsl/visopt/params.wgsl`).
+/// WGSL `VisOptUniform` (`params.wgsl`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub(crate) struct VisOptUniform {
@@ -187,6 +187,23 @@ fn integrator_uniform<'s>(
     })
 }
 
+/// Group 3 of `visopt` and `ament` over `media` (uploaded with
+/// [`importance_fields`]).
+pub(crate) fn group3(
+    gpu: &Gpu,
+    scene: &Scene,
+    media: &crate::scene_buffers::SceneBuffers,
+) -> Result<Option<crate::integrators::plugin::Group3>, GpuError> {
+    let v = VisOptBuffers::build(gpu, scene, &media.field_first)?;
+    Ok(Some(crate::integrators::plugin::Group3 {
+        layout: v.layout,
+        bind_group: v.bind_group,
+        bytes: v.bytes,
+        band_rows: Some(v.band_rows),
+        stream: None,
+    }))
+}
+
 impl VisOptBuffers {
     /// `field_first`: the property records of [`importance_fields`] as
     /// [`crate::scene_buffers::SceneBuffers::field_first`] gives them.
@@ -291,7 +308,7 @@ mod visopt_layout_test {
 
     #[test]
     fn records_match_their_wgsl_structs() {
-        let src = crate::shaders::visopt_kernel();
+        let src = super::super::source::source();
         let f = |n: &[&'static str], step: usize| -> Vec<(&'static str, usize)> {
             n.iter().enumerate().map(|(i, s)| (*s, i * step)).collect()
         };

@@ -1,4 +1,4 @@
-//! The restir passes' uniform (`RestirUniform` in `wgsl/restir/params.wgsl`):
+//! The restir passes' uniform (`RestirUniform` in `wgsl/params.wgsl`):
 //! the integrator's parameters, the media records of its mips, and what one
 //! frame of one batch of sequences reads and writes.
 
@@ -6,7 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use fogbank_render::integrators::restir::{RestirParams, ReuseMis};
 use fogbank_render::world::velocity::Velocity;
 
-/// Bytes of one stored reservoir (`Stored` in `wgsl/restir/reservoir.wgsl`).
+/// Bytes of one stored reservoir (`Stored` in `wgsl/reservoir.wgsl`).
 pub const STORED_BYTES: u64 = 352;
 
 #[repr(C)]
@@ -51,7 +51,7 @@ pub(crate) struct RestirUniform {
 }
 
 /// A frame's medium velocity as the GPU evaluates it (`velocity_at` in
-/// `wgsl/restir/candidates.wgsl`): `VELOCITY_GRID`: rows 0–2 the linear map
+/// `wgsl/candidates.wgsl`): `VELOCITY_GRID`: rows 0–2 the linear map
 /// of the grid's vectors to world vectors, the grid's channels from record
 /// `record`; `VELOCITY_AFFINE`: v(p) = rows 0–2 · (p, 1) where rows 3–5 ·
 /// (p, 1) lies in the unit cube, 0 elsewhere.
@@ -286,7 +286,7 @@ mod layout_test {
     /// offsets the Rust side writes and sizes buffers by.
     #[test]
     fn restir_structs_have_the_rust_layout() {
-        let src = crate::shaders::restir_kernel();
+        let src = super::super::source::source();
         let (span, members) = wgsl_struct(&src, "RestirUniform");
         assert_eq!(span as usize, size_of::<RestirUniform>());
         let rust = |name: &str| -> usize {

@@ -80,7 +80,7 @@ pub(super) fn upload_frame(
         media.field_first.first().copied().unwrap_or(0),
         scene.world.frame_dt,
     );
-    let lights = LightBuffers::upload(gpu, scene, &media.grids)?;
+    let lights = LightBuffers::upload(gpu, scene, &restir_of(scene)?.lights, &media.grids)?;
     let frame_buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("frame"),
         size: std::mem::size_of::<Frame>() as u64,
