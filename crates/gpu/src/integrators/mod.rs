@@ -146,6 +146,8 @@ gpu_integrators! {
     Restir => restir::RestirPort,
     VisOpt => visopt::VisOptPort,
     Ament => ament::AmentPort,
+    #[cfg(test)]
+    TestTint => test_tint::TestTintPort,
 }
 
 /// The port of `scene`'s integrator, or why it has none.

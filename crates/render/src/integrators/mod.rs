@@ -191,6 +191,8 @@ integrators! {
         estimator: Estimator::TrackLength(fogbank_estimators::estimator::TrackLength),
         background: Vec3::splat(p.level),
     },
+    #[cfg(any(test, feature = "test-plugins"))]
+    TestTint(test_tint::TestTintParams => test_tint::TestTint) in test_tint => |p, _world| test_tint::TestTint::new(p),
 }
 
 /// A scene without `[integrator]` shows its media's transmittance over
