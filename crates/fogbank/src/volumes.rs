@@ -5,7 +5,7 @@
 use crate::error::Error;
 use fogbank_render::desc::FieldDesc;
 use fogbank_render::world::field::field_data;
-use fogbank_scene::convert::{extensions, FileKind};
+use fogbank_volume::formats;
 use fogbank_volume::{DensityData, Precision};
 use std::path::Path;
 use std::sync::Arc;
@@ -42,35 +42,24 @@ pub fn read_volume(
     max_voxels: u64,
 ) -> Result<ReadVolume, Error> {
     let name = path.to_string_lossy().to_string();
-    let key = match FileKind::of(path) {
-        Some(FileKind::Volume(key)) => key,
-        _ if name.to_ascii_lowercase().ends_with(".raw") => "raw",
-        _ => {
-            return Err(Error::invalid(format!(
-                "{name}: unknown volume format (expected {}, or .raw)",
-                extensions(|k| !k.is_scene())
-            )))
-        }
+    let Some(format) = formats::of_path(path) else {
+        return Err(Error::invalid(format!(
+            "{name}: unknown volume format (expected {})",
+            formats::expected_extensions()
+        )));
     };
+    if grid.is_some() && format.sparse.is_none() {
+        return Err(Error::invalid(format!(
+            "{name}: grid= names a grid of a {} file",
+            formats::or_list(&formats::extensions(|f| f.sparse.is_some()))
+        )));
+    }
     let mut d = FieldDesc {
         grid,
         channel,
         ..Default::default()
     };
-    let file = Some(name.clone());
-    match key {
-        "vdb" => d.vdb = file,
-        "nvdb" => d.nvdb = file,
-        "vol" => d.vol = file,
-        "nifti" => d.nifti = file,
-        "nrrd" => d.nrrd = file,
-        _ => d.raw = file,
-    }
-    if d.grid.is_some() && d.vdb.is_none() && d.nvdb.is_none() {
-        return Err(Error::invalid(format!(
-            "{name}: grid= names a grid of a .vdb or .nvdb file"
-        )));
-    }
+    d.files.set(format, name.clone());
     let f = field_data(&d, &name, Path::new(""), Precision::F32)?;
     let DensityData::F32(g) = &f.data else {
         return Err(Error::invalid(format!("{name}: not a voxel grid")));

@@ -123,17 +123,7 @@ pub fn frame_path(path: &str, frame: u32) -> String {
 /// `f` at `frame`: per-frame file names; a procedural plume's `time`
 /// advances by frame/fps.
 fn frame_field(f: &mut FieldDesc, frame: u32, fps: f32) {
-    for p in [
-        &mut f.vdb,
-        &mut f.nvdb,
-        &mut f.vol,
-        &mut f.raw,
-        &mut f.nifti,
-        &mut f.nrrd,
-    ]
-    .into_iter()
-    .flatten()
-    {
+    for p in f.files.paths_mut() {
         *p = frame_path(p, frame);
     }
     if f.procedural.as_deref() == Some("plume") {

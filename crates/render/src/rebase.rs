@@ -5,13 +5,18 @@
 
 use std::path::{Path, PathBuf};
 
-/// Keys whose string values name files: field sources (`vdb`, `nvdb`,
-/// `vol`, `raw`, `nifti`, `nrrd`), ParaView colour maps, every `file`
-/// (environment maps, meshes, velocity and transfer files) and bitmap
+/// Keys whose string values name files beside the volume formats' (a
+/// field's source, `fogbank_volume::formats`): ParaView colour maps, every
+/// `file` (environment maps, meshes, velocity and transfer files) and bitmap
 /// textures' `filename`.
-pub const FILE_KEYS: [&str; 9] = [
-    "vdb", "nvdb", "vol", "raw", "nifti", "nrrd", "paraview", "file", "filename",
-];
+const OTHER_FILE_KEYS: [&str; 3] = ["paraview", "file", "filename"];
+
+/// Whether the string value of key `k` names a file: a volume format's key
+/// (`vdb`, `nrrd`, …; also the velocity's `vdb`/`nvdb`) or one of
+/// [`OTHER_FILE_KEYS`].
+pub fn is_file_key(k: &str) -> bool {
+    fogbank_volume::formats::by_key(k).is_some() || OTHER_FILE_KEYS.contains(&k)
+}
 
 /// Rewrites the relative file names of `scene` (resolved against `from`)
 /// so they name the same files from `to`: unchanged when the two folders
@@ -36,7 +41,7 @@ fn rebase(v: &mut toml::Value, from: &Path) {
         toml::Value::Table(t) => {
             for (k, x) in t.iter_mut() {
                 match x {
-                    toml::Value::String(s) if FILE_KEYS.contains(&k.as_str()) => {
+                    toml::Value::String(s) if is_file_key(k) => {
                         if Path::new(s.as_str()).is_relative() {
                             *s = absolute(&from.join(s.as_str())).display().to_string();
                         }

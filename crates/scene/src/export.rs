@@ -10,8 +10,9 @@
 
 use std::path::Path;
 
+use fogbank_volume::formats::{self, WriteOptions};
 use fogbank_volume::loaders::vdb::VdbGrid;
-use fogbank_volume::writers::{self, NanoOptions, VdbOptions};
+use fogbank_volume::writers;
 /// How a `.vdb` compresses its leaves and what a `.nvdb` stores per voxel.
 pub use fogbank_volume::writers::{Codec, NanoValue};
 use fogbank_volume::{DensityData, Precision};
@@ -100,39 +101,16 @@ pub fn encode(
     codec: Codec,
     value: NanoValue,
 ) -> Result<Vec<u8>, SceneError> {
-    let nvdb = match out.extension().and_then(|e| e.to_str()) {
-        Some(e) if e.eq_ignore_ascii_case("vdb") => false,
-        Some(e) if e.eq_ignore_ascii_case("nvdb") => true,
-        _ => {
-            return Err(SceneError(format!(
-                "{}: the output must be a .vdb or .nvdb file",
-                out.display()
-            )))
-        }
-    };
-    if nvdb && half {
-        return Err(SceneError(
-            "half floats are an OpenVDB (.vdb) option; NanoVDB quantises with fp8 or fp16".into(),
-        ));
-    }
-    if !nvdb && value != NanoValue::Float {
-        return Err(SceneError(
-            "quantisation (fp8, fp16) is a NanoVDB (.nvdb) option; OpenVDB stores float or half"
-                .into(),
-        ));
-    }
-    let grids = std::slice::from_ref(grid);
-    let bytes = if nvdb {
-        writers::nanovdb::to_bytes(grids, NanoOptions { value, codec })
-    } else {
-        let o = VdbOptions {
-            half,
-            codec,
-            active_mask: codec != Codec::None,
-        };
-        writers::vdb::to_bytes(grids, o)
-    };
-    bytes.map_err(|e| SceneError(format!("{}: {e}", out.display())))
+    let write = formats::by_extension(out)
+        .and_then(|f| f.write)
+        .ok_or_else(|| {
+            SceneError(format!(
+                "{}: the output must be a {} file",
+                out.display(),
+                formats::or_list(&formats::extensions(|f| f.write.is_some()))
+            ))
+        })?;
+    write(grid, out, &WriteOptions { half, codec, value }).map_err(|e| SceneError(e.to_string()))
 }
 
 /// The chosen grid of medium `options.medium`, in world space.

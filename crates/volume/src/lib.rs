@@ -27,6 +27,7 @@ pub mod dda;
 pub mod distance;
 pub mod error;
 pub mod explosion;
+pub mod formats;
 pub mod grid;
 pub mod grid_builder;
 pub mod lanes;

@@ -186,7 +186,7 @@ type Channels = (
 
 fn rgb_channels(d: &FieldDesc, key: &str, base: &Path) -> Result<Channels, SceneError> {
     let err = |e: fogbank_volume::VolumeError| SceneError(format!("{key}: {e}"));
-    match (&d.vol, &d.array, d.channel) {
+    match (d.files.path_of("vol"), &d.array, d.channel) {
         (Some(f), None, None) => {
             let path = base.join(f);
             let v = vol::read_vol(&path).map_err(err)?;

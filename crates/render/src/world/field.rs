@@ -5,7 +5,9 @@
 use super::arrays;
 use crate::error::SceneError;
 use fogbank_math::{DAffine3, Vec3};
-use fogbank_volume::loaders::{self as scalar_files, nanovdb, raw, vdb, vdb_grid, vol};
+pub use fogbank_volume::formats::FieldData;
+use fogbank_volume::formats::{self, FileSource, VolumeFormat};
+use fogbank_volume::loaders::vol;
 use fogbank_volume::{
     bunny, explosion, medium::unit_box_transform, plume, procedural, AnalyticField, AnalyticKind,
     BrickGrid, DensityData, Precision,
@@ -14,8 +16,9 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// The source of a scalar field (density, albedo, emission, temperature).
-/// Exactly one source key: `vdb`, `nvdb`, `vol`, `raw`, `nifti`, `nrrd`,
-/// `array` or `procedural`.
+/// Exactly one source key: a volume format's (`vdb`, `nvdb`, `vol`,
+/// `nifti`, `nrrd`, `raw`: see each file of [`fogbank_volume::formats`] for its
+/// further keys), `array` or `procedural`.
 ///
 /// | source | further keys |
 /// |---|---|
@@ -31,25 +34,14 @@ use std::path::Path;
 /// | `procedural = "plume"` | `resolution` (128), `seed` (7), `time` (seconds, 0; an `[animation]` adds frame/fps); rising, swirling smoke with an analytic velocity |
 /// | `procedural = "constant"/"ramp"/"sinusoid"/"slabs"/"sphere"/"empty"` | `resolution`, `value`, `gradient`, `amplitude`, `frequency`, `phase`, `count`, `width`, `axis`, `radius` |
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
 pub struct FieldDesc {
-    pub vdb: Option<String>,
-    /// A NanoVDB file; `grid` and `level_set` as for `vdb`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub nvdb: Option<String>,
+    /// The file keys (`vdb = "f.vdb"`, …), one per registered volume format
+    /// ([`fogbank_volume::formats`]); every other key of the table is refused here.
+    #[serde(flatten)]
+    pub files: FileKeys,
     pub grid: Option<String>,
     pub level_set: Option<String>,
-    pub vol: Option<String>,
     pub channel: Option<u32>,
-    pub raw: Option<String>,
-    /// A NIfTI-1/2 file (`.nii`, `.nii.gz`, `.hdr`); `channel` picks the 3D
-    /// volume of a 4D file. Placed by its sform/qform (RAS millimetres).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub nifti: Option<String>,
-    /// A NRRD file (`.nrrd`, `.nhdr`); `channel` picks the entry of a
-    /// non-spatial axis. Placed by `space directions`/`space origin` (RAS).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub nrrd: Option<String>,
     /// An in-memory array registered by name ([`super::arrays`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub array: Option<String>,
@@ -77,6 +69,102 @@ pub struct FieldDesc {
     pub time: Option<f32>,
 }
 
+/// The keys of a field's table beside the file keys, for messages.
+const FIELD_KEYS: [&str; 20] = [
+    "grid",
+    "level_set",
+    "channel",
+    "array",
+    "dims",
+    "type",
+    "procedural",
+    "resolution",
+    "seed",
+    "value",
+    "gradient",
+    "amplitude",
+    "frequency",
+    "phase",
+    "count",
+    "width",
+    "axis",
+    "radius",
+    "quantity",
+    "time",
+];
+
+/// A field's file keys (`nrrd = "f.nhdr"`), in the table's order: each a
+/// registered volume format's ([`formats::by_key`]). A key that is neither
+/// one nor a field key is refused, as serde refuses unknown fields.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FileKeys(pub Vec<(&'static str, String)>);
+
+impl FileKeys {
+    /// The one file source and its format (the first, if several are given:
+    /// the reader refuses that).
+    pub fn source(&self) -> Option<(&'static VolumeFormat, &str)> {
+        let (key, path) = self.0.first()?;
+        Some((formats::by_key(key)?, path.as_str()))
+    }
+
+    /// The file of format `key`, if given.
+    pub fn path_of(&self, key: &str) -> Option<&String> {
+        self.0.iter().find(|(k, _)| *k == key).map(|(_, p)| p)
+    }
+
+    /// Sets the file of format `format` (a field with one source).
+    pub fn set(&mut self, format: &'static VolumeFormat, path: String) {
+        self.0 = vec![(format.key, path)];
+    }
+
+    /// Every file name, to rewrite.
+    pub fn paths_mut(&mut self) -> impl Iterator<Item = &mut String> {
+        self.0.iter_mut().map(|(_, p)| p)
+    }
+}
+
+impl Serialize for FileKeys {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_map(self.0.iter().map(|(k, p)| (k, p)))
+    }
+}
+
+impl<'de> Deserialize<'de> for FileKeys {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Keys;
+        impl<'de> serde::de::Visitor<'de> for Keys {
+            type Value = FileKeys;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a field's keys")
+            }
+            fn visit_map<M: serde::de::MapAccess<'de>>(
+                self,
+                mut m: M,
+            ) -> Result<FileKeys, M::Error> {
+                let mut keys = Vec::new();
+                while let Some(k) = m.next_key::<String>()? {
+                    match formats::by_key(&k) {
+                        Some(f) => keys.push((f.key, m.next_value::<String>()?)),
+                        None => return Err(serde::de::Error::unknown_field(&k, expected_keys())),
+                    }
+                }
+                Ok(FileKeys(keys))
+            }
+        }
+        d.deserialize_map(Keys)
+    }
+}
+
+/// Every key a field's table takes: the formats', then the others.
+fn expected_keys() -> &'static [&'static str] {
+    static KEYS: std::sync::LazyLock<Vec<&'static str>> = std::sync::LazyLock::new(|| {
+        (formats::all().iter().map(|f| f.key))
+            .chain(FIELD_KEYS)
+            .collect()
+    });
+    &KEYS
+}
+
 #[derive(Clone, Debug)]
 pub struct Field {
     /// One channel (a scalar, splatted to RGB) or three (RGB).
@@ -96,7 +184,7 @@ impl Field {
         base: &Path,
         to_world: DAffine3,
     ) -> Result<Field, SceneError> {
-        let (channels, file_xf, source) = match (&d.vol, &d.array) {
+        let (channels, file_xf, source) = match (d.files.path_of("vol"), &d.array) {
             // A 3-channel .vol or array without `channel` is an RGB grid
             // (Mitsuba's convention for albedo).
             (Some(f), None) if d.channel.is_none() => {
@@ -246,28 +334,6 @@ fn analytic_kind(name: &str, d: &FieldDesc, key: &str) -> Result<AnalyticKind, S
     })
 }
 
-/// A loaded field: its data, index→world transform and a description of
-/// its source.
-pub struct FieldData {
-    pub data: DensityData,
-    pub to_world: DAffine3,
-    pub source: String,
-    /// The file's value range (lo, hi) that the stored [0, 1] stands for
-    /// (scientific files); `None` when the stored values are the file's.
-    pub units: Option<(f32, f32)>,
-}
-
-impl FieldData {
-    fn new(data: DensityData, to_world: DAffine3, source: String) -> Self {
-        FieldData {
-            data,
-            to_world,
-            source,
-            units: None,
-        }
-    }
-}
-
 /// Loads the field `d` (scene key `key`). Values that `precision` cannot
 /// hold are refused rather than stored as infinities.
 pub fn field_data(
@@ -297,19 +363,15 @@ fn read_field_data(
     base: &Path,
     precision: Precision,
 ) -> Result<FieldData, SceneError> {
-    let sources = [
-        d.vdb.is_some(),
-        d.nvdb.is_some(),
-        d.vol.is_some(),
-        d.raw.is_some(),
-        d.nifti.is_some(),
-        d.nrrd.is_some(),
-        d.array.is_some(),
-        d.procedural.is_some(),
-    ];
-    if sources.iter().filter(|&&s| s).count() != 1 {
+    let sources = d.files.0.len() + d.array.is_some() as usize + d.procedural.is_some() as usize;
+    if sources != 1 {
+        let keys: Vec<String> = (formats::all().iter().map(|f| f.key))
+            .chain(["array", "procedural"])
+            .map(|k| format!("`{k}`"))
+            .collect();
         return Err(SceneError(format!(
-            "{key}: give exactly one of `vdb`, `nvdb`, `vol`, `raw`, `nifti`, `nrrd`, `array`, `procedural`"
+            "{key}: give exactly one of {}",
+            keys.join(", ")
         )));
     }
     if d.quantity.is_some() && d.procedural.as_deref() != Some("explosion") {
@@ -322,136 +384,23 @@ fn read_field_data(
             "{key}.time: only used with procedural = \"plume\""
         )));
     }
-    if let Some(f) = d.vdb.as_ref().or(d.nvdb.as_ref()) {
+    if let Some((format, f)) = d.files.source() {
         let path = base.join(f);
-        let read = if d.vdb.is_some() {
-            vdb_field
-        } else {
-            nvdb_field
+        let source = FileSource {
+            key,
+            path: &path,
+            grid: d.grid.as_deref(),
+            level_set: d.level_set.as_deref(),
+            channel: d.channel,
+            dims: d.dims,
+            ty: d.ty.as_deref(),
         };
-        let (data, xf, name) = read(d, &path, key, precision)?;
-        let what = format!("{} ({name})", path.display());
-        return Ok(FieldData::new(data, xf, what));
-    }
-    if let Some(f) = &d.vol {
-        return vol_field(d, f, key, base, precision);
+        return (format.read)(&source, precision).map_err(|e| SceneError(e.to_string()));
     }
     if let Some(name) = &d.array {
         return array_field(d, name, key, precision);
     }
-    if let Some(f) = &d.raw {
-        return raw_field(d, f, key, base, precision);
-    }
-    if let Some(f) = &d.nifti {
-        return scalar_file_field(d, f, true, key, base, precision);
-    }
-    if let Some(f) = &d.nrrd {
-        return scalar_file_field(d, f, false, key, base, precision);
-    }
     procedural_field(d, key, precision)
-}
-
-/// A volume reader's error as a scene error naming the key.
-fn volume_error(key: &str) -> impl Fn(fogbank_volume::VolumeError) -> SceneError + Copy + '_ {
-    move |e| SceneError(format!("{key}: {e}"))
-}
-
-/// A grid's voxels, its index → world map and its name.
-type GridField = (DensityData, DAffine3, String);
-
-/// An OpenVDB grid, its leaves the bricks (level sets as fog unless `raw`).
-fn vdb_field(
-    d: &FieldDesc,
-    path: &Path,
-    key: &str,
-    precision: Precision,
-) -> Result<GridField, SceneError> {
-    let err = volume_error(key);
-    let g = vdb::read_grid(path, d.grid.as_deref()).map_err(err)?;
-    let mode = level_set_mode(d, &g, key)?;
-    let name = g.name.clone();
-    let map = value_map(&g, mode);
-    // The file's leaves become the builder's bricks, and each brick is
-    // mapped and stored in the medium's precision as it is finished:
-    // the voxels exist in f32 once.
-    let (builder, xf) = vdb_grid::to_builder(g).map_err(err)?;
-    let data = match precision {
-        Precision::F16 => DensityData::F16(builder.finish_converted(map)),
-        Precision::F32 => DensityData::F32(builder.finish_converted(map)),
-    };
-    Ok((data, xf, name))
-}
-
-/// A NanoVDB file's float grid, its leaves streamed from the file into
-/// bricks of the medium's precision (the same bricks [`vdb_field`] makes
-/// of the grid, without ever holding the file's voxels).
-fn nvdb_field(
-    d: &FieldDesc,
-    path: &Path,
-    key: &str,
-    precision: Precision,
-) -> Result<GridField, SceneError> {
-    let err = volume_error(key);
-    let grid = d.grid.as_deref();
-    let mut mode = Ok(false);
-    let choose = |g: &vdb::VdbGrid| {
-        mode = level_set_mode(d, g, key);
-        value_map(g, *mode.as_ref().unwrap_or(&false))
-    };
-    let (data, xf, g) = match precision {
-        Precision::F16 => {
-            let (b, xf, g) = nanovdb::read_grid_bricks(path, grid, choose).map_err(err)?;
-            (DensityData::F16(b), xf, g)
-        }
-        Precision::F32 => {
-            let (b, xf, g) = nanovdb::read_grid_bricks(path, grid, choose).map_err(err)?;
-            (DensityData::F32(b), xf, g)
-        }
-    };
-    mode?;
-    Ok((data, xf, g.name))
-}
-
-/// Whether a grid is read as a fog volume from a level set (`level_set =
-/// "fog"`, the default) rather than as its raw values (`"raw"`).
-fn level_set_mode(d: &FieldDesc, g: &vdb::VdbGrid, key: &str) -> Result<bool, SceneError> {
-    let level_set = vdb_grid::is_level_set(g);
-    let mode = d.level_set.as_deref().unwrap_or("fog");
-    if level_set && mode != "fog" && mode != "raw" {
-        return Err(SceneError(format!(
-            "{key}.level_set: `{mode}` is not `fog` or `raw`"
-        )));
-    }
-    Ok(level_set && mode == "fog")
-}
-
-/// The map of a grid's values to densities: a level set's fog, or the
-/// values clamped to be non-negative.
-fn value_map(g: &vdb::VdbGrid, to_fog: bool) -> impl Fn(f32) -> f32 + Sync + Copy {
-    let fog = vdb_grid::level_set_fog(g.background);
-    move |v: f32| if to_fog { fog(v) } else { v.max(0.0) }
-}
-
-/// A Mitsuba `.vol` file's channel.
-fn vol_field(
-    d: &FieldDesc,
-    f: &str,
-    key: &str,
-    base: &Path,
-    precision: Precision,
-) -> Result<FieldData, SceneError> {
-    let err = volume_error(key);
-    let path = base.join(f);
-    let v = vol::read_vol(&path).map_err(err)?;
-    let grid = v
-        .channel_grid(d.channel.unwrap_or(0))
-        .map_err(err)?
-        .map_values(|x| x.max(0.0));
-    Ok(FieldData::new(
-        DensityData::from_f32(grid, precision),
-        v.index_to_world(),
-        path.display().to_string(),
-    ))
 }
 
 /// An in-memory voxel array, as a `.vol` file with the same voxels and box reads.
@@ -475,62 +424,9 @@ fn array_field(
     ))
 }
 
-/// A headerless raw file in the unit box.
-fn raw_field(
-    d: &FieldDesc,
-    f: &str,
-    key: &str,
-    base: &Path,
-    precision: Precision,
-) -> Result<FieldData, SceneError> {
-    let err = volume_error(key);
-    let path = base.join(f);
-    let ty = match &d.ty {
-        Some(t) => Some(raw::RawType::parse(t).ok_or_else(|| {
-            SceneError(format!(
-                "{key}.type: unknown raw type `{t}` (u8, u16, i16, f32, f64)"
-            ))
-        })?),
-        None => None,
-    };
-    let grid = raw::read_raw(&path, d.dims, ty).map_err(err)?;
-    let xf = unit_box_transform(grid.dims());
-    Ok(FieldData::new(
-        DensityData::from_f32(grid, precision),
-        xf,
-        path.display().to_string(),
-    ))
-}
-
-/// A NIfTI or NRRD volume, its value range mapped onto [0, 1].
-fn scalar_file_field(
-    d: &FieldDesc,
-    f: &str,
-    nifti: bool,
-    key: &str,
-    base: &Path,
-    precision: Precision,
-) -> Result<FieldData, SceneError> {
-    let err = volume_error(key);
-    let path = base.join(f);
-    let index = d.channel.unwrap_or(0);
-    let v = if nifti {
-        scalar_files::nifti::read(&path, index)
-    } else {
-        scalar_files::nrrd::read(&path, index)
-    }
-    .map_err(err)?;
-    // The value range maps onto [0, 1]; a transfer function's points
-    // (in file units) are mapped the same way.
-    let grid = v.normalised_grid().map_err(err)?;
-    Ok(FieldData {
-        units: Some(v.range().unwrap_or((0.0, 1.0))),
-        ..FieldData::new(
-            DensityData::from_f32(grid, precision),
-            v.index_to_world,
-            format!("{} ({})", path.display(), v.description),
-        )
-    })
+/// A volume reader's error as a scene error naming the key.
+fn volume_error(key: &str) -> impl Fn(fogbank_volume::VolumeError) -> SceneError + Copy + '_ {
+    move |e| SceneError(format!("{key}: {e}"))
 }
 
 /// A procedural or analytic field of `resolution`³ voxels in the unit box.

@@ -10,6 +10,7 @@ mod chroma;
 mod determinism;
 mod direct;
 mod envmap;
+mod format_table;
 mod instances;
 mod lights;
 mod nanovdb_render;

@@ -24,35 +24,37 @@ pub use output::{ConvertOptions, Converted};
 
 use crate::load::SceneFormat;
 use fogbank_render::error::SceneError;
+use fogbank_volume::formats;
 use std::path::Path;
+use std::sync::LazyLock;
 
 /// What a file is, by its extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FileKind {
     Scene(SceneFormat),
-    /// A volume file: the [`FieldDesc`](fogbank_render::world::field::FieldDesc)
-    /// key that reads it (`vdb`, `nvdb`, `vol`, `nifti`, `nrrd`).
+    /// A volume file: the key of its format
+    /// (`fogbank_volume::formats`: `vdb`, `nvdb`, `vol`, `nifti`,
+    /// `nrrd`).
     Volume(&'static str),
 }
 
-/// Every file kind fogbank reads, by extension: the registry that
-/// [`FileKind::of`], the error messages and the commands' help texts follow
-/// (the help texts and the guide are checked against it by a test). Raw
-/// volumes (`.raw`) are read only with their dimensions given (`info
-/// --dims`, a scene's `raw` key), so they are not told by extension.
-pub const FORMATS: [(&str, FileKind); 11] = [
-    (".toml", FileKind::Scene(SceneFormat::Toml)),
-    (".xml", FileKind::Scene(SceneFormat::MitsubaXml)),
-    (".pbrt", FileKind::Scene(SceneFormat::Pbrt)),
-    (".vdb", FileKind::Volume("vdb")),
-    (".nvdb", FileKind::Volume("nvdb")),
-    (".vol", FileKind::Volume("vol")),
-    (".nii", FileKind::Volume("nifti")),
-    (".nii.gz", FileKind::Volume("nifti")),
-    (".hdr", FileKind::Volume("nifti")),
-    (".nrrd", FileKind::Volume("nrrd")),
-    (".nhdr", FileKind::Volume("nrrd")),
-];
+/// Every file kind fogbank reads, by extension: the scene formats, then
+/// the volume formats of `fogbank_volume::formats` that their
+/// extension tells (raw volumes, `.raw`, are read only with their
+/// dimensions given: `info --dims`, a scene's `raw` key). [`FileKind::of`],
+/// the error messages and the commands' help texts follow it (the help
+/// texts and the guide are checked against it by a test).
+pub static FORMATS: LazyLock<Vec<(&'static str, FileKind)>> = LazyLock::new(|| {
+    let scenes = [
+        (".toml", FileKind::Scene(SceneFormat::Toml)),
+        (".xml", FileKind::Scene(SceneFormat::MitsubaXml)),
+        (".pbrt", FileKind::Scene(SceneFormat::Pbrt)),
+    ];
+    let volumes = (formats::all().iter())
+        .filter(|f| f.by_extension)
+        .flat_map(|f| f.extensions.iter().map(|&e| (e, FileKind::Volume(f.key))));
+    scenes.into_iter().chain(volumes).collect()
+});
 
 impl FileKind {
     /// The kind of `path`, or `None` for an extension fogbank does not know.
@@ -77,11 +79,7 @@ pub fn extensions(keep: impl Fn(FileKind) -> bool) -> String {
         .filter(|&&(_, k)| keep(k))
         .map(|&(e, _)| e)
         .collect();
-    match list.split_last() {
-        Some((last, [])) => last.to_string(),
-        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
-        None => String::new(),
-    }
+    formats::or_list(&list)
 }
 
 /// Every extension, scenes then volumes.
@@ -126,10 +124,10 @@ pub fn convert(
         (FileKind::Scene(_), FileKind::Scene(SceneFormat::MitsubaXml)) => {
             mitsuba_writer::convert(input, output)
         }
-        (FileKind::Scene(_), FileKind::Volume(v)) if v == "vdb" || v == "nvdb" => {
+        (FileKind::Scene(_), FileKind::Volume(v)) if writes(v) => {
             volume::from_scene(input, output, options)
         }
-        (FileKind::Volume(key), FileKind::Volume(v)) if v == "vdb" || v == "nvdb" => {
+        (FileKind::Volume(key), FileKind::Volume(v)) if writes(v) => {
             volume::convert(input, key, output, options)
         }
         (_, FileKind::Scene(SceneFormat::Pbrt)) => Err(SceneError(format!(
@@ -137,12 +135,24 @@ pub fn convert(
             output.display()
         ))),
         (FileKind::Volume(_), FileKind::Scene(_)) => Err(SceneError(format!(
-            "{}: a volume file converts to a volume file (.vdb or .nvdb), not a scene",
-            output.display()
+            "{}: a volume file converts to a volume file ({}), not a scene",
+            output.display(),
+            written()
         ))),
         (_, FileKind::Volume(_)) => Err(SceneError(format!(
-            "{}: volumes are written as .vdb or .nvdb only",
-            output.display()
+            "{}: volumes are written as {} only",
+            output.display(),
+            written()
         ))),
     }
+}
+
+/// Whether fogbank writes volume format `key`.
+fn writes(key: &str) -> bool {
+    formats::by_key(key).is_some_and(|f| f.write.is_some())
+}
+
+/// The extensions of the volume formats fogbank writes (".vdb or .nvdb").
+fn written() -> String {
+    formats::or_list(&formats::extensions(|f| f.write.is_some()))
 }

@@ -11,7 +11,7 @@ use super::arrays::write_arrays;
 use super::output::{write_file, Converted};
 use crate::load::read_scene_source;
 use fogbank_render::error::SceneError;
-use fogbank_render::rebase::{rebase_paths, FILE_KEYS};
+use fogbank_render::rebase::{is_file_key, rebase_paths};
 use fogbank_render::scene::{parse_scene, SceneDesc};
 use std::path::Path;
 
@@ -44,7 +44,7 @@ fn relative_inside(v: &mut toml::Value, dir: &Path) {
         toml::Value::Table(t) => {
             for (k, x) in t.iter_mut() {
                 match x {
-                    toml::Value::String(s) if FILE_KEYS.contains(&k.as_str()) => {
+                    toml::Value::String(s) if is_file_key(k) => {
                         let p = Path::new(s.as_str());
                         let p = p.canonicalize().unwrap_or_else(|_| p.to_path_buf());
                         if let Ok(r) = p.strip_prefix(dir) {

@@ -14,19 +14,20 @@ use super::output::{write_file, ConvertOptions, Converted};
 use crate::export::{export_desc, ExportGrid, ExportOptions, Exported};
 use fogbank_render::error::SceneError;
 use fogbank_render::scene::parse_scene;
+use fogbank_volume::formats;
 use fogbank_volume::loaders::vdb::VdbGrid;
-use fogbank_volume::loaders::{nanovdb, vdb};
 use std::path::Path;
 
 /// The sparse grid `name` (default: `density`, else the first float grid)
 /// of the `.vdb` or `.nvdb` file `input`.
 pub fn read_sparse(input: &Path, key: &str, name: Option<&str>) -> Result<VdbGrid, SceneError> {
-    let grid = if key == "nvdb" {
-        nanovdb::read_grid(input, name)
-    } else {
-        vdb::read_grid(input, name)
-    };
-    grid.map_err(|e| SceneError(format!("{}: {e}", input.display())))
+    let read = formats::by_key(key).and_then(|f| f.sparse).ok_or_else(|| {
+        SceneError(format!(
+            "{}: `{key}` is not a sparse format",
+            input.display()
+        ))
+    })?;
+    read(input, name).map_err(|e| SceneError(format!("{}: {e}", input.display())))
 }
 
 /// `grid` encoded for `out` with `options` (as `fogbank export` encodes).
@@ -42,7 +43,7 @@ pub fn convert(
     output: &Path,
     options: &ConvertOptions,
 ) -> Result<Converted, SceneError> {
-    if key == "vdb" || key == "nvdb" {
+    if formats::by_key(key).is_some_and(|f| f.sparse.is_some()) {
         let grid = read_sparse(input, key, options.grid.as_deref())?;
         let bytes = encode(&grid, output, options)?;
         write_file(output, &bytes)?;

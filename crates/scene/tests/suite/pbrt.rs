@@ -218,8 +218,8 @@ fn nanovdb_medium_reads_its_grids_where_the_file_has_them() {
     let m = &d.media[0];
     assert!(m
         .density
-        .nvdb
-        .as_deref()
+        .files
+        .path_of("nvdb")
         .unwrap()
         .ends_with("density_vel_zip.nvdb"));
     assert_eq!(m.density.grid.as_deref(), Some("density"));

@@ -88,7 +88,7 @@ fn check(m: &MediumDesc, key: &str, notes: &mut Notes) -> Result<(), SceneError>
             "an albedo grid (fogbank's multiplies `albedo`)",
         ));
     }
-    if m.density_rgb && (m.density.vol.is_none() || m.density.channel.is_some()) {
+    if m.density_rgb && (m.density.files.path_of("vol").is_none() || m.density.channel.is_some()) {
         return Err(refuse(
             &format!("{key}.density_rgb"),
             "an RGB density other than a 3-channel .vol",
@@ -134,7 +134,7 @@ fn voxels(
     notes: &mut Notes,
 ) -> Result<(Option<Voxels>, DAffine3), SceneError> {
     let data = field_data(f, key, base, Precision::F32)?;
-    if let Some(v) = &f.vol {
+    if let Some(v) = f.files.path_of("vol") {
         let path = base.join(v);
         let vol = fogbank_volume::loaders::vol::read_vol(&path)
             .map_err(|e| SceneError(format!("{key}: {e}")))?;
@@ -198,7 +198,7 @@ fn grid_volume(
             (dims, vol.name.clone())
         }
         None => {
-            let name = m.density.vol.clone().unwrap_or_default();
+            let name = m.density.files.path_of("vol").cloned().unwrap_or_default();
             let v = fogbank_volume::loaders::vol::read_vol(&base.join(&name))
                 .map_err(|e| SceneError(format!("{key}: {e}")))?;
             (v.dims, name)
