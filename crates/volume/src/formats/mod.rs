@@ -44,6 +44,8 @@ volume_formats! {
     nifti,
     nrrd,
     raw,
+    #[cfg(test)]
+    test_text,
 }
 
 /// Every volume format, in listing order.
