@@ -160,6 +160,23 @@ fn camera_ray_end(r: Ray) -> f32 {
     return (far - frame.cam_origin.w) / dot(r.d, frame.cam_forward.xyz);
 }
 
+// The transmittance of pixel sample (x, y, sample)'s camera ray through all
+// media (the CPU's transmittance::along_ray): overlapping media multiply.
+fn camera_transmittance(pixel: u32, x: u32, y: u32, sample: u32, lookups: ptr<function, u32>) -> f32 {
+    let world = primary_ray(x, y, pixel, sample);
+    var rng = sample_rng(frame.seed, pixel, sample, DIM_ESTIMATOR);
+    var tr = 1.0;
+    for (var i = 0u; i < frame.media_count; i++) {
+        let m = media[i];
+        var r: Ray;
+        let range = to_index_from_camera(m, world, camera_ray_end(world), &r);
+        if (range.z != 0.0) {
+            tr *= estimate(m, r, range.x, range.y, &rng, lookups);
+        }
+    }
+    return tr;
+}
+
 // The scene's transmittance estimator on [t0, t1]. Each call counts its
 // lookups from 0, as each CPU estimator call does: the stochastic filter's
 // jitter hashes the running count (medium.wgsl), so a count carried over
