@@ -128,6 +128,11 @@ impl Gpu {
 
     /// How many pipelines this device has built (not counting those it
     /// handed out again).
+    /// How many handles to this device are alive (this one included).
+    pub(crate) fn handles(&self) -> usize {
+        std::sync::Arc::strong_count(&self.pipelines)
+    }
+
     pub fn pipelines_built(&self) -> u64 {
         self.pipelines.built()
     }

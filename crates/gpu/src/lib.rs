@@ -58,14 +58,37 @@ pub use context::{Gpu, GpuError};
 /// `restir`'s passes and `visopt`'s scratch budget, for the experiments.
 pub use integrators::{restir, visopt};
 
-/// For tests: the process's GPU, or `None` with a visible message. With
-/// `FOGBANK_REQUIRE_GPU=1` (set by `.ci/run`) a missing adapter is a failure.
-/// Every call hands out a handle to the same device, so that the tests of
-/// one binary build each pipeline once.
+/// How many devices [`test_gpu`] opens at most.
+pub const TEST_DEVICES: usize = 2;
+
+/// For tests: a GPU of the process's pool, or `None` with a visible
+/// message. With `FOGBANK_REQUIRE_GPU=1` (set by `.ci/run`) a missing
+/// adapter is a failure.
+///
+/// The pool holds one device per core (at most [`TEST_DEVICES`]) and each
+/// call hands out a handle to the device fewest running tests hold, so that
+/// the tests of one binary build each pipeline once per device. More than
+/// one because lavapipe compiles a kernel at its first dispatch on the
+/// device's one queue thread, which stalls every test on that device for the
+/// minutes a scattering kernel takes to compile: with one device the suite
+/// on an empty Mesa cache kept one of two cores idle most of its 23 minutes
+/// (1372 s wall, 1589 s CPU), with two it takes 14 (docs/results/build.md).
 pub fn test_gpu() -> Option<Gpu> {
-    static SHARED: std::sync::OnceLock<Result<Gpu, GpuError>> = std::sync::OnceLock::new();
-    match SHARED.get_or_init(Gpu::new) {
-        Ok(g) => Some(g.clone()),
+    static POOL: std::sync::OnceLock<Result<Vec<Gpu>, GpuError>> = std::sync::OnceLock::new();
+    let pool = POOL.get_or_init(|| {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        (0..cores.clamp(1, TEST_DEVICES))
+            .map(|_| Gpu::new())
+            .collect()
+    });
+    match pool {
+        Ok(devices) => {
+            // One choice at a time, so that two tests starting together
+            // count each other's handles.
+            static CHOOSING: std::sync::Mutex<()> = std::sync::Mutex::new(());
+            let _one = CHOOSING.lock().unwrap_or_else(|e| e.into_inner());
+            devices.iter().min_by_key(|g| g.handles()).cloned()
+        }
         Err(e) => {
             if std::env::var("FOGBANK_REQUIRE_GPU").as_deref() == Ok("1") {
                 panic!("FOGBANK_REQUIRE_GPU=1 but no GPU: {e}");
