@@ -126,13 +126,13 @@ impl Gpu {
             .map_err(GpuError)
     }
 
-    /// How many pipelines this device has built (not counting those it
-    /// handed out again).
     /// How many handles to this device are alive (this one included).
     pub(crate) fn handles(&self) -> usize {
         std::sync::Arc::strong_count(&self.pipelines)
     }
 
+    /// How many pipelines this device has built (not counting those it
+    /// handed out again).
     pub fn pipelines_built(&self) -> u64 {
         self.pipelines.built()
     }
